@@ -1,0 +1,31 @@
+#pragma once
+// A current GL 3.3 core context, created by one of three backends chosen at
+// run time. Headless rendering always goes through framebuffer objects, so the
+// backends differ only in how the context is made and how GL is loaded.
+#include <memory>
+#include <string>
+
+namespace kit {
+
+enum class Backend { OSMesa, EGL, Window };
+
+Backend parse_backend(const std::string& name);  // "osmesa" | "egl" | "window"
+const char* backend_name(Backend backend);
+
+class GlContext {
+ public:
+  virtual ~GlContext() = default;
+  virtual Backend backend() const = 0;
+  // "GL_RENDERER / GL_VERSION", for logs and reports.
+  std::string describe() const;
+};
+
+// Creates and makes current a headless context (OSMesa or EGL surfaceless,
+// falling back to EGL device enumeration). Throws kit::Error with the reason.
+std::unique_ptr<GlContext> create_headless_context(Backend backend);
+
+// Loads GL entry points through `get_proc` and checks the version is >= 3.3.
+using GlProcLoader = void* (*)(const char* name);
+void load_gl(GlProcLoader get_proc, const char* backend);
+
+}  // namespace kit

@@ -1,0 +1,69 @@
+#include "gbuffer.h"
+
+#include "error.h"
+#include "gbuffer_layout.h"
+
+namespace kit {
+
+GBuffer::GBuffer(int width, int height) : width_(width), height_(height) { allocate(); }
+
+TextureFormat GBuffer::attachment_format(int index) {
+  switch (index) {
+    case KIT_GBUF_POSITION: return {GL_RGBA16F, GL_RGBA, GL_FLOAT};
+    case KIT_GBUF_NORMAL: return {GL_RGBA16F, GL_RGBA, GL_FLOAT};
+    case KIT_GBUF_ALBEDO: return {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
+    case KIT_GBUF_MATERIAL: return {GL_RGBA16F, GL_RGBA, GL_FLOAT};
+  }
+  throw Error("no G-buffer attachment " + std::to_string(index));
+}
+
+TextureFormat GBuffer::depth_format() { return {GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_FLOAT}; }
+
+const char* GBuffer::attachment_name(int index) {
+  static const char* names[] = {"position", "normal", "albedo", "material"};
+  return index >= 0 && index < KIT_GBUF_COUNT ? names[index] : "?";
+}
+
+int GBuffer::bytes_per_pixel() { return 8 + 8 + 4 + 8 + 4; }  // 3 x RGBA16F, RGBA8, 32-bit depth word
+
+void GBuffer::allocate() {
+  for (int i = 0; i < KIT_GBUF_COUNT; ++i) {
+    colors_[static_cast<size_t>(i)] = Texture2D(width_, height_, attachment_format(i));
+    fbo_.attach_color(i, colors_[static_cast<size_t>(i)]);
+  }
+  depth_ = Texture2D(width_, height_, depth_format());
+  fbo_.attach_depth(depth_);
+  fbo_.set_draw_buffers(KIT_GBUF_COUNT);
+  std::string reason = fbo_.incomplete_reason();
+  if (!reason.empty()) throw Error("G-buffer framebuffer is incomplete: " + reason);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void GBuffer::resize(int width, int height) {
+  if (width == width_ && height == height_) return;
+  width_ = width;
+  height_ = height;
+  allocate();
+}
+
+void GBuffer::begin_geometry_pass() const {
+  fbo_.bind();
+  glViewport(0, 0, width_, height_);
+  glDisable(GL_BLEND);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glEnable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  const float zero[4] = {0, 0, 0, 0};
+  for (int i = 0; i < KIT_GBUF_COUNT; ++i) glClearBufferfv(GL_COLOR, i, zero);
+  const float far_depth = 1.0f;
+  glClearBufferfv(GL_DEPTH, 0, &far_depth);
+}
+
+void GBuffer::bind_textures() const {
+  for (int i = 0; i < KIT_GBUF_COUNT; ++i) colors_[static_cast<size_t>(i)].bind(KIT_UNIT_GBUF_POSITION + i);
+  depth_.bind(KIT_UNIT_GBUF_DEPTH);
+}
+
+}  // namespace kit

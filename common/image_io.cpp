@@ -1,0 +1,93 @@
+#include "image_io.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imageio.h>
+
+#include <cmath>
+
+#include "error.h"
+
+namespace kit {
+
+namespace {
+
+bool ends_with(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+
+}  // namespace
+
+void write_image(const std::string& path, const Image& image) {
+  bool exr = ends_with(path, ".exr");
+  if (!exr && !ends_with(path, ".png")) throw Error(path + ": output must end in .png or .exr");
+  auto out = OIIO::ImageOutput::create(path);
+  if (!out) throw Error(path + ": cannot create image writer: " + OIIO::geterror());
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
+  if (exr) spec.attribute("compression", "zip");
+  if (!out->open(path, spec)) throw Error(path + ": cannot open for writing: " + out->geterror());
+  bool ok;
+  if (exr) {
+    ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
+  } else {
+    // Explicit round-to-nearest so PNGs are identical whatever OIIO's conversion does.
+    std::vector<unsigned char> bytes(image.pixels.size());
+    for (size_t i = 0; i < bytes.size(); ++i) {
+      float v = image.pixels[i];
+      v = std::isfinite(v) ? std::min(std::max(v, 0.0f), 1.0f) : 0.0f;
+      bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
+    }
+    ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
+  }
+  if (!ok || !out->close()) throw Error(path + ": write failed: " + out->geterror());
+}
+
+Image read_image(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw Error(path + ": cannot read image: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  Image image(spec.width, spec.height, spec.nchannels);
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
+    throw Error(path + ": cannot decode image: " + in->geterror());
+  return image;
+}
+
+Image read_texture(const Texture2D& texture, bool depth) {
+  Framebuffer read_fbo;
+  if (depth) {
+    read_fbo.attach_depth(texture);
+    glDrawBuffer(GL_NONE);
+    glReadBuffer(GL_NONE);
+  } else {
+    read_fbo.attach_color(0, texture);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+  }
+  int channels = depth ? 1 : 4;
+  Image flipped(texture.width(), texture.height(), channels);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadPixels(0, 0, texture.width(), texture.height(), depth ? GL_DEPTH_COMPONENT : GL_RGBA, GL_FLOAT,
+               flipped.pixels.data());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  check_gl("read_texture");
+  // GL rows start at the bottom; images start at the top.
+  Image image(texture.width(), texture.height(), channels);
+  size_t row = static_cast<size_t>(texture.width()) * channels;
+  for (int y = 0; y < texture.height(); ++y)
+    std::copy_n(flipped.pixels.begin() + static_cast<std::ptrdiff_t>(row * (texture.height() - 1 - y)), row,
+                image.pixels.begin() + static_cast<std::ptrdiff_t>(row * y));
+  return image;
+}
+
+size_t count_non_finite(const Image& image) {
+  size_t count = 0;
+  for (size_t p = 0; p < image.pixels.size(); p += image.channels) {
+    for (int c = 0; c < image.channels; ++c) {
+      if (!std::isfinite(image.pixels[p + c])) {
+        ++count;
+        break;
+      }
+    }
+  }
+  return count;
+}
+
+}  // namespace kit

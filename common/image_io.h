@@ -1,0 +1,32 @@
+#pragma once
+// Float images in memory, their PNG/EXR files (through OpenImageIO), and
+// read-back of GL textures. Rows are stored top-down, as image files are.
+#include <string>
+#include <vector>
+
+#include "gl_objects.h"
+
+namespace kit {
+
+struct Image {
+  int width = 0, height = 0, channels = 0;
+  std::vector<float> pixels;  // row-major, top row first, `channels` floats per pixel
+
+  Image() = default;
+  Image(int w, int h, int c) : width(w), height(h), channels(c), pixels(static_cast<size_t>(w) * h * c, 0.0f) {}
+  float& at(int x, int y, int c) { return pixels[(static_cast<size_t>(y) * width + x) * channels + c]; }
+  float at(int x, int y, int c) const { return pixels[(static_cast<size_t>(y) * width + x) * channels + c]; }
+};
+
+// .exr keeps 32-bit floats; .png stores 8 bits per channel, values clamped to
+// [0,1] and rounded to nearest. Throws kit::Error.
+void write_image(const std::string& path, const Image& image);
+Image read_image(const std::string& path);
+
+// Reads a colour texture (any format) as RGBA floats, or a depth texture as one channel.
+Image read_texture(const Texture2D& texture, bool depth = false);
+
+// Counts pixels with a NaN or Inf in any channel.
+size_t count_non_finite(const Image& image);
+
+}  // namespace kit

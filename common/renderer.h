@@ -1,0 +1,93 @@
+#pragma once
+// The deferred pipeline for one stage: geometry pass into the G-buffer, then
+// (from stage 2) the full-screen lighting pass into an HDR target and a display
+// pass through tonemap.glsl, then (stage 5) bright pass, separable blur
+// ping-pong, composite and the student's custom effect. The framework sets
+// every uniform, so lab shaders only compute.
+#include <memory>
+#include <optional>
+
+#include "gbuffer.h"
+#include "image_io.h"
+#include "scene.h"
+#include "stages.h"
+
+namespace kit {
+
+struct RenderSettings {
+  int width = 640, height = 480;
+  float gamma = 2.2f;               // u_gamma, used by tonemap.glsl from stage 3
+  int attenuation_model = 0;        // u_attenuation_model: 0 physical (seed 000), 1 simple 1/(1+d^2) (seed 002)
+  bool postprocess = true;          // u_postprocess_enabled (stage 5)
+  bool custom_effect = false;       // u_custom_enabled (stage 5 free-choice slot)
+  float bloom_threshold = 1.0f;     // u_bloom_threshold, luminance in linear HDR
+  int blur_passes = 6;              // separable blur passes (alternating horizontal/vertical)
+  float time = 0.0f;                // u_time for animated custom effects; fixed headless
+  glm::vec3 clear_color{0.02f, 0.02f, 0.025f};  // u_clear_color, linear HDR
+  int extra_lights = 0;             // small point lights added around the scene (viewer slider, bench)
+};
+
+enum class View { Final, Position, Normal, Albedo, Material, Depth, Hdr };
+View parse_view(const std::string& name);  // final|position|normal|albedo|material|depth|hdr
+const char* view_name(View view);
+
+// Camera matrices for one frame.
+struct FrameCamera {
+  glm::mat4 view{1.0f}, projection{1.0f};
+  glm::vec3 position{0.0f};
+  float znear = 0.1f, zfar = 100.0f;
+};
+FrameCamera frame_camera(const Camera& camera, float aspect);
+
+// Light radiometry the framework derives from glTF units (see handouts/03-attenuation.md):
+// flux = 4*pi*I for a point light, 2*pi*(1 - (cos_inner + cos_outer)/2)*I for a spot light.
+float light_flux(const Light& light);
+
+class Renderer {
+ public:
+  // `library` resolves the stage's shaders (see stage_library). Throws kit::Error
+  // on any shader or GL problem.
+  Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene, RenderSettings settings);
+  ~Renderer();
+
+  void reload_shaders();  // recompiles; on error keeps the old programs and throws
+  void resize(int width, int height);
+  RenderSettings& settings() { return settings_; }
+  const Stage& stage() const { return stage_; }
+  const Scene& scene() const { return scene_; }
+  std::vector<std::filesystem::path> shader_paths() const;  // for hot reload
+
+  void render(const FrameCamera& camera);
+
+  const GBuffer& gbuffer() const { return gbuffer_; }
+  // The stage's output texture: the LDR image for lit stages, albedo for stage 1.
+  const Texture2D& final_texture() const;
+  // The view as an image. raw=true reads the attachment's float values (for
+  // EXR); raw=false maps it for display: vectors as (v+1)/2, depth linearised.
+  Image read_view(View view, bool raw);
+
+ private:
+  struct Programs;
+  void build_programs();
+  void upload_lights();
+  void set_frame_uniforms(const Program& program) const;
+  void fullscreen_pass(const Program& program, const Framebuffer& target, int width, int height) const;
+  void allocate_targets();
+
+  Stage stage_;
+  ShaderLibrary library_;
+  const Scene& scene_;
+  RenderSettings settings_;
+  SceneGpu scene_gpu_;
+  GBuffer gbuffer_;
+  FullscreenTriangle triangle_;
+  std::unique_ptr<Programs> programs_;
+  Texture2D lights_;
+  int light_count_ = 0;
+  Texture2D hdr_, bloom_[2], composite_, final_;
+  Framebuffer hdr_fbo_, bloom_fbo_[2], composite_fbo_, final_fbo_, debug_fbo_;
+  Texture2D debug_target_;
+  FrameCamera camera_;
+};
+
+}  // namespace kit

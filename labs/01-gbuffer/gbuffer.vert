@@ -1,0 +1,22 @@
+#version 330 core
+// Lab 1 - geometry pass, vertex stage. See handouts/01-gbuffer.md.
+#include "geometry_uniforms.glsl"
+
+layout(location = KIT_ATTR_POSITION) in vec3 a_position;
+layout(location = KIT_ATTR_NORMAL) in vec3 a_normal;
+layout(location = KIT_ATTR_TEXCOORD) in vec2 a_texcoord;
+
+out vec3 v_world_position;
+out vec3 v_world_normal;
+out vec2 v_texcoord;
+
+void main() {
+    vec4 world = u_model * vec4(a_position, 1.0);
+    // TODO(lab 1): pass the world-space position to the fragment stage.
+    v_world_position = vec3(0.0);
+    // TODO(lab 1): bring the normal to world space with the normal matrix
+    //              (u_normal_matrix), not with u_model. Why? See the handout.
+    v_world_normal = a_normal;
+    v_texcoord = a_texcoord;
+    gl_Position = u_projection * u_view * world;
+}

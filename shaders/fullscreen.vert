@@ -1,0 +1,10 @@
+#version 330 core
+// One triangle that covers the whole viewport; positions come from gl_VertexID,
+// so no vertex buffer is needed. v_uv runs 0..1 over the visible part.
+out vec2 v_uv;
+
+void main() {
+    vec2 corner = vec2((gl_VertexID << 1) & 2, gl_VertexID & 2);  // (0,0) (2,0) (0,2)
+    v_uv = corner;
+    gl_Position = vec4(corner * 2.0 - 1.0, 0.0, 1.0);
+}

@@ -1,0 +1,36 @@
+// The scene's lights, read from an RGBA32F texture the framework fills:
+// KIT_LIGHT_TEXELS texels per light, light i in row i.
+#include "gbuffer_layout.h"
+
+uniform sampler2D u_light_texture;
+uniform int u_light_count;
+
+struct Light {
+    int type;          // KIT_LIGHT_POINT or KIT_LIGHT_SPOT
+    vec3 position;     // world space
+    vec3 direction;    // world space, where a spot light points (unit)
+    float range;       // glTF range, 0 = unlimited
+    vec3 color;        // linear RGB
+    float intensity;   // glTF intensity, candela
+    float cos_inner;   // cos(umbra/inner cone angle): full intensity inside
+    float cos_outer;   // cos(penumbra/outer cone angle): no light outside
+    float flux;        // radiant flux derived from intensity (handouts/03-attenuation.md)
+};
+
+Light kit_light(int i) {
+    vec4 t0 = texelFetch(u_light_texture, ivec2(0, i), 0);
+    vec4 t1 = texelFetch(u_light_texture, ivec2(1, i), 0);
+    vec4 t2 = texelFetch(u_light_texture, ivec2(2, i), 0);
+    vec4 t3 = texelFetch(u_light_texture, ivec2(3, i), 0);
+    Light light;
+    light.type = int(t0.w + 0.5);
+    light.position = t0.xyz;
+    light.direction = t1.xyz;
+    light.range = t1.w;
+    light.color = t2.rgb;
+    light.intensity = t2.w;
+    light.cos_inner = t3.x;
+    light.cos_outer = t3.y;
+    light.flux = t3.z;
+    return light;
+}

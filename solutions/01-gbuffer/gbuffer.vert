@@ -1,0 +1,20 @@
+#version 330 core
+// Geometry pass, vertex stage: world-space position and normal for the G-buffer.
+#include "geometry_uniforms.glsl"
+
+layout(location = KIT_ATTR_POSITION) in vec3 a_position;
+layout(location = KIT_ATTR_NORMAL) in vec3 a_normal;
+layout(location = KIT_ATTR_TEXCOORD) in vec2 a_texcoord;
+
+out vec3 v_world_position;
+out vec3 v_world_normal;
+out vec2 v_texcoord;
+
+void main() {
+    vec4 world = u_model * vec4(a_position, 1.0);
+    v_world_position = world.xyz;
+    // The normal matrix keeps normals perpendicular under non-uniform scale.
+    v_world_normal = u_normal_matrix * a_normal;
+    v_texcoord = a_texcoord;
+    gl_Position = u_projection * u_view * world;
+}

@@ -1,0 +1,712 @@
+// kit-scenes: writes the kit's own glTF 2.0 test scenes.
+//
+//   kit-scenes OUT_DIR   ->  OUT_DIR/<name>/<name>.gltf + <name>.bin + *.png
+//
+// Everything is procedural and deterministic (no clocks, no random engines, only
+// ordered containers), so the files are byte-identical on every run.
+//
+// Conventions the renderer relies on:
+//  * right-handed, +Y up, metres; indexed (UNSIGNED_INT) triangle lists, CCW front faces;
+//  * TEXCOORD_0 follows glTF: v = 0 is the top row of the image;
+//  * TANGENT.w is chosen so that cross(N, T.xyz) * w points "up" in the image (towards
+//    decreasing glTF v), which is where the normal map's +Y (green) points (OpenGL
+//    convention, as glTF requires). A plainly mapped surface therefore has w = +1 and a
+//    surface whose U runs backwards (mirrored) has w = -1.
+#include <tiny_gltf.h>
+
+#include <OpenImageIO/imageio.h>
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// --- Brick texture parameters (shared by the colour map and the normal map) ---
+constexpr int kTextureSize = 256;       // square; the pattern tiles seamlessly
+constexpr int kBrickWidthPx = 64;       // divides kTextureSize; even, for the half-brick offset
+constexpr int kBrickHeightPx = 32;      // divides kTextureSize into an even number of rows
+constexpr float kMortarWidthPx = 6.0f;  // full width of a mortar joint
+constexpr float kBevelPx = 3.0f;        // rounded brick edge between mortar and brick face
+constexpr float kBumpDepthPx = 2.5f;    // height of a brick face above the mortar, in texels
+
+constexpr int kCheckerCells = 4;  // checker cells per texture side
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kZNear = 0.1;
+constexpr double kZFar = 50.0;
+
+// ---------------------------------------------------------------------------
+// Images
+
+struct Image8 {
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  std::vector<std::uint8_t> pixels;  // row 0 is the top of the image
+
+  Image8(int w, int h, int c) : width(w), height(h), channels(c), pixels(size_t(w) * h * c, 0) {}
+
+  void set(int x, int y, glm::vec3 rgb01) {
+    std::uint8_t* p = &pixels[(size_t(y) * width + x) * channels];
+    for (int i = 0; i < 3; ++i)
+      p[i] = std::uint8_t(std::lround(std::clamp(rgb01[i], 0.0f, 1.0f) * 255.0f));
+  }
+};
+
+// Integer hash (lowbias32) for per-brick colour variation: exact on every platform,
+// unlike the standard library's random distributions.
+std::uint32_t hash32(std::uint32_t x) {
+  x ^= x >> 16;
+  x *= 0x7feb352dU;
+  x ^= x >> 15;
+  x *= 0x846ca68bU;
+  x ^= x >> 16;
+  return x;
+}
+
+float hash01(std::uint32_t x) { return float(hash32(x) & 0xffffU) / 65535.0f; }
+
+float smoothstep(float e0, float e1, float x) {
+  const float t = std::clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
+  return t * t * (3.0f - 2.0f * t);
+}
+
+struct BrickSample {
+  float height;  // 0 in the mortar, 1 on a brick face, smooth bevel in between
+  std::uint32_t brick_id;
+};
+
+// Where texel (x, y) falls in a running-bond brick pattern.
+BrickSample sample_bricks(int x, int y) {
+  // Wrap so that the normal map's central differences tile seamlessly too.
+  x = (x % kTextureSize + kTextureSize) % kTextureSize;
+  y = (y % kTextureSize + kTextureSize) % kTextureSize;
+  const int row = y / kBrickHeightPx;
+  const int shift = (row % 2) * (kBrickWidthPx / 2);  // odd rows offset by half a brick
+  const int column = ((x + shift) / kBrickWidthPx) % (kTextureSize / kBrickWidthPx);
+  const float lx = float((x + shift) % kBrickWidthPx) + 0.5f;  // texel centre inside the brick
+  const float ly = float(y % kBrickHeightPx) + 0.5f;
+  // Joints run along the cell borders; the distance to the nearest one gives the height.
+  const float d = std::min(std::min(lx, kBrickWidthPx - lx), std::min(ly, kBrickHeightPx - ly));
+  const float half_mortar = 0.5f * kMortarWidthPx;
+  return {smoothstep(half_mortar, half_mortar + kBevelPx, d), std::uint32_t(row * 64 + column)};
+}
+
+Image8 make_brick_color() {
+  Image8 img(kTextureSize, kTextureSize, 3);
+  const glm::vec3 mortar(0.70f, 0.68f, 0.64f);  // sRGB-encoded: baseColor textures are sRGB
+  const glm::vec3 brick(0.58f, 0.27f, 0.20f);
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      const BrickSample s = sample_bricks(x, y);
+      const float shade = 0.82f + 0.30f * hash01(s.brick_id);
+      const glm::vec3 tint = brick * shade + glm::vec3(0.04f * hash01(s.brick_id + 977u), 0, 0);
+      img.set(x, y, glm::mix(mortar, tint, s.height));
+    }
+  }
+  return img;
+}
+
+// Tangent-space normal map stored as (n + 1) / 2 in linear 8-bit RGB:
+// +X = +u (image right), +Y = image up (decreasing glTF v), +Z = out of the surface.
+Image8 make_brick_normal() {
+  Image8 img(kTextureSize, kTextureSize, 3);
+  for (int y = 0; y < img.height; ++y) {
+    for (int x = 0; x < img.width; ++x) {
+      const float dh_dx = 0.5f * (sample_bricks(x + 1, y).height - sample_bricks(x - 1, y).height);
+      // Rows grow downwards, so the slope towards "up" is minus the slope along the rows.
+      const float dh_dup =
+          -0.5f * (sample_bricks(x, y + 1).height - sample_bricks(x, y - 1).height);
+      const glm::vec3 n =
+          glm::normalize(glm::vec3(-kBumpDepthPx * dh_dx, -kBumpDepthPx * dh_dup, 1.0f));
+      img.set(x, y, 0.5f * n + 0.5f);
+    }
+  }
+  return img;
+}
+
+Image8 make_checker() {
+  Image8 img(kTextureSize, kTextureSize, 3);
+  const int cell = kTextureSize / kCheckerCells;
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      img.set(x, y, ((x / cell + y / cell) % 2) ? glm::vec3(0.50f) : glm::vec3(0.90f));
+  return img;
+}
+
+void write_png(const fs::path& path, const Image8& img) {
+  auto out = OIIO::ImageOutput::create(path.string());
+  if (!out)
+    throw std::runtime_error("no PNG writer for " + path.string() + ": " + OIIO::geterror());
+  const OIIO::ImageSpec spec(img.width, img.height, img.channels, OIIO::TypeDesc::UINT8);
+  if (!out->open(path.string(), spec) ||
+      !out->write_image(OIIO::TypeDesc::UINT8, img.pixels.data()) || !out->close())
+    throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());
+}
+
+// ---------------------------------------------------------------------------
+// Geometry
+
+struct MeshData {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;
+  std::vector<glm::vec2> uvs;
+  std::vector<glm::vec4> tangents;  // empty: the mesh is written without TANGENT
+  std::vector<std::uint32_t> indices;
+};
+
+// Per-vertex tangents from the UV layout (Lengyel's method), so mirrored UVs get w = -1.
+void compute_tangents(MeshData& mesh) {
+  std::vector<glm::vec3> dp_du(mesh.positions.size(), glm::vec3(0.0f));
+  std::vector<glm::vec3> dp_dup(mesh.positions.size(), glm::vec3(0.0f));
+  for (size_t i = 0; i + 2 < mesh.indices.size(); i += 3) {
+    const std::uint32_t i0 = mesh.indices[i], i1 = mesh.indices[i + 1], i2 = mesh.indices[i + 2];
+    const glm::vec3 e1 = mesh.positions[i1] - mesh.positions[i0];
+    const glm::vec3 e2 = mesh.positions[i2] - mesh.positions[i0];
+    // Second component is "up" in the image (decreasing glTF v), where the map's +Y points.
+    const glm::vec2 d1(mesh.uvs[i1].x - mesh.uvs[i0].x, mesh.uvs[i0].y - mesh.uvs[i1].y);
+    const glm::vec2 d2(mesh.uvs[i2].x - mesh.uvs[i0].x, mesh.uvs[i0].y - mesh.uvs[i2].y);
+    const float det = d1.x * d2.y - d2.x * d1.y;
+    if (std::abs(det) < 1e-12f) continue;  // degenerate UVs say nothing about the tangent
+    const glm::vec3 s = (e1 * d2.y - e2 * d1.y) / det;
+    const glm::vec3 t = (e2 * d1.x - e1 * d2.x) / det;
+    for (std::uint32_t v : {i0, i1, i2}) {
+      dp_du[v] += s;
+      dp_dup[v] += t;
+    }
+  }
+  mesh.tangents.resize(mesh.positions.size());
+  for (size_t v = 0; v < mesh.positions.size(); ++v) {
+    const glm::vec3 n = mesh.normals[v];
+    const glm::vec3 t = glm::normalize(dp_du[v] - n * glm::dot(n, dp_du[v]));  // Gram-Schmidt
+    const float w = glm::dot(glm::cross(n, t), dp_dup[v]) < 0.0f ? -1.0f : 1.0f;
+    mesh.tangents[v] = glm::vec4(t, w);
+  }
+}
+
+// A rectangle centred on the local origin. `right` and `up` are unit vectors in its plane;
+// the CCW front face looks along cross(right, up). The image's top edge lies along +up and
+// its left edge along -right, or along +right when mirror_u is set.
+MeshData make_quad(glm::vec3 right, glm::vec3 up, glm::vec2 size, glm::vec2 uv_repeat,
+                   bool mirror_u) {
+  MeshData mesh;
+  const glm::vec3 normal = glm::normalize(glm::cross(right, up));
+  const glm::vec2 corners[4] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};  // BL, BR, TR, TL
+  for (const glm::vec2& c : corners) {
+    mesh.positions.push_back(right * ((c.x - 0.5f) * size.x) + up * ((c.y - 0.5f) * size.y));
+    mesh.normals.push_back(normal);
+    const float u = mirror_u ? 1.0f - c.x : c.x;
+    mesh.uvs.emplace_back(u * uv_repeat.x, (1.0f - c.y) * uv_repeat.y);
+  }
+  mesh.indices = {0, 1, 2, 0, 2, 3};
+  compute_tangents(mesh);
+  return mesh;
+}
+
+// UV sphere around the origin: u follows the longitude so the image reads left to right
+// seen from outside, v = 0 at the north pole (+Y). Tangents are analytic (the direction
+// of d position / du), which stays exact at the poles and along the seam.
+MeshData make_sphere(float radius, int segments, int rings, glm::vec2 uv_repeat,
+                     bool with_tangents) {
+  MeshData mesh;
+  const int columns = segments + 1;  // the seam column is duplicated for the UV wrap
+  for (int r = 0; r <= rings; ++r) {
+    const float v = float(r) / float(rings);
+    const double theta = kPi * v;
+    for (int s = 0; s <= segments; ++s) {
+      // Pole vertices take their triangle's centre u, which limits the pinch distortion.
+      const bool pole = (r == 0 || r == rings);
+      const float u = (float(s) + (pole ? 0.5f : 0.0f)) / float(segments);
+      const double phi = 2.0 * kPi * u;
+      const glm::vec3 n(float(std::sin(theta) * std::sin(phi)), float(std::cos(theta)),
+                        float(std::sin(theta) * std::cos(phi)));
+      mesh.positions.push_back(radius * n);
+      mesh.normals.push_back(n);
+      mesh.uvs.emplace_back(u * uv_repeat.x, v * uv_repeat.y);
+      if (with_tangents)
+        mesh.tangents.emplace_back(float(std::cos(phi)), 0.0f, float(-std::sin(phi)), 1.0f);
+    }
+  }
+  // a-b on the upper ring, c-d below. The pole rows collapse to one triangle per segment,
+  // which leaves the last vertex of each pole row unreferenced (kept for a regular grid).
+  for (int r = 0; r < rings; ++r) {
+    for (int s = 0; s < segments; ++s) {
+      const std::uint32_t a = std::uint32_t(r * columns + s), b = a + 1;
+      const std::uint32_t c = a + std::uint32_t(columns), d = c + 1;
+      if (r == 0)
+        mesh.indices.insert(mesh.indices.end(), {a, c, d});
+      else if (r == rings - 1)
+        mesh.indices.insert(mesh.indices.end(), {a, c, b});
+      else
+        mesh.indices.insert(mesh.indices.end(), {a, c, d, a, d, b});
+    }
+  }
+  return mesh;
+}
+
+// Rotation that turns a node's local -Z towards `target`, keeping +Y up (cameras, spots).
+glm::dquat look_at_rotation(glm::dvec3 eye, glm::dvec3 target) {
+  return glm::quatLookAtRH(glm::normalize(target - eye), glm::dvec3(0.0, 1.0, 0.0));
+}
+
+// ---------------------------------------------------------------------------
+// glTF assembly
+
+// Accessor indices of one uploaded MeshData; several meshes (materials) may share them.
+struct Geometry {
+  int position = -1;
+  int normal = -1;
+  int texcoord = -1;
+  int tangent = -1;
+  int indices = -1;
+};
+
+struct MaterialDesc {
+  std::string name;
+  glm::dvec4 base_color{1.0};
+  double metallic = 0.0;
+  double roughness = 0.5;
+  int base_color_texture = -1;
+  int normal_texture = -1;
+  double normal_scale = 1.0;
+  glm::dvec3 emissive{0.0};
+  double emissive_strength = 1.0;  // other than 1: KHR_materials_emissive_strength
+};
+
+struct NodeDesc {
+  std::string name;
+  glm::dvec3 translation{0.0};
+  glm::dquat rotation{1.0, 0.0, 0.0, 0.0};  // glm's constructor order: w, x, y, z
+  glm::dvec3 scale{1.0};
+  int mesh = -1;
+};
+
+const glm::dquat kNoRotation(1.0, 0.0, 0.0, 0.0);
+const glm::dvec3 kUnitScale(1.0);
+const glm::dvec3 kWhite(1.0);
+
+// Adding +0.0 turns -0.0 into 0.0, so the JSON never shows "-0.0".
+double tidy(double v) { return v + 0.0; }
+std::vector<double> to_vector(glm::dvec3 v) { return {tidy(v.x), tidy(v.y), tidy(v.z)}; }
+std::vector<double> to_vector(glm::dvec4 v) { return {tidy(v.x), tidy(v.y), tidy(v.z), tidy(v.w)}; }
+
+// Builds one glTF model whose vertex and index data live in a single buffer.
+class SceneBuilder {
+ public:
+  explicit SceneBuilder(std::string name) : name_(std::move(name)) {
+    model_.asset.version = "2.0";
+    model_.asset.generator = "kit-scenes";
+    model_.buffers.emplace_back();
+    model_.buffers[0].uri = name_ + ".bin";
+    tinygltf::Sampler sampler;  // trilinear + repeat, shared by every texture
+    sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+    sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+    model_.samplers.push_back(sampler);
+    model_.scenes.emplace_back();
+    model_.scenes[0].name = name_;
+    model_.defaultScene = 0;
+  }
+
+  Geometry add_geometry(const MeshData& mesh) {
+    Geometry g;
+    glm::vec3 lo = mesh.positions.front(), hi = mesh.positions.front();
+    for (const glm::vec3& p : mesh.positions) {
+      lo = glm::min(lo, p);
+      hi = glm::max(hi, p);
+    }
+    g.position = add_accessor(mesh.positions, TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                              TINYGLTF_TARGET_ARRAY_BUFFER);
+    model_.accessors[g.position].minValues = to_vector(glm::dvec3(lo));  // required for POSITION
+    model_.accessors[g.position].maxValues = to_vector(glm::dvec3(hi));
+    g.normal = add_accessor(mesh.normals, TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                            TINYGLTF_TARGET_ARRAY_BUFFER);
+    g.texcoord = add_accessor(mesh.uvs, TINYGLTF_TYPE_VEC2, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                              TINYGLTF_TARGET_ARRAY_BUFFER);
+    if (!mesh.tangents.empty())
+      g.tangent = add_accessor(mesh.tangents, TINYGLTF_TYPE_VEC4, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                               TINYGLTF_TARGET_ARRAY_BUFFER);
+    g.indices =
+        add_accessor(mesh.indices, TINYGLTF_TYPE_SCALAR, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT,
+                     TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    return g;
+  }
+
+  int add_mesh(const std::string& name, const Geometry& g, int material) {
+    tinygltf::Primitive prim;
+    prim.attributes["POSITION"] = g.position;
+    prim.attributes["NORMAL"] = g.normal;
+    prim.attributes["TEXCOORD_0"] = g.texcoord;
+    if (g.tangent >= 0) prim.attributes["TANGENT"] = g.tangent;
+    prim.indices = g.indices;
+    prim.material = material;
+    prim.mode = TINYGLTF_MODE_TRIANGLES;
+    tinygltf::Mesh mesh;
+    mesh.name = name;
+    mesh.primitives.push_back(prim);
+    model_.meshes.push_back(mesh);
+    return int(model_.meshes.size()) - 1;
+  }
+
+  // write() puts the PNG next to the .gltf; the model references it by uri only.
+  int add_texture(const std::string& file_name, const Image8& image) {
+    tinygltf::Image img;
+    img.name = fs::path(file_name).stem().string();
+    img.uri = file_name;
+    model_.images.push_back(img);
+    images_.emplace_back(file_name, image);
+    tinygltf::Texture tex;
+    tex.sampler = 0;
+    tex.source = int(model_.images.size()) - 1;
+    model_.textures.push_back(tex);
+    return int(model_.textures.size()) - 1;
+  }
+
+  int add_material(const MaterialDesc& desc) {
+    tinygltf::Material m;
+    m.name = desc.name;
+    m.doubleSided = false;
+    m.pbrMetallicRoughness.baseColorFactor = to_vector(desc.base_color);
+    m.pbrMetallicRoughness.metallicFactor = desc.metallic;
+    m.pbrMetallicRoughness.roughnessFactor = desc.roughness;
+    m.pbrMetallicRoughness.baseColorTexture.index = desc.base_color_texture;
+    m.normalTexture.index = desc.normal_texture;
+    m.normalTexture.scale = desc.normal_scale;
+    m.emissiveFactor = to_vector(desc.emissive);
+    if (desc.emissive_strength != 1.0) {
+      // glTF limits emissiveFactor to [0, 1]; brighter emitters need this extension.
+      tinygltf::Value::Object ext{{"emissiveStrength", tinygltf::Value(desc.emissive_strength)}};
+      m.extensions["KHR_materials_emissive_strength"] = tinygltf::Value(ext);
+      use_extension("KHR_materials_emissive_strength");
+    }
+    model_.materials.push_back(m);
+    return int(model_.materials.size()) - 1;
+  }
+
+  // Adds a node under `parent`, or as a root of the scene when parent < 0.
+  int add_node(const NodeDesc& desc, int parent = -1) {
+    tinygltf::Node node;
+    node.name = desc.name;
+    node.mesh = desc.mesh;
+    // Identity parts are left out: glTF's defaults already mean identity.
+    if (desc.translation != glm::dvec3(0.0)) node.translation = to_vector(desc.translation);
+    if (desc.rotation != kNoRotation) {
+      const glm::dquat& q = desc.rotation;
+      node.rotation = to_vector(glm::dvec4(q.x, q.y, q.z, q.w));  // glTF order: x, y, z, w
+    }
+    if (desc.scale != kUnitScale) node.scale = to_vector(desc.scale);
+    model_.nodes.push_back(node);
+    const int index = int(model_.nodes.size()) - 1;
+    if (parent < 0)
+      model_.scenes[0].nodes.push_back(index);
+    else
+      model_.nodes[parent].children.push_back(index);
+    return index;
+  }
+
+  // intensity in candela; range <= 0 means infinite (the property is left out).
+  void add_point_light(const std::string& name, glm::dvec3 position, glm::dvec3 color,
+                       double candela, double range = 0.0) {
+    tinygltf::Light light;
+    light.name = name;
+    light.type = "point";
+    light.color = to_vector(color);
+    light.intensity = candela;
+    light.range = range;
+    attach_light(light, {name, position, kNoRotation, kUnitScale, -1});
+  }
+
+  // A spot light shines along its node's local -Z, so it is aimed like a camera.
+  void add_spot_light(const std::string& name, glm::dvec3 position, glm::dvec3 target,
+                      glm::dvec3 color, double candela, double inner_cone, double outer_cone,
+                      double range = 0.0) {
+    tinygltf::Light light;
+    light.name = name;
+    light.type = "spot";
+    light.color = to_vector(color);
+    light.intensity = candela;
+    light.range = range;
+    light.spot.innerConeAngle = inner_cone;
+    light.spot.outerConeAngle = outer_cone;
+    attach_light(light, {name, position, look_at_rotation(position, target), kUnitScale, -1});
+  }
+
+  // No aspect ratio: the renderer uses its viewport's.
+  void add_camera(glm::dvec3 eye, glm::dvec3 target, double yfov) {
+    tinygltf::Camera cam;
+    cam.name = "camera";
+    cam.type = "perspective";
+    cam.perspective.yfov = yfov;
+    cam.perspective.znear = kZNear;
+    cam.perspective.zfar = kZFar;
+    model_.cameras.push_back(cam);
+    const int node = add_node({"camera", eye, look_at_rotation(eye, target), kUnitScale, -1});
+    model_.nodes[node].camera = int(model_.cameras.size()) - 1;
+  }
+
+  // Writes OUT_DIR/<name>/<name>.gltf, <name>.bin and the PNG textures.
+  void write(const fs::path& out_dir) const {
+    const fs::path dir = out_dir / name_;
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    if (ec) throw std::runtime_error("cannot create " + dir.string() + ": " + ec.message());
+    for (const auto& [file_name, image] : images_) write_png(dir / file_name, image);
+
+    tinygltf::TinyGLTF writer;
+    // The PNGs are already written: keep tinygltf's own (stb) image writer out of it. The
+    // callback must still hand back the uri, or tinygltf writes an image with no source.
+    writer.SetImageWriter(
+        [](const std::string*, const std::string*, const tinygltf::Image* image, bool,
+           std::string* out_uri, void*) {
+          *out_uri = image->uri;
+          return true;
+        },
+        nullptr);
+    const fs::path gltf = dir / (name_ + ".gltf");
+    if (!writer.WriteGltfSceneToFile(&model_, gltf.string(), /*embedImages=*/false,
+                                     /*embedBuffers=*/false, /*prettyPrint=*/true,
+                                     /*writeBinary=*/false))
+      throw std::runtime_error("cannot write " + gltf.string());
+  }
+
+ private:
+  // Appends `data` to the buffer as its own tightly packed bufferView.
+  template <typename T>
+  int add_accessor(const std::vector<T>& data, int type, int component_type, int target) {
+    std::vector<unsigned char>& bytes = model_.buffers[0].data;
+    const size_t offset = bytes.size();  // every element is made of 4-byte values: aligned
+    const size_t length = data.size() * sizeof(T);
+    bytes.resize(offset + length);
+    std::memcpy(bytes.data() + offset, data.data(), length);
+
+    tinygltf::BufferView view;
+    view.buffer = 0;
+    view.byteOffset = offset;
+    view.byteLength = length;
+    view.target = target;
+    model_.bufferViews.push_back(view);
+
+    tinygltf::Accessor acc;
+    acc.bufferView = int(model_.bufferViews.size()) - 1;
+    acc.componentType = component_type;
+    acc.type = type;
+    acc.count = data.size();
+    model_.accessors.push_back(acc);
+    return int(model_.accessors.size()) - 1;
+  }
+
+  void attach_light(const tinygltf::Light& light, const NodeDesc& node) {
+    model_.lights.push_back(light);
+    const int index = add_node(node);
+    tinygltf::Value::Object ext{{"light", tinygltf::Value(int(model_.lights.size()) - 1)}};
+    model_.nodes[index].extensions["KHR_lights_punctual"] = tinygltf::Value(ext);
+    use_extension("KHR_lights_punctual");
+  }
+
+  void use_extension(const std::string& ext) {
+    auto& used = model_.extensionsUsed;
+    if (std::find(used.begin(), used.end(), ext) == used.end()) used.push_back(ext);
+  }
+
+  std::string name_;
+  tinygltf::Model model_;
+  std::vector<std::pair<std::string, Image8>> images_;
+};
+
+struct Textures {
+  Image8 checker = make_checker();
+  Image8 brick_color = make_brick_color();
+  Image8 brick_normal = make_brick_normal();
+};
+
+// Plain grey with the brick normal map: the bricks show up through shading alone.
+MaterialDesc normal_mapped_grey(int normal_texture) {
+  MaterialDesc m;
+  m.name = "normal_mapped_grey";
+  m.base_color = glm::dvec4(0.75, 0.75, 0.75, 1.0);
+  m.roughness = 0.5;
+  m.normal_texture = normal_texture;
+  m.normal_scale = 1.0;
+  return m;
+}
+
+// Shorthand for a node that only carries a mesh.
+NodeDesc mesh_node(const std::string& name, glm::dvec3 translation, int mesh) {
+  return {name, translation, kNoRotation, kUnitScale, mesh};
+}
+
+// ---------------------------------------------------------------------------
+// Scenes
+
+SceneBuilder build_default_scene(const Textures& tex) {
+  SceneBuilder b("default");
+  const glm::vec3 x(1, 0, 0), y(0, 1, 0), z(0, 0, 1);
+
+  // Floor: 10 x 10 m; the 4-cell checker repeats 5 times, so each square is 0.5 m.
+  MaterialDesc floor_mat;
+  floor_mat.name = "floor_checker";
+  floor_mat.roughness = 0.8;
+  floor_mat.base_color_texture = b.add_texture("checker.png", tex.checker);
+  const Geometry floor = b.add_geometry(make_quad(x, -z, {10, 10}, {5, 5}, false));
+  b.add_node(mesh_node("floor", {0, 0, 0}, b.add_mesh("floor", floor, b.add_material(floor_mat))));
+
+  // Back wall: 8 x 4 m at z = -4, one brick texture tile per 2 m.
+  const int brick_normal = b.add_texture("brick_normal.png", tex.brick_normal);
+  MaterialDesc wall_mat;
+  wall_mat.name = "brick_wall";
+  wall_mat.roughness = 0.9;
+  wall_mat.base_color_texture = b.add_texture("brick_color.png", tex.brick_color);
+  wall_mat.normal_texture = brick_normal;
+  wall_mat.normal_scale = 1.0;
+  const Geometry wall = b.add_geometry(make_quad(x, y, {8, 4}, {4, 2}, false));
+  b.add_node(
+      mesh_node("back_wall", {0, 2, -4}, b.add_mesh("back_wall", wall, b.add_material(wall_mat))));
+
+  // Material spheres: parent -> row -> sphere, so the loader has to compose transforms.
+  const Geometry sphere = b.add_geometry(make_sphere(0.35f, 32, 16, {2, 1}, true));
+  const int parent = b.add_node({"sphere_rows", {0, 0.5, -1}});
+  const int row_dielectric = b.add_node({"row_dielectric"}, parent);
+  const int row_metal = b.add_node({"row_metal", {0, 0.9, 0}}, parent);
+  const double roughness[5] = {0.0, 0.25, 0.5, 0.75, 1.0};
+  for (int i = 0; i < 5; ++i) {
+    const glm::dvec3 offset(-2.0 + i, 0.0, 0.0);
+    const std::string suffix = "_r" + std::to_string(i * 25);
+    MaterialDesc dielectric;
+    dielectric.name = "dielectric" + suffix;
+    dielectric.base_color = glm::dvec4(0.8, 0.15, 0.1, 1.0);
+    dielectric.metallic = 0.0;
+    dielectric.roughness = roughness[i];
+    const std::string d_name = "sphere_dielectric" + suffix;
+    b.add_node(mesh_node(d_name, offset, b.add_mesh(d_name, sphere, b.add_material(dielectric))),
+               row_dielectric);
+    MaterialDesc metal;
+    metal.name = "gold" + suffix;
+    metal.base_color = glm::dvec4(1.0, 0.766, 0.336, 1.0);
+    metal.metallic = 1.0;
+    metal.roughness = roughness[i];
+    const std::string m_name = "sphere_gold" + suffix;
+    b.add_node(mesh_node(m_name, offset, b.add_mesh(m_name, sphere, b.add_material(metal))),
+               row_metal);
+  }
+
+  // Left panel facing +x, image mirrored left-right: its tangent is +z with w = -1.
+  const int grey = b.add_material(normal_mapped_grey(brick_normal));
+  const Geometry panel = b.add_geometry(make_quad(-z, y, {1.5, 1.5}, {1, 1}, true));
+  b.add_node(
+      mesh_node("mirrored_panel", {-3.5, 1.0, -1.5}, b.add_mesh("mirrored_panel", panel, grey)));
+
+  // Normal-mapped sphere without TANGENT: the loader must generate them.
+  const Geometry bare = b.add_geometry(make_sphere(0.5f, 32, 16, {2, 1}, false));
+  b.add_node(mesh_node("sphere_no_tangents", {3.2, 0.5, -1.0},
+                       b.add_mesh("sphere_no_tangents", bare, grey)));
+
+  MaterialDesc glow;
+  glow.name = "emissive";
+  glow.base_color = glm::dvec4(0.1, 0.1, 0.1, 1.0);
+  glow.emissive = glm::dvec3(1.0, 0.75, 0.5);
+  glow.emissive_strength = 4.0;
+  const Geometry small = b.add_geometry(make_sphere(0.1f, 16, 8, {2, 1}, true));
+  b.add_node(mesh_node("emissive_sphere", {1.2, 0.1, 0.6},
+                       b.add_mesh("emissive_sphere", small, b.add_material(glow))));
+
+  // Finite ranges here (light volumes); the small scenes leave range out (infinite).
+  b.add_point_light("warm_white", {-2.0, 2.0, 0.5}, {1.0, 0.85, 0.7}, 50.0, 12.0);
+  b.add_point_light("cool_blue", {2.0, 1.8, 0.5}, {0.55, 0.7, 1.0}, 40.0, 12.0);
+  b.add_point_light("reddish", {0.5, 2.4, 0.2}, {1.0, 0.35, 0.25}, 25.0, 10.0);
+  b.add_spot_light("spot", {0.0, 3.5, 6.0}, {0.0, 0.95, -1.0}, kWhite, 80.0, 0.25, 0.45, 20.0);
+
+  b.add_camera({0.0, 2.2, 6.5}, {0.0, 0.8, -1.0}, 0.8);
+  return b;
+}
+
+SceneBuilder build_sphere_scene() {
+  SceneBuilder b("sphere");
+  MaterialDesc mat;
+  mat.name = "terracotta";
+  mat.base_color = glm::dvec4(0.8, 0.3, 0.2, 1.0);
+  mat.metallic = 0.0;
+  mat.roughness = 0.4;
+  const Geometry sphere = b.add_geometry(make_sphere(1.0f, 64, 32, {2, 1}, true));
+  b.add_node(mesh_node("sphere", {0, 0, 0}, b.add_mesh("sphere", sphere, b.add_material(mat))));
+  b.add_point_light("light", {2, 2, 3}, kWhite, 50.0);
+  b.add_camera({0, 0, 4}, {0, 0, 0}, 0.7);
+  return b;
+}
+
+SceneBuilder build_grazing_scene() {
+  SceneBuilder b("grazing");
+  MaterialDesc mat;
+  mat.name = "white_glossy";
+  mat.base_color = glm::dvec4(1.0);
+  mat.metallic = 0.0;
+  mat.roughness = 0.3;
+  const Geometry plane =
+      b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {20, 20}, {10, 10}, false));
+  b.add_node(mesh_node("plane", {0, 0, 0}, b.add_mesh("plane", plane, b.add_material(mat))));
+  b.add_point_light("light", {0, 0.02, -2}, kWhite, 30.0);
+  b.add_camera({0, 0.05, 6}, {0, 0, -10}, 0.8);
+  return b;
+}
+
+SceneBuilder build_normal_map_scene(const Textures& tex) {
+  SceneBuilder b("normalmap");
+  const glm::vec3 x(1, 0, 0), y(0, 1, 0);
+  const int grey =
+      b.add_material(normal_mapped_grey(b.add_texture("brick_normal.png", tex.brick_normal)));
+
+  // The quads span y in [-0.8, 1.2], so the sphere below (top at y = -0.8) stays clear.
+  const Geometry quad = b.add_geometry(make_quad(x, y, {2, 2}, {1, 1}, false));
+  b.add_node(mesh_node("quad", {-1.1, 0.2, 0}, b.add_mesh("quad", quad, grey)));
+  const Geometry mirrored = b.add_geometry(make_quad(x, y, {2, 2}, {1, 1}, true));
+  b.add_node(
+      mesh_node("quad_mirrored", {1.1, 0.2, 0}, b.add_mesh("quad_mirrored", mirrored, grey)));
+
+  const Geometry sphere = b.add_geometry(make_sphere(0.6f, 32, 16, {2, 1}, false));
+  b.add_node(mesh_node("sphere_no_tangents", {0, -1.4, 0},
+                       b.add_mesh("sphere_no_tangents", sphere, grey)));
+
+  // A non-uniform scale only changes normals that are not aligned with its axes, so the
+  // child tilts its quad 30 degrees upwards. Correct normal matrix (inverse transpose):
+  // world normal ~(0, 0.756, 0.655); the plain model matrix would give ~(0, 0.277, 0.961).
+  const int parent = b.add_node({"scaled_parent", {0, 1.6, 0}, kNoRotation, {2.0, 0.5, 1.0}});
+  const Geometry strip = b.add_geometry(make_quad(x, y, {2, 1}, {1, 0.5}, false));
+  const glm::dquat tilt = glm::angleAxis(glm::radians(-30.0), glm::dvec3(1, 0, 0));
+  b.add_node({"tilted_quad", {0, 0, 0}, tilt, kUnitScale, b.add_mesh("tilted_quad", strip, grey)},
+             parent);
+
+  b.add_point_light("light", {0, 0, 2.5}, kWhite, 40.0);
+  b.add_camera({0, 0, 6}, {0, 0, 0}, 0.9);
+  return b;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::cerr << "usage: kit-scenes OUT_DIR\n";
+    return 2;
+  }
+  try {
+    const fs::path out_dir = argv[1];
+    const Textures textures;
+    build_default_scene(textures).write(out_dir);
+    build_sphere_scene().write(out_dir);
+    build_grazing_scene().write(out_dir);
+    build_normal_map_scene(textures).write(out_dir);
+  } catch (const std::exception& e) {
+    std::cerr << "kit-scenes: " << e.what() << "\n";
+    return 1;
+  }
+  return 0;
+}

@@ -1,0 +1,31 @@
+# kit-scenes: generates the kit's glTF test scenes. Included from tools/CMakeLists.txt;
+# needs the kit_warnings target and find_package(TinyGLTF, OpenImageIO, glm) from the
+# top-level CMakeLists.txt.
+add_executable(kit-scenes ${CMAKE_CURRENT_LIST_DIR}/kit_scenes.cpp)
+target_link_libraries(kit-scenes PRIVATE kit_warnings TinyGLTF::TinyGLTF OpenImageIO::OpenImageIO glm::glm)
+
+# The scenes are build outputs in ${CMAKE_BINARY_DIR}/scenes/<name>/, regenerated whenever
+# kit-scenes changes. One command writes all four; the .gltf files stand for the rest.
+set(KIT_SCENES_DIR ${CMAKE_BINARY_DIR}/scenes)
+set(KIT_SCENE_FILES
+  ${KIT_SCENES_DIR}/default/default.gltf
+  ${KIT_SCENES_DIR}/sphere/sphere.gltf
+  ${KIT_SCENES_DIR}/grazing/grazing.gltf
+  ${KIT_SCENES_DIR}/normalmap/normalmap.gltf)
+set(KIT_SCENE_BYPRODUCTS
+  ${KIT_SCENES_DIR}/default/default.bin
+  ${KIT_SCENES_DIR}/default/checker.png
+  ${KIT_SCENES_DIR}/default/brick_color.png
+  ${KIT_SCENES_DIR}/default/brick_normal.png
+  ${KIT_SCENES_DIR}/sphere/sphere.bin
+  ${KIT_SCENES_DIR}/grazing/grazing.bin
+  ${KIT_SCENES_DIR}/normalmap/normalmap.bin
+  ${KIT_SCENES_DIR}/normalmap/brick_normal.png)
+add_custom_command(
+  OUTPUT ${KIT_SCENE_FILES}
+  BYPRODUCTS ${KIT_SCENE_BYPRODUCTS}
+  COMMAND kit-scenes ${KIT_SCENES_DIR}
+  DEPENDS kit-scenes
+  COMMENT "Generating glTF scenes in ${KIT_SCENES_DIR}"
+  VERBATIM)
+add_custom_target(kit_scene_files ALL DEPENDS ${KIT_SCENE_FILES})
