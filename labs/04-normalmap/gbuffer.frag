@@ -1,0 +1,36 @@
+#version 330 core
+// Lab 4 - normal mapping, fragment stage. Starts from lab 1's solution.
+// See handouts/04-normalmap.md.
+#include "geometry_uniforms.glsl"
+
+in vec3 v_world_position;
+in vec3 v_world_normal;
+in vec3 v_world_tangent;
+in vec3 v_world_bitangent;
+in vec2 v_texcoord;
+
+layout(location = KIT_GBUF_POSITION) out vec4 out_position;
+layout(location = KIT_GBUF_NORMAL) out vec4 out_normal;
+layout(location = KIT_GBUF_ALBEDO) out vec4 out_albedo;
+layout(location = KIT_GBUF_MATERIAL) out vec4 out_material;
+
+void main() {
+    vec4 base_color = u_base_color_factor * texture(u_base_color_texture, v_texcoord);
+    vec4 metallic_roughness = texture(u_metallic_roughness_texture, v_texcoord);
+    float metallic = u_metallic_factor * metallic_roughness.b;
+    float roughness = u_roughness_factor * metallic_roughness.g;
+    vec3 emissive = u_emissive_factor * texture(u_emissive_texture, v_texcoord).rgb;
+
+    vec3 n = normalize(v_world_normal);
+    if (u_has_normal_texture) {
+        // TODO(lab 4): re-orthogonalise T and B against n (Gram-Schmidt), read
+        //              the tangent-space normal (2 * texel - 1) scaled by
+        //              (u_normal_scale, u_normal_scale, 1), and take it to world
+        //              space with the TBN matrix. Keep the result finite.
+    }
+
+    out_position = vec4(v_world_position, 1.0);
+    out_normal = vec4(n, 0.0);
+    out_albedo = vec4(base_color.rgb, 1.0);
+    out_material = vec4(metallic, roughness, max(emissive.r, max(emissive.g, emissive.b)), 1.0);
+}

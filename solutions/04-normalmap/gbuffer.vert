@@ -1,0 +1,28 @@
+#version 330 core
+// Geometry pass with a world-space TBN frame for normal mapping.
+#include "geometry_uniforms.glsl"
+
+layout(location = KIT_ATTR_POSITION) in vec3 a_position;
+layout(location = KIT_ATTR_NORMAL) in vec3 a_normal;
+layout(location = KIT_ATTR_TEXCOORD) in vec2 a_texcoord;
+layout(location = KIT_ATTR_TANGENT) in vec4 a_tangent;  // xyz tangent, w handedness
+
+out vec3 v_world_position;
+out vec3 v_world_normal;
+out vec3 v_world_tangent;
+out vec3 v_world_bitangent;
+out vec2 v_texcoord;
+
+void main() {
+    vec4 world = u_model * vec4(a_position, 1.0);
+    v_world_position = world.xyz;
+    vec3 n = normalize(u_normal_matrix * a_normal);
+    // The tangent lies in the surface, so it follows the surface: the model matrix.
+    vec3 t = normalize(mat3(u_model) * a_tangent.xyz);
+    v_world_normal = n;
+    v_world_tangent = t;
+    // w = -1 where the UVs are mirrored: the bitangent must flip with them.
+    v_world_bitangent = cross(n, t) * a_tangent.w;
+    v_texcoord = a_texcoord;
+    gl_Position = u_projection * u_view * world;
+}
