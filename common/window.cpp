@@ -1,5 +1,6 @@
 #include "window.h"
 
+#define GLFW_INCLUDE_NONE  // GL declarations come from glad
 #include <GLFW/glfw3.h>
 
 #include "error.h"

@@ -216,8 +216,8 @@ MeshData make_quad(glm::vec3 right, glm::vec3 up, glm::vec2 size, glm::vec2 uv_r
 }
 
 // UV sphere around the origin: u follows the longitude so the image reads left to right
-// seen from outside, v = 0 at the north pole (+Y). Tangents are analytic (the direction
-// of d position / du), which stays exact at the poles and along the seam.
+// seen from outside (u = 0.5 at +Z, the seam at -Z), v = 0 at the north pole (+Y). Tangents are
+// analytic (the direction of d position / du), which stays exact at the poles and along the seam.
 MeshData make_sphere(float radius, int segments, int rings, glm::vec2 uv_repeat,
                      bool with_tangents) {
   MeshData mesh;
@@ -229,7 +229,7 @@ MeshData make_sphere(float radius, int segments, int rings, glm::vec2 uv_repeat,
       // Pole vertices take their triangle's centre u, which limits the pinch distortion.
       const bool pole = (r == 0 || r == rings);
       const float u = (float(s) + (pole ? 0.5f : 0.0f)) / float(segments);
-      const double phi = 2.0 * kPi * u;
+      const double phi = 2.0 * kPi * (u - 0.5);
       const glm::vec3 n(float(std::sin(theta) * std::sin(phi)), float(std::cos(theta)),
                         float(std::sin(theta) * std::cos(phi)));
       mesh.positions.push_back(radius * n);

@@ -1,8 +1,9 @@
 # kit-scenes: generates the kit's glTF test scenes. Included from tools/CMakeLists.txt;
-# needs the kit_warnings target and find_package(TinyGLTF, OpenImageIO, glm) from the
+# needs kit_warnings, TinyGLTF::TinyGLTF, PkgConfig::OIIO and glm::glm from the
 # top-level CMakeLists.txt.
 add_executable(kit-scenes ${CMAKE_CURRENT_LIST_DIR}/kit_scenes.cpp)
-target_link_libraries(kit-scenes PRIVATE kit_warnings TinyGLTF::TinyGLTF OpenImageIO::OpenImageIO glm::glm)
+# PkgConfig::OIIO: the top level finds OpenImageIO through pkg-config (see CMakeLists.txt).
+target_link_libraries(kit-scenes PRIVATE kit_warnings TinyGLTF::TinyGLTF PkgConfig::OIIO glm::glm)
 
 # The scenes are build outputs in ${CMAKE_BINARY_DIR}/scenes/<name>/, regenerated whenever
 # kit-scenes changes. One command writes all four; the .gltf files stand for the rest.
