@@ -394,7 +394,10 @@ void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t
       t = glm::cross(axis, n);
     }
     t = glm::normalize(t);
-    float w = glm::dot(glm::cross(n, t), bitan[i]) < 0.0f ? -1.0f : 1.0f;
+    // glTF's v grows down the image while a normal map's +Y points up it, so
+    // B = cross(N, T) * w must point along decreasing v: w = +1 when the
+    // accumulated d(position)/dv points the other way.
+    float w = glm::dot(glm::cross(n, t), bitan[i]) > 0.0f ? -1.0f : 1.0f;
     vertices[i].tangent = glm::vec4(t, w);
   }
 }
