@@ -139,7 +139,9 @@ void ShaderLibrary::append(const std::string& name, AssembledShader& out,
       if (seen_code || trim(line) != kRequiredVersionLine)
         throw Error(display + ":" + std::to_string(number) + ": the first line must be \"" +
                     kRequiredVersionLine + "\" (found \"" + trim(line) + "\")");
-    } else if (std::regex_match(line, m, include_re)) {
+    } else if ((seen_code || !top_level) && std::regex_match(line, m, include_re)) {
+      // An include ahead of a top-level #version is left to the first-line check
+      // below, which refuses it: its text would come before the version line.
       try {
         append(m[1].str(), out, included, depth + 1, false);
       } catch (const Error& e) {

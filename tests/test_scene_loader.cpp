@@ -1,0 +1,380 @@
+// The glTF loader (common/scene.*): broken files fail with a kit::Error naming
+// the file and the problem, never a crash; valid kit scenes load with the
+// counts, lights, camera, transforms and tangents the glTF JSON describes.
+// Expected values come from the JSON itself (nlohmann/json) in double precision.
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <functional>
+#include <limits>
+#include <map>
+#include <stdexcept>
+#include <string>
+
+#include "error.h"
+#include "gbuffer_layout.h"
+#include "kit_test.h"
+#include "kit_test_files.h"
+#include "scene.h"
+#include "stages.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+// Float round-off of composed float matrices versus the same product in double.
+constexpr double kMatrixTolerance = 1e-5;
+// A unit vector from float arithmetic (normalize, Gram-Schmidt).
+constexpr double kUnitTolerance = 1e-5;
+
+// The kit::Error message loading `path` throws; fails the test when it loads.
+std::string load_error(const fs::path& path) {
+  try {
+    kit::load_scene(path.string());
+  } catch (const kit::Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << path << " loaded, but a kit::Error was expected";
+  return "";
+}
+
+// A generated kit scene copied into a fresh temp folder, to be broken by a test.
+struct SceneCopy {
+  fs::path dir, gltf, bin;
+  json doc;
+
+  SceneCopy(const std::string& scene, const std::string& case_name) {
+    fs::path source = kit::resolve_scene(scene);
+    dir = kit::test::temp_dir("scene_loader/" + case_name);
+    for (const auto& entry : fs::directory_iterator(source.parent_path()))
+      fs::copy_file(entry.path(), dir / entry.path().filename());
+    gltf = dir / source.filename();
+    bin = dir / (source.stem().string() + ".bin");
+    doc = json::parse(kit::test::read_file(gltf));
+  }
+  void save_json() const { kit::test::write_file(gltf, doc.dump(2)); }
+
+  // Accessor index of the first primitive's attribute ("POSITION", ...) or "indices".
+  int accessor(const std::string& attribute) const {
+    const json& prim = doc["meshes"][0]["primitives"][0];
+    return attribute == "indices" ? prim["indices"].get<int>() : prim["attributes"][attribute].get<int>();
+  }
+  // Byte offset of element `element` (component `component`, 4-byte components) in the .bin.
+  size_t byte_offset(int accessor_index, size_t element, size_t components, size_t component) const {
+    const json& acc = doc["accessors"][static_cast<size_t>(accessor_index)];
+    const json& view = doc["bufferViews"][acc["bufferView"].get<size_t>()];
+    return view.value("byteOffset", size_t{0}) + acc.value("byteOffset", size_t{0}) +
+           (element * components + component) * 4;
+  }
+  // Overwrites 4 bytes of the .bin at `offset` with `value`'s bytes.
+  template <typename T>
+  void patch_bin(size_t offset, T value) const {
+    static_assert(sizeof(T) == 4, "glTF components patched here are 4 bytes");
+    std::string bytes = kit::test::read_file(bin);
+    ASSERT_LE(offset + 4, bytes.size());
+    std::memcpy(&bytes[offset], &value, 4);
+    kit::test::write_file(bin, bytes);
+  }
+};
+
+void expect_error(const fs::path& path, const std::string& phrase) {
+  std::string message = load_error(path);
+  EXPECT_NE(message.find(path.string()), std::string::npos) << "message does not name the file: " << message;
+  EXPECT_NE(message.find(phrase), std::string::npos) << "expected \"" << phrase << "\" in: " << message;
+}
+
+TEST(scene_loader_errors, MissingFile) {
+  fs::path missing = kit::test::temp_dir("scene_loader/missing") / "no_such_scene.gltf";
+  expect_error(missing, "scene file not found");
+}
+
+TEST(scene_loader_errors, TruncatedJson) {
+  SceneCopy copy("sphere", "truncated");
+  std::string text = kit::test::read_file(copy.gltf);
+  kit::test::write_file(copy.gltf, text.substr(0, text.size() / 2));
+  expect_error(copy.gltf, "invalid glTF");
+  expect_error(copy.gltf, "parse error");
+}
+
+TEST(scene_loader_errors, MissingBuffer) {
+  SceneCopy copy("sphere", "missing_bin");
+  fs::remove(copy.bin);
+  expect_error(copy.gltf, "invalid glTF");
+  expect_error(copy.gltf, copy.bin.filename().string());  // says which file is missing
+}
+
+TEST(scene_loader_errors, OutOfRangeIndex) {
+  SceneCopy copy("sphere", "bad_index");
+  constexpr uint32_t kBadIndex = 0x00ffffffu;
+  constexpr size_t kPatchedPosition = 7;  // any index inside the list
+  copy.patch_bin(copy.byte_offset(copy.accessor("indices"), kPatchedPosition, 1, 0), kBadIndex);
+  expect_error(copy.gltf, "index " + std::to_string(kBadIndex) + " at position " + std::to_string(kPatchedPosition) +
+                              " is out of range");
+}
+
+TEST(scene_loader_errors, WrongAccessorType) {
+  SceneCopy copy("sphere", "vec2_position");
+  copy.doc["accessors"][static_cast<size_t>(copy.accessor("POSITION"))]["type"] = "VEC2";
+  copy.save_json();
+  expect_error(copy.gltf, "POSITION: accessor " + std::to_string(copy.accessor("POSITION")) + " has the wrong type");
+}
+
+TEST(scene_loader_errors, NanPosition) {
+  SceneCopy copy("sphere", "nan_position");
+  constexpr size_t kVertex = 40;
+  copy.patch_bin(copy.byte_offset(copy.accessor("POSITION"), kVertex, 3, 1), std::numeric_limits<float>::quiet_NaN());
+  expect_error(copy.gltf, "POSITION " + std::to_string(kVertex) + " is not finite");
+}
+
+TEST(scene_loader_errors, AccessorPastTheEndOfItsBuffer) {
+  SceneCopy copy("sphere", "short_view");
+  size_t position = static_cast<size_t>(copy.accessor("POSITION"));
+  copy.doc["accessors"][position]["count"] = copy.doc["accessors"][position]["count"].get<size_t>() * 4;
+  copy.save_json();
+  expect_error(copy.gltf, "reads past the end of its buffer");
+}
+
+// ---- valid scenes ----
+
+// glTF node local matrix (matrix, or T * R * S) in double.
+glm::dmat4 local_matrix(const json& node) {
+  if (node.contains("matrix")) {
+    glm::dmat4 m;
+    for (int i = 0; i < 16; ++i) m[i / 4][i % 4] = node["matrix"][static_cast<size_t>(i)].get<double>();
+    return m;
+  }
+  glm::dmat4 m(1.0);
+  if (node.contains("translation"))
+    m = glm::translate(m, glm::dvec3(node["translation"][0], node["translation"][1], node["translation"][2]));
+  if (node.contains("rotation")) {
+    const json& r = node["rotation"];  // glTF order x, y, z, w
+    m *= glm::mat4_cast(glm::dquat(r[3].get<double>(), r[0].get<double>(), r[1].get<double>(), r[2].get<double>()));
+  }
+  if (node.contains("scale")) m = glm::scale(m, glm::dvec3(node["scale"][0], node["scale"][1], node["scale"][2]));
+  return m;
+}
+
+// World matrix of every node, by name, walking the default scene from its roots.
+std::map<std::string, glm::dmat4> world_matrices(const json& doc) {
+  std::map<std::string, glm::dmat4> out;
+  std::function<void(size_t, const glm::dmat4&)> visit = [&](size_t index, const glm::dmat4& parent) {
+    const json& node = doc["nodes"][index];
+    glm::dmat4 world = parent * local_matrix(node);
+    out[node.value("name", "")] = world;
+    for (const json& child : node.value("children", json::array())) visit(child.get<size_t>(), world);
+  };
+  for (const json& root : doc["scenes"][doc.value("scene", 0)]["nodes"]) visit(root.get<size_t>(), glm::dmat4(1.0));
+  return out;
+}
+
+json scene_json(const std::string& name) { return json::parse(kit::test::read_file(kit::resolve_scene(name))); }
+
+const kit::Primitive& primitive_named(const kit::Scene& scene, const std::string& mesh_name) {
+  for (const kit::Primitive& p : scene.primitives)
+    if (p.name.find("('" + mesh_name + "')") != std::string::npos) return p;
+  throw std::runtime_error("no primitive of mesh '" + mesh_name + "' in " + scene.path);
+}
+
+void expect_matrix_near(const glm::mat4& actual, const glm::dmat4& expected, const std::string& what) {
+  for (int c = 0; c < 4; ++c)
+    for (int r = 0; r < 4; ++r)
+      EXPECT_NEAR(actual[c][r], expected[c][r], kMatrixTolerance) << what << " [" << c << "][" << r << "]";
+}
+
+// Every draw's world matrix is parent x local along the node path, as in the JSON.
+void expect_draw_transforms_match_json(const std::string& scene_name) {
+  const kit::Scene& scene = kit::test::scene(scene_name);
+  json doc = scene_json(scene_name);
+  std::map<std::string, glm::dmat4> worlds = world_matrices(doc);
+  size_t expected_draws = 0;
+  for (const json& node : doc["nodes"]) {
+    if (!node.contains("mesh")) continue;
+    const json& mesh = doc["meshes"][node["mesh"].get<size_t>()];
+    expected_draws += mesh["primitives"].size();
+    const std::string mesh_name = mesh["name"];
+    bool found = false;
+    for (const kit::DrawItem& d : scene.draws) {
+      if (scene.primitives[static_cast<size_t>(d.primitive)].name.find("('" + mesh_name + "')") == std::string::npos) continue;
+      expect_matrix_near(d.world, worlds.at(node["name"]), scene_name + " node " + node["name"].get<std::string>());
+      found = true;
+    }
+    EXPECT_TRUE(found) << "no draw for node " << node["name"];
+  }
+  EXPECT_EQ(scene.draws.size(), expected_draws) << scene_name;
+}
+
+TEST(scene_loader_valid, DefaultSceneCountsLightsAndCamera) {
+  const kit::Scene& scene = kit::test::scene("default");
+  json doc = scene_json("default");
+  EXPECT_EQ(scene.primitives.size(), doc["meshes"].size());  // one primitive per kit mesh
+  EXPECT_EQ(scene.materials.size(), doc["materials"].size());
+  EXPECT_EQ(scene.images.size(), doc["images"].size());
+
+  const json& lights = doc["extensions"]["KHR_lights_punctual"]["lights"];
+  ASSERT_EQ(scene.lights.size(), 4u);
+  ASSERT_EQ(lights.size(), 4u);
+  int spots = 0;
+  std::map<std::string, glm::dmat4> worlds = world_matrices(doc);
+  for (size_t i = 0; i < scene.lights.size(); ++i) {
+    const kit::Light& l = scene.lights[i];
+    const json& expected = lights[i];  // light nodes are in light order in the kit scenes
+    glm::dvec3 position(worlds.at(expected["name"])[3]);
+    EXPECT_NEAR(glm::distance(glm::dvec3(l.position), position), 0.0, kMatrixTolerance) << expected["name"];
+    EXPECT_NEAR(l.intensity, expected["intensity"].get<double>(), 1e-6);
+    EXPECT_NEAR(l.range, expected.value("range", 0.0), 1e-6);
+    if (expected["type"] == "spot") {
+      ++spots;
+      EXPECT_EQ(l.type, KIT_LIGHT_SPOT);
+      EXPECT_NEAR(l.inner_cone, expected["spot"]["innerConeAngle"].get<double>(), 1e-6);
+      EXPECT_NEAR(l.outer_cone, expected["spot"]["outerConeAngle"].get<double>(), 1e-6);
+      // The generator aims the spot from (0, 3.5, 6) at (0, 0.95, -1): the node's -Z.
+      glm::dvec3 aim = glm::normalize(glm::dvec3(0.0, 0.95, -1.0) - position);
+      EXPECT_NEAR(glm::distance(glm::dvec3(l.direction), aim), 0.0, kUnitTolerance);
+    } else {
+      EXPECT_EQ(l.type, KIT_LIGHT_POINT);
+    }
+  }
+  EXPECT_EQ(spots, 1);
+
+  ASSERT_TRUE(scene.camera.has_value());
+  const json& cam = doc["cameras"][0]["perspective"];
+  EXPECT_NEAR(scene.camera->yfov, cam["yfov"].get<double>(), 1e-6);
+  EXPECT_NEAR(scene.camera->znear, cam["znear"].get<double>(), 1e-6);
+  EXPECT_NEAR(scene.camera->zfar, cam["zfar"].get<double>(), 1e-6);
+  glm::dvec3 eye(worlds.at("camera")[3]);
+  EXPECT_NEAR(glm::distance(glm::dvec3(scene.camera->position), eye), 0.0, kMatrixTolerance);
+  // The camera looks from (0, 2.2, 6.5) at (0, 0.8, -1): view * eye = origin, forward = -Z.
+  glm::dvec4 eye_in_view = glm::dmat4(scene.camera->view) * glm::dvec4(eye, 1.0);
+  EXPECT_NEAR(glm::length(glm::dvec3(eye_in_view)), 0.0, kMatrixTolerance);
+  glm::dvec3 forward(glm::inverse(glm::dmat4(scene.camera->view)) * glm::dvec4(0, 0, -1, 0));
+  EXPECT_NEAR(glm::distance(forward, glm::normalize(glm::dvec3(0.0, 0.8, -1.0) - eye)), 0.0, kUnitTolerance);
+}
+
+TEST(scene_loader_valid, NodeHierarchyComposesParentTimesLocal) {
+  expect_draw_transforms_match_json("default");
+  expect_draw_transforms_match_json("normalmap");
+  const kit::Scene& scene = kit::test::scene("default");
+  // sphere_rows (0, 0.5, -1) -> row_metal (0, 0.9, 0) -> sphere_gold_r50 (0, 0, 0): world (0, 1.4, -1);
+  // sphere_dielectric_r0 sits at (-2, 0, 0) under row_dielectric (identity): world (-2, 0.5, -1).
+  const std::pair<std::string, glm::dvec3> spheres[] = {{"sphere_gold_r50", {0.0, 1.4, -1.0}},
+                                                       {"sphere_dielectric_r0", {-2.0, 0.5, -1.0}},
+                                                       {"sphere_gold_r100", {2.0, 1.4, -1.0}}};
+  for (const auto& [name, expected] : spheres) {
+    const kit::Primitive& p = primitive_named(scene, name);
+    for (const kit::DrawItem& d : scene.draws) {
+      if (&scene.primitives[static_cast<size_t>(d.primitive)] != &p) continue;
+      EXPECT_NEAR(glm::distance(glm::dvec3(d.world[3]), expected), 0.0, kMatrixTolerance) << name;
+    }
+  }
+  // Non-uniform parent scale (2, 0.5, 1) over a child rotated -30 degrees about x: the order
+  // matters here. parent x local sends the child's +Y to (0, 0.5 cos 30, -sin 30).
+  const kit::Scene& normalmap = kit::test::scene("normalmap");
+  const kit::Primitive& tilted = primitive_named(normalmap, "tilted_quad");
+  for (const kit::DrawItem& d : normalmap.draws) {
+    if (&normalmap.primitives[static_cast<size_t>(d.primitive)] != &tilted) continue;
+    glm::dvec3 up(glm::dmat4(d.world) * glm::dvec4(0, 1, 0, 0));
+    EXPECT_NEAR(glm::distance(up, glm::dvec3(0.0, 0.5 * std::cos(glm::radians(30.0)), -std::sin(glm::radians(30.0)))), 0.0,
+                kMatrixTolerance);
+  }
+}
+
+TEST(scene_loader_valid, TangentsGeneratedOnlyWhereMissing) {
+  const kit::Scene& scene = kit::test::scene("default");
+  json doc = scene_json("default");
+  // The loader generates tangents exactly for the primitives written without TANGENT.
+  for (const json& mesh : doc["meshes"]) {
+    bool has_tangent = mesh["primitives"][0]["attributes"].contains("TANGENT");
+    EXPECT_EQ(primitive_named(scene, mesh["name"]).tangents_generated, !has_tangent) << mesh["name"];
+  }
+
+  const kit::Primitive& bare = primitive_named(scene, "sphere_no_tangents");
+  ASSERT_TRUE(bare.tangents_generated);
+  for (size_t i = 0; i < bare.vertices.size(); ++i) {
+    const kit::Vertex& v = bare.vertices[i];
+    glm::dvec3 t(v.tangent), n = glm::normalize(glm::dvec3(v.normal));
+    ASSERT_NEAR(glm::length(t), 1.0, kUnitTolerance) << "vertex " << i;
+    ASSERT_NEAR(glm::dot(t, n), 0.0, kUnitTolerance) << "vertex " << i;
+    ASSERT_TRUE(v.tangent.w == 1.0f || v.tangent.w == -1.0f) << "vertex " << i << " w " << v.tangent.w;
+    // Away from the poles the sphere is plainly mapped (u along longitude, v down the
+    // image towards -Y): the tangent follows d(position)/du = (cos phi, 0, -sin phi) and
+    // w = +1, as in the generator's analytic tangents for the other spheres.
+    if (std::fabs(n.y) < 0.9) {
+      glm::dvec3 analytic = glm::normalize(glm::dvec3(n.z, 0.0, -n.x));
+      EXPECT_GT(glm::dot(t, analytic), 0.99) << "vertex " << i;
+      EXPECT_EQ(v.tangent.w, 1.0f) << "vertex " << i;
+    }
+  }
+
+  // The mirrored panel brings its own TANGENT with w = -1, which must be kept.
+  const kit::Primitive& panel = primitive_named(scene, "mirrored_panel");
+  EXPECT_FALSE(panel.tangents_generated);
+  ASSERT_FALSE(panel.vertices.empty());
+  for (const kit::Vertex& v : panel.vertices) EXPECT_EQ(v.tangent.w, -1.0f);
+}
+
+// ---- generate_tangents on hand-made triangles ----
+
+kit::Vertex vertex(glm::vec3 p, glm::vec3 n, glm::vec2 uv) { return {p, n, uv, glm::vec4(0.0f)}; }
+
+void expect_valid_frame(const std::vector<kit::Vertex>& vertices, const std::string& what) {
+  for (size_t i = 0; i < vertices.size(); ++i) {
+    const glm::vec4& t = vertices[i].tangent;
+    ASSERT_TRUE(std::isfinite(t.x) && std::isfinite(t.y) && std::isfinite(t.z) && std::isfinite(t.w)) << what << " " << i;
+    EXPECT_NEAR(glm::length(glm::dvec3(t)), 1.0, kUnitTolerance) << what << " " << i;
+    glm::dvec3 n(vertices[i].normal);
+    if (glm::length(n) > 0.0) {
+      EXPECT_NEAR(glm::dot(glm::dvec3(t), glm::normalize(n)), 0.0, kUnitTolerance) << what << " " << i;
+    }
+    EXPECT_TRUE(t.w == 1.0f || t.w == -1.0f) << what << " " << i;
+  }
+}
+
+TEST(scene_loader_tangents, DegenerateUvsGiveFiniteUnitTangents) {
+  const std::vector<uint32_t> triangle = {0, 1, 2};
+  const glm::vec3 z(0, 0, 1), x(1, 0, 0);
+  struct Case {
+    std::string name;
+    std::vector<kit::Vertex> vertices;
+  };
+  std::vector<Case> cases = {
+      {"all UVs equal", {vertex({0, 0, 0}, z, {0.5f, 0.5f}), vertex({1, 0, 0}, z, {0.5f, 0.5f}), vertex({0, 1, 0}, z, {0.5f, 0.5f})}},
+      {"collinear UVs", {vertex({0, 0, 0}, z, {0, 0}), vertex({1, 0, 0}, z, {1, 1}), vertex({0, 1, 0}, z, {2, 2})}},
+      {"normal along x", {vertex({0, 0, 0}, x, {0, 0}), vertex({0, 1, 0}, x, {0, 0}), vertex({0, 0, 1}, x, {0, 0})}},
+      {"zero-area triangle", {vertex({0, 0, 0}, z, {0, 0}), vertex({0, 0, 0}, z, {1, 0}), vertex({0, 0, 0}, z, {0, 1})}},
+      {"zero normal", {vertex({0, 0, 0}, glm::vec3(0), {0, 0}), vertex({1, 0, 0}, glm::vec3(0), {0, 0}),
+                       vertex({0, 1, 0}, glm::vec3(0), {0, 0})}},
+  };
+  for (Case& c : cases) {
+    kit::generate_tangents(c.vertices, triangle);
+    expect_valid_frame(c.vertices, c.name);
+  }
+}
+
+TEST(scene_loader_tangents, PlainAndMirroredQuadsGetTheirHandedness) {
+  // A quad facing +Z, u to the right (+X), glTF v down the image (-Y): T = +X, and
+  // B = cross(N, T) * w must point up the image (+Y), so w = +1. Mirroring u flips T
+  // to -X; then cross(N, T) = -Y and w = -1 keeps B pointing up.
+  const glm::vec3 n(0, 0, 1);
+  const std::vector<uint32_t> quad = {0, 1, 2, 0, 2, 3};
+  for (bool mirrored : {false, true}) {
+    auto u = [&](float s) { return mirrored ? 1.0f - s : s; };
+    std::vector<kit::Vertex> v = {vertex({0, 0, 0}, n, {u(0), 1}), vertex({1, 0, 0}, n, {u(1), 1}),
+                                  vertex({1, 1, 0}, n, {u(1), 0}), vertex({0, 1, 0}, n, {u(0), 0})};
+    kit::generate_tangents(v, quad);
+    expect_valid_frame(v, mirrored ? "mirrored" : "plain");
+    for (const kit::Vertex& vert : v) {
+      EXPECT_NEAR(vert.tangent.x, mirrored ? -1.0 : 1.0, kUnitTolerance);
+      EXPECT_EQ(vert.tangent.w, mirrored ? -1.0f : 1.0f);
+    }
+  }
+}
+
+}  // namespace

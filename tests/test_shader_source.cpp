@@ -1,0 +1,292 @@
+// The shader include resolver (common/shader_source.*): name rules, confinement
+// to the shader folders, once-only inclusion, #version rules, file checks, and
+// compile/link errors mapped back to the file and line that caused them.
+#include <gtest/gtest.h>
+
+#include <iterator>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "error.h"
+#include "gl_objects.h"
+#include "kit_test.h"
+#include "kit_test_files.h"
+#include "shader_source.h"
+#include "stages.h"
+
+namespace fs = std::filesystem;
+using kit::ShaderFolder;
+using kit::ShaderLibrary;
+
+namespace {
+
+const std::string kVersion = std::string(kit::kRequiredVersionLine) + "\n";
+
+// How often `needle` occurs in `text`.
+size_t count_of(const std::string& text, const std::string& needle) {
+  size_t count = 0;
+  for (size_t at = text.find(needle); at != std::string::npos; at = text.find(needle, at + needle.size())) ++count;
+  return count;
+}
+
+// The kit::Error message `f` throws; fails the test when it throws nothing.
+template <typename F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const kit::Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected a kit::Error, nothing was thrown";
+  return "";
+}
+
+// A temp folder per test holding shader folders; `folder(name)` creates one.
+class ShaderSourceTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    root_ = kit::test::temp_dir(std::string("shader_source/") + info->name());
+  }
+  fs::path folder(const std::string& name) {
+    fs::create_directories(root_ / name);
+    return root_ / name;
+  }
+  void write(const std::string& folder_name, const std::string& file, const std::string& text) {
+    kit::test::write_file(folder(folder_name) / file, text);
+  }
+  // A library over the named folders, labelled by their names, in this order.
+  ShaderLibrary library(const std::vector<std::string>& names) {
+    std::vector<ShaderFolder> folders;
+    for (const auto& n : names) folders.push_back({folder(n), n, {}});
+    return ShaderLibrary(folders);
+  }
+  fs::path root_;
+};
+
+// Suite names start with the file's name, so `ctest -R shader_source` selects this file.
+using shader_source = ShaderSourceTest;
+
+TEST_F(shader_source, PlainNamesResolveInFolderOrder) {
+  write("lab", "shared.glsl", "// lab copy\n");
+  write("base", "shared.glsl", "// base copy\n");
+  write("base", "only_base.glsl", "// base only\n");
+  ShaderLibrary lib = library({"lab", "base"});
+  std::string display;
+  EXPECT_EQ(lib.locate("shared.glsl", &display), fs::canonical(root_ / "lab" / "shared.glsl"));
+  EXPECT_EQ(display, "lab/shared.glsl");
+  EXPECT_EQ(lib.locate("only_base.glsl", &display), fs::canonical(root_ / "base" / "only_base.glsl"));
+  EXPECT_EQ(display, "base/only_base.glsl");
+  // Reversed order: the other copy wins.
+  ShaderLibrary reversed = library({"base", "lab"});
+  EXPECT_EQ(reversed.locate("shared.glsl"), fs::canonical(root_ / "base" / "shared.glsl"));
+  // Includes resolve the same way.
+  write("lab", "main.frag", kVersion + "#include \"shared.glsl\"\n#include \"only_base.glsl\"\nvoid main() {}\n");
+  kit::AssembledShader s = lib.assemble("main.frag");
+  EXPECT_NE(s.text.find("// lab copy"), std::string::npos);
+  EXPECT_EQ(s.text.find("// base copy"), std::string::npos);
+  EXPECT_NE(s.text.find("// base only"), std::string::npos);
+  EXPECT_EQ(s.files, (std::vector<std::string>{"lab/main.frag", "lab/shared.glsl", "base/only_base.glsl"}));
+  EXPECT_NE(error_of([&] { lib.locate("absent.glsl"); }).find("not found in lab, base"), std::string::npos);
+}
+
+TEST_F(shader_source, NamesThatCouldLeaveTheFoldersAreRefused) {
+  write("lab", "x.glsl", "// x\n");
+  write("lab/sub", "x.glsl", "// nested\n");
+  ShaderLibrary lib = library({"lab"});
+  for (const std::string name : {"../x.glsl", "../lab/x.glsl", "/etc/passwd", "sub/x.glsl", "sub\\x.glsl", "..", ".hidden", ""}) {
+    std::string message = error_of([&] { lib.locate(name); });
+    EXPECT_NE(message.find("is refused"), std::string::npos) << "name '" << name << "': " << message;
+    EXPECT_NE(message.find("no '/'"), std::string::npos) << message;
+    EXPECT_FALSE(kit::is_plain_shader_name(name)) << name;
+  }
+  for (const std::string name : {"x.glsl", "gbuffer_layout.h", "brdf-v2.glsl"})
+    EXPECT_TRUE(kit::is_plain_shader_name(name)) << name;
+  // The same rule through #include, reported at the including line.
+  write("lab", "main.frag", kVersion + "// comment\n#include \"../x.glsl\"\nvoid main() {}\n");
+  std::string message = error_of([&] { lib.assemble("main.frag"); });
+  EXPECT_NE(message.find("lab/main.frag:3"), std::string::npos) << message;
+  EXPECT_NE(message.find("is refused"), std::string::npos) << message;
+}
+
+TEST_F(shader_source, SymlinkLeavingItsFolderIsRefused) {
+  write("outside", "secret.glsl", "// secret\n");
+  write("lab", "target.glsl", "// inside\n");
+  fs::create_symlink(root_ / "outside" / "secret.glsl", root_ / "lab" / "secret.glsl");
+  fs::create_symlink("target.glsl", root_ / "lab" / "alias.glsl");  // stays inside: allowed
+  ShaderLibrary lib = library({"lab"});
+  std::string message = error_of([&] { lib.locate("secret.glsl"); });
+  EXPECT_NE(message.find("lab/secret.glsl"), std::string::npos) << message;
+  EXPECT_NE(message.find("links outside its folder"), std::string::npos) << message;
+  EXPECT_EQ(lib.locate("alias.glsl"), fs::canonical(root_ / "lab" / "target.glsl"));
+  // A symlinked folder entry pointing outside is refused the same way.
+  fs::create_directory_symlink(root_ / "outside", root_ / "lab" / "dir.glsl");
+  EXPECT_NE(error_of([&] { lib.locate("dir.glsl"); }).find("links outside its folder"), std::string::npos);
+}
+
+TEST_F(shader_source, EachFileIsIncludedOnceAndCyclesEnd) {
+  write("lab", "common.glsl", "// COMMON\n");
+  write("lab", "a.glsl", "// A\n#include \"common.glsl\"\n#include \"b.glsl\"\n");
+  write("lab", "b.glsl", "// B\n#include \"a.glsl\"\n#include \"common.glsl\"\n");
+  write("lab", "main.frag", kVersion + "#include \"common.glsl\"\n#include \"a.glsl\"\n#include \"common.glsl\"\nvoid main() {}\n");
+  kit::AssembledShader s = library({"lab"}).assemble("main.frag");
+  EXPECT_EQ(count_of(s.text, "// COMMON"), 1u) << s.text;
+  EXPECT_EQ(count_of(s.text, "// A"), 1u) << s.text;
+  EXPECT_EQ(count_of(s.text, "// B"), 1u) << s.text;
+  EXPECT_EQ(count_of(s.text, "#include"), 0u) << s.text;
+  // Every assembled line maps to its file and line: "// B" is line 1 of b.glsl.
+  ASSERT_EQ(s.lines.size(), static_cast<size_t>(count_of(s.text, "\n")));
+  size_t b_line = static_cast<size_t>(count_of(s.text.substr(0, s.text.find("// B")), "\n"));
+  EXPECT_EQ(s.files[static_cast<size_t>(s.lines[b_line].file)], "lab/b.glsl");
+  EXPECT_EQ(s.lines[b_line].line, 1);
+}
+
+TEST_F(shader_source, IncludeNestingIsLimited) {
+  constexpr int kChain = 40;  // well past any sensible depth
+  for (int i = 0; i < kChain; ++i)
+    write("lab", "n" + std::to_string(i) + ".glsl", "#include \"n" + std::to_string(i + 1) + ".glsl\"\n");
+  write("lab", "n" + std::to_string(kChain) + ".glsl", "// end\n");
+  write("lab", "main.frag", kVersion + "#include \"n0.glsl\"\nvoid main() {}\n");
+  std::string message = error_of([&] { library({"lab"}).assemble("main.frag"); });
+  EXPECT_NE(message.find("nesting deeper than"), std::string::npos) << message;
+}
+
+TEST_F(shader_source, VersionLineRules) {
+  ShaderLibrary lib = library({"lab"});
+  write("lab", "versioned.glsl", kVersion + "// helper\n");
+  write("lab", "includes_versioned.frag", kVersion + "#include \"versioned.glsl\"\nvoid main() {}\n");
+  std::string message = error_of([&] { lib.assemble("includes_versioned.frag"); });
+  EXPECT_NE(message.find("lab/versioned.glsl:1"), std::string::npos) << message;
+  EXPECT_NE(message.find("must not declare #version"), std::string::npos) << message;
+
+  const std::pair<std::string, std::string> bad_tops[] = {
+      {"no_version.frag", "void main() {}\n"},
+      {"late_version.frag", "void main() {}\n" + kVersion},
+      {"wrong_version.frag", "#version 450 core\nvoid main() {}\n"},
+      {"compat_version.frag", "#version 330\nvoid main() {}\n"},
+      {"include_first.frag", "#include \"plain.glsl\"\n" + kVersion + "void main() {}\n"},
+  };
+  write("lab", "plain.glsl", "// no version\n");
+  for (const auto& [name, text] : bad_tops) {
+    write("lab", name, text);
+    std::string m = error_of([&] { lib.assemble(name); });
+    EXPECT_NE(m.find("lab/" + name), std::string::npos) << m;
+    EXPECT_NE(m.find("the first line must be \"#version 330 core\""), std::string::npos) << name << ": " << m;
+  }
+  // Blank lines before the #version line are fine.
+  write("lab", "blank_first.frag", "\n\n" + kVersion + "void main() {}\n");
+  EXPECT_NO_THROW(lib.assemble("blank_first.frag"));
+}
+
+TEST_F(shader_source, FileContentChecks) {
+  ShaderLibrary lib = library({"lab"});
+  const std::pair<std::string, std::string> cases[] = {
+      {"empty.glsl", ""},
+      {"blank.glsl", " \n\t\r\n"},
+      {"binary.glsl", std::string("// text\0more\n", 13)},
+      {"latin1.glsl", "// caf\xe9\n"},
+      {"truncated_utf8.glsl", "// \xe2\x82"},
+  };
+  const char* expected[] = {"file is empty", "file is empty", "binary data (a NUL byte)",
+                            "not UTF-8 text (invalid byte at offset 6)", "not UTF-8 text (invalid byte at offset 3)"};
+  for (size_t i = 0; i < std::size(cases); ++i) {
+    write("lab", cases[i].first, cases[i].second);
+    std::string m = error_of([&] { kit::read_shader_text(root_ / "lab" / cases[i].first, "lab/" + cases[i].first); });
+    EXPECT_NE(m.find("lab/" + cases[i].first + ": "), std::string::npos) << m;
+    EXPECT_NE(m.find(expected[i]), std::string::npos) << cases[i].first << ": " << m;
+  }
+  // Valid multi-byte UTF-8 passes.
+  write("lab", "utf8.glsl", "// caf\xc3\xa9 \xe2\x82\xac \xf0\x9f\x98\x80\n");
+  EXPECT_NO_THROW(kit::read_shader_text(root_ / "lab" / "utf8.glsl", "lab/utf8.glsl"));
+
+  // The size limit: exactly kMaxShaderFileBytes is accepted, one byte more is not.
+  std::string at_limit = kVersion + "void main() {}\n//";
+  at_limit.resize(static_cast<size_t>(kit::kMaxShaderFileBytes), 'x');
+  write("lab", "at_limit.frag", at_limit);
+  EXPECT_NO_THROW(lib.assemble("at_limit.frag"));
+  write("lab", "over_limit.frag", at_limit + "x");
+  std::string m = error_of([&] { lib.assemble("over_limit.frag"); });
+  EXPECT_NE(m.find("lab/over_limit.frag"), std::string::npos) << m;
+  EXPECT_NE(m.find("over the " + std::to_string(kit::kMaxShaderFileBytes) + "-byte limit"), std::string::npos) << m;
+
+  // The checks apply to included files too, named by their own display name.
+  write("lab", "main.frag", kVersion + "#include \"binary.glsl\"\nvoid main() {}\n");
+  m = error_of([&] { lib.assemble("main.frag"); });
+  EXPECT_NE(m.find("lab/binary.glsl: file holds binary data"), std::string::npos) << m;
+  // A folder is not a shader file.
+  fs::create_directories(root_ / "lab" / "folder.glsl");
+  EXPECT_NE(error_of([&] { lib.locate("folder.glsl"); }).find("not a regular file"), std::string::npos);
+}
+
+TEST_F(shader_source, OnlyRestrictsAFolderToItsListedNames) {
+  write("lab", "mine.glsl", "// lab mine\n");
+  write("lab", "theirs.glsl", "// lab theirs\n");
+  write("base", "theirs.glsl", "// base theirs\n");
+  std::vector<ShaderFolder> folders = {{folder("lab"), "lab", {"mine.glsl"}}, {folder("base"), "base", {}}};
+  ShaderLibrary lib(folders);
+  EXPECT_EQ(lib.locate("mine.glsl"), fs::canonical(root_ / "lab" / "mine.glsl"));
+  EXPECT_EQ(lib.locate("theirs.glsl"), fs::canonical(root_ / "base" / "theirs.glsl"));
+  write("lab", "extra.glsl", "// lab extra\n");
+  std::string m = error_of([&] { lib.locate("extra.glsl"); });
+  EXPECT_NE(m.find("\"extra.glsl\" not found"), std::string::npos) << m;
+}
+
+TEST(shader_source_log, MesaAndNvidiaLinesMapToFiles) {
+  kit::AssembledShader s;
+  s.files = {"lab/main.frag", "lab/brdf.glsl"};
+  s.lines = {{0, 1}, {1, 1}, {1, 2}, {0, 3}};
+  EXPECT_EQ(s.map_log("0:3(7): error: `x' undeclared"), "lab/brdf.glsl:2:7: error: `x' undeclared\n");
+  EXPECT_EQ(s.map_log("0(4) : error C1008: undefined variable"), "lab/main.frag:3 : error C1008: undefined variable\n");
+  EXPECT_EQ(s.map_log("0:99(1): error: past the end"), "lab/main.frag:?:1: error: past the end\n");
+  EXPECT_EQ(s.map_log("warning without a location"), "warning without a location\n");
+}
+
+// Compile and link errors need a GL context.
+class ShaderProgramTest : public ShaderSourceTest {
+ protected:
+  void SetUp() override {
+    ShaderSourceTest::SetUp();
+    kit::test::context();
+  }
+  // The test's "lab" folder first, then the kit's shaders/ (fullscreen.vert, uniforms).
+  ShaderLibrary lab_then_kit() {
+    return ShaderLibrary({{folder("lab"), "lab", {}}, {kit::kit_root() / "shaders", "shaders", {}}});
+  }
+};
+
+using shader_source_gl = ShaderProgramTest;
+
+TEST_F(shader_source_gl, CompileErrorNamesTheIncludedFileAndLine) {
+  constexpr int kErrorLine = 4;  // the line of brdf.glsl below that uses an undeclared name
+  write("lab", "brdf.glsl",
+        "// a helper with a mistake\n"
+        "#include \"math.glsl\"\n"
+        "vec3 shade() {\n"
+        "    return vec3(kit_undeclared_name * KIT_PI);\n"
+        "}\n");
+  write("lab", "main.frag", kVersion + "#include \"uniforms.glsl\"\n#include \"brdf.glsl\"\nout vec4 c;\nvoid main() { c = vec4(shade(), 1.0); }\n");
+  ShaderLibrary lib = lab_then_kit();
+  std::string m = error_of([&] { kit::Program(lib, "fullscreen.vert", "main.frag"); });
+  EXPECT_NE(m.find("compile error in lab/main.frag"), std::string::npos) << m;
+  EXPECT_NE(m.find("lab/brdf.glsl:" + std::to_string(kErrorLine) + ":"), std::string::npos) << m;
+  EXPECT_NE(m.find("kit_undeclared_name"), std::string::npos) << m;
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+
+  // Fixing the line makes the same library compile, so the error above came from it.
+  write("lab", "brdf.glsl", "#include \"math.glsl\"\nvec3 shade() { return vec3(KIT_PI); }\n");
+  kit::Program ok(lib, "fullscreen.vert", "main.frag");
+  EXPECT_TRUE(ok.valid());
+  EXPECT_EQ(ok.source_paths().size(), 6u);  // fullscreen.vert; main.frag, uniforms, layout, brdf, math
+}
+
+TEST_F(shader_source_gl, LinkErrorIsReported) {
+  // Declared, called, never defined: each stage compiles, the program cannot link.
+  write("lab", "link.frag", kVersion + "vec3 kit_missing_helper();\nout vec4 c;\nvoid main() { c = vec4(kit_missing_helper(), 1.0); }\n");
+  std::string m = error_of([&] { kit::Program(lab_then_kit(), "fullscreen.vert", "link.frag"); });
+  EXPECT_NE(m.find("link error (shaders/fullscreen.vert + lab/link.frag)"), std::string::npos) << m;
+  EXPECT_NE(m.find("kit_missing_helper"), std::string::npos) << m;
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+}  // namespace

@@ -1,0 +1,146 @@
+// Every stage of the lab sequence, end to end: the reference solutions render
+// every kit scene with finite pixels and no GL error, each starter (labs/)
+// compiles and visibly differs from its solution, stage 5 with post-processing
+// off is stage 4 exactly, and rendering is deterministic.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "error.h"
+#include "kit_test.h"
+#include "kit_test_images.h"
+#include "stages.h"
+
+namespace {
+
+constexpr int kWidth = 160;
+constexpr int kHeight = 120;
+const char* const kScenes[] = {"default", "sphere", "grazing", "normalmap"};
+
+kit::RenderSettings small_settings(int width = kWidth, int height = kHeight) {
+  kit::RenderSettings s;
+  s.width = width;
+  s.height = height;
+  return s;
+}
+
+// ---- the solutions on every scene ----
+
+// One solution render: no GL error, no NaN or Inf in the final image or (lit stages) HDR.
+void expect_finite_render(const kit::Stage& stage, const std::string& scene) {
+  auto renderer = kit::test::render_stage(stage.name, scene, small_settings());
+  ASSERT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  kit::Image final_image = renderer->read_view(kit::View::Final, true);
+  ASSERT_EQ(final_image.width, kWidth);
+  ASSERT_EQ(final_image.height, kHeight);
+  EXPECT_EQ(kit::count_non_finite(final_image), 0u);
+  if (stage.lighting) {
+    EXPECT_EQ(kit::count_non_finite(renderer->read_view(kit::View::Hdr, true)), 0u);
+  }
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+// Suite names start with the file's name, so `ctest -R stages` selects this file. Stages
+// and scenes are loops rather than test parameters: ctest runs each test in a process of
+// its own, and within one process each stage's shaders compile only once.
+TEST(stages_solutions, EveryStageRendersEverySceneFinite) {
+  for (const kit::Stage& stage : kit::stages()) {
+    for (const char* scene : kScenes) {
+      SCOPED_TRACE("stage " + stage.name + ", scene " + scene);
+      expect_finite_render(stage, scene);
+    }
+  }
+}
+
+// ---- the starters ----
+
+// The scene where each step's missing work shows most: lab 4 only changes normal-mapped
+// surfaces, which fill most of the normalmap scene.
+std::string scene_showing(const kit::Stage& stage) { return stage.name == "normalmap" ? "normalmap" : "default"; }
+
+// Mean absolute difference of the colour channels over the pixels where `coverage`
+// (the G-buffer material view) has a surface: the background is the clear colour in
+// every image and would only dilute the measure.
+double mean_difference_on_surfaces(const kit::Image& a, const kit::Image& b, const kit::Image& coverage) {
+  constexpr int kColorChannels = 3;
+  double sum = 0.0;
+  size_t covered = 0;
+  for (int y = 0; y < a.height; ++y) {
+    for (int x = 0; x < a.width; ++x) {
+      if (coverage.at(x, y, 3) < 0.5f) continue;
+      ++covered;
+      for (int c = 0; c < kColorChannels; ++c) sum += std::fabs(static_cast<double>(a.at(x, y, c)) - b.at(x, y, c));
+    }
+  }
+  return covered ? sum / static_cast<double>(covered * kColorChannels) : 0.0;
+}
+
+// Starters are compared at twice the size: at 160 x 120 mipmapping averages the brick
+// normal map's narrow bevels away, and lab 4's missing work with them.
+constexpr int kStarterWidth = 2 * kWidth, kStarterHeight = 2 * kHeight;
+
+// The starter of `stage` (labs/) builds and its final image is clearly not the solution's.
+void expect_starter_differs(const kit::Stage& stage) {
+  // Mean absolute difference of the final images, channels in [0, 1]: a clear margin
+  // above what a rounding difference could give (< 1/255).
+  constexpr double kMinMeanDifference = 0.01;
+  const std::string scene = scene_showing(stage);
+  std::unique_ptr<kit::Renderer> starter;
+  try {
+    starter = kit::test::render_stage(stage.name, scene, small_settings(kStarterWidth, kStarterHeight),
+                                      kit::kit_root() / "labs");
+  } catch (const kit::Error& e) {
+    FAIL() << "the starter of " << stage.folder << " does not build: " << e.what();
+  }
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  kit::Image starter_image = starter->read_view(kit::View::Final, true);
+  auto solution = kit::test::render_stage(stage.name, scene, small_settings(kStarterWidth, kStarterHeight));
+  kit::Image solution_image = solution->read_view(kit::View::Final, true);
+  ASSERT_EQ(starter_image.width, solution_image.width);
+  ASSERT_EQ(starter_image.height, solution_image.height);
+  double difference =
+      mean_difference_on_surfaces(starter_image, solution_image, solution->read_view(kit::View::Material, true));
+  EXPECT_GT(difference, kMinMeanDifference) << stage.folder << " on " << scene;
+}
+
+TEST(stages_starters, EachCompilesAndDiffersFromItsSolution) {
+  for (const kit::Stage& stage : kit::stages()) {
+    SCOPED_TRACE(stage.folder);
+    expect_starter_differs(stage);
+  }
+}
+
+// ---- stage 5 against stage 4 ----
+
+TEST(stages_postprocess, OffIsStage4ExactlyAndOnIsNot) {
+  // With the toggle off, bloom and the custom effect pass the image through untouched.
+  kit::RenderSettings off = small_settings();
+  off.postprocess = false;
+  kit::Image stage4 = kit::test::render_stage("normalmap", "default", small_settings())->read_view(kit::View::Final, true);
+  kit::Image stage5_off = kit::test::render_stage("postprocess", "default", off)->read_view(kit::View::Final, true);
+  EXPECT_EQ(kit::test::first_difference(stage4, stage5_off), "");
+
+  // The default scene has emitters and highlights above the bloom threshold: bloom adds light.
+  constexpr double kMinBloomDifference = 1e-3;
+  kit::Image stage5_on = kit::test::render_stage("postprocess", "default", small_settings())->read_view(kit::View::Final, true);
+  EXPECT_NE(kit::test::first_difference(stage4, stage5_on), "");
+  double difference = kit::test::mean_abs_difference(stage4, stage5_on);
+  EXPECT_GT(difference, kMinBloomDifference);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+// ---- determinism ----
+
+TEST(stages_determinism, TwoRendersAreBitwiseIdentical) {
+  for (const kit::View view : {kit::View::Final, kit::View::Hdr, kit::View::Position, kit::View::Normal}) {
+    SCOPED_TRACE(kit::view_name(view));
+    kit::Image first = kit::test::render_stage("postprocess", "default", small_settings())->read_view(view, true);
+    kit::Image second = kit::test::render_stage("postprocess", "default", small_settings())->read_view(view, true);
+    EXPECT_EQ(kit::test::first_difference(first, second), "");
+  }
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+}  // namespace
