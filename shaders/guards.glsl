@@ -12,6 +12,12 @@ const float KIT_MIN_V_DOT_H = 1e-4;
 const float KIT_MIN_ROUGHNESS = 0.045;
 // Floor under every other denominator.
 const float KIT_MIN_DENOMINATOR = 1e-7;
+// Floor under GGX's denominator pi ((n.h)^2 (alpha^2 - 1) + 1)^2. With the roughness
+// floor it is at least pi KIT_MIN_ROUGHNESS^8 = 5.3e-11 (at n.h = 1), so this floor
+// must stay below that: KIT_MIN_DENOMINATOR (1e-7) there would cap D of every
+// roughness under 0.115 near its peak (at 41 instead of 1/(pi alpha^2) = 77625 for
+// roughness 0.045). It only keeps alpha = 0 from dividing by zero.
+const float KIT_MIN_GGX_DENOMINATOR = 1e-12;
 // Floor under r^2 in inverse-square falloff: a light sitting on a surface
 // stays finite (1 cm squared).
 const float KIT_MIN_DISTANCE_SQUARED = 1e-4;

@@ -12,7 +12,7 @@ vec3 fresnel_schlick(float v_dot_h, vec3 f0) {
 float distribution_ggx(float n_dot_h, float alpha) {
     float alpha2 = alpha * alpha;
     float d = n_dot_h * n_dot_h * (alpha2 - 1.0) + 1.0;
-    return alpha2 / max(KIT_PI * d * d, KIT_MIN_DENOMINATOR);
+    return alpha2 / max(KIT_PI * d * d, KIT_MIN_GGX_DENOMINATOR);
 }
 
 // Cook-Torrance geometric term: G = min(1, 2(n.h)(n.v)/(v.h), 2(n.h)(n.l)/(v.h)).

@@ -18,7 +18,9 @@ void main() {
     v_world_position = world.xyz;
     vec3 n = normalize(u_normal_matrix * a_normal);
     // The tangent lies in the surface, so it follows the surface: the model matrix.
-    vec3 t = normalize(mat3(u_model) * a_tangent.xyz);
+    // Not normalised here: a degenerate (zero) tangent would become NaN; the
+    // fragment stage re-orthogonalises and guards it anyway.
+    vec3 t = mat3(u_model) * a_tangent.xyz;
     v_world_normal = n;
     v_world_tangent = t;
     // w = -1 where the UVs are mirrored: the bitangent must flip with them.
