@@ -46,9 +46,9 @@ void GBuffer::resize(int width, int height) {
   allocate();
 }
 
-void GBuffer::begin_geometry_pass() const {
-  fbo_.bind();
-  glViewport(0, 0, width_, height_);
+void begin_geometry_pass_on(const Framebuffer& fbo, int width, int height, int color_count) {
+  fbo.bind();
+  glViewport(0, 0, width, height);
   glDisable(GL_BLEND);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
@@ -56,10 +56,12 @@ void GBuffer::begin_geometry_pass() const {
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
   const float zero[4] = {0, 0, 0, 0};
-  for (int i = 0; i < KIT_GBUF_COUNT; ++i) glClearBufferfv(GL_COLOR, i, zero);
+  for (int i = 0; i < color_count; ++i) glClearBufferfv(GL_COLOR, i, zero);
   const float far_depth = 1.0f;
   glClearBufferfv(GL_DEPTH, 0, &far_depth);
 }
+
+void GBuffer::begin_geometry_pass() const { begin_geometry_pass_on(fbo_, width_, height_, KIT_GBUF_COUNT); }
 
 void GBuffer::bind_textures() const {
   for (int i = 0; i < KIT_GBUF_COUNT; ++i) colors_[static_cast<size_t>(i)].bind(KIT_UNIT_GBUF_POSITION + i);

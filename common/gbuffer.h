@@ -7,6 +7,11 @@
 
 namespace kit {
 
+// The geometry pass's start on any G-buffer FBO (GBuffer and the bench's layouts):
+// binds `fbo`, sets the viewport, depth test LESS with writes, back-face culling,
+// no blending, and clears colour attachments 0..color_count-1 to 0 and depth to 1.
+void begin_geometry_pass_on(const Framebuffer& fbo, int width, int height, int color_count);
+
 class GBuffer {
  public:
   GBuffer(int width, int height);

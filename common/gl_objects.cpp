@@ -51,6 +51,23 @@ GLuint compile(GLenum stage, const AssembledShader& source) {
   return shader;
 }
 
+// Links the compiled shaders into a program and deletes them (they are no longer
+// needed once linked); a link error throws kit::Error naming `what`.
+GLuint link(std::initializer_list<GLuint> shaders, const std::string& what) {
+  GLuint program = glCreateProgram();
+  for (GLuint s : shaders) glAttachShader(program, s);
+  glLinkProgram(program);
+  for (GLuint s : shaders) glDeleteShader(s);
+  GLint ok = 0;
+  glGetProgramiv(program, GL_LINK_STATUS, &ok);
+  if (!ok) {
+    std::string log = info_log(program, true);
+    glDeleteProgram(program);
+    throw Error("link error (" + what + "):\n" + log);
+  }
+  return program;
+}
+
 }  // namespace
 
 Program::Program(const ShaderLibrary& library, const std::string& vertex, const std::string& fragment) {
@@ -65,20 +82,14 @@ Program::Program(const ShaderLibrary& library, const std::string& vertex, const 
     glDeleteShader(v);
     throw;
   }
-  GLuint program = glCreateProgram();
-  glAttachShader(program, v);
-  glAttachShader(program, f);
-  glLinkProgram(program);
-  glDeleteShader(v);
-  glDeleteShader(f);
-  GLint ok = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    std::string log = info_log(program, true);
-    glDeleteProgram(program);
-    throw Error("link error (" + vs.files.front() + " + " + fs.files.front() + "):\n" + log);
-  }
-  program_ = GlName<delete_program>(program);
+  program_ = GlName<delete_program>(link({v, f}, vs.files.front() + " + " + fs.files.front()));
+}
+
+Program::Program(const ShaderLibrary& library, const std::string& compute) {
+  AssembledShader cs = library.assemble(compute);
+  source_paths_ = cs.paths;
+  GLuint shader = compile(GL_COMPUTE_SHADER, cs);
+  program_ = GlName<delete_program>(link({shader}, cs.files.front()));
 }
 
 GLint Program::location(const std::string& name) const {
@@ -197,6 +208,11 @@ void Mesh::draw() const {
   glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
 }
 
+void Mesh::draw_instanced(int instances) const {
+  glBindVertexArray(vao_.get());
+  glDrawElementsInstanced(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr, instances);
+}
+
 FullscreenTriangle::FullscreenTriangle() {
   GLuint vao = 0;
   glGenVertexArrays(1, &vao);
@@ -206,6 +222,16 @@ FullscreenTriangle::FullscreenTriangle() {
 void FullscreenTriangle::draw() const {
   glBindVertexArray(vao_.get());
   glDrawArrays(GL_TRIANGLES, 0, 3);
+}
+
+void FullscreenTriangle::pass(const Program& program, const Framebuffer& target, int width, int height) const {
+  target.bind();
+  glViewport(0, 0, width, height);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  program.use();
+  draw();
 }
 
 }  // namespace kit

@@ -53,6 +53,9 @@ class Program {
  public:
   Program() = default;
   Program(const ShaderLibrary& library, const std::string& vertex, const std::string& fragment);
+  // A compute program (needs a GL 4.3 context or ARB_compute_shader at run time;
+  // the shader enables the extensions it uses after its #version 330 core line).
+  Program(const ShaderLibrary& library, const std::string& compute);
 
   GLuint id() const { return program_.get(); }
   void use() const { glUseProgram(program_.get()); }
@@ -132,6 +135,8 @@ class Mesh {
   Mesh() = default;
   Mesh(const std::vector<Vertex>& vertices, const std::vector<uint32_t>& indices);
   void draw() const;
+  // `instances` copies in one draw; shaders tell them apart by gl_InstanceID.
+  void draw_instanced(int instances) const;
   GLsizei index_count() const { return index_count_; }
 
  private:
@@ -146,6 +151,9 @@ class FullscreenTriangle {
  public:
   FullscreenTriangle();
   void draw() const;
+  // A full-screen pass: binds `target`, sets the viewport to width x height, turns
+  // depth test, culling and blending off, uses `program` and draws.
+  void pass(const Program& program, const Framebuffer& target, int width, int height) const;
 
  private:
   GlName<delete_vertex_array> vao_;

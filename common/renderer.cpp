@@ -5,6 +5,7 @@
 
 #include "error.h"
 #include "gbuffer_layout.h"
+#include "mesh_optimize.h"
 
 namespace kit {
 
@@ -37,35 +38,18 @@ const std::pair<const char*, int> kSamplerUnits[] = {
     {"u_normal_texture", KIT_UNIT_NORMAL_MAP},      {"u_emissive_texture", KIT_UNIT_EMISSIVE},
 };
 
+}  // namespace
+
+void set_sampler_units(const Program& program) {
+  program.use();
+  for (const auto& [name, unit] : kSamplerUnits) program.set(name, unit);
+}
+
 Program make_program(const ShaderLibrary& library, const std::string& vs, const std::string& fs) {
   Program p(library, vs, fs);
-  p.use();
-  for (const auto& [name, unit] : kSamplerUnits) p.set(name, unit);
+  set_sampler_units(p);
   return p;
 }
-
-// Deterministic small point lights spread over the scene's bounds (golden-angle spiral).
-std::vector<Light> spawned_lights(const Scene& scene, int count) {
-  std::vector<Light> out;
-  glm::vec3 lo = scene.bounds_min, hi = scene.bounds_max;
-  glm::vec3 extent = hi - lo;
-  for (int i = 0; i < count; ++i) {
-    float t = (i + 0.5f) / static_cast<float>(count);
-    float angle = 2.39996323f * static_cast<float>(i);
-    float radius = std::sqrt(t);
-    Light l;
-    l.type = KIT_LIGHT_POINT;
-    l.position = glm::vec3(lo.x + extent.x * (0.5f + 0.5f * radius * std::cos(angle)),
-                           lo.y + 0.05f * extent.y + 0.1f + 0.3f * extent.y * std::fmod(t * 7.0f, 1.0f),
-                           lo.z + extent.z * (0.5f + 0.5f * radius * std::sin(angle)));
-    l.color = glm::vec3(0.5f + 0.5f * std::cos(angle), 0.5f + 0.5f * std::cos(angle + 2.1f), 0.5f + 0.5f * std::cos(angle + 4.2f));
-    l.intensity = 0.5f;
-    out.push_back(l);
-  }
-  return out;
-}
-
-}  // namespace
 
 struct Renderer::Programs {
   Program geometry, lighting, display, bright, blur, composite, custom, debug;
@@ -108,6 +92,66 @@ float light_flux(const Light& light) {
   if (light.type == KIT_LIGHT_SPOT)
     return glm::two_pi<float>() * (1.0f - 0.5f * (std::cos(light.inner_cone) + std::cos(light.outer_cone))) * light.intensity;
   return 2.0f * glm::two_pi<float>() * light.intensity;
+}
+
+std::vector<Light> spawned_lights(const Scene& scene, int count) {
+  std::vector<Light> out;
+  glm::vec3 lo = scene.bounds_min, hi = scene.bounds_max;
+  glm::vec3 extent = hi - lo;
+  for (int i = 0; i < count; ++i) {
+    float t = (i + 0.5f) / static_cast<float>(count);
+    float angle = 2.39996323f * static_cast<float>(i);
+    float radius = std::sqrt(t);
+    Light l;
+    l.type = KIT_LIGHT_POINT;
+    l.position = glm::vec3(lo.x + extent.x * (0.5f + 0.5f * radius * std::cos(angle)),
+                           lo.y + 0.05f * extent.y + 0.1f + 0.3f * extent.y * std::fmod(t * 7.0f, 1.0f),
+                           lo.z + extent.z * (0.5f + 0.5f * radius * std::sin(angle)));
+    l.color = glm::vec3(0.5f + 0.5f * std::cos(angle), 0.5f + 0.5f * std::cos(angle + 2.1f), 0.5f + 0.5f * std::cos(angle + 4.2f));
+    l.intensity = 0.5f;
+    out.push_back(l);
+  }
+  return out;
+}
+
+Texture2D light_texture(const std::vector<Light>& lights) {
+  const int light_count = static_cast<int>(lights.size());
+  std::vector<float> texels(static_cast<size_t>(std::max(light_count, 1)) * KIT_LIGHT_TEXELS * 4, 0.0f);
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const Light& l = lights[i];
+    float* t = &texels[i * KIT_LIGHT_TEXELS * 4];
+    const float row[16] = {l.position.x, l.position.y, l.position.z, static_cast<float>(l.type),
+                           l.direction.x, l.direction.y, l.direction.z, l.range,
+                           l.color.r, l.color.g, l.color.b, l.intensity,
+                           std::cos(l.inner_cone), std::cos(l.outer_cone), light_flux(l), 0.0f};
+    std::copy(row, row + 16, t);
+  }
+  return Texture2D(KIT_LIGHT_TEXELS, std::max(light_count, 1), {GL_RGBA32F, GL_RGBA, GL_FLOAT}, texels.data());
+}
+
+void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
+                const glm::mat4& view_projection, bool frustum_culling) {
+  const Frustum frustum = frustum_from(view_projection);
+  for (const DrawItem& d : scene.draws) {
+    const Primitive& prim = scene.primitives[static_cast<size_t>(d.primitive)];
+    // A draw wholly outside the view adds no fragment: skipping it saves its vertex work.
+    if (frustum_culling && !intersects(frustum, prim.bounds_min, prim.bounds_max, d.world)) continue;
+    static const Material kDefaultMaterial{};
+    const Material& m = prim.material >= 0 ? scene.materials[static_cast<size_t>(prim.material)] : kDefaultMaterial;
+    geometry.set("u_model", d.world);
+    geometry.set("u_normal_matrix", glm::inverseTranspose(glm::mat3(d.world)));
+    geometry.set("u_base_color_factor", m.base_color_factor);
+    geometry.set("u_metallic_factor", m.metallic_factor);
+    geometry.set("u_roughness_factor", m.roughness_factor);
+    geometry.set("u_emissive_factor", m.emissive);
+    geometry.set("u_normal_scale", m.normal_scale);
+    geometry.set("u_has_normal_texture", m.normal_image >= 0);
+    gpu.texture(m.base_color_image, true).bind(KIT_UNIT_BASE_COLOR);
+    gpu.texture(m.metallic_roughness_image, false).bind(KIT_UNIT_METALLIC_ROUGHNESS);
+    (m.normal_image >= 0 ? gpu.texture(m.normal_image, false) : gpu.flat_normal()).bind(KIT_UNIT_NORMAL_MAP);
+    gpu.texture(m.emissive_image, true).bind(KIT_UNIT_EMISSIVE);
+    gpu.mesh(d.primitive).draw();
+  }
 }
 
 Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene, RenderSettings settings)
@@ -154,9 +198,13 @@ std::vector<std::filesystem::path> Renderer::shader_paths() const {
 
 void Renderer::allocate_targets() {
   int w = settings_.width, h = settings_.height;
+  // Float targets are sampled with nearest filtering: every pass reads them at
+  // texel centres, and a linear filter would spread a NaN into its neighbours
+  // (0 * NaN is NaN). Only the tone-mapped image, which the custom effect may
+  // sample between texels, is filtered linearly.
   auto target = [&](Texture2D& tex, Framebuffer& fbo, TextureFormat fmt) {
     tex = Texture2D(w, h, fmt);
-    tex.set_filter(GL_LINEAR, GL_LINEAR);  // the blur samples between texels
+    if (fmt.internal_format == kLdrFormat.internal_format) tex.set_filter(GL_LINEAR, GL_LINEAR);
     fbo.attach_color(0, tex);
     fbo.set_draw_buffers(1);
     std::string reason = fbo.incomplete_reason();
@@ -184,47 +232,35 @@ void Renderer::upload_lights() {
   std::vector<Light> extra = spawned_lights(scene_, settings_.extra_lights);
   lights.insert(lights.end(), extra.begin(), extra.end());
   light_count_ = static_cast<int>(lights.size());
-  std::vector<float> texels(static_cast<size_t>(std::max(light_count_, 1)) * KIT_LIGHT_TEXELS * 4, 0.0f);
-  for (size_t i = 0; i < lights.size(); ++i) {
-    const Light& l = lights[i];
-    float* t = &texels[i * KIT_LIGHT_TEXELS * 4];
-    const float row[16] = {l.position.x, l.position.y, l.position.z, static_cast<float>(l.type),
-                           l.direction.x, l.direction.y, l.direction.z, l.range,
-                           l.color.r, l.color.g, l.color.b, l.intensity,
-                           std::cos(l.inner_cone), std::cos(l.outer_cone), light_flux(l), 0.0f};
-    std::copy(row, row + 16, t);
-  }
-  lights_ = Texture2D(KIT_LIGHT_TEXELS, std::max(light_count_, 1), {GL_RGBA32F, GL_RGBA, GL_FLOAT}, texels.data());
+  lights_ = light_texture(lights);
+}
+
+void set_frame_uniforms(const Program& p, const FrameCamera& camera, const RenderSettings& settings, int light_count) {
+  p.use();
+  glm::mat4 view_projection = camera.projection * camera.view;
+  p.set("u_view", camera.view);
+  p.set("u_projection", camera.projection);
+  p.set("u_view_projection", view_projection);
+  p.set("u_inv_view_projection", glm::inverse(view_projection));
+  p.set("u_camera_position", camera.position);
+  p.set("u_camera_near_far", glm::vec2(camera.znear, camera.zfar));
+  p.set("u_resolution", glm::vec2(settings.width, settings.height));
+  p.set("u_light_count", light_count);
+  p.set("u_gamma", settings.gamma);
+  p.set("u_attenuation_model", settings.attenuation_model);
+  p.set("u_clear_color", settings.clear_color);
+  p.set("u_bloom_threshold", settings.bloom_threshold);
+  p.set("u_postprocess_enabled", settings.postprocess);
+  p.set("u_custom_enabled", settings.custom_effect);
+  p.set("u_time", settings.time);
 }
 
 void Renderer::set_frame_uniforms(const Program& p) const {
-  p.use();
-  glm::mat4 view_projection = camera_.projection * camera_.view;
-  p.set("u_view", camera_.view);
-  p.set("u_projection", camera_.projection);
-  p.set("u_view_projection", view_projection);
-  p.set("u_inv_view_projection", glm::inverse(view_projection));
-  p.set("u_camera_position", camera_.position);
-  p.set("u_camera_near_far", glm::vec2(camera_.znear, camera_.zfar));
-  p.set("u_resolution", glm::vec2(settings_.width, settings_.height));
-  p.set("u_light_count", light_count_);
-  p.set("u_gamma", settings_.gamma);
-  p.set("u_attenuation_model", settings_.attenuation_model);
-  p.set("u_clear_color", settings_.clear_color);
-  p.set("u_bloom_threshold", settings_.bloom_threshold);
-  p.set("u_postprocess_enabled", settings_.postprocess);
-  p.set("u_custom_enabled", settings_.custom_effect);
-  p.set("u_time", settings_.time);
+  kit::set_frame_uniforms(p, camera_, settings_, light_count_);
 }
 
 void Renderer::fullscreen_pass(const Program& program, const Framebuffer& target, int width, int height) const {
-  target.bind();
-  glViewport(0, 0, width, height);
-  glDisable(GL_DEPTH_TEST);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
-  program.use();
-  triangle_.draw();
+  triangle_.pass(program, target, width, height);
 }
 
 void Renderer::render(const FrameCamera& camera) {
@@ -235,24 +271,7 @@ void Renderer::render(const FrameCamera& camera) {
   // 1. Geometry pass: every draw item into the G-buffer.
   gbuffer_.begin_geometry_pass();
   set_frame_uniforms(p.geometry);
-  for (const DrawItem& d : scene_.draws) {
-    const Primitive& prim = scene_.primitives[static_cast<size_t>(d.primitive)];
-    static const Material kDefaultMaterial{};
-    const Material& m = prim.material >= 0 ? scene_.materials[static_cast<size_t>(prim.material)] : kDefaultMaterial;
-    p.geometry.set("u_model", d.world);
-    p.geometry.set("u_normal_matrix", glm::inverseTranspose(glm::mat3(d.world)));
-    p.geometry.set("u_base_color_factor", m.base_color_factor);
-    p.geometry.set("u_metallic_factor", m.metallic_factor);
-    p.geometry.set("u_roughness_factor", m.roughness_factor);
-    p.geometry.set("u_emissive_factor", m.emissive);
-    p.geometry.set("u_normal_scale", m.normal_scale);
-    p.geometry.set("u_has_normal_texture", m.normal_image >= 0);
-    scene_gpu_.texture(m.base_color_image, true).bind(KIT_UNIT_BASE_COLOR);
-    scene_gpu_.texture(m.metallic_roughness_image, false).bind(KIT_UNIT_METALLIC_ROUGHNESS);
-    (m.normal_image >= 0 ? scene_gpu_.texture(m.normal_image, false) : scene_gpu_.flat_normal()).bind(KIT_UNIT_NORMAL_MAP);
-    scene_gpu_.texture(m.emissive_image, true).bind(KIT_UNIT_EMISSIVE);
-    scene_gpu_.mesh(d.primitive).draw();
-  }
+  draw_scene(p.geometry, scene_, scene_gpu_, camera_.projection * camera_.view, settings_.frustum_culling);
   check_gl("geometry pass");
   if (!stage_.lighting) return;
 
@@ -298,16 +317,20 @@ const Texture2D& Renderer::final_texture() const {
 }
 
 Image Renderer::read_view(View view, bool raw) {
-  if (view == View::Final) return read_texture(final_texture());
-  if (view == View::Hdr) {
-    if (!stage_.lighting) throw Error("view 'hdr' needs a lit stage (lighting or later)");
-    return read_texture(hdr_);
-  }
-  if (raw) {
+  if (raw && view != View::Final && view != View::Hdr) {
     if (view == View::Depth) return read_texture(gbuffer_.depth(), true);
     int index = view == View::Position ? KIT_GBUF_POSITION : view == View::Normal ? KIT_GBUF_NORMAL
               : view == View::Albedo ? KIT_GBUF_ALBEDO : KIT_GBUF_MATERIAL;
     return read_texture(gbuffer_.attachment(index));
+  }
+  return read_texture(display_texture(view));
+}
+
+const Texture2D& Renderer::display_texture(View view) {
+  if (view == View::Final) return final_texture();
+  if (view == View::Hdr) {
+    if (!stage_.lighting) throw Error("view 'hdr' needs a lit stage (lighting or later)");
+    return hdr_;
   }
   // Display mapping in shaders/debug_view.frag.
   gbuffer_.bind_textures();
@@ -327,7 +350,7 @@ Image Renderer::read_view(View view, bool raw) {
   d.set("u_depth_display_far", std::min(far_display, camera_.zfar));
   fullscreen_pass(d, debug_fbo_, settings_.width, settings_.height);
   check_gl("debug view");
-  return read_texture(debug_target_);
+  return debug_target_;
 }
 
 }  // namespace kit

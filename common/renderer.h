@@ -25,6 +25,7 @@ struct RenderSettings {
   float time = 0.0f;                // u_time for animated custom effects; fixed headless
   glm::vec3 clear_color{0.02f, 0.02f, 0.025f};  // u_clear_color, linear HDR
   int extra_lights = 0;             // small point lights added around the scene (viewer slider, bench)
+  bool frustum_culling = false;     // skip draws wholly outside the view (mesh_optimize.h); off by default
 };
 
 enum class View { Final, Position, Normal, Albedo, Material, Depth, Hdr };
@@ -42,6 +43,31 @@ FrameCamera frame_camera(const Camera& camera, float aspect);
 // Light radiometry the framework derives from glTF units (see handouts/03-attenuation.md):
 // flux = 4*pi*I for a point light, 2*pi*(1 - (cos_inner + cos_outer)/2)*I for a spot light.
 float light_flux(const Light& light);
+
+// Sets the uniforms of uniforms.glsl every pass reads (camera matrices and position,
+// resolution, light count, display and postprocess settings) and uses `program`.
+void set_frame_uniforms(const Program& program, const FrameCamera& camera, const RenderSettings& settings,
+                        int light_count);
+
+// Points every sampler uniform the framework binds at its texture unit (gbuffer_layout.h).
+void set_sampler_units(const Program& program);
+// A vertex + fragment program from `library` with the sampler units set.
+Program make_program(const ShaderLibrary& library, const std::string& vertex, const std::string& fragment);
+
+// RenderSettings::extra_lights' placement: `count` deterministic small point lights
+// spread over the scene's bounds (golden-angle spiral), 0.5 cd each.
+std::vector<Light> spawned_lights(const Scene& scene, int count);
+
+// The light texture every lighting shader reads (lights.glsl): RGBA32F,
+// KIT_LIGHT_TEXELS texels per light, light i in row i (one row when empty).
+Texture2D light_texture(const std::vector<Light>& lights);
+
+// The geometry pass's draw loop: per draw item the model/normal matrices and
+// material uniforms of geometry_uniforms.glsl, the material textures, then the
+// mesh. `geometry` must be in use with its frame uniforms set. With
+// `frustum_culling`, draws wholly outside `view_projection` are skipped.
+void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
+                const glm::mat4& view_projection, bool frustum_culling);
 
 class Renderer {
  public:
@@ -65,6 +91,9 @@ class Renderer {
   // The view as an image. raw=true reads the attachment's float values (for
   // EXR); raw=false maps it for display: vectors as (v+1)/2, depth linearised.
   Image read_view(View view, bool raw);
+  // The view as a GPU texture, mapped for display as read_view(view, false)
+  // maps it, so a window can show it without a CPU round trip.
+  const Texture2D& display_texture(View view);
 
  private:
   struct Programs;
