@@ -1,0 +1,180 @@
+#include "checks.h"
+
+#include <algorithm>
+
+#include "error.h"
+
+namespace kit::grade {
+
+namespace {
+
+// Shorthands for the table below.
+RenderSpec gbuffer(const std::string& id, int stage, const std::string& scene, View view) {
+  return {id, stage, scene, view, true};
+}
+RenderSpec final_image(const std::string& id, int stage, const std::string& scene) {
+  return {id, stage, scene, View::Final, false};
+}
+RenderSpec hdr(const std::string& id, int stage, const std::string& scene) {
+  return {id, stage, scene, View::Hdr, true};
+}
+template <typename Edit>
+RenderSpec with(RenderSpec spec, Edit edit) {
+  edit(spec);
+  return spec;
+}
+
+}  // namespace
+
+const char* metric_name(Metric metric) {
+  switch (metric) {
+    case Metric::Ldr: return "ldr";
+    case Metric::Hdr: return "hdr";
+    case Metric::Position: return "position";
+    case Metric::Normal: return "normal";
+    case Metric::Albedo: return "albedo";
+    case Metric::Material: return "material";
+    case Metric::Changes: return "changes";
+  }
+  return "?";
+}
+
+const std::vector<RenderSpec>& renders() {
+  static const std::vector<RenderSpec> kRenders = [] {
+    std::vector<RenderSpec> r;
+    // Lab 1: the G-buffer attachments as floats, on the textured default scene and on
+    // the normal-map scene (its non-uniformly scaled, tilted quad separates the normal
+    // matrix from the model matrix).
+    // (The normal-map scene has no base colour texture: its albedo would repeat the factor.)
+    for (const char* scene : {"default", "normalmap"}) {
+      std::string s = scene;
+      r.push_back(gbuffer("lab1-" + s + "-position", 1, s, View::Position));
+      r.push_back(gbuffer("lab1-" + s + "-normal", 1, s, View::Normal));
+      if (s == "default") r.push_back(gbuffer("lab1-" + s + "-albedo", 1, s, View::Albedo));
+      r.push_back(gbuffer("lab1-" + s + "-material", 1, s, View::Material));
+    }
+    // Lab 2: no falloff and a clamped display yet (shaders/attenuation.glsl, tonemap.glsl),
+    // so both the HDR buffer and the display image show the BRDF alone.
+    for (const char* scene : {"default", "sphere"}) {
+      std::string s = scene;
+      r.push_back(final_image("lab2-" + s + "-final", 2, s));
+      r.push_back(hdr("lab2-" + s + "-hdr", 2, s));
+    }
+    // Lab 3: the HDR buffer isolates attenuation.glsl; the display images add tonemap.glsl.
+    auto simple = [](RenderSpec& s) { s.attenuation_model = 1; };
+    auto gamma1 = [](RenderSpec& s) { s.gamma = 1.0f; };
+    r.push_back(hdr("lab3-default-physical-hdr", 3, "default"));
+    r.push_back(with(hdr("lab3-default-simple-hdr", 3, "default"), simple));
+    r.push_back(hdr("lab3-sphere-physical-hdr", 3, "sphere"));
+    r.push_back(final_image("lab3-default-physical-gamma22", 3, "default"));
+    r.push_back(with(final_image("lab3-default-physical-gamma10", 3, "default"), gamma1));
+    r.push_back(with(with(final_image("lab3-sphere-simple-gamma10", 3, "sphere"), simple), gamma1));
+    // Lab 4: the lit image and the mapped normal itself.
+    r.push_back(final_image("lab4-normalmap-final", 4, "normalmap"));
+    r.push_back(final_image("lab4-default-final", 4, "default"));
+    r.push_back(gbuffer("lab4-normalmap-normal", 4, "normalmap", View::Normal));
+    r.push_back(gbuffer("lab4-default-normal", 4, "default", View::Normal));
+    // Lab 5: bloom at two thresholds and on the sphere's highlight, the toggle off
+    // (must equal stage 4), and the free-choice effect isolated on the solution's bloom.
+    auto off = [](RenderSpec& s) { s.postprocess = false; };
+    auto threshold = [](RenderSpec& s) { s.bloom_threshold = 0.5f; };
+    auto isolated = [](RenderSpec& s) { s.isolate_custom = true; };
+    auto custom_on = [](RenderSpec& s) { s.custom_effect = true; };
+    r.push_back(final_image("lab5-default-bloom", 5, "default"));
+    r.push_back(with(final_image("lab5-default-threshold05", 5, "default"), threshold));
+    r.push_back(final_image("lab5-sphere-bloom", 5, "sphere"));
+    r.push_back(with(final_image("lab5-default-off", 5, "default"), off));
+    r.push_back(with(final_image("lab5-default-custom-off", 5, "default"), isolated));
+    r.push_back(with(with(final_image("lab5-default-custom-on", 5, "default"), isolated), custom_on));
+    return r;
+  }();
+  return kRenders;
+}
+
+const std::vector<Check>& checks() {
+  static const std::vector<Check> kChecks = {
+      // lab, key, title, metric, submission render, reference render
+      {1, "default-position", "default scene, position", Metric::Position, "lab1-default-position", "lab1-default-position"},
+      {1, "default-normal", "default scene, normal", Metric::Normal, "lab1-default-normal", "lab1-default-normal"},
+      {1, "default-albedo", "default scene, albedo", Metric::Albedo, "lab1-default-albedo", "lab1-default-albedo"},
+      {1, "default-material", "default scene, material", Metric::Material, "lab1-default-material", "lab1-default-material"},
+      {1, "normalmap-position", "normalmap scene, position", Metric::Position, "lab1-normalmap-position", "lab1-normalmap-position"},
+      {1, "normalmap-normal", "normalmap scene, normal", Metric::Normal, "lab1-normalmap-normal", "lab1-normalmap-normal"},
+      {1, "normalmap-material", "normalmap scene, material", Metric::Material, "lab1-normalmap-material", "lab1-normalmap-material"},
+
+      {2, "default-final", "default scene, final image", Metric::Ldr, "lab2-default-final", "lab2-default-final"},
+      {2, "default-hdr", "default scene, HDR", Metric::Hdr, "lab2-default-hdr", "lab2-default-hdr"},
+      {2, "sphere-final", "sphere scene, final image", Metric::Ldr, "lab2-sphere-final", "lab2-sphere-final"},
+      {2, "sphere-hdr", "sphere scene, HDR", Metric::Hdr, "lab2-sphere-hdr", "lab2-sphere-hdr"},
+
+      {3, "default-physical-hdr", "default scene, physical falloff, HDR", Metric::Hdr, "lab3-default-physical-hdr", "lab3-default-physical-hdr"},
+      {3, "default-simple-hdr", "default scene, simple falloff, HDR", Metric::Hdr, "lab3-default-simple-hdr", "lab3-default-simple-hdr"},
+      {3, "sphere-physical-hdr", "sphere scene, physical falloff, HDR", Metric::Hdr, "lab3-sphere-physical-hdr", "lab3-sphere-physical-hdr"},
+      {3, "default-physical-gamma22", "default scene, physical falloff, gamma 2.2", Metric::Ldr, "lab3-default-physical-gamma22", "lab3-default-physical-gamma22"},
+      {3, "default-physical-gamma10", "default scene, physical falloff, gamma 1.0", Metric::Ldr, "lab3-default-physical-gamma10", "lab3-default-physical-gamma10"},
+      {3, "sphere-simple-gamma10", "sphere scene, simple falloff, gamma 1.0", Metric::Ldr, "lab3-sphere-simple-gamma10", "lab3-sphere-simple-gamma10"},
+
+      {4, "normalmap-final", "normalmap scene, final image", Metric::Ldr, "lab4-normalmap-final", "lab4-normalmap-final"},
+      {4, "default-final", "default scene, final image", Metric::Ldr, "lab4-default-final", "lab4-default-final"},
+      {4, "normalmap-normal", "normalmap scene, mapped normal", Metric::Normal, "lab4-normalmap-normal", "lab4-normalmap-normal"},
+      {4, "default-normal", "default scene, mapped normal", Metric::Normal, "lab4-default-normal", "lab4-default-normal"},
+
+      {5, "default-bloom", "default scene, bloom on", Metric::Ldr, "lab5-default-bloom", "lab5-default-bloom"},
+      {5, "default-threshold05", "default scene, bloom threshold 0.5", Metric::Ldr, "lab5-default-threshold05", "lab5-default-threshold05"},
+      {5, "sphere-bloom", "sphere scene, bloom on", Metric::Ldr, "lab5-sphere-bloom", "lab5-sphere-bloom"},
+      // With the toggle off, stage 5 must show exactly what stage 4 shows.
+      {5, "default-off", "default scene, postprocess off equals stage 4", Metric::Ldr, "lab5-default-off", "lab4-default-final"},
+      // The free-choice effect: off is the identity (the solution's bloom image comes
+      // through unchanged); on must change the image. What it does is not graded.
+      {5, "custom-off", "custom effect off passes the image through", Metric::Ldr, "lab5-default-custom-off", "lab5-default-bloom"},
+      {5, "custom-on", "custom effect on changes the image", Metric::Changes, "lab5-default-custom-on", "lab5-default-custom-off"},
+  };
+  return kChecks;
+}
+
+const RenderSpec& find_render(const std::string& id) {
+  for (const RenderSpec& r : renders())
+    if (r.id == id) return r;
+  throw Error("kit-grade: no render named '" + id + "' (tools/grade/checks.cpp)");
+}
+
+std::vector<const Check*> lab_checks(int lab) {
+  std::vector<const Check*> out;
+  for (const Check& c : checks())
+    if (c.lab == lab) out.push_back(&c);
+  return out;
+}
+
+std::vector<const RenderSpec*> lab_renders(int lab) {
+  std::vector<const RenderSpec*> out;
+  for (const RenderSpec& r : renders())
+    if (r.stage == lab) out.push_back(&r);
+  return out;
+}
+
+std::vector<const RenderSpec*> reference_renders() {
+  std::vector<const RenderSpec*> out;
+  for (const RenderSpec& r : renders()) {
+    bool referenced = std::any_of(checks().begin(), checks().end(), [&](const Check& c) {
+      return c.metric != Metric::Changes && c.reference == r.id;
+    });
+    if (referenced) out.push_back(&r);
+  }
+  return out;
+}
+
+RenderSettings render_settings(const RenderSpec& spec) {
+  RenderSettings s;
+  s.width = kGradeWidth;
+  s.height = kGradeHeight;
+  s.gamma = spec.gamma;
+  s.attenuation_model = spec.attenuation_model;
+  s.postprocess = spec.postprocess;
+  s.custom_effect = spec.custom_effect;
+  s.bloom_threshold = spec.bloom_threshold;
+  return s;
+}
+
+std::string reference_extension(const RenderSpec& spec) { return spec.raw ? "exr" : "png"; }
+
+}  // namespace kit::grade

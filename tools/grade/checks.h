@@ -1,0 +1,75 @@
+#pragma once
+// What kit-grade renders and compares for each lab: the one list of checks.
+//
+// A *render* is one image a lab's child process produces (a scene, a view and
+// the settings that differ from the defaults). A *check* compares one render of
+// the submission with a reference render of the solutions (tests/reference/),
+// or, for the custom-effect toggle, with another render of the submission.
+// Adding a check is one row here plus its points in tools/grade/grading.json;
+// `kit-grade --update-references` then renders its reference.
+#include <string>
+#include <vector>
+
+#include "renderer.h"
+
+namespace kit::grade {
+
+// The size every check is rendered at. 256x192 (4:3 like the scenes' cameras)
+// keeps a whole submission under ~2 s on llvmpipe, yet each sphere of the
+// default scene still covers ~200 pixels, so one wrong term in a BRDF, a falloff
+// or a tangent frame changes far more pixels than the tolerances allow.
+constexpr int kGradeWidth = 256;
+constexpr int kGradeHeight = 192;
+
+// How a check measures the difference (tolerances per metric in grading.json).
+enum class Metric {
+  Ldr,       // display image (RGBA8 final): |a - b| per channel
+  Hdr,       // linear HDR buffer: compared after c / (1 + c), so the tolerance is
+             // absolute for dim pixels and relative for bright ones
+  Position,  // G-buffer world position: |a - b| in metres
+  Normal,    // G-buffer normal: angle between the vectors in degrees, and unit length
+  Albedo,    // G-buffer base colour: |a - b|
+  Material,  // G-buffer metallic, roughness, emission, mask: |a - b|
+  Changes,   // must differ from another render of the submission (custom-effect toggle)
+};
+const char* metric_name(Metric metric);  // "ldr", "hdr", ... (the keys in grading.json)
+
+struct RenderSpec {
+  std::string id;     // unique; also the reference's file name (without extension)
+  int stage;          // the stage (= lab number) it is rendered at
+  std::string scene;  // kit scene name
+  View view;
+  bool raw;           // true: float values (G-buffer attachments, HDR) kept as EXR; false: display PNG
+  float gamma = 2.2f;
+  int attenuation_model = 0;
+  bool postprocess = true;
+  bool custom_effect = false;
+  float bloom_threshold = 1.0f;
+  // Lab 5: the submission's custom_effect.frag with the solution's bloom
+  // shaders, so the toggle is graded independently of the bloom.
+  bool isolate_custom = false;
+};
+
+struct Check {
+  int lab;
+  std::string key;        // stable within the lab, the key of its points in grading.json
+  std::string title;      // "default scene, HDR" (results.json name: "lab 2 lighting: default scene, HDR")
+  Metric metric;
+  std::string image;      // RenderSpec id rendered from the submission
+  std::string reference;  // RenderSpec id: the solution's render (Changes: another render of the submission)
+};
+
+const std::vector<RenderSpec>& renders();
+const std::vector<Check>& checks();
+const RenderSpec& find_render(const std::string& id);  // throws kit::Error
+std::vector<const Check*> lab_checks(int lab);
+// Every render a lab's child makes: the images of its checks, in list order.
+std::vector<const RenderSpec*> lab_renders(int lab);
+// The renders whose solution images are stored as references.
+std::vector<const RenderSpec*> reference_renders();
+// RenderSettings for a render at the grading size.
+RenderSettings render_settings(const RenderSpec& spec);
+// "png" or "exr": how a render is stored as a reference file.
+std::string reference_extension(const RenderSpec& spec);
+
+}  // namespace kit::grade

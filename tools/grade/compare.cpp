@@ -1,0 +1,250 @@
+#include "compare.h"
+
+#include <OpenImageIO/imagebuf.h>
+#include <OpenImageIO/imagebufalgo.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace kit::grade {
+
+namespace {
+
+// Below this length a G-buffer normal counts as "nothing written" (background).
+constexpr float kMinNormalLength = 1e-3f;
+constexpr double kRadiansToDegrees = 57.29577951308232;
+// Display gamma for HDR and the report's other linear images.
+constexpr float kDisplayGamma = 2.2f;
+
+OIIO::ImageBuf wrap(const Image& image) {
+  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
+  return OIIO::ImageBuf(spec, const_cast<float*>(image.pixels.data()));
+}
+
+// A copy with NaN/Inf replaced by 0, so the statistics stay numbers; the
+// non-finite pixels are counted and fail the check on their own.
+Image finite_copy(const Image& image) {
+  Image out = image;
+  for (float& v : out.pixels)
+    if (!std::isfinite(v)) v = 0.0f;
+  return out;
+}
+
+// HDR compared after c / (1 + |c|): a tolerance of t is absolute near 0 and
+// relative (about t (1 + c)^2 / 1) for bright pixels, which matches how far a
+// tone-mapped display would show the difference.
+Image compress_hdr(const Image& image) {
+  Image out = image;
+  for (size_t i = 0; i < out.pixels.size(); ++i) {
+    if (image.channels == 4 && i % 4 == 3) continue;  // alpha as it is
+    float v = out.pixels[i];
+    out.pixels[i] = v / (1.0f + std::fabs(v));
+  }
+  return out;
+}
+
+bool is_uniform(const Image& image) {
+  for (size_t i = static_cast<size_t>(image.channels); i < image.pixels.size(); ++i)
+    if (image.pixels[i] != image.pixels[i % static_cast<size_t>(image.channels)]) return false;
+  return true;
+}
+
+std::string pixel_text(const Image& image) {
+  std::string out = "(";
+  for (int c = 0; c < image.channels; ++c) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%s%.3g", c ? ", " : "", image.pixels.empty() ? 0.0 : image.pixels[static_cast<size_t>(c)]);
+    out += buf;
+  }
+  return out + ")";
+}
+
+// One channel of per-pixel error -> RGB through OpenImageIO's "inferno" map.
+Image colour_mapped(const Image& error) {
+  Image scaled = error;
+  for (float& v : scaled.pixels) v = std::min(std::max(v * kDiffScale, 0.0f), 1.0f);
+  OIIO::ImageBuf mapped = OIIO::ImageBufAlgo::color_map(wrap(scaled), 0, "inferno");
+  Image out(error.width, error.height, 3);
+  mapped.get_pixels(OIIO::ROI(0, error.width, 0, error.height, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, out.pixels.data());
+  return out;
+}
+
+struct NormalStats {
+  double max_angle = 0.0, sum_angle = 0.0;
+  int max_x = 0, max_y = 0;
+  size_t failing = 0, covered = 0;
+  Image error;  // per-pixel max |a - b| over xyz, for the diff image
+};
+
+NormalStats compare_normals(const Image& a, const Image& b, const Tolerance& tol) {
+  NormalStats s;
+  s.error = Image(a.width, a.height, 1);
+  for (int y = 0; y < a.height; ++y) {
+    for (int x = 0; x < a.width; ++x) {
+      float la = 0.0f, lb = 0.0f, dot = 0.0f, diff = 0.0f;
+      for (int c = 0; c < 3; ++c) {
+        la += a.at(x, y, c) * a.at(x, y, c);
+        lb += b.at(x, y, c) * b.at(x, y, c);
+        dot += a.at(x, y, c) * b.at(x, y, c);
+        diff = std::max(diff, std::fabs(a.at(x, y, c) - b.at(x, y, c)));
+      }
+      la = std::sqrt(la);
+      lb = std::sqrt(lb);
+      s.error.at(x, y, 0) = diff;
+      double angle = 0.0;
+      bool fails = false;
+      if (la < kMinNormalLength && lb < kMinNormalLength) {
+        continue;  // background in both
+      } else if (la < kMinNormalLength || lb < kMinNormalLength) {
+        angle = 180.0;  // a normal written where there is none, or missing where there is one
+        fails = true;
+      } else {
+        double cosine = std::clamp(static_cast<double>(dot) / (la * lb), -1.0, 1.0);
+        angle = std::acos(cosine) * kRadiansToDegrees;
+        fails = angle > tol.fail_threshold || std::fabs(la - lb) > tol.length_tolerance;
+      }
+      ++s.covered;
+      s.sum_angle += angle;
+      if (fails) ++s.failing;
+      if (angle > s.max_angle) {
+        s.max_angle = angle;
+        s.max_x = x;
+        s.max_y = y;
+      }
+    }
+  }
+  return s;
+}
+
+std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
+  char buf[200];
+  std::snprintf(buf, sizeof buf, fmt, a, b, c);
+  return buf;
+}
+
+std::string psnr_text(double psnr) { return std::isfinite(psnr) ? format("%.1f dB", psnr) : "inf (identical)"; }
+
+}  // namespace
+
+Comparison compare_images(Metric metric, const Tolerance& tol, const Image& image, const Image& reference) {
+  Comparison r;
+  if (image.width != reference.width || image.height != reference.height || image.channels != reference.channels) {
+    r.note = "the image is " + std::to_string(image.width) + "x" + std::to_string(image.height) + "x" +
+             std::to_string(image.channels) + ", the reference " + std::to_string(reference.width) + "x" +
+             std::to_string(reference.height) + "x" + std::to_string(reference.channels);
+    r.summary = r.note;
+    return r;
+  }
+  r.non_finite = count_non_finite(image);
+  Image a = finite_copy(image), b = finite_copy(reference);
+  if (metric == Metric::Hdr) {
+    a = compress_hdr(a);
+    b = compress_hdr(b);
+  }
+  const double pixels = static_cast<double>(image.width) * image.height;
+  OIIO::ImageBuf wa = wrap(a), wb = wrap(b);
+  Image error(a.width, a.height, 1);
+  if (metric == Metric::Normal) {
+    NormalStats s = compare_normals(a, b, tol);
+    OIIO::ImageBufAlgo::CompareResults cr =
+        OIIO::ImageBufAlgo::compare(wa, wb, 1.0f, 1.0f, OIIO::ROI(0, a.width, 0, a.height, 0, 1, 0, 3));
+    r.max_error = s.max_angle;
+    r.max_x = s.max_x;
+    r.max_y = s.max_y;
+    r.mean_error = s.covered ? s.sum_angle / static_cast<double>(s.covered) : 0.0;
+    r.failing_percent = 100.0 * static_cast<double>(s.failing) / pixels;
+    r.psnr = cr.PSNR;
+    error = s.error;
+  } else {
+    float threshold = static_cast<float>(tol.fail_threshold);
+    OIIO::ImageBufAlgo::CompareResults cr = OIIO::ImageBufAlgo::compare(wa, wb, threshold, threshold);
+    r.max_error = cr.maxerror;
+    r.max_x = cr.maxx;
+    r.max_y = cr.maxy;
+    r.mean_error = cr.meanerror;
+    r.failing_percent = 100.0 * static_cast<double>(cr.nfail) / pixels;
+    r.psnr = cr.PSNR;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x) {
+        float d = 0.0f;
+        for (int c = 0; c < a.channels; ++c) d = std::max(d, std::fabs(a.at(x, y, c) - b.at(x, y, c)));
+        error.at(x, y, 0) = d;
+      }
+  }
+  // NaN/Inf pixels show at full scale in the diff (their copies above were zeroed).
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      for (int c = 0; c < image.channels; ++c)
+        if (!std::isfinite(image.at(x, y, c))) error.at(x, y, 0) = 1.0f;
+  r.diff = colour_mapped(error);
+
+  if (metric == Metric::Changes) {
+    r.passed = r.failing_percent >= tol.min_changed_percent;
+    r.summary = format("%.2f%% of the pixels change by more than %.3g", r.failing_percent, tol.fail_threshold) +
+                format(" (at least %.2f%% must); largest change %.3g", tol.min_changed_percent, r.max_error);
+    if (!r.passed) r.note = "turning the effect on leaves the image (almost) as it was";
+    return r;
+  }
+  const char* unit = metric == Metric::Normal ? " degrees" : metric == Metric::Position ? " m" : "";
+  r.passed = r.non_finite == 0 && r.failing_percent <= tol.fail_percent && r.max_error <= tol.hard_fail;
+  r.summary = format("%.2f%% of the pixels differ by more than ", r.failing_percent) +
+              format("%.3g", tol.fail_threshold) + unit + format(" (at most %.2f%% may)", tol.fail_percent) +
+              "; max error " + format("%.3g", r.max_error) + unit +
+              format(" at (%.0f, %.0f)", r.max_x, r.max_y) + (r.max_error > tol.hard_fail ? format(" (limit %.3g)", tol.hard_fail) : "") +
+              (metric == Metric::Normal ? format("; mean angle %.3g degrees", r.mean_error) : format("; mean error %.3g", r.mean_error)) +
+              "; PSNR " + psnr_text(r.psnr);
+  if (r.non_finite > 0) {
+    r.note = std::to_string(r.non_finite) + format(" pixels (%.1f%%) are NaN or Inf: guard the divisions and square "
+                                                   "roots (guards.glsl)", 100.0 * static_cast<double>(r.non_finite) / pixels);
+  } else if (!r.passed && is_uniform(image) && !is_uniform(reference)) {
+    r.note = "every pixel is " + pixel_text(image) + ": does the shader write its output?";
+  }
+  return r;
+}
+
+Image display_image(Metric metric, const Image& image, const Image& reference) {
+  Image out(image.width, image.height, 3);
+  float lo[3] = {0, 0, 0}, span[3] = {1, 1, 1};
+  if (metric == Metric::Position) {
+    float hi[3] = {-1e30f, -1e30f, -1e30f};
+    for (int c = 0; c < 3; ++c) lo[c] = 1e30f;
+    for (int y = 0; y < reference.height; ++y)
+      for (int x = 0; x < reference.width; ++x) {
+        if (reference.channels < 4 || reference.at(x, y, 3) < 0.5f) continue;
+        for (int c = 0; c < 3; ++c) {
+          lo[c] = std::min(lo[c], reference.at(x, y, c));
+          hi[c] = std::max(hi[c], reference.at(x, y, c));
+        }
+      }
+    for (int c = 0; c < 3; ++c) {
+      if (lo[c] > hi[c]) lo[c] = hi[c] = 0.0f;
+      span[c] = std::max(hi[c] - lo[c], 1e-3f);
+    }
+  }
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      bool finite = true;
+      float length2 = 0.0f;
+      for (int c = 0; c < image.channels; ++c) finite = finite && std::isfinite(image.at(x, y, c));
+      for (int c = 0; c < std::min(3, image.channels); ++c) length2 += image.at(x, y, c) * image.at(x, y, c);
+      for (int c = 0; c < 3; ++c) {
+        float v = c < image.channels ? image.at(x, y, c) : 0.0f;
+        switch (metric) {
+          case Metric::Hdr: v = std::pow(std::max(v, 0.0f) / (1.0f + std::max(v, 0.0f)), 1.0f / kDisplayGamma); break;
+          case Metric::Position: v = image.channels > 3 && image.at(x, y, 3) >= 0.5f ? (v - lo[c]) / span[c] : 0.0f; break;
+          case Metric::Normal:  // no normal written (background): black, not mid-grey
+            v = length2 < kMinNormalLength * kMinNormalLength ? 0.0f : 0.5f * (v + 1.0f);
+            break;
+          case Metric::Material: v = c == 2 ? v / (1.0f + std::fabs(v)) : v; break;
+          default: break;
+        }
+        if (!finite) v = c == 1 ? 0.0f : 1.0f;  // magenta
+        out.at(x, y, c) = v;
+      }
+    }
+  }
+  return out;
+}
+
+}  // namespace kit::grade

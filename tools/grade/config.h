@@ -1,0 +1,42 @@
+#pragma once
+// tools/grade/grading.json: what each lab is worth, the points of each of its
+// checks, and the comparison tolerances per metric. Read at run time (path
+// overridable with --config), so instructors change weights without rebuilding.
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "checks.h"
+
+namespace kit::grade {
+
+// One metric's tolerance, idiff-style: a pixel fails when any channel differs by
+// more than fail_threshold; the check fails when more than fail_percent of the
+// pixels fail or any pixel differs by more than hard_fail.
+struct Tolerance {
+  double fail_threshold = 0.0;       // Normal: degrees
+  double fail_percent = 0.0;         // percent of the image's pixels
+  double hard_fail = 0.0;            // Normal: degrees
+  double length_tolerance = 0.0;     // Normal only: | |n| - 1 | above this fails the pixel
+  double min_changed_percent = 0.0;  // Changes only: at least this share of pixels must differ
+};
+
+struct Config {
+  std::filesystem::path path;
+  std::map<int, double> weight;                         // lab -> its maximum score
+  std::map<int, std::map<std::string, double>> points;  // lab -> check key -> points
+  std::map<std::string, Tolerance> tolerances;          // metric_name() -> tolerance
+
+  const Tolerance& tolerance(Metric metric) const;
+  double lab_points(int lab) const;  // sum of the lab's check points
+  // The share of the lab's weight one check is worth: weight * points / lab_points.
+  double max_score(const Check& check) const;
+};
+
+// The default config: <kit root>/tools/grade/grading.json.
+std::filesystem::path default_config_path();
+// Reads and validates the file against the check list (every check has points,
+// no unknown keys, every metric a tolerance). Throws kit::Error naming the file.
+Config load_config(const std::filesystem::path& path);
+
+}  // namespace kit::grade

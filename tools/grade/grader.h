@@ -1,0 +1,83 @@
+#pragma once
+// The grading run: sanitizes submissions, renders each lab in a child process
+// (up to --jobs at a time, across labs and submissions), compares the renders
+// with the references and writes each submission's results as it completes.
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "compare.h"
+#include "config.h"
+#include "context.h"
+#include "sandbox.h"
+
+namespace kit::grade {
+
+struct Options {
+  std::vector<int> labs;               // --labs (default: every lab)
+  std::filesystem::path out;           // --out
+  int jobs = 1;                        // --jobs: labs rendered at the same time
+  Backend backend = Backend::OSMesa;   // --backend
+  Limits limits;                       // --timeout, --cpu-limit, --memory-limit
+  std::filesystem::path config;        // --config (default tools/grade/grading.json)
+  std::filesystem::path references;    // --references (default tests/reference)
+  bool force = false;                  // --force: regrade batch submissions that have results
+  bool keep_temp = false;              // --keep-temp: leave the private copies and raw renders
+  bool quiet = false;                  // no per-lab lines (batch prints one line per submission)
+};
+
+// Statuses a lab ends with (summary.json "status").
+constexpr const char* kGraded = "graded";
+constexpr const char* kCompileError = "compile_error";
+constexpr const char* kTimeout = "timeout";
+constexpr const char* kCrash = "crash";
+constexpr const char* kMissingFiles = "missing_files";
+constexpr const char* kInvalidFiles = "invalid_files";
+constexpr const char* kGraderError = "error";  // the grader could not render (no context): exit status 2
+
+struct CheckOutcome {
+  const Check* check = nullptr;
+  bool passed = false;
+  double score = 0.0, max_score = 0.0;
+  bool compared = false;      // false when the lab was not rendered
+  Comparison comparison;
+  std::string image, reference, diff;  // report images, relative to the result folder ("" when none)
+};
+
+struct LabOutcome {
+  int lab = 0;
+  std::string status;
+  std::string message;        // the problem in plain text (compiler log, missing files, ...)
+  std::vector<CheckOutcome> checks;
+  double score = 0.0, max_score = 0.0;
+  double render_ms = 0.0;     // GPU work of the lab's frames (child.json)
+  double child_seconds = 0.0, child_cpu_seconds = 0.0, compare_seconds = 0.0;
+  long child_max_rss_kib = 0;   // from wait4
+  long child_vm_peak_kib = 0;   // the child's peak address space (RLIMIT_AS applies to it)
+  std::map<std::string, double> child_timings;  // context, compile, render, readback
+  int passed_checks() const;
+};
+
+struct SubmissionOutcome {
+  std::string name;
+  std::filesystem::path source;
+  std::string problem;              // whole-submission problem (zip refused, ...)
+  std::vector<std::string> notes;
+  std::map<int, LabOutcome> labs;
+  std::string renderer;             // GL_RENDERER of the children
+  double seconds = 0.0;
+  double total() const;
+  double max_total() const;
+  bool grader_error() const;        // a lab could not be rendered for the grader's own reasons
+};
+
+// `kit-grade SUBMISSION`: returns the process exit status.
+int grade_submission(const std::filesystem::path& submission, const Options& options);
+// `kit-grade --batch FOLDER`.
+int grade_batch(const std::filesystem::path& folder, const Options& options);
+// `kit-grade --update-references` / `--check-references`.
+int update_references(const Options& options);
+int check_references(const Options& options);
+
+}  // namespace kit::grade

@@ -1,0 +1,196 @@
+// kit-grade: the autograder. handouts/instructors.md explains every flag, the
+// checks, the tolerances and the output files.
+//
+//   kit-grade SUBMISSION [--labs 1-5] [--out DIR] [--jobs N] [--backend osmesa|egl]
+//   kit-grade --batch FOLDER --out DIR [--jobs N] [--force]
+//   kit-grade --update-references | --check-references
+//
+// Exit status: 0 when grading ran (whatever the score), 1 when --check-references
+// finds stale references, 2 when the grader itself could not run.
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstring>
+#include <thread>
+
+#include "error.h"
+#include "grader.h"
+#include "submission.h"
+#include "stages.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Default --jobs: labs rendered at once. Two children keep two cores busy
+// (a child's compile and read-back are single-threaded); more only adds memory.
+constexpr int kMaxDefaultJobs = 2;
+
+void usage() {
+  std::printf(
+      "usage: kit-grade SUBMISSION [--labs 1-5] [--out DIR] [options]\n"
+      "       kit-grade --batch FOLDER --out DIR [--force] [options]\n"
+      "       kit-grade --update-references | --check-references [--references DIR]\n"
+      "       kit-grade --self-check [self_check.py options]\n"
+      "Grades a student's lab files (a folder or .zip in the labs/ layout: NN-name/file, or inside one folder)\n"
+      "against the reference solutions. Writes DIR/results.json (Gradescope), DIR/summary.json, DIR/report.html.\n"
+      "  --labs SPEC           labs to grade: 1-5 (default), 2, 1,3,5 or names (lighting)\n"
+      "  --out DIR             result folder (default out/grade/<submission name>)\n"
+      "  --jobs N              labs (and batch submissions) rendered at once (default: cores, at most %d)\n"
+      "  --backend NAME        osmesa (default) | egl\n"
+      "  --timeout S           wall-clock seconds a lab's renderer may take (default 30)\n"
+      "  --cpu-limit S         CPU seconds a lab's renderer may use (RLIMIT_CPU, default 60)\n"
+      "  --memory-limit MIB    address space of a lab's renderer (RLIMIT_AS, default 4096)\n"
+      "  --config FILE         weights, points and tolerances (default tools/grade/grading.json)\n"
+      "  --references DIR      reference renders (default tests/reference)\n"
+      "  --batch FOLDER        grade every subfolder and .zip of FOLDER into DIR/<name>/, plus DIR/gradebook.csv;\n"
+      "                        submissions with a results.json are skipped unless --force\n"
+      "  --keep-temp           keep the sanitized copies and raw renders (path printed)\n"
+      "  --update-references   render solutions/ into the references and write their manifest\n"
+      "  --check-references    re-render solutions/ and fail (exit 1) when the references are stale\n"
+      "  --self-check          run tools/grade/self_check.py (the mistake catalogue) with this grader\n",
+      kMaxDefaultJobs);
+}
+
+int parse_int(const std::string& text, const std::string& flag, int lo, int hi) {
+  try {
+    size_t used = 0;
+    int v = std::stoi(text, &used);
+    if (used == text.size() && v >= lo && v <= hi) return v;
+  } catch (const std::exception&) {
+  }
+  throw kit::Error(flag + " expects a whole number from " + std::to_string(lo) + " to " + std::to_string(hi) +
+                   " (got '" + text + "')");
+}
+
+// "1-5", "2", "1,3,5", "lighting,5" -> lab numbers, ascending, each once.
+std::vector<int> parse_labs(const std::string& spec) {
+  std::vector<bool> chosen(kit::stages().size() + 1, false);
+  size_t start = 0;
+  while (start <= spec.size()) {
+    size_t comma = spec.find(',', start);
+    std::string part = spec.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    size_t dash = part.find('-');
+    bool single = true;  // "02-lighting" is one lab; "2-4" a range
+    try {
+      kit::find_stage(part);
+    } catch (const kit::Error&) {
+      single = false;
+    }
+    if (!single && dash != std::string::npos && dash > 0) {
+      int a = kit::find_stage(part.substr(0, dash)).number, b = kit::find_stage(part.substr(dash + 1)).number;
+      if (a > b) throw kit::Error("--labs: range '" + part + "' runs backwards");
+      for (int i = a; i <= b; ++i) chosen[static_cast<size_t>(i)] = true;
+    } else {
+      chosen[static_cast<size_t>(kit::find_stage(part).number)] = true;
+    }
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  std::vector<int> labs;
+  for (size_t i = 1; i < chosen.size(); ++i)
+    if (chosen[i]) labs.push_back(static_cast<int>(i));
+  return labs;
+}
+
+fs::path self_path(const char* argv0) {
+  std::error_code ec;
+  fs::path p = fs::read_symlink("/proc/self/exe", ec);
+  return ec ? fs::absolute(argv0) : p;
+}
+
+// --self-check: the catalogue's runner, told to use this very binary.
+int self_check(int argc, char** argv, int first) {
+  std::string script = (kit::kit_root() / "tools" / "grade" / "self_check.py").string();
+  std::string me = self_path(argv[0]).string();
+  std::vector<std::string> args = {"python3", script, "--kit-grade", me};
+  for (int i = first; i < argc; ++i) args.push_back(argv[i]);
+  std::vector<char*> raw;
+  for (std::string& a : args) raw.push_back(a.data());
+  raw.push_back(nullptr);
+  execvp(raw[0], raw.data());
+  std::fprintf(stderr, "kit-grade: cannot run %s with python3: %s\n", script.c_str(), std::strerror(errno));
+  return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  kit::grade::Options options;
+  options.jobs = std::max(1, std::min(kMaxDefaultJobs, static_cast<int>(std::thread::hardware_concurrency())));
+  std::string submission, batch;
+  enum class Mode { Grade, Batch, Update, Check } mode = Mode::Grade;
+  try {
+    for (int i = 1; i < argc; ++i) {
+      std::string flag = argv[i];
+      auto value = [&]() -> std::string {
+        if (i + 1 >= argc) throw kit::Error(flag + " needs a value");
+        return argv[++i];
+      };
+      if (flag == "--help" || flag == "-h") {
+        usage();
+        return 0;
+      } else if (flag == "--self-check") {
+        return self_check(argc, argv, i + 1);
+      } else if (flag == "--labs") {
+        options.labs = parse_labs(value());
+      } else if (flag == "--out") {
+        options.out = value();
+      } else if (flag == "--jobs" || flag == "-j") {
+        options.jobs = parse_int(value(), flag, 1, 64);
+      } else if (flag == "--backend") {
+        options.backend = kit::parse_backend(value());
+        if (options.backend == kit::Backend::Window) throw kit::Error("--backend: grading is headless (osmesa or egl)");
+      } else if (flag == "--timeout") {
+        options.limits.wall_seconds = parse_int(value(), flag, 1, 3600);
+      } else if (flag == "--cpu-limit") {
+        options.limits.cpu_seconds = static_cast<rlim_t>(parse_int(value(), flag, 1, 3600));
+      } else if (flag == "--memory-limit") {
+        options.limits.address_space_mib = static_cast<rlim_t>(parse_int(value(), flag, 256, 1 << 20));
+      } else if (flag == "--config") {
+        options.config = value();
+      } else if (flag == "--references") {
+        options.references = value();
+      } else if (flag == "--batch") {
+        batch = value();
+        mode = Mode::Batch;
+      } else if (flag == "--force") {
+        options.force = true;
+      } else if (flag == "--keep-temp") {
+        options.keep_temp = true;
+      } else if (flag == "--update-references") {
+        mode = Mode::Update;
+      } else if (flag == "--check-references") {
+        mode = Mode::Check;
+      } else if (!flag.empty() && flag[0] == '-') {
+        throw kit::Error("unknown option '" + flag + "' (see --help)");
+      } else if (submission.empty()) {
+        submission = flag;
+      } else {
+        throw kit::Error("one SUBMISSION at a time ('" + submission + "' and '" + flag + "'); use --batch FOLDER for more");
+      }
+    }
+    if (options.labs.empty())
+      for (const kit::Stage& s : kit::stages()) options.labs.push_back(s.number);
+    switch (mode) {
+      case Mode::Update: return kit::grade::update_references(options);
+      case Mode::Check: return kit::grade::check_references(options);
+      case Mode::Batch:
+        if (!submission.empty()) throw kit::Error("--batch grades a folder of submissions: no SUBMISSION as well");
+        if (options.out.empty()) throw kit::Error("--batch needs --out DIR");
+        options.quiet = true;
+        return kit::grade::grade_batch(batch, options);
+      case Mode::Grade:
+        if (submission.empty()) throw kit::Error("no SUBMISSION given (see --help)");
+        if (options.out.empty()) options.out = fs::path("out") / "grade" / kit::grade::submission_name(submission);
+        return kit::grade::grade_submission(submission, options);
+    }
+  } catch (const kit::Error& e) {
+    std::fprintf(stderr, "kit-grade: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "kit-grade: unexpected error: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}

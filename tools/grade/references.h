@@ -1,0 +1,37 @@
+#pragma once
+// The reference renders of the solutions (tests/reference/): one PNG (display
+// images, exact 8-bit values) or EXR (float G-buffer attachments and HDR
+// buffers) per reference render, and manifest.json recording the size and the
+// settings each was rendered with. `kit-grade --update-references` writes them;
+// `--check-references` (and a ctest) re-renders the solutions and fails when
+// the code's check list or the solutions no longer match them.
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "checks.h"
+#include "image_io.h"
+
+namespace kit::grade {
+
+std::filesystem::path default_references_dir();  // <kit root>/tests/reference
+
+// The manifest's "images" entry for a render: what it was rendered with.
+nlohmann::json manifest_entry(const RenderSpec& spec);
+
+// Writes the references (from the solutions' raw renders, by render id) and the manifest.
+void write_references(const std::filesystem::path& dir, const std::map<std::string, Image>& renders,
+                      const std::string& renderer);
+
+// Differences between the stored manifest and the code's check list, in words
+// (empty when they agree). Throws kit::Error when the manifest is missing.
+std::vector<std::string> manifest_differences(const std::filesystem::path& dir);
+
+// Loads the references the given labs' checks compare with. Throws kit::Error
+// (naming --update-references) when the manifest is missing, stale, or a file is.
+std::map<std::string, Image> load_references(const std::filesystem::path& dir, const std::vector<int>& labs);
+
+}  // namespace kit::grade

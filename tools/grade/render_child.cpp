@@ -1,0 +1,157 @@
+#include "render_child.h"
+
+#include <nlohmann/json.hpp>
+
+#include <chrono>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <memory>
+
+#include "checks.h"
+#include "error.h"
+#include "gl.h"
+#include "interface_check.h"
+#include "renderer.h"
+#include "report.h"
+#include "stages.h"
+
+namespace fs = std::filesystem;
+
+namespace kit::grade {
+
+namespace {
+
+constexpr char kRawMagic[8] = {'K', 'I', 'T', 'R', 'A', 'W', '1', '\0'};
+// Larger than any render the grader makes: a corrupt header cannot make the parent allocate gigabytes.
+constexpr int kMaxRawDimension = 8192;
+
+using Clock = std::chrono::steady_clock;
+double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+// The library for lab 5's isolated custom effect: the submission's
+// custom_effect.frag in front of the solution's stage 5, so the toggle is
+// graded whatever the submission's bloom does.
+ShaderLibrary isolated_custom_library(const Stage& stage, const fs::path& lab_root) {
+  std::vector<ShaderFolder> folders = stage_library(stage, kit_root() / "solutions").folders();
+  ShaderFolder student = stage_library(stage, lab_root).folders().front();
+  student.only = {"custom_effect.frag"};
+  folders.insert(folders.begin(), student);
+  return ShaderLibrary(std::move(folders));
+}
+
+// Peak virtual size of this process (what RLIMIT_AS limits), from /proc.
+long vm_peak_kib() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line))
+    if (line.rfind("VmPeak:", 0) == 0) return std::atol(line.c_str() + 7);
+  return 0;
+}
+
+}  // namespace
+
+fs::path raw_image_path(const fs::path& dir, const std::string& render_id) { return dir / (render_id + ".raw"); }
+
+void write_raw_image(const fs::path& path, const Image& image) {
+  std::ofstream out(path, std::ios::binary);
+  int32_t header[3] = {image.width, image.height, image.channels};
+  out.write(kRawMagic, sizeof kRawMagic);
+  out.write(reinterpret_cast<const char*>(header), sizeof header);
+  out.write(reinterpret_cast<const char*>(image.pixels.data()), static_cast<std::streamsize>(image.pixels.size() * sizeof(float)));
+  if (!out) throw Error(path.string() + ": cannot write");
+}
+
+Image read_raw_image(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw Error(path.filename().string() + ": the renderer wrote no image");
+  char magic[sizeof kRawMagic];
+  int32_t header[3] = {0, 0, 0};
+  in.read(magic, sizeof magic);
+  in.read(reinterpret_cast<char*>(header), sizeof header);
+  if (!in || std::memcmp(magic, kRawMagic, sizeof magic) != 0 || header[0] < 1 || header[1] < 1 || header[2] < 1 ||
+      header[0] > kMaxRawDimension || header[1] > kMaxRawDimension || header[2] > 4)
+    throw Error(path.filename().string() + ": not a raw image from the renderer");
+  Image image(header[0], header[1], header[2]);
+  in.read(reinterpret_cast<char*>(image.pixels.data()), static_cast<std::streamsize>(image.pixels.size() * sizeof(float)));
+  if (!in) throw Error(path.filename().string() + ": the image is incomplete");
+  return image;
+}
+
+int render_lab(const RenderJob& job) {
+  const fs::path error_file = job.out_dir / "error.txt";
+  const Stage& stage = find_stage(std::to_string(job.lab));
+  nlohmann::json report;
+  auto t0 = Clock::now();
+  std::unique_ptr<GlContext> context;
+  try {
+    context = create_headless_context(job.backend);
+  } catch (const Error& e) {
+    write_text(error_file, e.what());
+    return kChildEnvironmentError;
+  }
+  report["renderer"] = context->describe();
+  report["seconds"]["context"] = since(t0);
+
+  // One Renderer per (scene, isolated custom effect), built on first use.
+  std::map<std::pair<std::string, bool>, std::unique_ptr<Renderer>> renderers;
+  double compile = 0.0, render = 0.0, readback = 0.0;
+  for (const RenderSpec* spec : lab_renders(job.lab)) {
+    auto scene_it = job.scenes->find(spec->scene);
+    if (scene_it == job.scenes->end()) {
+      write_text(error_file, "scene '" + spec->scene + "' was not loaded");
+      return kChildEnvironmentError;
+    }
+    const Scene& scene = scene_it->second;
+    RenderSettings settings = render_settings(*spec);
+    auto& renderer = renderers[{spec->scene, spec->isolate_custom}];
+    if (!renderer) {
+      auto t = Clock::now();
+      try {
+        ShaderLibrary library = spec->isolate_custom ? isolated_custom_library(stage, job.lab_root)
+                                                     : stage_library(stage, job.lab_root);
+        check_stage_interfaces(stage, library);
+        renderer = std::make_unique<Renderer>(stage, std::move(library), scene, settings);
+      } catch (const Error& e) {
+        write_text(error_file, e.what());
+        return kChildShaderError;
+      }
+      double seconds = since(t);
+      compile += seconds;
+      report["seconds"]["compile_each"].push_back(seconds);
+    }
+    try {
+      renderer->settings() = settings;
+      Camera camera = scene.camera ? *scene.camera : framing_camera(scene);
+      auto t = Clock::now();
+      renderer->render(frame_camera(camera, static_cast<float>(settings.width) / static_cast<float>(settings.height)));
+      glFinish();
+      double seconds = since(t);
+      render += seconds;
+      report["seconds"]["render_each"][spec->id] = seconds;
+      t = Clock::now();
+      write_raw_image(raw_image_path(job.out_dir, spec->id), renderer->read_view(spec->view, spec->raw));
+      // A display image cannot hold NaN (RGBA8): count them where they start, in the HDR buffer.
+      if (stage.lighting && spec->view != View::Hdr)
+        report["hdr_non_finite"][spec->id] = count_non_finite(renderer->read_view(View::Hdr, true));
+      readback += since(t);
+    } catch (const Error& e) {
+      write_text(error_file, std::string("while rendering ") + spec->scene + ": " + e.what());
+      return kChildRenderError;
+    }
+  }
+  report["seconds"]["compile"] = compile;
+  report["seconds"]["render"] = render;
+  report["seconds"]["readback"] = readback;
+  report["seconds"]["total"] = since(t0);
+  report["vm_peak_kib"] = vm_peak_kib();
+  write_text(job.out_dir / "child.json", json_text(report));
+  return kChildOk;
+}
+
+}  // namespace kit::grade

@@ -1,0 +1,42 @@
+#pragma once
+// What a render child does: one lab of one submission, every render of that lab
+// (lab_renders) in one process with one GL context, one Renderer per scene, so
+// each shader is compiled once and only uniforms change between settings.
+// Results go to files in the task folder: one raw image per render, child.json
+// (timings, the renderer's name, NaN/Inf counts of the HDR buffer) and, when
+// the lab could not be rendered, error.txt with the kit::Error text (compiler
+// logs already mapped to the submission's file and line).
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "context.h"
+#include "image_io.h"
+#include "scene.h"
+
+namespace kit::grade {
+
+// Exit statuses of a render child.
+constexpr int kChildOk = 0;
+constexpr int kChildShaderError = 2;       // a shader did not assemble, compile or link
+constexpr int kChildEnvironmentError = 3;  // no GL context or scene: the grader's problem
+constexpr int kChildRenderError = 4;       // a GL error while drawing
+
+struct RenderJob {
+  int lab = 0;
+  std::filesystem::path lab_root;  // the sanitized copy of the submission's lab files
+  std::filesystem::path out_dir;   // where the child writes its files
+  Backend backend = Backend::OSMesa;
+  const std::map<std::string, Scene>* scenes = nullptr;  // loaded by the parent before forking
+};
+
+// Runs in the child; returns its exit status.
+int render_lab(const RenderJob& job);
+
+// Raw float images between child and parent (not an image file format): the
+// 8 bytes "KITRAW1\0", width, height and channels as int32, then the floats.
+void write_raw_image(const std::filesystem::path& path, const Image& image);
+Image read_raw_image(const std::filesystem::path& path);  // throws kit::Error
+std::filesystem::path raw_image_path(const std::filesystem::path& dir, const std::string& render_id);
+
+}  // namespace kit::grade

@@ -1,0 +1,341 @@
+#include "report.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+
+#include "error.h"
+#include "stages.h"
+
+namespace fs = std::filesystem;
+
+namespace kit::grade {
+
+namespace {
+
+// A lab's problem text is cut to this many bytes in results.json (report.html has it all).
+constexpr size_t kMaxMessageBytes = 8 * 1024;
+constexpr const char* kLeaderboardName = "render time (ms)";
+
+const char* status_words(const std::string& status) {
+  if (status == kCompileError) return "compile error";
+  if (status == kTimeout) return "timed out";
+  if (status == kCrash) return "renderer crashed";
+  if (status == kMissingFiles) return "files missing";
+  if (status == kInvalidFiles) return "files refused";
+  if (status == kGraderError) return "grader error";
+  return "graded";
+}
+
+// The line of a message worth one line of console: the first compiler error
+// ("labs/02-lighting/brdf.glsl:12:3: error: ..."), else the first line (with
+// the next one when it ends in ':', as "link error (a + b):" does).
+std::string headline(const std::string& text) {
+  std::vector<std::string> lines;
+  size_t start = 0;
+  while (start < text.size()) {
+    size_t end = text.find('\n', start);
+    lines.push_back(text.substr(start, end == std::string::npos ? std::string::npos : end - start));
+    if (lines.back().find("error:") != std::string::npos) return lines.back();
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  if (lines.empty()) return "";
+  if (lines.size() > 1 && !lines[0].empty() && lines[0].back() == ':') return lines[0] + " " + lines[1];
+  return lines[0];
+}
+
+std::string truncated(const std::string& text) {
+  if (text.size() <= kMaxMessageBytes) return text;
+  // Cut at a line end, and never inside a UTF-8 sequence.
+  size_t cut = text.rfind('\n', kMaxMessageBytes);
+  if (cut == std::string::npos) {
+    cut = kMaxMessageBytes;
+    while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;
+  }
+  return text.substr(0, cut) + "\n[... cut; report.html has the whole message]";
+}
+
+// Markdown: student text in a fenced block whose fence no backtick run in the text can close.
+std::string md_code(const std::string& text) {
+  size_t longest = 0, run = 0;
+  for (char c : text) {
+    run = c == '`' ? run + 1 : 0;
+    longest = std::max(longest, run);
+  }
+  std::string fence(std::max<size_t>(3, longest + 1), '`');
+  return fence + "\n" + text + (text.empty() || text.back() == '\n' ? "" : "\n") + fence + "\n";
+}
+
+// Markdown outside code: escape what could format text, link, or inject HTML
+// (numbers and parentheses stay readable; a note never starts a line with # or -).
+std::string md_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    if (c == '<') out += "&lt;";
+    else if (c == '>') out += "&gt;";
+    else if (c == '&') out += "&amp;";
+    else if (std::string("\\`*_[]|~").find(c) != std::string::npos) out += std::string("\\") + c;
+    else out += c;
+  }
+  return out;
+}
+
+std::string check_name(const CheckOutcome& c) { return lab_title(c.check->lab) + ": " + c.check->title; }
+
+std::string check_markdown(const LabOutcome& lab, const CheckOutcome& c, bool first) {
+  if (!c.compared) {
+    std::string out = std::string("**Not graded: ") + status_words(lab.status) + ".**\n\n";
+    if (first) return out + md_code(truncated(lab.message));
+    return out + "See the first test of " + lab_title(lab.lab) + " for the message.\n";
+  }
+  std::string out = c.passed ? "Passed. " : "**Failed.** ";
+  if (!c.comparison.note.empty()) out += md_escape(c.comparison.note) + "\n\n";
+  return out + md_escape(c.comparison.summary) + ".\n";
+}
+
+double rounded(double v) { return std::round(v * 1000.0) / 1000.0; }
+
+}  // namespace
+
+std::string lab_title(int lab) {
+  const Stage& s = find_stage(std::to_string(lab));
+  return "lab " + std::to_string(s.number) + " " + s.name;
+}
+
+std::string format_score(double score) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f", score);
+  std::string s = buf;
+  while (s.back() == '0') s.pop_back();
+  if (s.back() == '.') s.pop_back();
+  return s;
+}
+
+std::string lab_line(const LabOutcome& lab) {
+  std::string line = lab_title(lab.lab) + ": " + format_score(lab.score) + "/" + format_score(lab.max_score) + "  (";
+  if (lab.status == kGraded)
+    return line + std::to_string(lab.passed_checks()) + " of " + std::to_string(lab.checks.size()) + " checks passed)";
+  return line + status_words(lab.status) + ": " + headline(lab.message) + ")";
+}
+
+std::string html_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&#39;"; break;
+      default: out += c;
+    }
+  }
+  return out;
+}
+
+nlohmann::json results_json(const SubmissionOutcome& s) {
+  nlohmann::json tests = nlohmann::json::array();
+  double render_ms = 0.0;
+  for (const auto& [number, lab] : s.labs) {
+    render_ms += lab.render_ms;
+    bool first = true;
+    for (const CheckOutcome& c : lab.checks) {
+      tests.push_back({{"name", check_name(c)},
+                       {"score", rounded(c.score)},
+                       {"max_score", rounded(c.max_score)},
+                       {"status", c.passed ? "passed" : "failed"},
+                       {"output", check_markdown(lab, c, first)},
+                       {"output_format", "md"},
+                       {"visibility", "visible"}});
+      first = false;
+    }
+  }
+  std::string output = "**Total: " + format_score(s.total()) + " / " + format_score(s.max_total()) + "**";
+  if (!s.renderer.empty()) output += " (rendered with " + md_escape(s.renderer) + ")";
+  output += "\n\n| Lab | Score | Result |\n|---|---|---|\n";
+  for (const auto& [number, lab] : s.labs) {
+    std::string result = lab.status == kGraded ? std::to_string(lab.passed_checks()) + " of " +
+                                                     std::to_string(lab.checks.size()) + " checks passed"
+                                               : status_words(lab.status);
+    output += "| " + lab_title(number) + " | " + format_score(lab.score) + " / " + format_score(lab.max_score) + " | " + result + " |\n";
+  }
+  if (!s.problem.empty()) output += "\n**The submission could not be graded:**\n\n" + md_code(s.problem);
+  for (const std::string& note : s.notes) output += "\n* " + md_escape(note);
+  return {{"score", rounded(s.total())},
+          {"execution_time", rounded(s.seconds)},
+          {"output", output},
+          {"output_format", "md"},
+          {"visibility", "visible"},
+          {"stdout_visibility", "hidden"},
+          {"tests", tests},
+          {"leaderboard", nlohmann::json::array({{{"name", kLeaderboardName}, {"value", rounded(render_ms)}, {"order", "asc"}}})}};
+}
+
+nlohmann::json summary_json(const SubmissionOutcome& s) {
+  nlohmann::json labs = nlohmann::json::object();
+  for (const auto& [number, lab] : s.labs) {
+    nlohmann::json checks = nlohmann::json::object();
+    for (const CheckOutcome& c : lab.checks) {
+      nlohmann::json entry = {{"passed", c.passed}, {"score", rounded(c.score)}, {"max_score", rounded(c.max_score)}};
+      if (c.compared) {
+        entry["max_error"] = c.comparison.max_error;
+        entry["failing_percent"] = c.comparison.failing_percent;
+        entry["psnr"] = std::isfinite(c.comparison.psnr) ? nlohmann::json(c.comparison.psnr) : nlohmann::json(nullptr);
+        entry["non_finite"] = c.comparison.non_finite;
+      }
+      checks[c.check->key] = entry;
+    }
+    labs[std::to_string(number)] = {
+        {"name", find_stage(std::to_string(number)).name},
+        {"score", rounded(lab.score)},
+        {"max_score", rounded(lab.max_score)},
+        {"status", lab.status},
+        {"message", lab.message},
+        {"checks_passed", lab.passed_checks()},
+        {"checks", checks},
+        {"render_ms", rounded(lab.render_ms)},
+        {"seconds", {{"child_wall", rounded(lab.child_seconds)}, {"child_cpu", rounded(lab.child_cpu_seconds)},
+                     {"compare", rounded(lab.compare_seconds)}}},
+        {"child_timings", lab.child_timings},
+        {"child_max_rss_kib", lab.child_max_rss_kib},
+        {"child_vm_peak_kib", lab.child_vm_peak_kib}};
+  }
+  return {{"submission", s.name},
+          {"labs", labs},
+          {"total", rounded(s.total())},
+          {"max_total", rounded(s.max_total())},
+          {"problem", s.problem},
+          {"notes", s.notes},
+          {"renderer", s.renderer},
+          {"execution_time", rounded(s.seconds)}};
+}
+
+std::string report_html(const SubmissionOutcome& s) {
+  std::string h;
+  h += "<!doctype html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n<title>kit-grade: " + html_escape(s.name) + "</title>\n";
+  h += "<style>\n"
+       "body{font-family:sans-serif;margin:1.5em;color:#222}\n"
+       "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:4px 8px;vertical-align:top;text-align:left}\n"
+       "tr.failed td:first-child{border-left:6px solid #c33}tr.passed td:first-child{border-left:6px solid #3a3}\n"
+       "pre{background:#f4f4f4;padding:8px;overflow-x:auto;max-width:100em}\n"
+       "img{display:block;width:256px;image-rendering:pixelated}\n"
+       ".swap{position:relative;width:256px}.swap .ref{position:absolute;left:0;top:0;opacity:0}\n"
+       ".swap:hover .ref{opacity:1}.numbers{max-width:28em;font-size:90%}.note{color:#a00}\n"
+       "</style></head><body>\n";
+  h += "<h1>" + html_escape(s.name) + ": " + format_score(s.total()) + " / " + format_score(s.max_total()) + "</h1>\n";
+  h += "<p>Rendered with " + html_escape(s.renderer.empty() ? std::string("(nothing rendered)") : s.renderer) + " at " +
+       std::to_string(kGradeWidth) + "x" + std::to_string(kGradeHeight) + " in " + format_score(s.seconds) +
+       " s. Hover a submission image to see the reference; the diff shows |submission - reference| &times; " +
+       format_score(kDiffScale) + ".</p>\n";
+  if (!s.problem.empty()) h += "<h2>The submission could not be graded</h2>\n<pre>" + html_escape(s.problem) + "</pre>\n";
+  if (!s.notes.empty()) {
+    h += "<ul>\n";
+    for (const std::string& n : s.notes) h += "<li>" + html_escape(n) + "</li>\n";
+    h += "</ul>\n";
+  }
+  h += "<table><tr><th>Lab</th><th>Score</th><th>Result</th></tr>\n";
+  for (const auto& [number, lab] : s.labs)
+    h += "<tr class=\"" + std::string(lab.score >= lab.max_score - 1e-9 ? "passed" : "failed") + "\"><td>" +
+         html_escape(lab_title(number)) + "</td><td>" + format_score(lab.score) + " / " + format_score(lab.max_score) +
+         "</td><td>" + html_escape(lab_line(lab)) + "</td></tr>\n";
+  h += "</table>\n";
+  for (const auto& [number, lab] : s.labs)
+    if (lab.status != kGraded)
+      h += "<h2>" + html_escape(lab_title(number)) + ": " + status_words(lab.status) + "</h2>\n<pre>" +
+           html_escape(lab.message) + "</pre>\n";
+
+  std::vector<std::pair<const LabOutcome*, const CheckOutcome*>> rows;
+  for (const auto& [number, lab] : s.labs)
+    for (const CheckOutcome& c : lab.checks) rows.push_back({&lab, &c});
+  std::stable_sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) { return !a.second->passed && b.second->passed; });
+  h += "<h2>Checks</h2>\n<table><tr><th>Check</th><th>Submission</th><th>Reference</th><th>Diff</th><th>Numbers</th></tr>\n";
+  for (const auto& [lab, c] : rows) {
+    h += "<tr class=\"" + std::string(c->passed ? "passed" : "failed") + "\"><td>" + html_escape(check_name(*c)) +
+         "<br><b>" + (c->passed ? "passed" : "failed") + "</b> " + format_score(c->score) + " / " + format_score(c->max_score) + "</td>";
+    if (!c->compared) {
+      h += "<td colspan=\"4\">not rendered: " + std::string(status_words(lab->status)) + "</td></tr>\n";
+      continue;
+    }
+    std::string alt = html_escape(c->check->title);
+    h += "<td><div class=\"swap\"><img src=\"" + html_escape(c->image) + "\" alt=\"submission: " + alt + "\">" +
+         "<img class=\"ref\" src=\"" + html_escape(c->reference) + "\" alt=\"reference\"></div></td>";
+    h += "<td><img src=\"" + html_escape(c->reference) + "\" alt=\"reference: " + alt + "\"></td>";
+    h += "<td><img src=\"" + html_escape(c->diff) + "\" alt=\"difference\"></td>";
+    h += "<td class=\"numbers\">";
+    if (!c->comparison.note.empty()) h += "<p class=\"note\">" + html_escape(c->comparison.note) + "</p>";
+    h += html_escape(c->comparison.summary) + "</td></tr>\n";
+  }
+  h += "</table>\n";
+  // The free-choice effect is not graded beyond its toggle: shown large for the instructor.
+  for (const auto& [lab, c] : rows)
+    if (c->compared && c->check->metric == Metric::Changes)
+      h += "<h2>" + html_escape(lab_title(lab->lab)) + ": the free-choice effect (on)</h2>\n<img src=\"" +
+           html_escape(c->image) + "\" alt=\"custom effect\" style=\"width:512px\">\n";
+  h += "</body></html>\n";
+  return h;
+}
+
+void write_file_atomic(const fs::path& path, const std::string& text) {
+  fs::path temp = path;
+  temp += ".tmp-" + std::to_string(getpid());
+  {
+    std::ofstream out(temp, std::ios::binary);
+    out << text;
+    out.flush();
+    if (!out) throw Error(path.string() + ": cannot write");
+  }
+  fs::rename(temp, path);
+}
+
+std::string json_text(const nlohmann::json& doc) {
+  // File names and logs from a submission need not be UTF-8: invalid bytes become
+  // U+FFFD instead of making dump() throw, so the file is always valid JSON.
+  return doc.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+void write_results(const fs::path& dir, const SubmissionOutcome& outcome) {
+  write_file_atomic(dir / "report.html", report_html(outcome));
+  write_file_atomic(dir / "summary.json", json_text(summary_json(outcome)));
+  // Last: its presence marks a complete result (batch resumes on it).
+  write_file_atomic(dir / "results.json", json_text(results_json(outcome)));
+}
+
+void write_gradebook(const fs::path& dir, const std::vector<std::string>& names, const std::vector<int>& labs) {
+  auto csv = [](std::string field) {
+    // A leading = + - @ would make a spreadsheet read a submission's name as a formula.
+    if (!field.empty() && std::string("=+-@").find(field[0]) != std::string::npos) field = "'" + field;
+    if (field.find_first_of(",\"\n\r") == std::string::npos) return field;
+    std::string out = "\"";
+    for (char c : field) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+    return out + "\"";
+  };
+  std::string text = "submission";
+  for (int lab : labs) text += ",lab" + std::to_string(lab);
+  text += ",total,max_total,problems\n";
+  for (const std::string& name : names) {
+    std::ifstream in(dir / name / "summary.json");
+    nlohmann::json summary;
+    try {
+      summary = nlohmann::json::parse(in);
+    } catch (const nlohmann::json::exception&) {
+      text += csv(name) + std::string(labs.size() + 2, ',') + "no readable summary.json\n";
+      continue;
+    }
+    std::string row = csv(name), problems;
+    for (int lab : labs) {
+      const nlohmann::json& entry = summary["labs"][std::to_string(lab)];
+      row += "," + (entry.is_object() ? format_score(entry.value("score", 0.0)) : std::string());
+      std::string status = entry.is_object() ? entry.value("status", "") : "";
+      if (!status.empty() && status != kGraded) problems += (problems.empty() ? "" : " ") + ("lab" + std::to_string(lab) + ":" + status);
+    }
+    row += "," + format_score(summary.value("total", 0.0)) + "," + format_score(summary.value("max_total", 0.0)) + "," + csv(problems);
+    text += row + "\n";
+  }
+  write_file_atomic(dir / "gradebook.csv", text);
+}
+
+}  // namespace kit::grade

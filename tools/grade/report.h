@@ -1,0 +1,38 @@
+#pragma once
+// What kit-grade writes for a submission: results.json (Gradescope's
+// autograder format), summary.json (per-lab scores and statuses for scripts),
+// report.html (one row per check, images beside it) and, for a batch,
+// gradebook.csv. Everything that came from the student is escaped.
+#include <nlohmann/json.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "grader.h"
+
+namespace kit::grade {
+
+nlohmann::json results_json(const SubmissionOutcome& outcome);
+nlohmann::json summary_json(const SubmissionOutcome& outcome);
+std::string report_html(const SubmissionOutcome& outcome);
+
+// results.json, summary.json and report.html into `dir`, each written to a
+// temporary file first and renamed, so a reader never sees half a file.
+void write_results(const std::filesystem::path& dir, const SubmissionOutcome& outcome);
+void write_file_atomic(const std::filesystem::path& path, const std::string& text);
+// A JSON document as text; bytes that are not UTF-8 become U+FFFD (never throws on them).
+std::string json_text(const nlohmann::json& doc);
+
+// "lab 2 lighting: 7.5/10  (3 of 4 checks passed)" or "... 0/10  (compile error: first line)".
+std::string lab_line(const LabOutcome& lab);
+// "lab 2 lighting"
+std::string lab_title(int lab);
+std::string format_score(double score);
+
+// gradebook.csv from the summary.json of each named result folder under `dir`.
+void write_gradebook(const std::filesystem::path& dir, const std::vector<std::string>& names, const std::vector<int>& labs);
+
+std::string html_escape(const std::string& text);
+
+}  // namespace kit::grade
