@@ -74,6 +74,7 @@ struct NormalStats {
   double max_angle = 0.0, sum_angle = 0.0;
   int max_x = 0, max_y = 0;
   size_t failing = 0, covered = 0;
+  size_t not_unit = 0;  // failing because |n| differs from the reference's length, not the angle
   Image error;  // per-pixel max |a - b| over xyz, for the diff image
 };
 
@@ -102,7 +103,9 @@ NormalStats compare_normals(const Image& a, const Image& b, const Tolerance& tol
       } else {
         double cosine = std::clamp(static_cast<double>(dot) / (la * lb), -1.0, 1.0);
         angle = std::acos(cosine) * kRadiansToDegrees;
-        fails = angle > tol.fail_threshold || std::fabs(la - lb) > tol.length_tolerance;
+        bool length_off = std::fabs(la - lb) > tol.length_tolerance;
+        fails = angle > tol.fail_threshold || length_off;
+        if (length_off) ++s.not_unit;
       }
       ++s.covered;
       s.sum_angle += angle;
@@ -156,6 +159,10 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
     r.failing_percent = 100.0 * static_cast<double>(s.failing) / pixels;
     r.psnr = cr.PSNR;
     error = s.error;
+    // A normal can point the right way and still be wrong (not unit length): say so.
+    if (s.not_unit > 0)
+      r.note = format("%.2f%% of the normals differ in length from the reference's by more than %.3g "
+                      "(normalise the normal)", 100.0 * static_cast<double>(s.not_unit) / pixels, tol.length_tolerance);
   } else {
     float threshold = static_cast<float>(tol.fail_threshold);
     OIIO::ImageBufAlgo::CompareResults cr = OIIO::ImageBufAlgo::compare(wa, wb, threshold, threshold);
@@ -189,7 +196,8 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
   const char* unit = metric == Metric::Normal ? " degrees" : metric == Metric::Position ? " m" : "";
   r.passed = r.non_finite == 0 && r.failing_percent <= tol.fail_percent && r.max_error <= tol.hard_fail;
   r.summary = format("%.2f%% of the pixels differ by more than ", r.failing_percent) +
-              format("%.3g", tol.fail_threshold) + unit + format(" (at most %.2f%% may)", tol.fail_percent) +
+              format("%.3g", tol.fail_threshold) + unit + (metric == Metric::Normal ? " or in length" : "") +
+              format(" (at most %.2f%% may)", tol.fail_percent) +
               "; max error " + format("%.3g", r.max_error) + unit +
               format(" at (%.0f, %.0f)", r.max_x, r.max_y) + (r.max_error > tol.hard_fail ? format(" (limit %.3g)", tol.hard_fail) : "") +
               (metric == Metric::Normal ? format("; mean angle %.3g degrees", r.mean_error) : format("; mean error %.3g", r.mean_error)) +
