@@ -48,6 +48,9 @@ void set_sampler_units(const Program& program) {
 Program make_program(const ShaderLibrary& library, const std::string& vs, const std::string& fs) {
   Program p(library, vs, fs);
   set_sampler_units(p);
+  // Leave no program current: if a later program of the same build fails, this
+  // one is deleted while current, and a UI drawing afterwards would restore a dead name.
+  glUseProgram(0);
   return p;
 }
 

@@ -1,0 +1,718 @@
+// kit-view: a window onto one stage. Renders the stage every frame at the
+// window's framebuffer size, shows the final image or a G-buffer view, and
+// reloads the stage's shaders when their files change (errors are shown, the
+// last good programs keep running). `./kit view --lab N [--solution]` opens it.
+//   kit-view --stage lighting --shaders labs [--view normal] [--frames N --screenshot out.png]
+#include <imgui.h>
+#include <imgui_impl_glfw.h>
+#include <imgui_impl_opengl3.h>
+
+#include "gl.h"  // glad before GLFW: GLFW_INCLUDE_NONE keeps GLFW's own GL header out
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <iterator>
+#include <map>
+#include <memory>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include "cli.h"
+#include "error.h"
+#include "window.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kImGuiGlslVersion = "#version 330 core";
+constexpr double kShaderPollSeconds = 0.25;    // how often shader files are checked for changes
+constexpr double kTitleRefreshSeconds = 0.25;  // the title shows the frame time, but not every frame
+constexpr double kFrameTimeSmoothing = 0.05;   // weight of the newest frame in the moving average
+constexpr float kGammaCycle[] = {2.2f, 1.0f, 0.5f, 2.5f};  // the G key, as in the gamma slides
+constexpr float kGammaMin = 0.2f, kGammaMax = 3.0f;
+constexpr float kBloomThresholdMax = 5.0f;
+constexpr int kMaxViewerLights = 256;
+// Camera feel, relative to the scene's size so every scene handles alike.
+constexpr float kRotateRadiansPerPixel = 0.006f;
+constexpr float kLookRadiansPerPixel = 0.003f;
+constexpr float kPanSpeed = 0.0015f;         // fraction of the orbit distance per pixel
+constexpr float kZoomPerWheelStep = 0.9f;
+constexpr float kMinDistanceFraction = 1e-3f;
+constexpr float kFlySpeed = 0.25f;           // scene sizes per second
+constexpr float kFlyFastFactor = 4.0f;       // with Shift held
+constexpr float kMaxPitch = 1.55f;           // just under 90 degrees: look-at stays well defined
+constexpr float kPanelWidth = 340.0f, kPanelItemWidth = 180.0f;
+const ImVec4 kErrorColor{1.0f, 0.35f, 0.35f, 1.0f};
+const ImVec4 kNoteColor{0.7f, 0.7f, 0.7f, 1.0f};
+
+constexpr kit::View kViewKeys[] = {kit::View::Final,    kit::View::Position, kit::View::Normal, kit::View::Albedo,
+                                   kit::View::Material, kit::View::Depth,    kit::View::Hdr};
+
+struct ViewerOptions {
+  kit::CommonOptions common;
+  int frames = 0;                 // 0: until the window is closed
+  std::string screenshot;         // the stage's final image after the last frame
+  std::string window_screenshot;  // the window as shown (view and panel) after the last frame
+  kit::View view = kit::View::Final;
+  bool hidden = false;
+  bool ui = true;
+};
+
+void usage() {
+  std::printf(
+      "usage: kit-view --stage NAME [--shaders DIR] [options]\n"
+      "Opens a window onto one stage; shaders reload when their files change.\n"
+      "  --view VIEW           first view: final (default) | position | normal | albedo | material | depth | hdr\n"
+      "  --frames N            render N frames, then exit (non-zero if a shader error is still shown)\n"
+      "  --screenshot FILE     after the last frame, write the stage's final image (PNG or EXR)\n"
+      "  --window-screenshot FILE  after the last frame, write the window as shown, panel included\n"
+      "  --hidden              invisible window (the image is still rendered)\n"
+      "  --no-ui               no control panel\n"
+      "Keys: 1-7 view (final, position, normal, albedo, material, depth, hdr), P postprocess, C custom effect,\n"
+      "      G gamma 2.2/1.0/0.5/2.5, A attenuation model (orbit mode), F fly/orbit, F12 or K screenshot,\n"
+      "      R reload shaders, Esc quit.\n"
+      "Mouse: orbit: left drag rotates, wheel zooms, right/middle drag pans;\n"
+      "       fly: WASD move, Q/E down/up, Shift faster, right drag looks around.\n"
+      "Shared options (--size sets the window size; --backend is not used, the window is the context):\n%s",
+      kit::common_options_help());
+}
+
+int parse_frame_count(const std::string& text) {
+  try {
+    size_t used = 0;
+    int n = std::stoi(text, &used);
+    if (used == text.size() && n >= 1) return n;
+  } catch (const std::exception&) {
+  }
+  throw kit::Error("--frames expects a whole number of at least 1 (got '" + text + "')");
+}
+
+fs::path checked_shader_root(const kit::CommonOptions& options) {
+  fs::path root = kit::shaders_root(options);
+  std::error_code ec;
+  if (!fs::is_directory(root, ec)) throw kit::Error("--shaders: '" + root.string() + "' is not a folder (it should hold the NN-name lab folders)");
+  return root;
+}
+
+// Orbit and fly cameras over one state: a target point, a distance and a
+// direction (yaw, pitch). Until the first move the scene's own camera is used
+// unchanged, so the first frame is the same image kit-render makes.
+class CameraRig {
+ public:
+  explicit CameraRig(const kit::Scene& scene) : camera_(scene.camera ? *scene.camera : kit::framing_camera(scene)) {
+    glm::mat4 inverse_view = glm::inverse(camera_.view);
+    glm::vec3 eye(inverse_view[3]);
+    glm::vec3 forward = -glm::normalize(glm::vec3(inverse_view[2]));
+    glm::vec3 center = 0.5f * (scene.bounds_min + scene.bounds_max);
+    scene_size_ = std::max(glm::length(scene.bounds_max - scene.bounds_min), 1e-3f);
+    // Orbit about the point in front of the camera nearest the scene's centre.
+    distance_ = std::max(glm::dot(center - eye, forward), 0.1f * scene_size_);
+    target_ = eye + forward * distance_;
+    pitch_ = std::asin(std::clamp(forward.y, -1.0f, 1.0f));
+    yaw_ = std::atan2(forward.x, -forward.z);
+  }
+
+  const kit::Camera& camera() const { return camera_; }
+  bool flying() const { return flying_; }
+  void toggle_fly() { flying_ = !flying_; }
+
+  void rotate(float dx, float dy) {  // orbit: turns the eye about the target
+    turn(dx * kRotateRadiansPerPixel, dy * kRotateRadiansPerPixel);
+    update();
+  }
+  void look(float dx, float dy) {  // fly: turns the view about the eye
+    glm::vec3 eye = this->eye();
+    turn(dx * kLookRadiansPerPixel, dy * kLookRadiansPerPixel);
+    target_ = eye + forward() * distance_;
+    update();
+  }
+  void pan(float dx, float dy) {
+    glm::vec3 right = glm::normalize(glm::cross(forward(), kUp));
+    glm::vec3 up = glm::cross(right, forward());
+    target_ += (-dx * right + dy * up) * distance_ * kPanSpeed;
+    update();
+  }
+  void zoom(float steps) {
+    distance_ = std::max(distance_ * std::pow(kZoomPerWheelStep, steps), kMinDistanceFraction * scene_size_);
+    update();
+  }
+  // move: x right, y up, z forward, in units of the fly speed; seconds of motion.
+  void fly(const glm::vec3& move, float seconds) {
+    glm::vec3 right = glm::normalize(glm::cross(forward(), kUp));
+    target_ += (move.x * right + move.y * kUp + move.z * forward()) * kFlySpeed * scene_size_ * seconds;
+    update();
+  }
+
+ private:
+  static constexpr glm::vec3 kUp{0.0f, 1.0f, 0.0f};
+  glm::vec3 forward() const {
+    return {std::cos(pitch_) * std::sin(yaw_), std::sin(pitch_), -std::cos(pitch_) * std::cos(yaw_)};
+  }
+  glm::vec3 eye() const { return target_ - forward() * distance_; }
+  void turn(float yaw, float pitch) {
+    yaw_ += yaw;
+    pitch_ = std::clamp(pitch_ - pitch, -kMaxPitch, kMaxPitch);
+  }
+  void update() {
+    camera_.view = glm::lookAt(eye(), target_, kUp);
+    camera_.position = eye();
+    // Zooming far out must not clip the scene away.
+    camera_.zfar = std::max(camera_.zfar, distance_ + 2.0f * scene_size_);
+  }
+
+  kit::Camera camera_;
+  glm::vec3 target_{0.0f};
+  float distance_ = 1.0f, yaw_ = 0.0f, pitch_ = 0.0f, scene_size_ = 1.0f;
+  bool flying_ = false;
+};
+
+void delete_query(GLuint id) { glDeleteQueries(1, &id); }
+
+// GPU time of a frame's render and display, read a frame later so reading never stalls.
+class GpuTimer {
+ public:
+  GpuTimer() {
+    for (auto& q : queries_) {
+      GLuint id = 0;
+      glGenQueries(1, &id);
+      q = kit::GlName<delete_query>(id);
+    }
+  }
+  void begin() {
+    const auto& q = queries_[static_cast<size_t>(frame_ % 2)];
+    if (frame_ >= 2) {
+      GLint available = 0;
+      glGetQueryObjectiv(q.get(), GL_QUERY_RESULT_AVAILABLE, &available);
+      if (available) {
+        GLuint64 ns = 0;
+        glGetQueryObjectui64v(q.get(), GL_QUERY_RESULT, &ns);
+        milliseconds_ = static_cast<double>(ns) * 1e-6;
+      }
+    }
+    glBeginQuery(GL_TIME_ELAPSED, q.get());
+  }
+  void end() {
+    glEndQuery(GL_TIME_ELAPSED);
+    ++frame_;
+  }
+  double milliseconds() const { return milliseconds_; }
+
+ private:
+  kit::GlName<delete_query> queries_[2];
+  long frame_ = 0;
+  double milliseconds_ = 0.0;
+};
+
+// Dear ImGui's context and its GLFW and OpenGL 3 backends, for one window.
+class ImGuiSession {
+ public:
+  explicit ImGuiSession(GLFWwindow* window) {
+    IMGUI_CHECKVERSION();
+    ImGui::CreateContext();
+    ImGui::GetIO().IniFilename = nullptr;  // no imgui.ini left in the student's folder
+    ImGui::StyleColorsDark();
+    // Installs its callbacks after the viewer's and calls those first.
+    ImGui_ImplGlfw_InitForOpenGL(window, true);
+    ImGui_ImplOpenGL3_Init(kImGuiGlslVersion);
+  }
+  ~ImGuiSession() {
+    ImGui_ImplOpenGL3_Shutdown();
+    ImGui_ImplGlfw_Shutdown();
+    ImGui::DestroyContext();
+  }
+  ImGuiSession(const ImGuiSession&) = delete;
+  ImGuiSession& operator=(const ImGuiSession&) = delete;
+};
+
+class Viewer {
+ public:
+  explicit Viewer(ViewerOptions options)
+      : options_(std::move(options)),
+        settings_(options_.common.settings),
+        stage_(&kit::find_stage(options_.common.stage)),
+        shader_root_(checked_shader_root(options_.common)),
+        scene_(kit::load_scene(kit::resolve_scene(options_.common.scene))),
+        window_(settings_.width, settings_.height, title_prefix(), !options_.hidden),
+        rig_(scene_),
+        view_(options_.view) {
+    if (settings_.extra_lights > kMaxViewerLights) {
+      std::fprintf(stderr, "kit-view: note: --lights %d is more than the viewer's slider holds; using %d\n",
+                   settings_.extra_lights, kMaxViewerLights);
+      settings_.extra_lights = kMaxViewerLights;
+    }
+    GLFWwindow* handle = window_.handle();
+    glfwSetWindowUserPointer(handle, this);
+    glfwSetKeyCallback(handle, on_key);
+    glfwSetScrollCallback(handle, on_scroll);
+    glfwSetCursorPosCallback(handle, on_cursor);
+    glfwGetCursorPos(handle, &cursor_x_, &cursor_y_);
+    if (options_.ui) imgui_ = std::make_unique<ImGuiSession>(handle);
+
+    int width = 0, height = 0;
+    window_.framebuffer_size(&width, &height);
+    if (width != settings_.width || height != settings_.height)
+      std::fprintf(stderr, "kit-view: note: the window's framebuffer is %dx%d, not the requested %dx%d "
+                   "(display scaling or the window manager changed it); images are %dx%d\n",
+                   width, height, settings_.width, settings_.height, width, height);
+    settings_.width = std::max(width, 1);
+    settings_.height = std::max(height, 1);
+    build_renderer();
+    select_view(view_);
+  }
+
+  int run() {
+    const double start = glfwGetTime();
+    double last = start, next_poll = start, next_title = start;
+    int frame = 0;
+    while (!window_.should_close()) {
+      glfwPollEvents();
+      double now = glfwGetTime();
+      double seconds = now - last;
+      last = now;
+      if (frame == 1) frame_ms_ = seconds * 1000.0;  // frame 0 has no previous frame to time against
+      else if (frame > 1) frame_ms_ += kFrameTimeSmoothing * (seconds * 1000.0 - frame_ms_);
+      if (now >= next_poll) {
+        poll_shader_files();
+        next_poll = now + kShaderPollSeconds;
+      }
+      move_camera(static_cast<float>(seconds));
+      settings_.time = static_cast<float>(now - start);
+
+      int width = 0, height = 0;
+      window_.framebuffer_size(&width, &height);
+      if (width == 0 || height == 0) {  // minimised: nothing to draw into
+        glfwWaitEvents();
+        continue;
+      }
+      draw_frame(width, height);
+      if (imgui_) draw_panel();
+
+      bool last_frame = options_.frames > 0 && frame + 1 >= options_.frames;
+      if (screenshot_requested_) write_key_screenshot();
+      if (last_frame) write_final_screenshots();
+      window_.swap_buffers();
+      if (now >= next_title) {
+        refresh_title();
+        next_title = now + kTitleRefreshSeconds;
+      }
+      ++frame;
+      if (last_frame) break;
+    }
+    // With --frames the viewer is a check: a shader error still showing is a failure.
+    return options_.frames > 0 && !error_.empty() ? 1 : 0;
+  }
+
+ private:
+  // ---- GLFW callbacks: the viewer is reached through the window's user pointer.
+  static Viewer& from(GLFWwindow* window) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(window)); }
+  static void on_key(GLFWwindow* window, int key, int, int action, int) { from(window).key(key, action); }
+  static void on_cursor(GLFWwindow* window, double x, double y) { from(window).cursor_moved(x, y); }
+  static void on_scroll(GLFWwindow* window, double, double dy) {
+    Viewer& v = from(window);
+    if (!v.ui_wants_mouse()) v.wheel_steps_ += static_cast<float>(dy);
+  }
+
+  bool ui_wants_mouse() const { return imgui_ && ImGui::GetIO().WantCaptureMouse; }
+  bool ui_wants_keyboard() const { return imgui_ && ImGui::GetIO().WantCaptureKeyboard; }
+
+  void key(int key, int action) {
+    if (action != GLFW_PRESS) return;
+    if (key == GLFW_KEY_ESCAPE) {
+      glfwSetWindowShouldClose(window_.handle(), GLFW_TRUE);
+      return;
+    }
+    if (ui_wants_keyboard()) return;
+    if (key >= GLFW_KEY_1 && key < GLFW_KEY_1 + static_cast<int>(std::size(kViewKeys))) {
+      select_view(kViewKeys[key - GLFW_KEY_1]);
+      return;
+    }
+    switch (key) {
+      case GLFW_KEY_P: settings_.postprocess = !settings_.postprocess; break;
+      case GLFW_KEY_C: settings_.custom_effect = !settings_.custom_effect; break;
+      case GLFW_KEY_G: cycle_gamma(); break;
+      case GLFW_KEY_A:  // in fly mode A strafes left; the panel still switches the model
+        if (!rig_.flying()) settings_.attenuation_model = 1 - settings_.attenuation_model;
+        break;
+      case GLFW_KEY_F: rig_.toggle_fly(); break;
+      case GLFW_KEY_F12:
+      case GLFW_KEY_K: screenshot_requested_ = true; break;
+      case GLFW_KEY_R: reload_now(); break;
+      default: break;
+    }
+  }
+
+  void cycle_gamma() {
+    // The next preset after the one nearest the current gamma (the slider may sit between them).
+    size_t nearest = 0;
+    for (size_t i = 1; i < std::size(kGammaCycle); ++i)
+      if (std::abs(kGammaCycle[i] - settings_.gamma) < std::abs(kGammaCycle[nearest] - settings_.gamma)) nearest = i;
+    settings_.gamma = kGammaCycle[(nearest + 1) % std::size(kGammaCycle)];
+  }
+
+  void select_view(kit::View view) {
+    if (view == kit::View::Hdr && !stage_->lighting) {
+      set_note("view hdr needs a lit stage (lighting or later); showing final");
+      view = kit::View::Final;
+    }
+    view_ = view;
+  }
+
+  // Drags are summed per button as GLFW reports the motion, so a move is
+  // counted with the buttons held at that moment, not at the next frame.
+  void cursor_moved(double x, double y) {
+    glm::vec2 delta(static_cast<float>(x - cursor_x_), static_cast<float>(y - cursor_y_));
+    cursor_x_ = x;
+    cursor_y_ = y;
+    if (ui_wants_mouse()) return;
+    GLFWwindow* w = window_.handle();
+    if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_LEFT) == GLFW_PRESS) left_drag_ += delta;
+    if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_RIGHT) == GLFW_PRESS) right_drag_ += delta;
+    if (glfwGetMouseButton(w, GLFW_MOUSE_BUTTON_MIDDLE) == GLFW_PRESS) middle_drag_ += delta;
+  }
+
+  void move_camera(float seconds) {
+    constexpr glm::vec2 kNone(0.0f);
+    if (rig_.flying()) {
+      if (right_drag_ != kNone) rig_.look(right_drag_.x, right_drag_.y);
+      if (!ui_wants_keyboard()) {
+        GLFWwindow* w = window_.handle();
+        auto axis = [&](int plus, int minus) {
+          return (glfwGetKey(w, plus) == GLFW_PRESS ? 1.0f : 0.0f) - (glfwGetKey(w, minus) == GLFW_PRESS ? 1.0f : 0.0f);
+        };
+        glm::vec3 move(axis(GLFW_KEY_D, GLFW_KEY_A), axis(GLFW_KEY_E, GLFW_KEY_Q), axis(GLFW_KEY_W, GLFW_KEY_S));
+        if (glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS) move *= kFlyFastFactor;
+        if (move != glm::vec3(0.0f)) rig_.fly(move, seconds);
+      }
+    } else {
+      if (left_drag_ != kNone) rig_.rotate(left_drag_.x, left_drag_.y);
+      glm::vec2 pan = right_drag_ + middle_drag_;
+      if (pan != kNone) rig_.pan(pan.x, pan.y);
+    }
+    left_drag_ = right_drag_ = middle_drag_ = kNone;
+    if (wheel_steps_ != 0.0f) {
+      rig_.zoom(wheel_steps_);
+      wheel_steps_ = 0.0f;
+    }
+  }
+
+  // ---- Rendering and display.
+  void draw_frame(int width, int height) {
+    // A failed shader build can leave its deleted program current; Dear ImGui
+    // would restore it after drawing the panel (GL_INVALID_VALUE).
+    glUseProgram(0);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    glViewport(0, 0, width, height);
+    glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
+    glClear(GL_COLOR_BUFFER_BIT);
+    if (!renderer_) return;  // the stage never compiled: the panel shows why
+    gpu_timer_->begin();
+    try {
+      // The renderer keeps its own size (resize reallocates the targets); everything else follows the controls.
+      kit::RenderSettings& s = renderer_->settings();
+      int rendered_width = s.width, rendered_height = s.height;
+      s = settings_;
+      s.width = rendered_width;
+      s.height = rendered_height;
+      renderer_->resize(width, height);
+      renderer_->render(kit::frame_camera(rig_.camera(), static_cast<float>(width) / static_cast<float>(height)));
+      show(renderer_->display_texture(view_), width, height);
+    } catch (const kit::Error& e) {
+      report_error(e.what());
+    }
+    gpu_timer_->end();
+  }
+
+  // Copies a texture to the window; blitting converts float views to the window's 8 bits.
+  void show(const kit::Texture2D& texture, int width, int height) {
+    blit_source_->attach_color(0, texture);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, blit_source_->id());
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
+    glBlitFramebuffer(0, 0, texture.width(), texture.height(), 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    kit::check_gl("showing the view");
+  }
+
+  // The back buffer as drawn this frame (view and panel), through a texture so
+  // kit::read_texture does the read-back.
+  kit::Image window_image() {
+    int width = 0, height = 0;
+    window_.framebuffer_size(&width, &height);
+    kit::Texture2D copy(width, height, {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE});
+    kit::Framebuffer target;
+    target.attach_color(0, copy);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+    glReadBuffer(GL_BACK);
+    glBindFramebuffer(GL_DRAW_FRAMEBUFFER, target.id());
+    glBlitFramebuffer(0, 0, width, height, 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return kit::read_texture(copy);
+  }
+
+  void write_final_screenshots() {
+    if (!options_.screenshot.empty()) {
+      if (renderer_) save_image(options_.screenshot, [&] { return renderer_->read_view(kit::View::Final, false); });
+      else report_error("no screenshot written: the stage did not build");
+    }
+    if (!options_.window_screenshot.empty()) save_image(options_.window_screenshot, [&] { return window_image(); });
+  }
+
+  void write_key_screenshot() {
+    screenshot_requested_ = false;
+    if (!renderer_) {
+      set_note("no screenshot: the stage did not build");
+      return;
+    }
+    fs::path folder = kit::kit_root() / "out" / "screenshots";
+    std::error_code ec;
+    fs::create_directories(folder, ec);
+    fs::path path;
+    for (int n = 1;; ++n) {  // never overwrite an earlier screenshot
+      path = folder / (stage_->name + "-" + std::to_string(n) + ".png");
+      if (!fs::exists(path, ec)) break;
+    }
+    save_image(path.string(), [&] { return renderer_->read_view(view_, false); });
+  }
+
+  template <class MakeImage>
+  bool save_image(const std::string& path, MakeImage make_image) {
+    try {
+      kit::write_image(path, make_image());
+      set_note("wrote " + path);
+      return true;
+    } catch (const kit::Error& e) {
+      report_error(e.what());
+      return false;
+    }
+  }
+
+  // ---- Shaders: building, hot reload, errors.
+  void build_renderer() {
+    try {
+      auto renderer = std::make_unique<kit::Renderer>(*stage_, kit::stage_library(*stage_, shader_root_), scene_, settings_);
+      bool retry = !error_.empty();
+      renderer_ = std::move(renderer);  // replaces the old stage only once the new one built
+      if (retry) set_note("stage " + stage_->name + " built");
+      if (!gpu_timer_) gpu_timer_ = std::make_unique<GpuTimer>();
+      if (!blit_source_) blit_source_ = std::make_unique<kit::Framebuffer>();
+      error_.clear();
+    } catch (const kit::Error& e) {
+      report_error(e.what());
+    }
+  }
+
+  void switch_stage(const kit::Stage& stage) {
+    stage_ = &stage;
+    select_view(view_);
+    build_renderer();
+    watched_.clear();  // other files now; the next poll takes their times
+    refresh_title();
+  }
+
+  bool stage_is_built() const { return renderer_ && renderer_->stage().number == stage_->number; }
+
+  void reload() {
+    if (!stage_is_built()) {
+      build_renderer();
+      return;
+    }
+    try {
+      renderer_->reload_shaders();
+      error_.clear();
+      set_note("shaders reloaded");
+    } catch (const kit::Error& e) {
+      report_error(e.what());  // the old programs keep running
+    }
+  }
+
+  void reload_now() {  // the R key and the button; the next poll starts from the files as they are then
+    reload();
+    watched_.clear();
+  }
+
+  // The files the stage is made of; while it does not build, every file in its
+  // shader folders (a missing file may be about to appear).
+  std::vector<fs::path> shader_files() const {
+    if (stage_is_built()) return renderer_->shader_paths();
+    std::vector<fs::path> files;
+    const kit::ShaderLibrary library = kit::stage_library(*stage_, shader_root_);
+    for (const kit::ShaderFolder& folder : library.folders()) {
+      files.push_back(folder.path);  // its time changes when a file is added or removed
+      std::error_code ec;
+      for (fs::directory_iterator it(folder.path, ec), end; !ec && it != end; it.increment(ec)) files.push_back(it->path());
+    }
+    return files;
+  }
+
+  using FileTimes = std::map<fs::path, fs::file_time_type>;
+
+  FileTimes file_times() const {
+    FileTimes times;
+    for (const fs::path& path : shader_files()) {
+      std::error_code ec;
+      times[path] = fs::last_write_time(path, ec);  // a missing file reads as an error time, also a change
+    }
+    return times;
+  }
+
+  void poll_shader_files() {
+    FileTimes times = file_times();
+    if (watched_.empty() || times == watched_) {
+      watched_ = std::move(times);
+      return;
+    }
+    reload();
+    // Keep the times from before the rebuild when the same files are watched,
+    // so an edit saved while it compiled still counts at the next poll.
+    FileTimes after = file_times();
+    bool same_files = std::equal(after.begin(), after.end(), times.begin(), times.end(),
+                                 [](const auto& a, const auto& b) { return a.first == b.first; });
+    watched_ = same_files ? std::move(times) : std::move(after);
+  }
+
+  void set_note(const std::string& message) {
+    std::printf("kit-view: %s\n", message.c_str());
+    std::fflush(stdout);  // in order with the errors on stderr when both go to one log
+    note_ = message;
+  }
+
+  void report_error(const std::string& message) {
+    if (message != error_) std::fprintf(stderr, "kit-view: %s\n", message.c_str());
+    error_ = message;
+  }
+
+  // ---- Window title and control panel.
+  std::string title_prefix() const { return "kit-view: " + std::to_string(stage_->number) + " " + stage_->name; }
+
+  void refresh_title() {
+    char text[256];
+    std::snprintf(text, sizeof text, "%s [%s]  %.1f ms%s", title_prefix().c_str(), kit::view_name(view_), frame_ms_,
+                  error_.empty() ? "" : "  (shader error)");
+    glfwSetWindowTitle(window_.handle(), text);
+  }
+
+  void draw_panel() {
+    ImGui_ImplOpenGL3_NewFrame();
+    ImGui_ImplGlfw_NewFrame();
+    ImGui::NewFrame();
+    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSize(ImVec2(kPanelWidth, 0), ImGuiCond_FirstUseEver);
+    ImGui::Begin("kit-view");
+    ImGui::PushItemWidth(kPanelItemWidth);  // leaves room for the labels on the right
+    ImGui::Text("frame %.2f ms (%.0f fps), GPU %.2f ms", frame_ms_, frame_ms_ > 0.0 ? 1000.0 / frame_ms_ : 0.0,
+                gpu_timer_ ? gpu_timer_->milliseconds() : 0.0);
+
+    std::string current = std::to_string(stage_->number) + " " + stage_->name;
+    if (ImGui::BeginCombo("stage", current.c_str())) {
+      for (const kit::Stage& s : kit::stages()) {
+        std::string label = std::to_string(s.number) + " " + s.name;
+        if (ImGui::Selectable(label.c_str(), &s == stage_) && &s != stage_) switch_stage(s);
+      }
+      ImGui::EndCombo();
+    }
+    if (renderer_ && !stage_is_built())
+      ImGui::TextColored(kNoteColor, "showing %s until %s builds", renderer_->stage().name.c_str(), stage_->name.c_str());
+    if (!renderer_) ImGui::TextColored(kNoteColor, "nothing to show until the stage builds: saving a shader retries");
+
+    if (ImGui::BeginCombo("view", kit::view_name(view_))) {
+      for (size_t i = 0; i < std::size(kViewKeys); ++i) {
+        kit::View v = kViewKeys[i];
+        if (v == kit::View::Hdr && !stage_->lighting) continue;
+        std::string label = std::to_string(i + 1) + " " + kit::view_name(v);
+        if (ImGui::Selectable(label.c_str(), v == view_)) select_view(v);
+      }
+      ImGui::EndCombo();
+    }
+
+    ImGui::BeginDisabled(!stage_->postprocess);
+    ImGui::Checkbox("postprocess (P)", &settings_.postprocess);
+    ImGui::Checkbox("custom effect (C)", &settings_.custom_effect);
+    ImGui::SliderFloat("bloom threshold", &settings_.bloom_threshold, 0.0f, kBloomThresholdMax);
+    ImGui::EndDisabled();
+    ImGui::SliderFloat("gamma (G)", &settings_.gamma, kGammaMin, kGammaMax, "%.2f");
+    ImGui::TextUnformatted("attenuation (A)");
+    ImGui::SameLine();
+    ImGui::RadioButton("physical", &settings_.attenuation_model, 0);
+    ImGui::SameLine();
+    ImGui::RadioButton("simple", &settings_.attenuation_model, 1);
+    ImGui::SliderInt("extra lights", &settings_.extra_lights, 0, kMaxViewerLights);
+    ImGui::TextWrapped("camera (F): %s", rig_.flying() ? "fly: WASD, Q/E down/up, right drag looks"
+                                                         : "orbit: left drag turns, wheel zooms, right drag pans");
+    if (ImGui::Button("reload shaders (R)")) reload_now();
+    ImGui::SameLine();
+    if (ImGui::Button("screenshot (K)")) screenshot_requested_ = true;
+    if (!note_.empty()) ImGui::TextColored(kNoteColor, "%s", note_.c_str());
+    if (!error_.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
+      ImGui::TextWrapped("%s", error_.c_str());
+      ImGui::PopStyleColor();
+    }
+    ImGui::PopItemWidth();
+    ImGui::End();
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  }
+
+  // Members in construction order: the window (and its GL context) outlives everything that uses GL.
+  ViewerOptions options_;
+  kit::RenderSettings settings_;  // what the controls set; copied into the renderer each frame
+  const kit::Stage* stage_;       // the stage asked for (the renderer may still show an earlier one)
+  fs::path shader_root_;
+  kit::Scene scene_;
+  kit::Window window_;
+  std::unique_ptr<ImGuiSession> imgui_;
+  std::unique_ptr<kit::Renderer> renderer_;
+  std::unique_ptr<GpuTimer> gpu_timer_;
+  std::unique_ptr<kit::Framebuffer> blit_source_;
+  CameraRig rig_;
+  kit::View view_;
+  std::map<fs::path, fs::file_time_type> watched_;
+  std::string error_, note_;
+  double frame_ms_ = 0.0;
+  double cursor_x_ = 0.0, cursor_y_ = 0.0;
+  float wheel_steps_ = 0.0f;
+  glm::vec2 left_drag_{0.0f}, right_drag_{0.0f}, middle_drag_{0.0f};  // pixels since the last frame
+  bool screenshot_requested_ = false;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  ViewerOptions options;
+  try {
+    for (int i = 1; i < argc; ++i)
+      if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
+        usage();
+        return 0;
+      }
+    kit::parse_options(argc, argv, options.common, [&](const std::string& flag, const char* next) -> int {
+      if (flag == "--hidden") return options.hidden = true, 1;
+      if (flag == "--no-ui") return options.ui = false, 1;
+      auto value = [&] {
+        if (!next) throw kit::Error(flag + " needs a value");
+        return std::string(next);
+      };
+      if (flag == "--frames") return options.frames = parse_frame_count(value()), 2;
+      if (flag == "--screenshot") return options.screenshot = value(), 2;
+      if (flag == "--window-screenshot") return options.window_screenshot = value(), 2;
+      if (flag == "--view") return options.view = kit::parse_view(value()), 2;
+      return 0;
+    });
+    Viewer viewer(std::move(options));
+    return viewer.run();
+  } catch (const kit::Error& e) {
+    std::fprintf(stderr, "kit-view: %s\n", e.what());
+    return 1;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "kit-view: unexpected error: %s\n", e.what());
+    return 1;
+  }
+}
