@@ -282,18 +282,7 @@ void BenchRenderer::geometry_pass(const Method& m) {
   const SceneGpu& gpu = m.optimized_geometry ? *optimized_gpu_ : scene_gpu_;
   const glm::mat4 view_projection = camera_.projection * camera_.view;
   if (m.lighting == Lighting::Forward) {
-    forward_fbo_.bind();
-    glViewport(0, 0, settings_.width, settings_.height);
-    glDisable(GL_BLEND);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glEnable(GL_CULL_FACE);
-    glCullFace(GL_BACK);
-    const glm::vec4 clear(settings_.clear_color, 1.0f);
-    glClearBufferfv(GL_COLOR, 0, &clear[0]);
-    const float far_depth = 1.0f;
-    glClearBufferfv(GL_DEPTH, 0, &far_depth);
+    begin_geometry_pass_on(forward_fbo_, settings_.width, settings_.height, 1, glm::vec4(settings_.clear_color, 1.0f));
     const Program& p = program("forward");
     set_uniforms(p, light_count());
     light_texture_.bind(KIT_UNIT_LIGHTS);

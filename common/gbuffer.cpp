@@ -46,7 +46,7 @@ void GBuffer::resize(int width, int height) {
   allocate();
 }
 
-void begin_geometry_pass_on(const Framebuffer& fbo, int width, int height, int color_count) {
+void begin_geometry_pass_on(const Framebuffer& fbo, int width, int height, int color_count, const glm::vec4& clear) {
   fbo.bind();
   glViewport(0, 0, width, height);
   glDisable(GL_BLEND);
@@ -55,8 +55,7 @@ void begin_geometry_pass_on(const Framebuffer& fbo, int width, int height, int c
   glDepthMask(GL_TRUE);
   glEnable(GL_CULL_FACE);
   glCullFace(GL_BACK);
-  const float zero[4] = {0, 0, 0, 0};
-  for (int i = 0; i < color_count; ++i) glClearBufferfv(GL_COLOR, i, zero);
+  for (int i = 0; i < color_count; ++i) glClearBufferfv(GL_COLOR, i, &clear[0]);
   const float far_depth = 1.0f;
   glClearBufferfv(GL_DEPTH, 0, &far_depth);
 }

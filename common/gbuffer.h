@@ -9,8 +9,10 @@ namespace kit {
 
 // The geometry pass's start on any G-buffer FBO (GBuffer and the bench's layouts):
 // binds `fbo`, sets the viewport, depth test LESS with writes, back-face culling,
-// no blending, and clears colour attachments 0..color_count-1 to 0 and depth to 1.
-void begin_geometry_pass_on(const Framebuffer& fbo, int width, int height, int color_count);
+// no blending, and clears colour attachments 0..color_count-1 to `clear` (0 for
+// G-buffers, whose mask must read "no surface") and depth to 1.
+void begin_geometry_pass_on(const Framebuffer& fbo, int width, int height, int color_count,
+                            const glm::vec4& clear = glm::vec4(0.0f));
 
 class GBuffer {
  public:

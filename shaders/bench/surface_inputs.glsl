@@ -1,24 +1,14 @@
 // The geometry pass's material and normal-map evaluation for the bench's own
 // geometry shaders (the lean G-buffer and forward shading). It is
 // solutions/04-normalmap/gbuffer.frag's computation: that file is a complete
-// shader (it declares #version and main), so it cannot be included. The material
-// uniforms are geometry_uniforms.glsl's; they are declared here because that file
-// also declares u_view, u_projection and u_camera_position, which uniforms.glsl
-// (needed by forward shading) declares too, and GLSL forbids declaring them twice.
+// shader (it declares #version and main), so it cannot be included. It includes
+// material_uniforms.glsl rather than geometry_uniforms.glsl, whose camera
+// uniforms uniforms.glsl (needed by forward shading) declares too.
 // tests/test_bench_methods.cpp checks the lean layout and forward shading against
 // the labs' G-buffer, so the two copies cannot drift apart unnoticed.
 #include "gbuffer_layout.h"
 
-uniform vec4 u_base_color_factor;
-uniform float u_metallic_factor;
-uniform float u_roughness_factor;
-uniform vec3 u_emissive_factor;    // emissiveFactor * KHR_materials_emissive_strength
-uniform float u_normal_scale;
-uniform bool u_has_normal_texture;
-uniform sampler2D u_base_color_texture;          // sRGB format: sampling returns linear colour
-uniform sampler2D u_metallic_roughness_texture;  // glTF: roughness in G, metallic in B (linear)
-uniform sampler2D u_normal_texture;              // tangent-space normal, stored as (n + 1) / 2
-uniform sampler2D u_emissive_texture;            // sRGB format
+#include "material_uniforms.glsl"
 
 // The varyings of solutions/04-normalmap/gbuffer.vert.
 in vec3 v_world_position;
