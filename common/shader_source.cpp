@@ -157,7 +157,6 @@ void ShaderLibrary::append(const std::string& name, AssembledShader& out,
     out.text += '\n';
     out.lines.push_back({file_index, number});
   }
-  if (top_level && !seen_code) throw Error(display + ": file holds no shader code");
 }
 
 std::string AssembledShader::map_log(const std::string& log) const {
