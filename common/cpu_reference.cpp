@@ -220,6 +220,14 @@ double spot_cone_factor(const ShadingLight& light, dvec3 p, const Guards& guards
   return t * t * (3.0 - 2.0 * t);
 }
 
+// lights.glsl kit_range_window: glTF's recommended clamp(1 - (d / range)^4, 0, 1); 1 without a range.
+double range_window(const ShadingLight& light, dvec3 p) {
+  if (light.range <= 0.0) return 1.0;
+  const dvec3 to_light = light.position - p;
+  const double q = glm::dot(to_light, to_light) / (light.range * light.range);
+  return glsl_clamp(1.0 - q * q, 0.0, 1.0);
+}
+
 dvec3 light_radiance(const ShadingLight& light, dvec3 p, const ShadingSettings& settings) {
   const Guards& g = settings.guards;
   if (settings.stage <= 2) {
@@ -243,7 +251,7 @@ dvec3 light_radiance(const ShadingLight& light, dvec3 p, const ShadingSettings& 
     intensity = light.flux / (4.0 * KIT_PI * r2);
   }
   if (light.type == KIT_LIGHT_SPOT) intensity *= spot_cone_factor(light, p, g);
-  return light.color * intensity;
+  return light.color * intensity * range_window(light, p);
 }
 
 // --- Lighting pass ------------------------------------------------------------------------

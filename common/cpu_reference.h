@@ -139,7 +139,7 @@ struct ShadingLight {
   dvec3 direction{0.0, 0.0, -1.0};
   dvec3 color{1.0};
   double intensity = 1.0;  // candela
-  double range = 0.0;      // uploaded, unused by the labs' falloff
+  double range = 0.0;      // glTF range, 0 = unlimited (stage 3 on: range_window)
   double cos_inner = 1.0;
   double cos_outer = 0.0;
   double flux = 0.0;

@@ -333,6 +333,10 @@ class SceneBuilder {
     out.direction = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
     if (l.color.size() == 3) out.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
     out.intensity = static_cast<float>(l.intensity);
+    // glTF: range, when present, is > 0; tinygltf reads an absent one as 0 (unlimited).
+    if (!(l.range >= 0.0) || !std::isfinite(l.range))
+      throw Error(path_ + ": KHR_lights_punctual light " + std::to_string(index) + " has range " +
+                  std::to_string(l.range) + " (must be a positive distance, or left out for unlimited)");
     out.range = static_cast<float>(l.range);
     out.inner_cone = static_cast<float>(l.spot.innerConeAngle);
     out.outer_cone = static_cast<float>(l.spot.outerConeAngle);

@@ -34,3 +34,14 @@ Light kit_light(int i) {
     light.flux = t3.z;
     return light;
 }
+
+// glTF KHR_lights_punctual's `range`: the spec's recommended window
+// clamp(1 - (d / range)^4, 0, 1) takes the light to exactly 0 at d = range, so a
+// light volume or tile list of that radius drops nothing. range <= 0 is unlimited
+// (window 1). Lab 3's light_radiance multiplies its falloff by this.
+float kit_range_window(Light light, vec3 p) {
+    if (light.range <= 0.0) return 1.0;
+    vec3 to_light = light.position - p;
+    float q = dot(to_light, to_light) / (light.range * light.range);  // (d / range)^2
+    return clamp(1.0 - q * q, 0.0, 1.0);
+}

@@ -56,8 +56,7 @@ struct CameraView {
 
 // Renders `scene_name` from every view in every configuration and checks each
 // frame against the reference. Prints one line per frame for the record.
-void check_scene(const std::string& scene_name, const std::vector<CameraView>& views) {
-  const Scene& s = scene(scene_name);
+void check_scene(const std::string& scene_name, const Scene& s, const std::vector<CameraView>& views) {
   std::unique_ptr<Renderer> renderer;
   std::string current_stage;
   for (const Config& config : kConfigs) {
@@ -158,19 +157,50 @@ TEST(LabEquations, HalfRounding) {
 
 TEST(LabEquations, DefaultSceneMatchesReference) {
   const Scene& s = scene("default");
-  check_scene("default", {{"camera", scene_frame_camera(s, small_settings()), false}});
+  check_scene("default", s, {{"camera", scene_frame_camera(s, small_settings()), false}});
+}
+
+// glTF ranges short enough that the window (lights.glsl kit_range_window) dims and
+// cuts off the lights across the visible floor: stage 3's falloff with the window.
+TEST(LabEquations, DefaultSceneWithLightRangesMatchesReference) {
+  constexpr float kPointRange = 3.0f, kSpotRange = 8.0f;  // metres: the spot stands 7 m from the shapes
+  Scene s = scene("default");
+  for (Light& light : s.lights) light.range = light.type == KIT_LIGHT_SPOT ? kSpotRange : kPointRange;
+  const FrameCamera camera = scene_frame_camera(s, small_settings());
+  check_scene("default-ranged", s, {{"camera", camera, false}});
+
+  // The check means something only if the window varies over the image: some
+  // covered pixels lie past every point light's range and some inside one but
+  // dimmed (0 < window < 1).
+  std::unique_ptr<Renderer> renderer = make_renderer("attenuation", s, small_settings());
+  const Frame frame = render_frame(*renderer, camera);
+  size_t beyond_all = 0, dimmed = 0;
+  for (const auto& [x, y] : covered_pixels(frame)) {
+    const ref::dvec3 p = ref::gbuffer_sample(frame.gbuffer, x, y).position;
+    bool inside_any = false, partly = false;
+    for (const Light& light : s.lights) {
+      if (light.type != KIT_LIGHT_POINT) continue;
+      const double q = glm::distance(p, ref::dvec3(light.position)) / light.range;
+      inside_any |= q < 1.0;
+      partly |= q > 0.5 && q < 1.0;
+    }
+    beyond_all += !inside_any;
+    dimmed += partly;
+  }
+  EXPECT_GT(beyond_all, kMinPixelsPerFrame / 10);
+  EXPECT_GT(dimmed, kMinPixelsPerFrame / 10);
 }
 
 // The plane runs to the horizon: its far rows are seen and lit at grazing angles.
 TEST(LabEquations, GrazingSceneMatchesReference) {
   const Scene& s = scene("grazing");
-  check_scene("grazing", {{"camera", scene_frame_camera(s, small_settings()), true}});
+  check_scene("grazing", s, {{"camera", scene_frame_camera(s, small_settings()), true}});
 }
 
 // The scene camera, and a close-up of the outline (sphere_silhouette_camera).
 TEST(LabEquations, SphereSceneMatchesReference) {
   const Scene& s = scene("sphere");
-  check_scene("sphere", {{"camera", scene_frame_camera(s, small_settings()), false},
+  check_scene("sphere", s, {{"camera", scene_frame_camera(s, small_settings()), false},
                          {"silhouette", sphere_silhouette_camera(s, small_settings()), true}});
 }
 

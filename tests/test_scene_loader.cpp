@@ -134,6 +134,24 @@ TEST(scene_loader_errors, NanPosition) {
   expect_error(copy.gltf, "POSITION " + std::to_string(kVertex) + " is not finite");
 }
 
+TEST(scene_loader_errors, NegativeLightRange) {
+  SceneCopy copy("sphere", "negative_range");
+  copy.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["range"] = -2.0;
+  copy.save_json();
+  expect_error(copy.gltf, "KHR_lights_punctual light 0 has range -2");
+}
+
+// A range in the file reaches the Light (lab 3's window, lights.glsl kit_range_window).
+TEST(scene_loader_valid, LightRangeIsLoaded) {
+  SceneCopy copy("sphere", "light_range");
+  copy.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["range"] = 3.5;
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  ASSERT_EQ(scene.lights.size(), 1u);
+  EXPECT_FLOAT_EQ(scene.lights[0].range, 3.5f);
+  EXPECT_EQ(kit::test::scene("sphere").lights[0].range, 0.0f) << "the kit's scenes leave range out";
+}
+
 TEST(scene_loader_errors, AccessorPastTheEndOfItsBuffer) {
   SceneCopy copy("sphere", "short_view");
   size_t position = static_cast<size_t>(copy.accessor("POSITION"));

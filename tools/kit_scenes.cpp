@@ -415,28 +415,25 @@ class SceneBuilder {
     return index;
   }
 
-  // intensity in candela; range <= 0 means infinite (the property is left out).
+  // Intensity in candela. No range: the property is left out (unlimited).
   void add_point_light(const std::string& name, glm::dvec3 position, glm::dvec3 color,
-                       double candela, double range = 0.0) {
+                       double candela) {
     tinygltf::Light light;
     light.name = name;
     light.type = "point";
     light.color = to_vector(color);
     light.intensity = candela;
-    light.range = range;
     attach_light(light, {name, position, kNoRotation, kUnitScale, -1});
   }
 
   // A spot light shines along its node's local -Z, so it is aimed like a camera.
   void add_spot_light(const std::string& name, glm::dvec3 position, glm::dvec3 target,
-                      glm::dvec3 color, double candela, double inner_cone, double outer_cone,
-                      double range = 0.0) {
+                      glm::dvec3 color, double candela, double inner_cone, double outer_cone) {
     tinygltf::Light light;
     light.name = name;
     light.type = "spot";
     light.color = to_vector(color);
     light.intensity = candela;
-    light.range = range;
     light.spot.innerConeAngle = inner_cone;
     light.spot.outerConeAngle = outer_cone;
     attach_light(light, {name, position, look_at_rotation(position, target), kUnitScale, -1});
@@ -620,11 +617,12 @@ SceneBuilder build_default_scene(const Textures& tex) {
   b.add_node(mesh_node("emissive_sphere", {1.2, 0.1, 0.6},
                        b.add_mesh("emissive_sphere", small, b.add_material(glow))));
 
-  // Finite ranges here (light volumes); the small scenes leave range out (infinite).
-  b.add_point_light("warm_white", {-2.0, 2.0, 0.5}, {1.0, 0.85, 0.7}, 50.0, 12.0);
-  b.add_point_light("cool_blue", {2.0, 1.8, 0.5}, {0.55, 0.7, 1.0}, 40.0, 12.0);
-  b.add_point_light("reddish", {0.5, 2.4, 0.2}, {1.0, 0.35, 0.25}, 25.0, 10.0);
-  b.add_spot_light("spot", {0.0, 3.5, 6.0}, {0.0, 0.95, -1.0}, kWhite, 80.0, 0.25, 0.45, 20.0);
+  // No glTF range: the seeds' lights fall off by inverse square alone (kit-bench's
+  // small lights carry one, bench_renderer.h).
+  b.add_point_light("warm_white", {-2.0, 2.0, 0.5}, {1.0, 0.85, 0.7}, 50.0);
+  b.add_point_light("cool_blue", {2.0, 1.8, 0.5}, {0.55, 0.7, 1.0}, 40.0);
+  b.add_point_light("reddish", {0.5, 2.4, 0.2}, {1.0, 0.35, 0.25}, 25.0);
+  b.add_spot_light("spot", {0.0, 3.5, 6.0}, {0.0, 0.95, -1.0}, kWhite, 80.0, 0.25, 0.45);
 
   b.add_camera({0.0, 2.2, 6.5}, {0.0, 0.8, -1.0}, 0.8);
   return b;

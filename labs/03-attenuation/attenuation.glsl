@@ -19,5 +19,6 @@ vec3 light_radiance(Light light, vec3 p) {
     //              Floor r^2 with KIT_MIN_DISTANCE_SQUARED.
     float intensity = light.intensity;  // no falloff yet
     if (light.type == KIT_LIGHT_SPOT) intensity *= spot_cone_factor(light, p);
-    return light.color * intensity;
+    // glTF range (lights.glsl), given: 1 for lights without one.
+    return light.color * intensity * kit_range_window(light, p);
 }

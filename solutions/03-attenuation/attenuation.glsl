@@ -31,5 +31,6 @@ vec3 light_radiance(Light light, vec3 p) {
         intensity = light.flux / (4.0 * KIT_PI * r2);  // I = flux / (4 pi r^2)
     }
     if (light.type == KIT_LIGHT_SPOT) intensity *= spot_cone_factor(light, p);
-    return light.color * intensity;
+    // glTF range (lights.glsl), given: 1 for lights without one.
+    return light.color * intensity * kit_range_window(light, p);
 }
