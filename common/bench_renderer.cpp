@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <tuple>
 
 #include "bench/bench_layout.h"
 #include "error.h"
@@ -70,9 +71,22 @@ std::vector<Method> make_methods() {
   }
   for (const auto& [denominator, text] : epsilons) {
     Method t = make("tiled-e" + std::to_string(denominator), "lighting",
-                    std::string("tiled deferred (compute, 16x16 tiles), epsilon ") + text);
+                    std::string("tiled deferred (16x16 tiles: compute culling, fragment shading), epsilon ") + text);
     t.lighting = Lighting::Tiled;
     t.epsilon = 1.0f / static_cast<float>(denominator);
+    out.push_back(t);
+  }
+  // The culling methods on the G-buffers that hold positions to better than fp16
+  // (small lights a few centimetres from the floor magnify fp16's millimetre steps).
+  const std::tuple<Layout, const char*, const char*> accurate_layouts[] = {
+      {Layout::Lean16, "lean16", "depth-reconstructed position (gbuffer-lean16)"},
+      {Layout::Reference, "ref32", "RGBA32F position+normal (gbuffer-ref32)"}};
+  for (const auto& [layout, tag, text] : accurate_layouts) {
+    Method t = make(std::string("tiled-") + tag + "-e1024", "lighting",
+                    std::string("tiled deferred, epsilon 1/1024, on the ") + text + " G-buffer");
+    t.lighting = Lighting::Tiled;
+    t.layout = layout;
+    t.epsilon = 1.0f / 1024.0f;
     out.push_back(t);
   }
   Method forward = make("forward", "lighting", "forward shading: one pass, every light per fragment");
@@ -178,23 +192,33 @@ const Method& find_method(const std::string& name) {
 const Method& reference_method() { return methods().front(); }
 const Method& labs_method() { return find_method("labs"); }
 
-std::vector<Light> small_lights(const Scene& scene, int count) {
+std::vector<Light> small_lights(const Scene& scene, int count, SmallLightRange range) {
   std::vector<Light> lights = spawned_lights(scene, count);
   // Golden-ratio sequence: heights spread evenly whatever the count.
   const float golden = 0.618033988749895f;
   for (size_t i = 0; i < lights.size(); ++i) {
+    Light& light = lights[i];
     float spread = std::fmod(golden * static_cast<float>(i), 1.0f);
-    lights[i].position.y = scene.bounds_min.y + kSmallLightMinHeight + kSmallLightHeightSpan * spread;
-    lights[i].intensity = kSmallLightsTotalIntensity / static_cast<float>(count);
+    light.position.y = scene.bounds_min.y + kSmallLightMinHeight + kSmallLightHeightSpan * spread;
+    light.intensity = kSmallLightsTotalIntensity / static_cast<float>(count);
+    if (range == SmallLightRange::Ranged) light.range = light_cutoff_radius(light, kSmallLightRangeRadiance, 0);
   }
   return lights;
 }
 
-std::vector<Light> bench_lights(const Scene& scene, int extra) {
+std::vector<Light> bench_lights(const Scene& scene, int extra, SmallLightRange range) {
   std::vector<Light> lights = scene.lights;
-  std::vector<Light> small = small_lights(scene, extra);
+  std::vector<Light> small = small_lights(scene, extra, range);
   lights.insert(lights.end(), small.begin(), small.end());
   return lights;
+}
+
+float light_cutoff_radius(const Light& light, float epsilon, int attenuation_model) {
+  const float c_max = std::max(light.color.r, std::max(light.color.g, light.color.b));
+  float r2 = light.intensity * c_max / (glm::pi<float>() * epsilon);
+  if (attenuation_model == 1) r2 -= 1.0f;
+  const float radius = std::sqrt(std::max(r2, 0.0f));
+  return light.range > 0.0f ? std::min(radius, light.range) : radius;
 }
 
 BenchRenderer::BenchRenderer(const Scene& scene, std::vector<Light> lights, const RenderSettings& settings)
@@ -235,21 +259,25 @@ const Program& BenchRenderer::program(const std::string& key) {
       {"forward", {"gbuffer.vert", "forward.frag"}},
       {"loop", {"fullscreen.vert", "deferred_loop.frag"}},
       {"volume", {"volume.vert", "volume.frag"}},
+      {"tiled-shade", {"fullscreen.vert", "tiled_shade.frag"}},
       {"display", {"fullscreen.vert", "display.frag"}},
       {"bright", {"fullscreen.vert", "bright.frag"}},
       {"blur", {"fullscreen.vert", "blur.frag"}},
       {"composite", {"fullscreen.vert", "composite.frag"}},
   };
   Program p;
-  if (key == "tiled-cull" || key == "tiled-shade") {
-    p = Program(library_, key == "tiled-cull" ? "tiled_cull.comp" : "tiled_shade.comp");
+  if (key == "tiled-cull") {
+    p = Program(library_, "tiled_cull.comp");
     set_sampler_units(p);
-    GLuint block = glGetProgramResourceIndex(p.id(), GL_SHADER_STORAGE_BLOCK, "TileLights");
-    glShaderStorageBlockBinding(p.id(), block, KIT_TILE_LIGHTS_BINDING);
   } else {
     const auto& [vs, fs] = sources.at(key);
     p = make_program(library_, vs, fs);
   }
+  GLuint block = glGetProgramResourceIndex(p.id(), GL_SHADER_STORAGE_BLOCK, "TileLights");
+  if (block != GL_INVALID_INDEX) glShaderStorageBlockBinding(p.id(), block, KIT_TILE_LIGHTS_BINDING);
+  p.use();
+  p.set("u_light_bounds", KIT_UNIT_LIGHT_BOUNDS);
+  glUseProgram(0);
   return programs_.emplace(key, std::move(p)).first->second;
 }
 
@@ -273,7 +301,6 @@ void BenchRenderer::set_uniforms(const Program& p, int light_count) const {
   glm::dmat4 view_rotation(camera_.view);
   view_rotation[3] = glm::dvec4(0.0, 0.0, 0.0, 1.0);
   p.set("u_inv_view_projection_relative", glm::mat4(glm::inverse(glm::dmat4(camera_.projection) * view_rotation)));
-  p.set("u_light_epsilon", last_.epsilon);
   p.set("u_count_lights", false);
 }
 
@@ -317,10 +344,26 @@ void BenchRenderer::lighting_pass(const Method& m) {
   check_gl("lighting pass");
 }
 
+void BenchRenderer::bind_light_bounds() {
+  const std::pair<float, int> key{last_.epsilon, settings_.attenuation_model};
+  if (key != bounds_key_) {
+    std::vector<glm::vec4> texels(std::max(lights_.size(), size_t{1}), glm::vec4(0.0f));
+    for (size_t i = 0; i < lights_.size(); ++i)
+      texels[i] = glm::vec4(lights_[i].position, light_cutoff_radius(lights_[i], key.first, key.second));
+    // Creating a texture binds it on the active unit: make that the bounds' own
+    // unit, so no G-buffer or light texture bound for this pass is displaced.
+    glActiveTexture(GL_TEXTURE0 + KIT_UNIT_LIGHT_BOUNDS);
+    light_bounds_ = Texture2D(1, static_cast<int>(texels.size()), kHdr32, texels.data());
+    bounds_key_ = key;
+  }
+  light_bounds_.bind(KIT_UNIT_LIGHT_BOUNDS);
+}
+
 void BenchRenderer::volume_pass(bool count_lights) {
   if (light_count() == 0) return;
   const Program& p = program("volume");
   set_uniforms(p, light_count());
+  bind_light_bounds();
   p.set("u_count_lights", count_lights);
   // FAT layouts: the G-buffer's depth is attached (writes off) and tested GEQUAL
   // against each back face, so pixels whose surface lies behind the whole volume
@@ -384,16 +427,13 @@ void BenchRenderer::tiled_passes(bool count_lights) {
   auto groups = [](int n) { return static_cast<GLuint>((n + KIT_TILE_GROUP - 1) / KIT_TILE_GROUP); };
   const Program& cull = program("tiled-cull");
   set_uniforms(cull, light_count());
+  bind_light_bounds();
   glDispatchCompute(groups(tiles.x), groups(tiles.y), 1);
   glMemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);  // the lists, before shading reads them
   const Program& shade = program("tiled-shade");
   set_uniforms(shade, light_count());
   shade.set("u_count_lights", count_lights);
-  shade.set("u_hdr_image", KIT_IMAGE_UNIT_HDR);
-  glBindImageTexture(KIT_IMAGE_UNIT_HDR, hdr16_.id(), 0, GL_FALSE, 0, GL_WRITE_ONLY, GL_RGBA16F);
-  glDispatchCompute(groups(w), groups(h), 1);
-  // Later passes sample the image as a texture and read it back.
-  glMemoryBarrier(GL_TEXTURE_FETCH_BARRIER_BIT | GL_FRAMEBUFFER_BARRIER_BIT | GL_TEXTURE_UPDATE_BARRIER_BIT);
+  triangle_.pass(shade, hdr16_fbo_, w, h);
   check_gl("tiled lighting");
 }
 

@@ -27,7 +27,7 @@ struct Method {
   std::string family;         // "reference", "gbuffer", "lighting", "bloom" or "geometry"
   Layout layout = Layout::Seed002;
   Lighting lighting = Lighting::Loop;
-  float epsilon = 0.0f;       // Volumes/Tiled: radiance a light may add outside its radius (light_bounds.glsl)
+  float epsilon = 0.0f;       // Volumes/Tiled: radiance a light may add outside its radius (light_cutoff_radius)
   int blur_passes = 0;        // > 0: bloom with this many separable blur passes (stage 5)
   bool bloom_half = false;    // bloom at half resolution in each axis
   bool optimized_geometry = false;  // meshoptimizer reordering + view-frustum culling (mesh_optimize.h)
@@ -52,9 +52,30 @@ const Method& labs_method();
 constexpr float kSmallLightsTotalIntensity = 2.0f;  // candela over all small lights
 constexpr float kSmallLightMinHeight = 0.05f;       // metres above the scene's lowest point
 constexpr float kSmallLightHeightSpan = 0.25f;      // heights spread over [min, min + span]
-std::vector<Light> small_lights(const Scene& scene, int count);
+// Each small light has a glTF range (lab 3's window, lights.glsl kit_range_window):
+// where its unwindowed radiance off a white Lambertian surface, I c_max / (pi d^2),
+// falls to this. Past it the light adds exactly nothing, so a volume or tile radius
+// of `range` is exact (light_bounds.glsl).
+constexpr float kSmallLightRangeRadiance = 1.0f / 512.0f;
+enum class SmallLightRange { Ranged, Unlimited };
+std::vector<Light> small_lights(const Scene& scene, int count, SmallLightRange range = SmallLightRange::Ranged);
 // The scene's own lights followed by `extra` small lights.
-std::vector<Light> bench_lights(const Scene& scene, int extra);
+std::vector<Light> bench_lights(const Scene& scene, int extra, SmallLightRange range = SmallLightRange::Ranged);
+
+// Where a light's contribution falls below epsilon: the radius of its light volume
+// and of its culling sphere in tiled deferred, at most its glTF range.
+//
+// Bound: outgoing radiance from one light is f L_i (n.l) with n.l <= 1, the spot
+// cone factor <= 1, the range window <= 1 and L_i <= I c_max / r^2 (I the glTF
+// intensity in candela: the physical model's flux / (4 pi r^2) is exactly I / r^2
+// for a point light and at most that for a spot). For f the bound is the
+// Lambertian lobe at albedo 1, 1/pi. Setting I c_max / (pi r^2) = epsilon gives
+// r = sqrt(I c_max / (pi epsilon)); with seed 002's simple model I / (1 + r^2) the
+// same bound gives r^2 = I c_max / (pi epsilon) - 1. The bound leaves out the
+// specular lobe: a glossy highlight of a light outside its radius is lost. A light
+// with a range adds exactly nothing past it (lights.glsl kit_range_window), so
+// when the range is the smaller radius, culling that light is exact.
+float light_cutoff_radius(const Light& light, float epsilon, int attenuation_model);
 
 class BenchRenderer {
  public:
@@ -125,6 +146,11 @@ class BenchRenderer {
   GlName<delete_buffer> tile_buffer_;  // the tiles' light lists (tiled_lists.glsl)
   size_t tile_buffer_ints_ = 0;
   Texture2D light_texture_;
+  // One texel per light for the culling methods (light_bounds.glsl): world
+  // position and light_cutoff_radius at bounds_key_'s epsilon and falloff model.
+  Texture2D light_bounds_;
+  std::pair<float, int> bounds_key_{-1.0f, -1};
+  void bind_light_bounds();
   Texture2D hdr16_, hdr32_, forward_depth_, ldr_, display_;
   Framebuffer hdr16_fbo_, hdr32_fbo_, forward_fbo_, ldr_fbo_, display_fbo_;
   Texture2D bloom_[2][2];          // [half][ping-pong]

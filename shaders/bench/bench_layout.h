@@ -26,16 +26,16 @@
 #define KIT_LEAN_COUNT 3
 
 // Tiled deferred: square tiles of KIT_TILE_SIZE^2 pixels. tiled_cull.comp runs one
-// invocation per tile and writes the tile's light list; tiled_shade.comp one per
-// pixel. Both use work groups of KIT_TILE_GROUP^2 invocations (a divisor of
-// KIT_TILE_SIZE, so a shading group never straddles two tiles).
+// invocation per tile, in work groups of KIT_TILE_GROUP^2, and writes the tile's
+// light list; tiled_shade.frag shades every pixel from its tile's list.
 #define KIT_TILE_SIZE 16
 #define KIT_TILE_GROUP 8
 
 // Shader-storage binding of the tiles' light lists.
 #define KIT_TILE_LIGHTS_BINDING 0
 
-// Image unit the tiled compute shader writes the HDR result through.
-#define KIT_IMAGE_UNIT_HDR 0
+// Texture unit of the culling methods' light bounds (light_bounds.glsl): after
+// gbuffer_layout.h's units.
+#define KIT_UNIT_LIGHT_BOUNDS 9
 
 #endif

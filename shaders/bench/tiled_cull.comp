@@ -8,7 +8,7 @@
 #extension GL_ARB_compute_shader : require
 #extension GL_ARB_shader_storage_buffer_object : require
 #include "bench_layout.h"
-#include "shade.glsl"
+#include "surface.glsl"
 #include "light_bounds.glsl"
 #include "tiled_lists.glsl"
 
@@ -36,11 +36,10 @@ void main() {
     int count = 0;
     if (box_min.x <= box_max.x) {
         for (int i = 0; i < u_light_count; ++i) {
-            Light light = kit_light(i);
-            vec3 center = light_position(light);
-            float radius = light_cutoff_radius(light);
+            LightBound bound = light_bound(i);
+            vec3 center = bound.center - u_shading_origin;
             vec3 gap = center - clamp(center, box_min, box_max);  // sphere-to-box distance
-            if (dot(gap, gap) <= radius * radius) tile_lights[base + 1 + count++] = i;
+            if (dot(gap, gap) <= bound.radius * bound.radius) tile_lights[base + 1 + count++] = i;
         }
     }
     tile_lights[base] = count;

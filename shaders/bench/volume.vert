@@ -1,6 +1,6 @@
 #version 330 core
 // Light volumes: instance i is light i's proxy sphere, scaled to the radius where
-// its contribution falls below u_light_epsilon (light_bounds.glsl).
+// its contribution falls below the method's epsilon (light_bounds.glsl).
 #include "gbuffer_layout.h"
 #include "lights.glsl"
 #include "light_bounds.glsl"
@@ -17,9 +17,8 @@ flat out Light v_light;
 flat out float v_radius;
 
 void main() {
-    Light light = kit_light(gl_InstanceID);
-    float radius = light_cutoff_radius(light);
-    v_light = light;
-    v_radius = radius;
-    gl_Position = u_view_projection * vec4(light.position + a_position * radius, 1.0);
+    LightBound bound = light_bound(gl_InstanceID);
+    v_light = kit_light(gl_InstanceID);
+    v_radius = bound.radius;
+    gl_Position = u_view_projection * vec4(bound.center + a_position * bound.radius, 1.0);
 }

@@ -37,6 +37,8 @@ SCALING = [("labs", "full-screen loop (labs)", "black", "-"),
            ("tiled-e1024", "tiled, eps 1/1024", "tab:green", "-"),
            ("tiled-e256", "tiled, eps 1/256", "tab:green", "--"),
            ("tiled-e64", "tiled, eps 1/64", "tab:green", ":"),
+           ("tiled-lean16-e1024", "tiled, eps 1/1024, lean16 G-buffer", "tab:olive", "-"),
+           ("tiled-ref32-e1024", "tiled, eps 1/1024, RGBA32F G-buffer", "tab:cyan", "-"),
            ("forward", "forward", "tab:red", "-")]
 FAMILY_COLORS = {"reference": "tab:gray", "gbuffer": "tab:purple", "lighting": "tab:blue",
                  "bloom": "tab:orange", "geometry": "tab:brown"}

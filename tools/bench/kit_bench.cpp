@@ -53,11 +53,11 @@ std::vector<Case> plan(bool quick) {
   if (quick) {
     scene_methods = {"reference", "labs", "gbuffer-lean16", "gbuffer-lean8", "volumes-e256", "tiled-e256",
                      "forward", "bloom6-full", "bloom6-half", "geometry-optimized"};
-    many_methods = {"labs", "volumes-e256", "tiled-e256", "forward"};
+    many_methods = {"labs", "volumes-e256", "tiled-e256", "tiled-ref32-e1024", "forward"};
   } else {
     for (const kit::bench::Method& m : kit::bench::methods()) scene_methods.push_back(m.name);
-    many_methods = {"labs", "volumes-e1024", "volumes-e256", "volumes-e64",
-                    "tiled-e1024", "tiled-e256", "tiled-e64", "forward"};
+    many_methods = {"labs", "volumes-e1024", "volumes-e256", "volumes-e64", "tiled-e1024",
+                    "tiled-e256", "tiled-e64", "tiled-lean16-e1024", "tiled-ref32-e1024", "forward"};
   }
   cases.push_back({0, scene_methods});
   if (quick) {
@@ -88,7 +88,10 @@ void usage() {
       "  --reference cpu|gpu   the reference: cpu (default) is the double-precision CPU evaluation\n"
       "                        where affordable (else gpu), gpu the RGBA32F full-screen loop\n"
       "  --list                the method names\n"
-      "  --lights N            small lights added to the scene (bench_renderer.h small_lights)\n%s",
+      "  --lights N            small lights added to the scene (bench_renderer.h small_lights)\n"
+      "  --small-light-range on|off\n"
+      "                        off: the small lights have no glTF range (inverse square to\n"
+      "                        infinity), so culling them is never exact (default on)\n%s",
       kit::bench::kTimedFrames, kit::bench::kWarmupFrames, kFullWidth, kFullHeight, kQuickWidth, kQuickHeight,
       kQuickTimedFrames, kit::bench::kTimedFrames, kDifferenceGain, kit::common_options_help());
 }
@@ -107,9 +110,9 @@ std::string over_255(double v) {
 }
 
 void print_row(const kit::bench::Row& r) {
-  std::printf("%-20s %4dx%-4d lights %4d  %9.2f ms (min %.2f, max %.2f, %d frames)  HDR %.1f dB max %.3g  "
+  std::printf("%-20s %4dx%-4d lights %4d (%.1f/px)  %9.2f ms (min %.2f, max %.2f, %d frames)  HDR %.1f dB max %.3g  "
               "display %.1f dB max %s, %.3f%% > 1/255  [%s]\n",
-              r.method.c_str(), r.width, r.height, r.total_lights, r.timing.median_ms, r.timing.min_ms,
+              r.method.c_str(), r.width, r.height, r.total_lights, r.lights_per_pixel, r.timing.median_ms, r.timing.min_ms,
               r.timing.max_ms, r.timing.frames, r.hdr.psnr, r.hdr.max_abs, r.ldr.psnr, over_255(r.ldr.max_abs).c_str(),
               100.0 * r.ldr.frac_over_step, r.reference.c_str());
   std::fflush(stdout);
@@ -153,6 +156,10 @@ void print_passes(kit::bench::BenchRenderer& renderer, const kit::bench::Method&
   }
 }
 
+const char* range_name(kit::bench::SmallLightRange range) {
+  return range == kit::bench::SmallLightRange::Ranged ? "ranged" : "unlimited";
+}
+
 kit::FrameCamera camera_for(const kit::Scene& scene, const kit::RenderSettings& s) {
   kit::Camera camera = scene.camera ? *scene.camera : kit::framing_camera(scene);
   return kit::frame_camera(camera, static_cast<float>(s.width) / static_cast<float>(s.height));
@@ -166,6 +173,7 @@ int main(int argc, char** argv) {
   bool quick = false, list = false, size_given = false, passes = false;
   std::string method_name, out_dir, images_dir;
   int frames = -1;
+  kit::bench::SmallLightRange small_range = kit::bench::SmallLightRange::Ranged;
   double cpu_budget = kit::bench::kCpuReferenceBudget;
   try {
     for (int i = 1; i < argc; ++i) {
@@ -184,6 +192,11 @@ int main(int argc, char** argv) {
       if (flag == "--method") return method_name = next, 2;
       if (flag == "--frames") return frames = std::atoi(next), 2;
       if (flag == "--images") return images_dir = next, 2;
+      if (flag == "--small-light-range") {
+        small_range = kit::parse_on_off(next, flag) ? kit::bench::SmallLightRange::Ranged
+                                                    : kit::bench::SmallLightRange::Unlimited;
+        return 2;
+      }
       if (flag == "--reference") {
         std::string which = next;
         if (which != "cpu" && which != "gpu") throw kit::Error("--reference expects cpu or gpu (got '" + which + "')");
@@ -209,7 +222,7 @@ int main(int argc, char** argv) {
         methods.push_back(&kit::bench::find_method(method_name.substr(begin, end - begin)));
         begin = end + 1;
       }
-      kit::bench::BenchRenderer renderer(scene, kit::bench::bench_lights(scene, settings.extra_lights), settings);
+      kit::bench::BenchRenderer renderer(scene, kit::bench::bench_lights(scene, settings.extra_lights, small_range), settings);
       kit::FrameCamera camera = camera_for(scene, settings);
       kit::bench::Reference reference = kit::bench::reference_hdr(renderer, camera, cpu_budget);
       const int timed = frames > 0 ? frames : kit::bench::kTimedFrames;
@@ -220,6 +233,7 @@ int main(int argc, char** argv) {
         kit::bench::Row row = kit::bench::measure_accuracy(renderer, *methods[m], camera, reference, options.scene,
                                                            settings.extra_lights);
         row.timing = timings[m];
+        row.small_light_range = range_name(small_range);
         print_row(row);
         if (passes) print_passes(renderer, *methods[m], camera, timed);
         if (!images_dir.empty()) write_images(renderer, *methods[m], reference, images_dir);
@@ -240,7 +254,7 @@ int main(int argc, char** argv) {
 
     std::vector<kit::bench::Row> rows;
     for (const Case& c : plan(quick)) {
-      kit::bench::BenchRenderer renderer(scene, kit::bench::bench_lights(scene, c.small_lights), settings);
+      kit::bench::BenchRenderer renderer(scene, kit::bench::bench_lights(scene, c.small_lights, small_range), settings);
       kit::FrameCamera camera = camera_for(scene, settings);
       auto t_ref = std::chrono::steady_clock::now();
       kit::bench::Reference reference = kit::bench::reference_hdr(renderer, camera, cpu_budget);
@@ -253,6 +267,7 @@ int main(int argc, char** argv) {
         rows.push_back(kit::bench::measure_accuracy(renderer, *methods[m], camera, reference, options.scene,
                                                     c.small_lights));
         rows.back().timing = timings[m];
+        rows.back().small_light_range = range_name(small_range);
         print_row(rows.back());
       }
       kit::bench::write_csv((out / "results.csv").string(), rows);  // partial results survive an interruption

@@ -87,14 +87,15 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
   std::ofstream out(path);
   if (!out) throw Error(path + ": cannot write");
   out << "method,scene,size,lights,bytes_per_pixel,median_ms,min_ms,max_ms,psnr_hdr,max_abs_hdr,psnr_ldr,"
-         "max_abs_ldr,frac_over_1_255,family,reference,frames,total_lights,lights_per_pixel,triangles,non_finite\n";
+         "max_abs_ldr,frac_over_1_255,family,reference,frames,total_lights,lights_per_pixel,triangles,non_finite,small_light_range\n";
   for (const Row& r : rows) {
     out << r.method << ',' << r.scene << ',' << r.width << 'x' << r.height << ',' << r.small_lights << ','
         << r.bytes_per_pixel << ',' << number(r.timing.median_ms) << ',' << number(r.timing.min_ms) << ','
         << number(r.timing.max_ms) << ',' << number(r.hdr.psnr) << ',' << number(r.hdr.max_abs) << ','
         << number(r.ldr.psnr) << ',' << number(r.ldr.max_abs) << ',' << number(r.ldr.frac_over_step) << ','
         << r.family << ',' << r.reference << ',' << r.timing.frames << ',' << r.total_lights << ','
-        << number(r.lights_per_pixel) << ',' << r.triangles << ',' << r.ldr.non_finite << '\n';
+        << number(r.lights_per_pixel) << ',' << r.triangles << ',' << r.ldr.non_finite << ','
+        << r.small_light_range << '\n';
   }
   if (!out) throw Error(path + ": write failed");
 }

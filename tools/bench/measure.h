@@ -46,6 +46,7 @@ struct Row {
   std::string reference;    // "cpu-double" or "gpu-fp32"
   double lights_per_pixel = 0.0;
   size_t triangles = 0;
+  std::string small_light_range = "ranged";  // "ranged" or "unlimited" (bench_renderer.h SmallLightRange)
 };
 
 // A row for `method` without its timing: one frame rendered and measured against
@@ -54,7 +55,7 @@ Row measure_accuracy(BenchRenderer& renderer, const Method& method, const FrameC
                      const Reference& reference, const std::string& scene_name, int small_lights);
 
 // results.csv: the columns the issue names, then family, reference, frames,
-// total_lights, lights_per_pixel, triangles, non_finite.
+// total_lights, lights_per_pixel, triangles, non_finite, small_light_range.
 void write_csv(const std::string& path, const std::vector<Row>& rows);
 
 }  // namespace kit::bench
