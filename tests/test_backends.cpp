@@ -98,6 +98,7 @@ TEST(backends, BadCommandLinesFailClearly) {
       {"--scene " + shell_quoted(missing_scene) + out, missing_scene + ": scene file not found"},
       {"--backend vulkan" + out, "unknown backend 'vulkan' (expected osmesa, egl or window)"},
       {"--frobnicate" + out, "unknown option '--frobnicate'"},
+      {out + " --view", "--view needs a value"},  // a known flag at the end, its value missing
   };
   for (const auto& [args, phrase] : cases) {
     std::string output;

@@ -49,14 +49,18 @@ static float parse_float(const std::string& text, const std::string& flag) {
 }
 
 void parse_options(int argc, char** argv, CommonOptions& o,
-                   const std::function<int(const std::string&, const char*)>& extra) {
+                   const std::function<int(const std::string&, const OptionValue&)>& extra) {
   for (int i = 1; i < argc; ++i) {
     std::string flag = argv[i];
     const char* next = i + 1 < argc ? argv[i + 1] : nullptr;
-    auto value = [&]() -> std::string {
+    const OptionValue next_value = [&]() -> std::string {
       if (!next) throw Error(flag + " needs a value");
-      ++i;
       return next;
+    };
+    auto value = [&]() -> std::string {
+      std::string v = next_value();
+      ++i;
+      return v;
     };
     RenderSettings& s = o.settings;
     if (flag == "--stage") o.stage = value();
@@ -76,7 +80,7 @@ void parse_options(int argc, char** argv, CommonOptions& o,
     else if (flag == "--blur-passes") s.blur_passes = static_cast<int>(parse_float(value(), flag));
     else if (flag == "--lights") s.extra_lights = static_cast<int>(parse_float(value(), flag));
     else {
-      int used = extra ? extra(flag, next) : 0;
+      int used = extra ? extra(flag, next_value) : 0;
       if (used == 0) throw Error("unknown option '" + flag + "' (see --help)");
       i += used - 1;
     }

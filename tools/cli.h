@@ -21,10 +21,12 @@ struct CommonOptions {
 const char* common_options_help();
 
 // Walks argv. Shared flags fill `options`; any other flag is offered to
-// `extra(flag, next_value)`, which returns how many arguments it consumed
-// (1 or 2), or 0 when it does not know the flag. Throws kit::Error.
+// `extra(flag, value)`, which returns how many arguments it consumed (1 or 2),
+// or 0 when it does not know the flag; `value()` is the argument after the flag,
+// and throws "FLAG needs a value" when there is none. Throws kit::Error.
+using OptionValue = std::function<std::string()>;
 void parse_options(int argc, char** argv, CommonOptions& options,
-                   const std::function<int(const std::string&, const char*)>& extra);
+                   const std::function<int(const std::string&, const OptionValue&)>& extra);
 
 // "640x480" -> width, height.
 void parse_size(const std::string& text, int* width, int* height);

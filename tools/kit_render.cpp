@@ -44,11 +44,10 @@ int main(int argc, char** argv) {
         usage();
         return 0;
       }
-    kit::parse_options(argc, argv, options, [&](const std::string& flag, const char* next) -> int {
+    kit::parse_options(argc, argv, options, [&](const std::string& flag, const kit::OptionValue& value) -> int {
       if (flag == "--timings") return timings = true, 1;
-      if (!next) return 0;
-      if (flag == "--view") return pending = kit::parse_view(next), 2;
-      if (flag == "--out") return outputs.push_back({pending, next}), 2;
+      if (flag == "--view") return pending = kit::parse_view(value()), 2;
+      if (flag == "--out") return outputs.push_back({pending, value()}), 2;
       return 0;
     });
     if (outputs.empty()) throw kit::Error("--out FILE is required (see --help)");

@@ -693,13 +693,9 @@ int main(int argc, char** argv) {
         usage();
         return 0;
       }
-    kit::parse_options(argc, argv, options.common, [&](const std::string& flag, const char* next) -> int {
+    kit::parse_options(argc, argv, options.common, [&](const std::string& flag, const kit::OptionValue& value) -> int {
       if (flag == "--hidden") return options.hidden = true, 1;
       if (flag == "--no-ui") return options.ui = false, 1;
-      auto value = [&] {
-        if (!next) throw kit::Error(flag + " needs a value");
-        return std::string(next);
-      };
       if (flag == "--frames") return options.frames = parse_frame_count(value()), 2;
       if (flag == "--screenshot") return options.screenshot = value(), 2;
       if (flag == "--window-screenshot") return options.window_screenshot = value(), 2;

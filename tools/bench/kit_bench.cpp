@@ -183,22 +183,21 @@ int main(int argc, char** argv) {
       }
       if (!std::strcmp(argv[i], "--size") || !std::strcmp(argv[i], "-s")) size_given = true;
     }
-    kit::parse_options(argc, argv, options, [&](const std::string& flag, const char* next) -> int {
+    kit::parse_options(argc, argv, options, [&](const std::string& flag, const kit::OptionValue& value) -> int {
       if (flag == "--quick") return quick = true, 1;
       if (flag == "--list") return list = true, 1;
       if (flag == "--passes") return passes = true, 1;
-      if (!next) return 0;
-      if (flag == "--out") return out_dir = next, 2;
-      if (flag == "--method") return method_name = next, 2;
-      if (flag == "--frames") return frames = std::atoi(next), 2;
-      if (flag == "--images") return images_dir = next, 2;
+      if (flag == "--out") return out_dir = value(), 2;
+      if (flag == "--method") return method_name = value(), 2;
+      if (flag == "--frames") return frames = std::atoi(value().c_str()), 2;
+      if (flag == "--images") return images_dir = value(), 2;
       if (flag == "--small-light-range") {
-        small_range = kit::parse_on_off(next, flag) ? kit::bench::SmallLightRange::Ranged
-                                                    : kit::bench::SmallLightRange::Unlimited;
+        small_range = kit::parse_on_off(value(), flag) ? kit::bench::SmallLightRange::Ranged
+                                                       : kit::bench::SmallLightRange::Unlimited;
         return 2;
       }
       if (flag == "--reference") {
-        std::string which = next;
+        std::string which = value();
         if (which != "cpu" && which != "gpu") throw kit::Error("--reference expects cpu or gpu (got '" + which + "')");
         cpu_budget = which == "gpu" ? 0.0 : kit::bench::kCpuReferenceBudget;
         return 2;
