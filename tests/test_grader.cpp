@@ -3,6 +3,7 @@
 // at test time). Each kit-grade run is shared by many assertions, and several
 // broken labs that do not interact sit in one submission, so the suite stays
 // well under two minutes.
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 #include <fstream>
@@ -88,7 +89,7 @@ void expect_gradescope_schema(const json& r) {
   EXPECT_TRUE(r["output"].is_string());
   ASSERT_TRUE(r["tests"].is_array());
   EXPECT_FALSE(r["tests"].empty());
-  double sum = 0.0;
+  double sum = 0.0, max_sum = 0.0;
   for (const json& t : r["tests"]) {
     ASSERT_TRUE(t.is_object());
     EXPECT_TRUE(t["name"].is_string());
@@ -100,8 +101,12 @@ void expect_gradescope_schema(const json& r) {
     EXPECT_EQ(t["visibility"], "visible");
     EXPECT_LE(t["score"].get<double>(), t["max_score"].get<double>() + 1e-9);
     sum += t["score"].get<double>();
+    max_sum += t["max_score"].get<double>();
   }
-  EXPECT_NEAR(sum, r["score"].get<double>(), 0.01) << "the tests' scores add up to the total";
+  // Shares are apportioned in thousandths (Config::max_score), so the sums are exact
+  // up to double rounding: 7 checks of a 10-point lab do not add up to 10.003.
+  EXPECT_NEAR(sum, r["score"].get<double>(), 1e-9) << "the tests' scores add up to the total";
+  EXPECT_NEAR(std::fmod(max_sum, 10.0), 0.0, 1e-9) << "grading.json's labs are worth 10 points each: " << max_sum;
   ASSERT_TRUE(r["leaderboard"].is_array());
   ASSERT_EQ(r["leaderboard"].size(), 1u);
   EXPECT_EQ(r["leaderboard"][0]["name"], "render time (ms)");

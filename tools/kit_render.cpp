@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
   std::vector<Output> outputs;
   kit::View pending = kit::View::Final;
   bool timings = false;
-  try {
+  return kit::run_tool("kit-render", 1, [&]() -> int {
     for (int i = 1; i < argc; ++i)
       if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
         usage();
@@ -72,12 +72,6 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "timings: scene %.3fs, context %.3fs, compile %.3fs, render %.3fs, write %.3fs (%s)\n",
                    t_scene, t_context - t_scene, t_compile - t_context, t_render - t_compile, seconds_since(t0) - t_render,
                    context->describe().c_str());
-  } catch (const kit::Error& e) {
-    std::fprintf(stderr, "kit-render: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "kit-render: unexpected error: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

@@ -687,7 +687,7 @@ class Viewer {
 
 int main(int argc, char** argv) {
   ViewerOptions options;
-  try {
+  return kit::run_tool("kit-view", 1, [&]() -> int {
     for (int i = 1; i < argc; ++i)
       if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
         usage();
@@ -704,11 +704,5 @@ int main(int argc, char** argv) {
     });
     Viewer viewer(std::move(options));
     return viewer.run();
-  } catch (const kit::Error& e) {
-    std::fprintf(stderr, "kit-view: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "kit-view: unexpected error: %s\n", e.what());
-    return 1;
-  }
+  });
 }

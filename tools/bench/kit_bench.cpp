@@ -175,7 +175,7 @@ int main(int argc, char** argv) {
   int frames = -1;
   kit::bench::SmallLightRange small_range = kit::bench::SmallLightRange::Ranged;
   double cpu_budget = kit::bench::kCpuReferenceBudget;
-  try {
+  return kit::run_tool("kit-bench", 1, [&]() -> int {
     for (int i = 1; i < argc; ++i) {
       if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
         usage();
@@ -276,12 +276,6 @@ int main(int argc, char** argv) {
     if (std::system(charts.c_str()) != 0) throw kit::Error("the chart script failed: " + charts);
     std::printf("wrote %s/results.csv, speed_accuracy.png/.svg, lights_scaling.png/.svg in %.0f s\n",
                 out.string().c_str(), seconds_since(t0));
-  } catch (const kit::Error& e) {
-    std::fprintf(stderr, "kit-bench: %s\n", e.what());
-    return 1;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "kit-bench: unexpected error: %s\n", e.what());
-    return 1;
-  }
-  return 0;
+    return 0;
+  });
 }

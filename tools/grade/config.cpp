@@ -2,7 +2,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
+#include <vector>
 
 #include "error.h"
 #include "stages.h"
@@ -53,9 +56,27 @@ double Config::lab_points(int lab) const {
 }
 
 double Config::max_score(const Check& check) const {
-  double total = lab_points(check.lab);
+  const double total = lab_points(check.lab);
   if (total <= 0.0) return 0.0;
-  return weight.at(check.lab) * points.at(check.lab).at(check.key) / total;
+  // Exact shares in thousandths, floored; the thousandths the floors leave over go
+  // one each to the checks with the largest remainders (ties: the key's order).
+  const std::map<std::string, double>& lab = points.at(check.lab);
+  const double thousandths = std::round(weight.at(check.lab) * 1000.0);
+  std::vector<std::pair<double, std::string>> remainders;
+  double given = 0.0, mine = 0.0;
+  for (const auto& [key, p] : lab) {
+    const double exact = thousandths * p / total;
+    const double floored = std::floor(exact);
+    given += floored;
+    if (key == check.key) mine = floored;
+    remainders.push_back({exact - floored, key});
+  }
+  std::stable_sort(remainders.begin(), remainders.end(),
+                   [](const auto& a, const auto& b) { return a.first > b.first; });
+  const size_t left = static_cast<size_t>(thousandths - given);
+  for (size_t i = 0; i < left && i < remainders.size(); ++i)
+    if (remainders[i].second == check.key) mine += 1.0;
+  return mine / 1000.0;
 }
 
 fs::path default_config_path() { return kit_root() / "tools" / "grade" / "grading.json"; }

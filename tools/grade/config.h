@@ -29,7 +29,9 @@ struct Config {
 
   const Tolerance& tolerance(Metric metric) const;
   double lab_points(int lab) const;  // sum of the lab's check points
-  // The share of the lab's weight one check is worth: weight * points / lab_points.
+  // The share of the lab's weight one check is worth: weight * points / lab_points,
+  // in thousandths of a point (the precision results.json carries), apportioned so
+  // that the lab's checks add up to exactly its weight (largest remainder).
   double max_score(const Check& check) const;
 };
 

@@ -120,7 +120,7 @@ int main(int argc, char** argv) {
   options.jobs = std::max(1, std::min(kMaxDefaultJobs, static_cast<int>(std::thread::hardware_concurrency())));
   std::string submission, batch;
   enum class Mode { Grade, Batch, Update, Check } mode = Mode::Grade;
-  try {
+  return kit::run_tool("kit-grade", 2, [&]() -> int {
     for (int i = 1; i < argc; ++i) {
       std::string flag = argv[i];
       auto value = [&]() -> std::string {
@@ -185,12 +185,6 @@ int main(int argc, char** argv) {
         if (options.out.empty()) options.out = fs::path("out") / "grade" / kit::grade::submission_name(submission);
         return kit::grade::grade_submission(submission, options);
     }
-  } catch (const kit::Error& e) {
-    std::fprintf(stderr, "kit-grade: %s\n", e.what());
-    return 2;
-  } catch (const std::exception& e) {
-    std::fprintf(stderr, "kit-grade: unexpected error: %s\n", e.what());
-    return 2;
-  }
-  return 0;
+    return 0;
+  });
 }
