@@ -480,12 +480,7 @@ void BenchRenderer::bloom_passes() {
   // their full-resolution spacing and the glow its size; only the sampling is coarser.
   const Program& blur = program("blur");
   set_uniforms(blur, light_count());
-  for (int pass = 0; pass < last_.blur_passes; ++pass) {
-    bool horizontal = pass % 2 == 0;
-    bloom_[half][horizontal ? 0 : 1].bind(KIT_UNIT_BLOOM);
-    blur.set("u_horizontal", horizontal);
-    triangle_.pass(blur, bloom_fbo_[half][horizontal ? 1 : 0], bw, bh);
-  }
+  blur_ping_pong(triangle_, blur, bloom_[half], bloom_fbo_[half], last_.blur_passes, bw, bh);
   check_gl("bloom passes");
 }
 
@@ -493,8 +488,8 @@ void BenchRenderer::display_pass(const Framebuffer& out) {
   hdr().bind(KIT_UNIT_HDR);
   const char* key = "display";
   if (last_.blur_passes > 0) {
-    // An even pass count ends in bloom_[0]; an odd one in bloom_[1].
-    bloom_[last_.bloom_half ? 1 : 0][last_.blur_passes % 2 == 0 ? 0 : 1].bind(KIT_UNIT_BLOOM);
+    // Bound again: a read-back since bloom_passes may have used the unit.
+    bloom_[last_.bloom_half ? 1 : 0][blur_result(last_.blur_passes)].bind(KIT_UNIT_BLOOM);
     key = "composite";
   }
   const Program& p = program(key);

@@ -258,6 +258,19 @@ void set_frame_uniforms(const Program& p, const FrameCamera& camera, const Rende
   p.set("u_time", settings.time);
 }
 
+int blur_result(int passes) { return passes % 2 == 0 ? 0 : 1; }
+
+void blur_ping_pong(const FullscreenTriangle& triangle, const Program& blur, const Texture2D (&targets)[2],
+                    const Framebuffer (&fbos)[2], int passes, int width, int height) {
+  for (int pass = 0; pass < passes; ++pass) {
+    const bool horizontal = pass % 2 == 0;
+    targets[horizontal ? 0 : 1].bind(KIT_UNIT_BLOOM);
+    blur.set("u_horizontal", horizontal);
+    triangle.pass(blur, fbos[horizontal ? 1 : 0], width, height);
+  }
+  targets[blur_result(passes)].bind(KIT_UNIT_BLOOM);
+}
+
 void Renderer::set_frame_uniforms(const Program& p) const {
   kit::set_frame_uniforms(p, camera_, settings_, light_count_);
 }
@@ -298,14 +311,7 @@ void Renderer::render(const FrameCamera& camera) {
   set_frame_uniforms(p.bright);
   fullscreen_pass(p.bright, bloom_fbo_[0], settings_.width, settings_.height);
   set_frame_uniforms(p.blur);
-  for (int pass = 0; pass < settings_.blur_passes; ++pass) {
-    bool horizontal = pass % 2 == 0;
-    bloom_[horizontal ? 0 : 1].bind(KIT_UNIT_BLOOM);
-    p.blur.set("u_horizontal", horizontal);
-    fullscreen_pass(p.blur, bloom_fbo_[horizontal ? 1 : 0], settings_.width, settings_.height);
-  }
-  // An even pass count ends in bloom_[0]; an odd one in bloom_[1].
-  bloom_[settings_.blur_passes % 2 == 0 ? 0 : 1].bind(KIT_UNIT_BLOOM);
+  blur_ping_pong(triangle_, p.blur, bloom_, bloom_fbo_, settings_.blur_passes, settings_.width, settings_.height);
   hdr_.bind(KIT_UNIT_HDR);
   set_frame_uniforms(p.composite);
   fullscreen_pass(p.composite, composite_fbo_, settings_.width, settings_.height);

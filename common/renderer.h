@@ -69,6 +69,14 @@ Texture2D light_texture(const std::vector<Light>& lights);
 void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
                 const glm::mat4& view_projection, bool frustum_culling);
 
+// Stage 5's separable blur: `passes` full-screen passes of blur.frag (in use,
+// frame uniforms set) ping-ponging between targets[0] (holding the bright pass)
+// and targets[1], horizontal first. Binds the blurred result,
+// targets[blur_result(passes)], on KIT_UNIT_BLOOM.
+int blur_result(int passes);  // 0 after an even pass count, 1 after an odd one
+void blur_ping_pong(const FullscreenTriangle& triangle, const Program& blur, const Texture2D (&targets)[2],
+                    const Framebuffer (&fbos)[2], int passes, int width, int height);
+
 class Renderer {
  public:
   // `library` resolves the stage's shaders (see stage_library). Throws kit::Error
