@@ -94,18 +94,13 @@ finish_all() {
   oiiotool --nosoftwareattrib "${args[@]}"
 }
 
-# mistake DEST_ROOT NN-name FILE 'exact text' 'replacement'
-# Copies solutions/NN-name/ to DEST_ROOT/NN-name/ and replaces the text (a literal
-# string, not a pattern) in FILE. Stops if the text is not in the solution.
+# mistake DEST_ROOT CATALOGUE_ID
+# Writes the entry's lab folder (solutions/NN-name/ with the entry's edits) to
+# DEST_ROOT/NN-name/: the mistakes shown are entries of tools/grade/catalogue.json,
+# the same the grader's self-check proves it catches. Stops if an edit is stale.
 mistake() {
-  local dest="$1" folder="$2" file="$3" from="$4" to="$5"
-  mkdir -p "$dest/$folder"
-  cp "$SOL/$folder"/* "$dest/$folder/"
-  local text changed
-  text="$(<"$SOL/$folder/$file")"
-  changed="${text//"$from"/"$to"}"
-  [[ "$changed" != "$text" ]] || die "solutions/$folder/$file no longer contains '$from': update the mistake images"
-  printf '%s\n' "$changed" >"$dest/$folder/$file"
+  python3 "$ROOT/tools/grade/self_check.py" --solutions "$SOL" --write "$2" "$1" ||
+    die "catalogue entry '$2' no longer applies to the solutions: update the mistake images"
 }
 
 # A kit root (shaders/ + solutions/) whose earlier-lab solution carries a mistake,
@@ -127,19 +122,13 @@ with_kit_root() {
   "$@"
 }
 
-# --- The mistakes shown (one changed line each) ---
-mistake "$TMP/m-model-matrix" 01-gbuffer gbuffer.vert \
-  'u_normal_matrix * a_normal' 'mat3(u_model) * a_normal'
-mistake_root "$TMP/m-alpha-root" 02-lighting brdf.glsl \
-  'float alpha = roughness * roughness;' 'float alpha = roughness;'
-mistake "$TMP/m-double-gamma" 03-attenuation tonemap.glsl \
-  'return pow(mapped, vec3(1.0 / u_gamma));' 'return pow(pow(mapped, vec3(1.0 / u_gamma)), vec3(1.0 / u_gamma));'
-mistake "$TMP/m-handedness" 04-normalmap gbuffer.vert \
-  'cross(n, t) * a_tangent.w' 'cross(n, t)'
-mistake "$TMP/m-tangent-space" 04-normalmap gbuffer.frag \
-  'vec3 world = mat3(t, b, n) * tangent_normal;' 'vec3 world = tangent_normal;'
-mistake "$TMP/m-horizontal" 05-postprocess blur.frag \
-  '(u_horizontal ? vec2(1.0, 0.0) : vec2(0.0, 1.0))' 'vec2(1.0, 0.0)'
+# --- The mistakes shown (one changed line each; ids in tools/grade/catalogue.json) ---
+mistake "$TMP/m-model-matrix" gbuffer-normal-model-matrix
+mistake_root "$TMP/m-alpha-root" lighting-alpha-is-roughness
+mistake "$TMP/m-double-gamma" tonemap-gamma-applied-twice
+mistake "$TMP/m-handedness" normalmap-handedness-ignored
+mistake "$TMP/m-tangent-space" normalmap-left-in-tangent-space
+mistake "$TMP/m-horizontal" postprocess-blur-horizontal-only
 
 # A floor with three 1.5 cd point lights 10 cm, 40 cm and 1 m above it (left to right):
 # where the physical and the simple falloff differ (the kit's scenes keep their lights

@@ -276,6 +276,20 @@ def print_table(rows, wide):
         print(line(c))
 
 
+def write_entry(entries, entry_id, dest, solutions):
+    """--write: entry_id's lab folder with its edits applied, as DEST/NN-name/; 0, or 2 with a message."""
+    found = [e for e in entries if e["id"] == entry_id]
+    try:
+        if not found:
+            raise CatalogueError(f"no catalogue entry '{entry_id}'")
+        lab_dir = lab_folder(solutions, found[0]["lab"])
+        write_submission(dest, lab_dir.name, apply_edits(found[0], lab_dir))
+    except (CatalogueError, OSError) as e:
+        print(f"self-check: {e}", file=sys.stderr)
+        return 2
+    return 0
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="kit grade --self-check",
@@ -303,6 +317,9 @@ def main(argv=None):
                         help="seconds one kit-grade run may take, plus 10 s per entry in a batch (default 300)")
     parser.add_argument("--keep", action="store_true", help="keep the submissions and results (paths are printed)")
     parser.add_argument("--wide", action="store_true", help="do not shorten descriptions")
+    parser.add_argument("--write", nargs=2, metavar=("ID", "DIR"),
+                        help="only write entry ID's lab folder, edits applied, to DIR/NN-name/ (no grading; "
+                             "tools/handout_images.sh shows mistakes this way)")
     args = parser.parse_args(argv)
 
     started = time.monotonic()
@@ -312,6 +329,8 @@ def main(argv=None):
         print(f"self-check: {e}", file=sys.stderr)
         return 2
     entries = catalogue["entries"]
+    if args.write:
+        return write_entry(entries, args.write[0], Path(args.write[1]), args.solutions)
     if args.lab:
         entries = [e for e in entries if e["lab"] in args.lab]
     if args.only:
