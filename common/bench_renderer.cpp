@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <tuple>
 
 #include "bench/bench_layout.h"
 #include "error.h"
@@ -61,34 +60,27 @@ std::vector<Method> make_methods() {
   lean8.layout = Layout::Lean8;
   out.push_back(lean8);
 
-  const std::pair<int, const char*> epsilons[] = {{1024, "1/1024"}, {256, "1/256"}, {64, "1/64"}};
-  for (const auto& [denominator, text] : epsilons) {
-    Method v = make("volumes-e" + std::to_string(denominator), "lighting",
-                    std::string("light volumes (instanced spheres, back faces, additive), epsilon ") + text);
-    v.lighting = Lighting::Volumes;
-    v.epsilon = 1.0f / static_cast<float>(denominator);
-    out.push_back(v);
-  }
-  for (const auto& [denominator, text] : epsilons) {
-    Method t = make("tiled-e" + std::to_string(denominator), "lighting",
-                    std::string("tiled deferred (16x16 tiles: compute culling, fragment shading), epsilon ") + text);
-    t.lighting = Lighting::Tiled;
-    t.epsilon = 1.0f / static_cast<float>(denominator);
-    out.push_back(t);
-  }
-  // The culling methods on the G-buffers that hold positions to better than fp16
+  // Culling methods: light volumes and tiles at three epsilons on the labs' G-buffer,
+  // then tiles at 1/1024 on the G-buffers that hold positions to better than fp16
   // (small lights a few centimetres from the floor magnify fp16's millimetre steps).
-  const std::tuple<Layout, const char*, const char*> accurate_layouts[] = {
-      {Layout::Lean16, "lean16", "depth-reconstructed position (gbuffer-lean16)"},
-      {Layout::Reference, "ref32", "RGBA32F position+normal (gbuffer-ref32)"}};
-  for (const auto& [layout, tag, text] : accurate_layouts) {
-    Method t = make(std::string("tiled-") + tag + "-e1024", "lighting",
-                    std::string("tiled deferred, epsilon 1/1024, on the ") + text + " G-buffer");
-    t.lighting = Lighting::Tiled;
-    t.layout = layout;
-    t.epsilon = 1.0f / 1024.0f;
-    out.push_back(t);
-  }
+  auto culling = [&](const std::string& name, Lighting lighting, Layout layout, int denominator, const std::string& what) {
+    Method m = make(name, "lighting", what + ", epsilon 1/" + std::to_string(denominator));
+    m.lighting = lighting;
+    m.layout = layout;
+    m.epsilon = 1.0f / static_cast<float>(denominator);
+    out.push_back(m);
+  };
+  const int denominators[] = {1024, 256, 64};
+  for (int d : denominators)
+    culling("volumes-e" + std::to_string(d), Lighting::Volumes, Layout::Seed002, d,
+            "light volumes (instanced spheres, back faces, additive)");
+  for (int d : denominators)
+    culling("tiled-e" + std::to_string(d), Lighting::Tiled, Layout::Seed002, d,
+            "tiled deferred (16x16 tiles: compute culling, fragment shading)");
+  culling("tiled-lean16-e1024", Lighting::Tiled, Layout::Lean16, 1024,
+          "tiled deferred on the gbuffer-lean16 G-buffer (depth-reconstructed position)");
+  culling("tiled-ref32-e1024", Lighting::Tiled, Layout::Reference, 1024,
+          "tiled deferred on the gbuffer-ref32 G-buffer (RGBA32F position+normal)");
   Method forward = make("forward", "lighting", "forward shading: one pass, every light per fragment");
   forward.lighting = Lighting::Forward;
   out.push_back(forward);
