@@ -1,4 +1,4 @@
-// The glTF loader (common/scene.*): broken files fail with a kit::Error naming
+// The glTF loader (framework/scene.*): broken files fail with a kit::Error naming
 // the file and the problem, never a crash; valid kit scenes load with the
 // counts, lights, camera, transforms and tangents the glTF JSON describes.
 // Expected values come from the JSON itself (nlohmann/json) in double precision.

@@ -53,7 +53,7 @@ const std::vector<RenderSpec>& renders() {
       if (s == "default") r.push_back(gbuffer("lab1-" + s + "-albedo", 1, s, View::Albedo));
       r.push_back(gbuffer("lab1-" + s + "-material", 1, s, View::Material));
     }
-    // Lab 2: no falloff and a clamped display yet (shaders/attenuation.glsl, tonemap.glsl),
+    // Lab 2: no falloff and a clamped display yet (framework/shaders/attenuation.glsl, tonemap.glsl),
     // so both the HDR buffer and the display image show the BRDF alone.
     for (const char* scene : {"default", "sphere"}) {
       std::string s = scene;

@@ -3,7 +3,7 @@
 //
 // A *render* is one image a lab's child process produces (a scene, a view and
 // the settings that differ from the defaults). A *check* compares one render of
-// the submission with a reference render of the solutions (tests/reference/),
+// the submission with a reference render of the solutions (tools/grade/references/),
 // or, for the custom-effect toggle, with another render of the submission.
 // Adding a check is one row here plus its points in tools/grade/grading.json;
 // `kit-grade --update-references` then renders its reference.

@@ -21,7 +21,7 @@ struct Options {
   Backend backend = Backend::OSMesa;   // --backend
   Limits limits;                       // --timeout, --cpu-limit, --memory-limit
   std::filesystem::path config;        // --config (default tools/grade/grading.json)
-  std::filesystem::path references;    // --references (default tests/reference)
+  std::filesystem::path references;    // --references (default tools/grade/references)
   bool force = false;                  // --force: regrade batch submissions that have results
   bool keep_temp = false;              // --keep-temp: leave the private copies and raw renders
   bool quiet = false;                  // no per-lab lines (batch prints one line per submission)

@@ -13,7 +13,7 @@
 namespace kit::grade {
 
 // Checks the vertex/fragment pairs made of the stage's own files (gbuffer.vert
-// with gbuffer.frag; shaders/fullscreen.vert with each full-screen .frag the
+// with gbuffer.frag; framework/shaders/fullscreen.vert with each full-screen .frag the
 // lab supplies). Throws kit::Error ("link error (A + B): ...") on a mismatch.
 void check_stage_interfaces(const Stage& stage, const ShaderLibrary& library);
 

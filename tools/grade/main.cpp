@@ -42,13 +42,13 @@ void usage() {
       "  --cpu-limit S         CPU seconds a lab's renderer may use (RLIMIT_CPU, default 60)\n"
       "  --memory-limit MIB    address space of a lab's renderer (RLIMIT_AS, default 4096)\n"
       "  --config FILE         weights, points and tolerances (default tools/grade/grading.json)\n"
-      "  --references DIR      reference renders (default tests/reference)\n"
+      "  --references DIR      reference renders (default tools/grade/references)\n"
       "  --batch FOLDER        grade every subfolder and .zip of FOLDER into DIR/<name>/, plus DIR/gradebook.csv;\n"
       "                        submissions with a results.json are skipped unless --force\n"
       "  --keep-temp           keep the sanitized copies and raw renders (path printed)\n"
       "  --update-references   render solutions/ into the references and write their manifest\n"
       "  --check-references    re-render solutions/ and fail (exit 1) when the references are stale\n"
-      "  --self-check          run tools/grade/self_check.py (the mistake catalogue) with this grader\n",
+      "  --self-check          run instructor/grading/self_check.py (the mistake catalogue) with this grader\n",
       kMaxDefaultJobs);
 }
 
@@ -101,7 +101,13 @@ fs::path self_path(const char* argv0) {
 
 // --self-check: the catalogue's runner, told to use this very binary.
 int self_check(int argc, char** argv, int first) {
-  std::string script = (kit::kit_root() / "tools" / "grade" / "self_check.py").string();
+  fs::path script_path = kit::kit_root() / "instructor" / "grading" / "self_check.py";
+  if (!fs::exists(script_path)) {
+    std::fprintf(stderr, "kit-grade: --self-check needs the mistake catalogue (%s), which only the instructor's kit has\n",
+                 script_path.c_str());
+    return 2;
+  }
+  std::string script = script_path.string();
   std::string me = self_path(argv[0]).string();
   std::vector<std::string> args = {"python3", script, "--kit-grade", me};
   for (int i = first; i < argc; ++i) args.push_back(argv[i]);

@@ -34,7 +34,7 @@ nlohmann::json read_manifest(const fs::path& dir) {
 
 }  // namespace
 
-fs::path default_references_dir() { return kit_root() / "tests" / "reference"; }
+fs::path default_references_dir() { return kit_root() / "tools" / "grade" / "references"; }
 
 nlohmann::json manifest_entry(const RenderSpec& spec) {
   return {{"id", spec.id},

@@ -5,7 +5,7 @@
 //
 // Render children are fork()ed without exec(): kit-grade links OpenImageIO,
 // whose ~260 shared libraries cost ~0.3 s of CPU and ~130 MB of RSS per exec
-// (measured by tools/grade/measure.sh), more than rendering a lab. What makes
+// (measured by instructor/grading/measure.sh), more than rendering a lab. What makes
 // that safe: the parent never creates a GL context, does all its own work in
 // one thread (OpenImageIO "threads" = 1, OpenEXR without a pool; the only other
 // threads are log4cplus's idle pool, started when a dependency of OpenImageIO

@@ -4,7 +4,7 @@
 // A submission is a folder or a .zip holding the student's lab files in the
 // labs/ layout (NN-name/file), directly or under one wrapper folder
 // (labs/02-lighting/..., alice/02-lighting/...). For every lab graded, only the
-// file names that lab expects (the table in common/stages.cpp) are copied into a
+// file names that lab expects (the table in framework/stages.cpp) are copied into a
 // private temporary lab root; the renderer never sees anything else. Refused:
 // symbolic links (checked with lstat and opened with O_NOFOLLOW), anything that
 // is not a regular file, files over kit::kMaxShaderFileBytes, and text the

@@ -1,0 +1,162 @@
+#pragma once
+// RAII wrappers for the GL objects the kit uses. Each owns one GL name, is
+// movable and not copyable, and frees its name in the destructor.
+#include <glm/glm.hpp>
+
+#include <string>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include "gl.h"
+#include "shader_source.h"
+
+namespace kit {
+
+// Owns one GL name; Deleter is a function that frees it.
+template <void (*Deleter)(GLuint)>
+class GlName {
+ public:
+  GlName() = default;
+  explicit GlName(GLuint id) : id_(id) {}
+  GlName(GlName&& o) noexcept : id_(std::exchange(o.id_, 0)) {}
+  GlName& operator=(GlName&& o) noexcept {
+    if (this != &o) {
+      reset();
+      id_ = std::exchange(o.id_, 0);
+    }
+    return *this;
+  }
+  GlName(const GlName&) = delete;
+  GlName& operator=(const GlName&) = delete;
+  ~GlName() { reset(); }
+  GLuint get() const { return id_; }
+  void reset() {
+    if (id_) Deleter(id_);
+    id_ = 0;
+  }
+
+ private:
+  GLuint id_ = 0;
+};
+
+void delete_texture(GLuint id);
+void delete_framebuffer(GLuint id);
+void delete_buffer(GLuint id);
+void delete_vertex_array(GLuint id);
+void delete_program(GLuint id);
+
+// A linked program from a vertex and a fragment shader found through a
+// ShaderLibrary. Compile and link errors throw kit::Error with the log mapped
+// to the original files and lines. Uniform locations are cached by name.
+class Program {
+ public:
+  Program() = default;
+  Program(const ShaderLibrary& library, const std::string& vertex, const std::string& fragment);
+  // A compute program (needs a GL 4.3 context or ARB_compute_shader at run time;
+  // the shader enables the extensions it uses after its #version 330 core line).
+  Program(const ShaderLibrary& library, const std::string& compute);
+
+  GLuint id() const { return program_.get(); }
+  void use() const { glUseProgram(program_.get()); }
+  bool valid() const { return program_.get() != 0; }
+  // Real paths of every file this program was assembled from (for hot reload).
+  const std::vector<std::filesystem::path>& source_paths() const { return source_paths_; }
+
+  GLint location(const std::string& name) const;
+  bool has(const std::string& name) const { return location(name) >= 0; }
+  // Setters skip uniforms the shader does not use (location -1), as GL does.
+  void set(const std::string& name, int v) const;
+  void set(const std::string& name, bool v) const { set(name, v ? 1 : 0); }
+  void set(const std::string& name, float v) const;
+  void set(const std::string& name, const glm::vec2& v) const;
+  void set(const std::string& name, const glm::vec3& v) const;
+  void set(const std::string& name, const glm::vec4& v) const;
+  void set(const std::string& name, const glm::mat3& v) const;
+  void set(const std::string& name, const glm::mat4& v) const;
+
+ private:
+  GlName<delete_program> program_;
+  mutable std::unordered_map<std::string, GLint> locations_;
+  std::vector<std::filesystem::path> source_paths_;
+};
+
+struct TextureFormat {
+  GLenum internal_format;
+  GLenum format;
+  GLenum type;
+};
+
+class Texture2D {
+ public:
+  Texture2D() = default;
+  // Allocates storage (data may be null). Filtering defaults to nearest, clamp to edge.
+  Texture2D(int width, int height, TextureFormat fmt, const void* data = nullptr, bool mipmaps = false);
+  GLuint id() const { return texture_.get(); }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  const TextureFormat& format() const { return format_; }
+  void bind(int unit) const;
+  void set_filter(GLenum min_filter, GLenum mag_filter) const;
+  void set_wrap(GLenum wrap_s, GLenum wrap_t) const;
+
+ private:
+  GlName<delete_texture> texture_;
+  int width_ = 0, height_ = 0;
+  TextureFormat format_{};
+};
+
+class Framebuffer {
+ public:
+  Framebuffer();
+  GLuint id() const { return fbo_.get(); }
+  void bind() const { glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get()); }
+  void attach_color(int index, const Texture2D& texture) const;
+  void attach_depth(const Texture2D& texture) const;
+  // Sets the draw buffers to attachments 0..count-1.
+  void set_draw_buffers(int count) const;
+  // Empty when complete, otherwise the status name (e.g. "GL_FRAMEBUFFER_INCOMPLETE_ATTACHMENT").
+  std::string incomplete_reason() const;
+
+ private:
+  GlName<delete_framebuffer> fbo_;
+};
+
+// Interleaved vertex layout the scene loader produces.
+struct Vertex {
+  glm::vec3 position;
+  glm::vec3 normal;
+  glm::vec2 texcoord;
+  glm::vec4 tangent;  // xyz unit tangent, w = handedness (+1 or -1)
+};
+
+class Mesh {
+ public:
+  Mesh() = default;
+  Mesh(const std::vector<Vertex>& vertices, const std::vector<uint32_t>& indices);
+  void draw() const;
+  // `instances` copies in one draw; shaders tell them apart by gl_InstanceID.
+  void draw_instanced(int instances) const;
+  GLsizei index_count() const { return index_count_; }
+
+ private:
+  GlName<delete_vertex_array> vao_;
+  GlName<delete_buffer> vbo_, ebo_;
+  GLsizei index_count_ = 0;
+};
+
+// The one full-screen draw: a single triangle covering the viewport, its
+// positions made in framework/shaders/fullscreen.vert from gl_VertexID.
+class FullscreenTriangle {
+ public:
+  FullscreenTriangle();
+  void draw() const;
+  // A full-screen pass: binds `target`, sets the viewport to width x height, turns
+  // depth test, culling and blending off, uses `program` and draws.
+  void pass(const Program& program, const Framebuffer& target, int width, int height) const;
+
+ private:
+  GlName<delete_vertex_array> vao_;
+};
+
+}  // namespace kit

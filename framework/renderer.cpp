@@ -1,0 +1,365 @@
+#include "renderer.h"
+
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_inverse.hpp>
+
+#include "error.h"
+#include "gbuffer_layout.h"
+#include "mesh_optimize.h"
+
+namespace kit {
+
+namespace {
+
+constexpr TextureFormat kHdrFormat{GL_RGBA16F, GL_RGBA, GL_FLOAT};
+constexpr TextureFormat kLdrFormat{GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
+constexpr TextureFormat kDebugFormat{GL_RGBA32F, GL_RGBA, GL_FLOAT};
+
+// Debug view modes understood by framework/shaders/debug_view.frag.
+int debug_mode(View view) {
+  switch (view) {
+    case View::Position: return 0;
+    case View::Normal: return 1;
+    case View::Albedo: return 2;
+    case View::Material: return 3;
+    case View::Depth: return 4;
+    default: return 2;
+  }
+}
+
+// Every sampler uniform the framework binds, with its texture unit.
+const std::pair<const char*, int> kSamplerUnits[] = {
+    {"u_gbuffer_position", KIT_UNIT_GBUF_POSITION}, {"u_gbuffer_normal", KIT_UNIT_GBUF_NORMAL},
+    {"u_gbuffer_albedo", KIT_UNIT_GBUF_ALBEDO},     {"u_gbuffer_material", KIT_UNIT_GBUF_MATERIAL},
+    {"u_gbuffer_depth", KIT_UNIT_GBUF_DEPTH},       {"u_light_texture", KIT_UNIT_LIGHTS},
+    {"u_hdr", KIT_UNIT_HDR},                        {"u_bloom", KIT_UNIT_BLOOM},
+    {"u_ldr", KIT_UNIT_LDR},                        {"u_base_color_texture", KIT_UNIT_BASE_COLOR},
+    {"u_metallic_roughness_texture", KIT_UNIT_METALLIC_ROUGHNESS},
+    {"u_normal_texture", KIT_UNIT_NORMAL_MAP},      {"u_emissive_texture", KIT_UNIT_EMISSIVE},
+};
+
+}  // namespace
+
+void set_sampler_units(const Program& program) {
+  program.use();
+  for (const auto& [name, unit] : kSamplerUnits) program.set(name, unit);
+}
+
+Program make_program(const ShaderLibrary& library, const std::string& vs, const std::string& fs) {
+  Program p(library, vs, fs);
+  set_sampler_units(p);
+  // Leave no program current: if a later program of the same build fails, this
+  // one is deleted while current, and a UI drawing afterwards would restore a dead name.
+  glUseProgram(0);
+  return p;
+}
+
+struct Renderer::Programs {
+  Program geometry, lighting, display, bright, blur, composite, custom, debug;
+};
+
+View parse_view(const std::string& name) {
+  static const std::pair<const char*, View> names[] = {{"final", View::Final},   {"position", View::Position},
+                                                       {"normal", View::Normal}, {"albedo", View::Albedo},
+                                                       {"material", View::Material}, {"depth", View::Depth},
+                                                       {"hdr", View::Hdr}};
+  for (const auto& [n, v] : names)
+    if (name == n) return v;
+  throw Error("unknown view '" + name + "' (views: final, position, normal, albedo, material, depth, hdr)");
+}
+
+const char* view_name(View view) {
+  switch (view) {
+    case View::Final: return "final";
+    case View::Position: return "position";
+    case View::Normal: return "normal";
+    case View::Albedo: return "albedo";
+    case View::Material: return "material";
+    case View::Depth: return "depth";
+    case View::Hdr: return "hdr";
+  }
+  return "?";
+}
+
+FrameCamera frame_camera(const Camera& camera, float aspect) {
+  FrameCamera f;
+  f.view = camera.view;
+  f.projection = camera.projection(aspect);
+  f.position = glm::vec3(glm::inverse(camera.view)[3]);
+  f.znear = camera.znear;
+  f.zfar = camera.zfar;
+  return f;
+}
+
+float light_flux(const Light& light) {
+  if (light.type == KIT_LIGHT_SPOT)
+    return glm::two_pi<float>() * (1.0f - 0.5f * (std::cos(light.inner_cone) + std::cos(light.outer_cone))) * light.intensity;
+  return 2.0f * glm::two_pi<float>() * light.intensity;
+}
+
+std::vector<Light> spawned_lights(const Scene& scene, int count) {
+  std::vector<Light> out;
+  glm::vec3 lo = scene.bounds_min, hi = scene.bounds_max;
+  glm::vec3 extent = hi - lo;
+  for (int i = 0; i < count; ++i) {
+    float t = (i + 0.5f) / static_cast<float>(count);
+    float angle = 2.39996323f * static_cast<float>(i);
+    float radius = std::sqrt(t);
+    Light l;
+    l.type = KIT_LIGHT_POINT;
+    l.position = glm::vec3(lo.x + extent.x * (0.5f + 0.5f * radius * std::cos(angle)),
+                           lo.y + 0.05f * extent.y + 0.1f + 0.3f * extent.y * std::fmod(t * 7.0f, 1.0f),
+                           lo.z + extent.z * (0.5f + 0.5f * radius * std::sin(angle)));
+    l.color = glm::vec3(0.5f + 0.5f * std::cos(angle), 0.5f + 0.5f * std::cos(angle + 2.1f), 0.5f + 0.5f * std::cos(angle + 4.2f));
+    l.intensity = 0.5f;
+    out.push_back(l);
+  }
+  return out;
+}
+
+Texture2D light_texture(const std::vector<Light>& lights) {
+  const int light_count = static_cast<int>(lights.size());
+  std::vector<float> texels(static_cast<size_t>(std::max(light_count, 1)) * KIT_LIGHT_TEXELS * 4, 0.0f);
+  for (size_t i = 0; i < lights.size(); ++i) {
+    const Light& l = lights[i];
+    float* t = &texels[i * KIT_LIGHT_TEXELS * 4];
+    const float row[16] = {l.position.x, l.position.y, l.position.z, static_cast<float>(l.type),
+                           l.direction.x, l.direction.y, l.direction.z, l.range,
+                           l.color.r, l.color.g, l.color.b, l.intensity,
+                           std::cos(l.inner_cone), std::cos(l.outer_cone), light_flux(l), 0.0f};
+    std::copy(row, row + 16, t);
+  }
+  return Texture2D(KIT_LIGHT_TEXELS, std::max(light_count, 1), {GL_RGBA32F, GL_RGBA, GL_FLOAT}, texels.data());
+}
+
+void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
+                const glm::mat4& view_projection, bool frustum_culling) {
+  const Frustum frustum = frustum_from(view_projection);
+  for (const DrawItem& d : scene.draws) {
+    const Primitive& prim = scene.primitives[static_cast<size_t>(d.primitive)];
+    // A draw wholly outside the view adds no fragment: skipping it saves its vertex work.
+    if (frustum_culling && !intersects(frustum, prim.bounds_min, prim.bounds_max, d.world)) continue;
+    static const Material kDefaultMaterial{};
+    const Material& m = prim.material >= 0 ? scene.materials[static_cast<size_t>(prim.material)] : kDefaultMaterial;
+    geometry.set("u_model", d.world);
+    geometry.set("u_normal_matrix", glm::inverseTranspose(glm::mat3(d.world)));
+    geometry.set("u_base_color_factor", m.base_color_factor);
+    geometry.set("u_metallic_factor", m.metallic_factor);
+    geometry.set("u_roughness_factor", m.roughness_factor);
+    geometry.set("u_emissive_factor", m.emissive);
+    geometry.set("u_normal_scale", m.normal_scale);
+    geometry.set("u_has_normal_texture", m.normal_image >= 0);
+    gpu.texture(m.base_color_image, true).bind(KIT_UNIT_BASE_COLOR);
+    gpu.texture(m.metallic_roughness_image, false).bind(KIT_UNIT_METALLIC_ROUGHNESS);
+    (m.normal_image >= 0 ? gpu.texture(m.normal_image, false) : gpu.flat_normal()).bind(KIT_UNIT_NORMAL_MAP);
+    gpu.texture(m.emissive_image, true).bind(KIT_UNIT_EMISSIVE);
+    gpu.mesh(d.primitive).draw();
+  }
+}
+
+Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene, RenderSettings settings)
+    : stage_(stage),
+      library_(std::move(library)),
+      scene_(scene),
+      settings_(settings),
+      scene_gpu_(scene),
+      gbuffer_(settings.width, settings.height) {
+  build_programs();
+  allocate_targets();
+  upload_lights();
+  check_gl("Renderer setup");
+}
+
+Renderer::~Renderer() = default;
+
+void Renderer::build_programs() {
+  auto p = std::make_unique<Programs>();
+  p->geometry = make_program(library_, "gbuffer.vert", "gbuffer.frag");
+  if (stage_.lighting) {
+    p->lighting = make_program(library_, "fullscreen.vert", "lighting.frag");
+    p->display = make_program(library_, "fullscreen.vert", "display.frag");
+  }
+  if (stage_.postprocess) {
+    p->bright = make_program(library_, "fullscreen.vert", "bright.frag");
+    p->blur = make_program(library_, "fullscreen.vert", "blur.frag");
+    p->composite = make_program(library_, "fullscreen.vert", "composite.frag");
+    p->custom = make_program(library_, "fullscreen.vert", "custom_effect.frag");
+  }
+  p->debug = make_program(library_, "fullscreen.vert", "debug_view.frag");
+  programs_ = std::move(p);  // replaced only once everything compiled and linked
+}
+
+void Renderer::reload_shaders() { build_programs(); }
+
+std::vector<std::filesystem::path> Renderer::shader_paths() const {
+  std::vector<std::filesystem::path> out;
+  for (const Program* p : {&programs_->geometry, &programs_->lighting, &programs_->display, &programs_->bright,
+                           &programs_->blur, &programs_->composite, &programs_->custom})
+    out.insert(out.end(), p->source_paths().begin(), p->source_paths().end());
+  return out;
+}
+
+void Renderer::allocate_targets() {
+  int w = settings_.width, h = settings_.height;
+  // Float targets are sampled with nearest filtering: every pass reads them at
+  // texel centres, and a linear filter would spread a NaN into its neighbours
+  // (0 * NaN is NaN). Only the tone-mapped image, which the custom effect may
+  // sample between texels, is filtered linearly.
+  auto target = [&](Texture2D& tex, Framebuffer& fbo, TextureFormat fmt) {
+    tex = Texture2D(w, h, fmt);
+    if (fmt.internal_format == kLdrFormat.internal_format) tex.set_filter(GL_LINEAR, GL_LINEAR);
+    fbo.attach_color(0, tex);
+    fbo.set_draw_buffers(1);
+    std::string reason = fbo.incomplete_reason();
+    if (!reason.empty()) throw Error("render target incomplete: " + reason);
+  };
+  target(hdr_, hdr_fbo_, kHdrFormat);
+  target(bloom_[0], bloom_fbo_[0], kHdrFormat);
+  target(bloom_[1], bloom_fbo_[1], kHdrFormat);
+  target(composite_, composite_fbo_, kLdrFormat);
+  target(final_, final_fbo_, kLdrFormat);
+  target(debug_target_, debug_fbo_, kDebugFormat);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+}
+
+void Renderer::resize(int width, int height) {
+  if (width == settings_.width && height == settings_.height) return;
+  settings_.width = width;
+  settings_.height = height;
+  gbuffer_.resize(width, height);
+  allocate_targets();
+}
+
+void Renderer::upload_lights() {
+  std::vector<Light> lights = scene_.lights;
+  std::vector<Light> extra = spawned_lights(scene_, settings_.extra_lights);
+  lights.insert(lights.end(), extra.begin(), extra.end());
+  light_count_ = static_cast<int>(lights.size());
+  lights_ = light_texture(lights);
+}
+
+void set_frame_uniforms(const Program& p, const FrameCamera& camera, const RenderSettings& settings, int light_count) {
+  p.use();
+  glm::mat4 view_projection = camera.projection * camera.view;
+  p.set("u_view", camera.view);
+  p.set("u_projection", camera.projection);
+  p.set("u_view_projection", view_projection);
+  p.set("u_inv_view_projection", glm::inverse(view_projection));
+  p.set("u_camera_position", camera.position);
+  p.set("u_camera_near_far", glm::vec2(camera.znear, camera.zfar));
+  p.set("u_resolution", glm::vec2(settings.width, settings.height));
+  p.set("u_light_count", light_count);
+  p.set("u_gamma", settings.gamma);
+  p.set("u_attenuation_model", settings.attenuation_model);
+  p.set("u_clear_color", settings.clear_color);
+  p.set("u_bloom_threshold", settings.bloom_threshold);
+  p.set("u_postprocess_enabled", settings.postprocess);
+  p.set("u_custom_enabled", settings.custom_effect);
+  p.set("u_time", settings.time);
+}
+
+int blur_result(int passes) { return passes % 2 == 0 ? 0 : 1; }
+
+void blur_ping_pong(const FullscreenTriangle& triangle, const Program& blur, const Texture2D (&targets)[2],
+                    const Framebuffer (&fbos)[2], int passes, int width, int height) {
+  for (int pass = 0; pass < passes; ++pass) {
+    const bool horizontal = pass % 2 == 0;
+    targets[horizontal ? 0 : 1].bind(KIT_UNIT_BLOOM);
+    blur.set("u_horizontal", horizontal);
+    triangle.pass(blur, fbos[horizontal ? 1 : 0], width, height);
+  }
+  targets[blur_result(passes)].bind(KIT_UNIT_BLOOM);
+}
+
+void Renderer::set_frame_uniforms(const Program& p) const {
+  kit::set_frame_uniforms(p, camera_, settings_, light_count_);
+}
+
+void Renderer::fullscreen_pass(const Program& program, const Framebuffer& target, int width, int height) const {
+  triangle_.pass(program, target, width, height);
+}
+
+void Renderer::render(const FrameCamera& camera) {
+  if (settings_.extra_lights + static_cast<int>(scene_.lights.size()) != light_count_) upload_lights();
+  camera_ = camera;
+  const Programs& p = *programs_;
+
+  // 1. Geometry pass: every draw item into the G-buffer.
+  gbuffer_.begin_geometry_pass();
+  set_frame_uniforms(p.geometry);
+  draw_scene(p.geometry, scene_, scene_gpu_, camera_.projection * camera_.view, settings_.frustum_culling);
+  check_gl("geometry pass");
+  if (!stage_.lighting) return;
+
+  // 2. Lighting pass: G-buffer -> HDR.
+  gbuffer_.bind_textures();
+  lights_.bind(KIT_UNIT_LIGHTS);
+  set_frame_uniforms(p.lighting);
+  fullscreen_pass(p.lighting, hdr_fbo_, settings_.width, settings_.height);
+  check_gl("lighting pass");
+  hdr_.bind(KIT_UNIT_HDR);
+
+  if (!stage_.postprocess) {
+    // 3. Display: tone mapping and gamma (tonemap.glsl) -> LDR.
+    set_frame_uniforms(p.display);
+    fullscreen_pass(p.display, final_fbo_, settings_.width, settings_.height);
+    check_gl("display pass");
+    return;
+  }
+
+  // 3'. Bloom: bright pass, separable blur ping-pong, composite before tone mapping.
+  set_frame_uniforms(p.bright);
+  fullscreen_pass(p.bright, bloom_fbo_[0], settings_.width, settings_.height);
+  set_frame_uniforms(p.blur);
+  blur_ping_pong(triangle_, p.blur, bloom_, bloom_fbo_, settings_.blur_passes, settings_.width, settings_.height);
+  hdr_.bind(KIT_UNIT_HDR);
+  set_frame_uniforms(p.composite);
+  fullscreen_pass(p.composite, composite_fbo_, settings_.width, settings_.height);
+  composite_.bind(KIT_UNIT_LDR);
+  set_frame_uniforms(p.custom);
+  fullscreen_pass(p.custom, final_fbo_, settings_.width, settings_.height);
+  check_gl("postprocess passes");
+}
+
+const Texture2D& Renderer::final_texture() const {
+  return stage_.lighting ? final_ : gbuffer_.attachment(KIT_GBUF_ALBEDO);
+}
+
+Image Renderer::read_view(View view, bool raw) {
+  if (raw && view != View::Final && view != View::Hdr) {
+    if (view == View::Depth) return read_texture(gbuffer_.depth(), true);
+    int index = view == View::Position ? KIT_GBUF_POSITION : view == View::Normal ? KIT_GBUF_NORMAL
+              : view == View::Albedo ? KIT_GBUF_ALBEDO : KIT_GBUF_MATERIAL;
+    return read_texture(gbuffer_.attachment(index));
+  }
+  return read_texture(display_texture(view));
+}
+
+const Texture2D& Renderer::display_texture(View view) {
+  if (view == View::Final) return final_texture();
+  if (view == View::Hdr) {
+    if (!stage_.lighting) throw Error("view 'hdr' needs a lit stage (lighting or later)");
+    return hdr_;
+  }
+  // Display mapping in framework/shaders/debug_view.frag.
+  gbuffer_.bind_textures();
+  const Program& d = programs_->debug;
+  set_frame_uniforms(d);
+  d.set("u_view_mode", debug_mode(view));
+  glm::vec3 center = 0.5f * (scene_.bounds_min + scene_.bounds_max);
+  glm::vec3 half = glm::max(0.5f * (scene_.bounds_max - scene_.bounds_min), glm::vec3(1e-3f));
+  d.set("u_position_center", center);
+  d.set("u_position_half_extent", half);
+  float far_display = 0.0f;
+  for (int c = 0; c < 8; ++c) {
+    glm::vec3 corner((c & 1) ? scene_.bounds_max.x : scene_.bounds_min.x, (c & 2) ? scene_.bounds_max.y : scene_.bounds_min.y,
+                     (c & 4) ? scene_.bounds_max.z : scene_.bounds_min.z);
+    far_display = std::max(far_display, glm::length(corner - camera_.position));
+  }
+  d.set("u_depth_display_far", std::min(far_display, camera_.zfar));
+  fullscreen_pass(d, debug_fbo_, settings_.width, settings_.height);
+  check_gl("debug view");
+  return debug_target_;
+}
+
+}  // namespace kit

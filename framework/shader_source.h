@@ -1,0 +1,68 @@
+#pragma once
+// Shader text assembly with a tiny, confined #include resolver.
+//
+// A shader is looked up by plain file name in an ordered list of folders (the
+// stage's lab folder first, then earlier steps' solutions, then framework/shaders/). An
+// `#include "name"` line is resolved the same way. Names may not hold '/', '\'
+// or "..", and a file whose real path (symlinks followed) leaves its folder is
+// refused, so a submission can never make the kit read anything but shader text
+// from inside the allowed folders.
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace kit {
+
+struct ShaderFolder {
+  std::filesystem::path path;
+  std::string label;  // how file names are shown in messages, e.g. "labs/02-lighting"
+  // When not empty, only these names are looked up here (a lab folder supplies
+  // its own step's files and nothing else, so stages stay graded in isolation).
+  std::vector<std::string> only;
+};
+
+// Where each line of the assembled text came from, for mapping compiler logs.
+struct SourceLine {
+  int file = 0;  // index into AssembledShader::files
+  int line = 0;  // 1-based line in that file
+};
+
+struct AssembledShader {
+  std::string text;
+  std::vector<SourceLine> lines;               // one per line of `text`
+  std::vector<std::string> files;              // display names ("labs/02-lighting/brdf.glsl")
+  std::vector<std::filesystem::path> paths;    // real paths, for hot reload
+  // Rewrites "0:12(3): error" (Mesa) and "0(12) : error" (NVIDIA) into "file:line:col: error".
+  std::string map_log(const std::string& log) const;
+};
+
+// Files larger than this are refused before they are read (a shader is text).
+constexpr std::uintmax_t kMaxShaderFileBytes = 256 * 1024;
+// Every top-level shader must start with this line: the kit targets GL 3.3 core.
+constexpr const char* kRequiredVersionLine = "#version 330 core";
+
+class ShaderLibrary {
+ public:
+  ShaderLibrary() = default;
+  explicit ShaderLibrary(std::vector<ShaderFolder> folders);
+
+  const std::vector<ShaderFolder>& folders() const { return folders_; }
+  // The first folder holding `name`, as a validated real path; throws kit::Error.
+  std::filesystem::path locate(const std::string& name, std::string* display = nullptr) const;
+  // Reads a top-level shader and everything it includes; throws kit::Error.
+  AssembledShader assemble(const std::string& name) const;
+
+ private:
+  void append(const std::string& name, AssembledShader& out, std::vector<std::string>& included,
+              int depth, bool top_level) const;
+  std::vector<ShaderFolder> folders_;
+};
+
+// Reads a whole file as shader text: size limit, no NUL bytes, valid UTF-8,
+// not empty. Throws kit::Error naming `display`.
+std::string read_shader_text(const std::filesystem::path& path, const std::string& display);
+
+// True when `name` is a plain file name the resolver accepts.
+bool is_plain_shader_name(const std::string& name);
+
+}  // namespace kit

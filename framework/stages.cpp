@@ -1,0 +1,61 @@
+#include "stages.h"
+
+#include <cstdlib>
+
+#include "error.h"
+
+namespace fs = std::filesystem;
+
+namespace kit {
+
+const std::vector<Stage>& stages() {
+  static const std::vector<Stage> kStages = {
+      // number, name, folder, files, lighting pass, postprocess
+      {1, "gbuffer", "01-gbuffer", {"gbuffer.vert", "gbuffer.frag"}, false, false},
+      {2, "lighting", "02-lighting", {"lighting.frag", "brdf.glsl"}, true, false},
+      {3, "attenuation", "03-attenuation", {"attenuation.glsl", "tonemap.glsl"}, true, false},
+      {4, "normalmap", "04-normalmap", {"gbuffer.vert", "gbuffer.frag"}, true, false},
+      {5, "postprocess", "05-postprocess", {"bright.frag", "blur.frag", "composite.frag", "custom_effect.frag"}, true, true},
+  };
+  return kStages;
+}
+
+const Stage& find_stage(const std::string& name_or_number) {
+  std::string names;
+  for (const Stage& s : stages()) {
+    if (s.name == name_or_number || std::to_string(s.number) == name_or_number || s.folder == name_or_number) return s;
+    names += (names.empty() ? "" : ", ") + s.name;
+  }
+  throw Error("unknown stage '" + name_or_number + "' (stages: " + names + ")");
+}
+
+fs::path kit_root() {
+  const char* env = std::getenv("KIT_ROOT");
+  return fs::path(env && *env ? env : KIT_SOURCE_DIR);
+}
+
+fs::path shaders_dir() { return kit_root() / "framework" / "shaders"; }
+
+std::string resolve_scene(const std::string& name_or_path) {
+  bool is_name = name_or_path.find('/') == std::string::npos && name_or_path.find('.') == std::string::npos;
+  if (!is_name) return name_or_path;
+  const char* env = std::getenv("KIT_SCENE_DIR");
+  fs::path dir = env && *env ? fs::path(env) : fs::path(KIT_SCENE_DIR);
+  return (dir / name_or_path / (name_or_path + ".gltf")).string();
+}
+
+ShaderLibrary stage_library(const Stage& stage, const fs::path& lab_root) {
+  fs::path root = kit_root();
+  std::vector<ShaderFolder> folders;
+  std::string lab_label = lab_root.filename().string();
+  if (lab_label.empty()) lab_label = lab_root.parent_path().filename().string();
+  folders.push_back({lab_root / stage.folder, lab_label + "/" + stage.folder, stage.files});
+  for (auto it = stages().rbegin(); it != stages().rend(); ++it) {
+    if (it->number >= stage.number) continue;
+    folders.push_back({root / "solutions" / it->folder, "solutions/" + it->folder, it->files});
+  }
+  folders.push_back({shaders_dir(), "framework/shaders", {}});
+  return ShaderLibrary(std::move(folders));
+}
+
+}  // namespace kit

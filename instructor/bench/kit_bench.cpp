@@ -1,0 +1,281 @@
+// kit-bench: speed against accuracy of the deferred pipeline's methods.
+//
+//   kit-bench [--quick] [--out DIR]       the whole comparison: out/bench/results.csv and charts
+//   kit-bench --method NAME[,NAME...] [--scene FILE --size WxH --lights N]   one configuration
+//                                         (several: timed round-robin under the same load)
+//   kit-bench --list                      the method names
+//
+// Every method renders with the same framework (instructor/bench/bench_renderer.h), scene,
+// lights and camera; frame times are wall clock over glFinish-ended frames, errors
+// are measured against the CPU double-precision reference (instructor/bench/bench_reference.h).
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <map>
+
+#include "cli.h"
+#include "context.h"
+#include "error.h"
+#include "measure.h"
+#include "stages.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Debian's python3-matplotlib belongs to the system interpreter, which need not be
+// the python3 first on PATH.
+constexpr const char* kChartPython = "/usr/bin/python3";
+
+// The full run's sizes and light counts (the issue's configurations).
+constexpr int kFullWidth = 1280, kFullHeight = 720;
+const int kFullSmallLights[] = {32, 256, 1024};
+// --quick: a smoke test for CI, well under a minute on two cores.
+constexpr int kQuickWidth = 320, kQuickHeight = 180;
+const int kQuickSmallLights[] = {16, 64};
+constexpr int kQuickWarmupFrames = 1;
+constexpr int kQuickTimedFrames = 5;
+// Difference images are amplified so a one-step (1/255) error is visible.
+constexpr int kDifferenceGain = 16;
+
+struct Case {
+  int small_lights;
+  std::vector<std::string> methods;
+};
+
+std::vector<Case> plan(bool quick) {
+  std::vector<Case> cases;
+  std::vector<std::string> scene_methods, many_methods;
+  if (quick) {
+    scene_methods = {"reference", "labs", "gbuffer-lean16", "gbuffer-lean8", "volumes-e256", "tiled-e256",
+                     "forward", "bloom6-full", "bloom6-half", "geometry-optimized"};
+    many_methods = {"labs", "volumes-e256", "tiled-e256", "tiled-ref32-e1024", "forward"};
+  } else {
+    for (const kit::bench::Method& m : kit::bench::methods()) scene_methods.push_back(m.name);
+    many_methods = {"labs", "volumes-e1024", "volumes-e256", "volumes-e64", "tiled-e1024",
+                    "tiled-e256", "tiled-e64", "tiled-lean16-e1024", "tiled-ref32-e1024", "forward"};
+  }
+  cases.push_back({0, scene_methods});
+  if (quick) {
+    for (int n : kQuickSmallLights) cases.push_back({n, many_methods});
+  } else {
+    for (int n : kFullSmallLights) cases.push_back({n, many_methods});
+  }
+  return cases;
+}
+
+void usage() {
+  std::printf(
+      "usage: kit-bench [--quick] [--out DIR]\n"
+      "       kit-bench --method NAME[,NAME...] [--scene FILE] [--size WxH] [--lights N] [--frames N]\n"
+      "       kit-bench --list\n"
+      "Times the deferred pipeline's methods (median of %d glFinish-ended frames after %d warm-up\n"
+      "frames, wall clock) and measures each against the CPU double-precision reference.\n"
+      "Without --method: the default scene at %dx%d with its own lights, then with 32, 256 and 1024\n"
+      "small lights; writes DIR/results.csv, speed_accuracy.png/.svg and lights_scaling.png/.svg\n"
+      "(DIR defaults to out/bench under the kit root).\n"
+      "  --quick               %dx%d, %d frames, fewer methods (CI smoke run)\n"
+      "  --method NAME         one configuration: prints ms/frame and its error; several names\n"
+      "                        separated by commas are timed round-robin on the same scene\n"
+      "  --frames N            timed frames (default %d)\n"
+      "  --passes              with --method: median time of each pass (glFinish after each)\n"
+      "  --images DIR          with --method: write the method's and the reference's display\n"
+      "                        images and their difference (x%d) as PNG\n"
+      "  --reference cpu|gpu   the reference: cpu (default) is the double-precision CPU evaluation\n"
+      "                        where affordable (else gpu), gpu the RGBA32F full-screen loop\n"
+      "  --list                the method names\n"
+      "  --lights N            small lights added to the scene (bench_renderer.h small_lights)\n"
+      "  --small-light-range on|off\n"
+      "                        off: the small lights have no glTF range (inverse square to\n"
+      "                        infinity), so culling them is never exact (default on)\n%s",
+      kit::bench::kTimedFrames, kit::bench::kWarmupFrames, kFullWidth, kFullHeight, kQuickWidth, kQuickHeight,
+      kQuickTimedFrames, kit::bench::kTimedFrames, kDifferenceGain, kit::common_options_help());
+}
+
+void list_methods() {
+  for (const kit::bench::Method& m : kit::bench::methods()) {
+    int bytes = m.lighting == kit::bench::Lighting::Forward ? 0 : kit::bench::bytes_per_pixel(m.layout);
+    std::printf("%-20s %-9s %2d B/px  %s\n", m.name.c_str(), m.family.c_str(), bytes, m.summary.c_str());
+  }
+}
+
+std::string over_255(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.2f/255", v * 255.0);
+  return buf;
+}
+
+void print_row(const kit::bench::Row& r) {
+  std::printf("%-20s %4dx%-4d lights %4d (%.1f/px)  %9.2f ms (min %.2f, max %.2f, %d frames)  HDR %.1f dB max %.3g  "
+              "display %.1f dB max %s, %.3f%% > 1/255  [%s]\n",
+              r.method.c_str(), r.width, r.height, r.total_lights, r.lights_per_pixel, r.timing.median_ms, r.timing.min_ms,
+              r.timing.max_ms, r.timing.frames, r.hdr.psnr, r.hdr.max_abs, r.ldr.psnr, over_255(r.ldr.max_abs).c_str(),
+              100.0 * r.ldr.frac_over_step, r.reference.c_str());
+  std::fflush(stdout);
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The last frame's display image, the reference's, and |difference| x kDifferenceGain.
+void write_images(kit::bench::BenchRenderer& renderer, const kit::bench::Method& method,
+                  const kit::bench::Reference& reference, const std::string& dir) {
+  fs::create_directories(dir);
+  kit::Image image = renderer.read_display();
+  kit::Image ref = kit::bench::reference_display(reference.hdr, renderer.settings(), method.blur_passes);
+  kit::Image diff = image;
+  for (size_t i = 0; i < diff.pixels.size(); ++i)
+    diff.pixels[i] = i % 4 == 3 ? 1.0f : kDifferenceGain * std::fabs(image.pixels[i] - ref.pixels[i]);
+  kit::write_image(dir + "/" + method.name + ".png", image);
+  kit::write_image(dir + "/reference-" + reference.source + ".png", ref);
+  kit::write_image(dir + "/" + method.name + "-difference.png", diff);
+}
+
+// Median wall-clock time of each pass over `frames` frames, glFinish after every pass.
+void print_passes(kit::bench::BenchRenderer& renderer, const kit::bench::Method& method,
+                  const kit::FrameCamera& camera, int frames) {
+  std::map<std::string, std::vector<double>> samples;
+  std::vector<std::string> order;
+  for (int f = 0; f < frames; ++f) {
+    kit::bench::BenchRenderer::PassTimes times;
+    renderer.render(method, camera, &times);
+    for (const auto& [pass, ms] : times) {
+      if (!samples.count(pass)) order.push_back(pass);
+      samples[pass].push_back(ms);
+    }
+  }
+  for (const std::string& pass : order) {
+    std::vector<double>& v = samples[pass];
+    std::sort(v.begin(), v.end());
+    std::printf("  %-10s %9.2f ms (median of %zu)\n", pass.c_str(), v[v.size() / 2], v.size());
+  }
+}
+
+const char* range_name(kit::bench::SmallLightRange range) {
+  return range == kit::bench::SmallLightRange::Ranged ? "ranged" : "unlimited";
+}
+
+kit::FrameCamera camera_for(const kit::Scene& scene, const kit::RenderSettings& s) {
+  kit::Camera camera = scene.camera ? *scene.camera : kit::framing_camera(scene);
+  return kit::frame_camera(camera, static_cast<float>(s.width) / static_cast<float>(s.height));
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  auto t0 = std::chrono::steady_clock::now();
+  kit::CommonOptions options;
+  bool quick = false, list = false, size_given = false, passes = false;
+  std::string method_name, out_dir, images_dir;
+  int frames = -1;
+  kit::bench::SmallLightRange small_range = kit::bench::SmallLightRange::Ranged;
+  double cpu_budget = kit::bench::kCpuReferenceBudget;
+  return kit::run_tool("kit-bench", 1, [&]() -> int {
+    for (int i = 1; i < argc; ++i) {
+      if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
+        usage();
+        return 0;
+      }
+      if (!std::strcmp(argv[i], "--size") || !std::strcmp(argv[i], "-s")) size_given = true;
+    }
+    kit::parse_options(argc, argv, options, [&](const std::string& flag, const kit::OptionValue& value) -> int {
+      if (flag == "--quick") return quick = true, 1;
+      if (flag == "--list") return list = true, 1;
+      if (flag == "--passes") return passes = true, 1;
+      if (flag == "--out") return out_dir = value(), 2;
+      if (flag == "--method") return method_name = value(), 2;
+      if (flag == "--frames") return frames = std::atoi(value().c_str()), 2;
+      if (flag == "--images") return images_dir = value(), 2;
+      if (flag == "--small-light-range") {
+        small_range = kit::parse_on_off(value(), flag) ? kit::bench::SmallLightRange::Ranged
+                                                       : kit::bench::SmallLightRange::Unlimited;
+        return 2;
+      }
+      if (flag == "--reference") {
+        std::string which = value();
+        if (which != "cpu" && which != "gpu") throw kit::Error("--reference expects cpu or gpu (got '" + which + "')");
+        cpu_budget = which == "gpu" ? 0.0 : kit::bench::kCpuReferenceBudget;
+        return 2;
+      }
+      return 0;
+    });
+    if (list) {
+      list_methods();
+      return 0;
+    }
+    auto context = kit::create_headless_context(kit::parse_backend(options.backend));
+    const kit::Scene scene = kit::load_scene(kit::resolve_scene(options.scene));
+    kit::RenderSettings settings = options.settings;
+
+    if (!method_name.empty()) {
+      // One method, or several separated by commas: those are timed round-robin
+      // (time_interleaved), so their ratios hold under a changing machine load.
+      std::vector<const kit::bench::Method*> methods;
+      for (size_t begin = 0; begin <= method_name.size();) {
+        size_t end = std::min(method_name.find(',', begin), method_name.size());
+        methods.push_back(&kit::bench::find_method(method_name.substr(begin, end - begin)));
+        begin = end + 1;
+      }
+      kit::bench::BenchRenderer renderer(scene, kit::bench::bench_lights(scene, settings.extra_lights, small_range), settings);
+      kit::FrameCamera camera = camera_for(scene, settings);
+      kit::bench::Reference reference = kit::bench::reference_hdr(renderer, camera, cpu_budget);
+      const int timed = frames > 0 ? frames : kit::bench::kTimedFrames;
+      std::vector<kit::bench::Timing> timings =
+          kit::bench::time_interleaved(renderer, methods, camera, kit::bench::kWarmupFrames, timed);
+      std::printf("%s\n", context->describe().c_str());
+      for (size_t m = 0; m < methods.size(); ++m) {
+        kit::bench::Row row = kit::bench::measure_accuracy(renderer, *methods[m], camera, reference, options.scene,
+                                                           settings.extra_lights);
+        row.timing = timings[m];
+        row.small_light_range = range_name(small_range);
+        print_row(row);
+        if (passes) print_passes(renderer, *methods[m], camera, timed);
+        if (!images_dir.empty()) write_images(renderer, *methods[m], reference, images_dir);
+      }
+      return 0;
+    }
+
+    if (!size_given) {
+      settings.width = quick ? kQuickWidth : kFullWidth;
+      settings.height = quick ? kQuickHeight : kFullHeight;
+    }
+    const int warmup = quick ? kQuickWarmupFrames : kit::bench::kWarmupFrames;
+    const int timed = frames > 0 ? frames : quick ? kQuickTimedFrames : kit::bench::kTimedFrames;
+    fs::path out = out_dir.empty() ? kit::kit_root() / "out" / "bench" : fs::path(out_dir);
+    fs::create_directories(out);
+    std::printf("kit-bench%s on %s, scene '%s' at %dx%d\n", quick ? " --quick" : "", context->describe().c_str(),
+                options.scene.c_str(), settings.width, settings.height);
+
+    std::vector<kit::bench::Row> rows;
+    for (const Case& c : plan(quick)) {
+      kit::bench::BenchRenderer renderer(scene, kit::bench::bench_lights(scene, c.small_lights, small_range), settings);
+      kit::FrameCamera camera = camera_for(scene, settings);
+      auto t_ref = std::chrono::steady_clock::now();
+      kit::bench::Reference reference = kit::bench::reference_hdr(renderer, camera, cpu_budget);
+      std::printf("-- %d lights (%d small): reference %s in %.1f s\n", renderer.light_count(), c.small_lights,
+                  reference.source.c_str(), seconds_since(t_ref));
+      std::vector<const kit::bench::Method*> methods;
+      for (const std::string& name : c.methods) methods.push_back(&kit::bench::find_method(name));
+      std::vector<kit::bench::Timing> timings = kit::bench::time_interleaved(renderer, methods, camera, warmup, timed);
+      for (size_t m = 0; m < methods.size(); ++m) {
+        rows.push_back(kit::bench::measure_accuracy(renderer, *methods[m], camera, reference, options.scene,
+                                                    c.small_lights));
+        rows.back().timing = timings[m];
+        rows.back().small_light_range = range_name(small_range);
+        print_row(rows.back());
+      }
+      kit::bench::write_csv((out / "results.csv").string(), rows);  // partial results survive an interruption
+    }
+    std::string charts = std::string(kChartPython) + " \"" + (kit::kit_root() / "instructor" / "bench" / "charts.py").string() +
+                         "\" \"" + (out / "results.csv").string() + "\" \"" + out.string() + "\"";
+    if (std::system(charts.c_str()) != 0) throw kit::Error("the chart script failed: " + charts);
+    std::printf("wrote %s/results.csv, speed_accuracy.png/.svg, lights_scaling.png/.svg in %.0f s\n",
+                out.string().c_str(), seconds_since(t0));
+    return 0;
+  });
+}

@@ -1,0 +1,120 @@
+#!/usr/bin/env bash
+# instructor/grading/measure.sh [BUILD_DIR]: how fast and how big kit-grade is.
+#
+# Measures (not a test: numbers depend on the machine and its load):
+#   1. one full submission (solutions/) at --jobs 1 and --jobs 2, with a cold
+#      Mesa shader cache (an empty one, as in a fresh Gradescope container) and
+#      a warm one: wall, CPU (user+sys of kit-grade and its children) and peak
+#      memory (largest single process from /usr/bin/time -v, and the peak sum of
+#      proportional set sizes of all kit-grade processes, sampled every 10 ms);
+#   2. batch throughput for 20 submissions (10 solutions, 10 starters) at --jobs 2;
+#   3. where the time goes: the parent's fixed cost (an empty submission renders
+#      nothing), and per lab the child's context, compile, render and read-back
+#      and the parent's comparison (from summary.json).
+# BUILD_DIR defaults to build/default. Prints a report; leaves nothing behind.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+BUILD="${1:-$ROOT/build/default}"
+GRADE="$BUILD/tools/kit-grade"
+PY=/usr/bin/python3
+[ -x "$GRADE" ] || { echo "measure: $GRADE not built" >&2; exit 2; }
+[ -x /usr/bin/time ] || { echo "measure: /usr/bin/time missing (apt-get install time)" >&2; exit 2; }
+export KIT_SCENE_DIR="$BUILD/scenes"
+WORK="$(mktemp -d "${TMPDIR:-/tmp}/kit-grade-measure-XXXXXX")"
+trap 'rm -rf "$WORK"' EXIT
+
+echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg), $(uname -r)"
+
+# Runs kit-grade under /usr/bin/time -v and a PSS sampler; prints one line.
+measure() {
+  local label="$1"; shift
+  "$PY" - "$WORK/pss-$label" "$WORK" <<'EOF' &
+import os, sys, time
+# Peak sum of Pss over this script's kit-grade processes: their command line
+# names the work folder (forked render children keep the parent's).
+peak = 0
+deadline = time.time() + 600
+while time.time() < deadline and not os.path.exists(sys.argv[1] + ".stop"):
+    total = 0
+    for pid in os.listdir("/proc"):
+        if not pid.isdigit():
+            continue
+        try:
+            with open(f"/proc/{pid}/cmdline", "rb") as f:
+                args = f.read().split(b"\0")
+            if b"kit-grade" not in args[0] or not any(sys.argv[2].encode() in a for a in args):
+                continue
+            with open(f"/proc/{pid}/smaps_rollup") as f:
+                for line in f:
+                    if line.startswith("Pss:"):
+                        total += int(line.split()[1])
+        except OSError:
+            pass
+    peak = max(peak, total)
+    time.sleep(0.01)
+open(sys.argv[1], "w").write(str(peak))
+EOF
+  local sampler=$!
+  /usr/bin/time -v -o "$WORK/time-$label" "$@" >"$WORK/out-$label" 2>&1 || true
+  touch "$WORK/pss-$label.stop"
+  wait "$sampler" || true
+  "$PY" - "$WORK/time-$label" "$WORK/pss-$label" "$label" <<'EOF'
+import re, sys
+t = open(sys.argv[1]).read()
+def field(name):
+    return re.search(re.escape(name) + r":\s*(.+)", t).group(1).strip()
+wall = field("Elapsed (wall clock) time (h:mm:ss or m:ss)")
+parts = [float(p) for p in wall.split(":")]
+seconds = sum(p * 60 ** i for i, p in enumerate(reversed(parts)))
+cpu = float(field("User time (seconds)")) + float(field("System time (seconds)"))
+rss = int(field("Maximum resident set size (kbytes)")) / 1024
+pss = int(open(sys.argv[2]).read() or 0) / 1024
+print(f"  {sys.argv[3]:28s} wall {seconds:6.2f} s   cpu {cpu:6.2f} s   largest process {rss:5.0f} MB   peak PSS sum {pss:5.0f} MB")
+EOF
+}
+
+echo
+echo "1. one full submission (solutions/, 5 labs, 27 checks)"
+for cache in cold warm; do
+  export MESA_SHADER_CACHE_DIR="$WORK/mesa-cache"
+  [ "$cache" = cold ] && rm -rf "$MESA_SHADER_CACHE_DIR"
+  for jobs in 1 2; do
+    [ "$cache" = cold ] && rm -rf "$MESA_SHADER_CACHE_DIR"
+    measure "$cache-cache-jobs$jobs" "$GRADE" "$ROOT/solutions" --out "$WORK/one-$cache-$jobs" --jobs "$jobs"
+  done
+done
+
+echo
+echo "2. batch: 20 submissions (10 solutions, 10 starters), --jobs 2, warm cache"
+mkdir -p "$WORK/batch"
+for i in $(seq -w 1 10); do
+  cp -r "$ROOT/solutions" "$WORK/batch/solution-$i"
+  cp -r "$ROOT/labs" "$WORK/batch/starter-$i"
+done
+measure "batch-20-jobs2" "$GRADE" --batch "$WORK/batch" --out "$WORK/batch-out" --jobs 2
+"$PY" - "$WORK/time-batch-20-jobs2" <<'EOF'
+import re, sys
+t = open(sys.argv[1]).read()
+wall = re.search(r"Elapsed \(wall clock\) time \(h:mm:ss or m:ss\):\s*(\S+)", t).group(1)
+parts = [float(p) for p in wall.split(":")]
+seconds = sum(p * 60 ** i for i, p in enumerate(reversed(parts)))
+print(f"  throughput: {20 / seconds * 60:.1f} submissions per minute ({seconds / 20:.2f} s each)")
+EOF
+
+echo
+echo "3. where the time goes"
+mkdir -p "$WORK/empty"
+measure "parent only (empty folder)" "$GRADE" "$WORK/empty" --out "$WORK/empty-out" --jobs 1
+"$PY" - "$WORK/one-warm-1/summary.json" "$WORK/one-cold-1/summary.json" <<'EOF'
+import json, sys
+for path, label in zip(sys.argv[1:], ["warm cache, --jobs 1", "cold cache, --jobs 1"]):
+    s = json.load(open(path))
+    print(f"  {label}: execution {s['execution_time']:.2f} s")
+    print("    lab  child wall  cpu    context compile render readback | compare  rss MB  vm peak MB")
+    for n, lab in sorted(s["labs"].items()):
+        t, sec = lab["child_timings"], lab["seconds"]
+        print(f"    {n:3s}  {sec['child_wall']:9.3f}  {sec['child_cpu']:5.3f}  {t.get('context', 0):7.3f} {t.get('compile', 0):7.3f}"
+              f" {t.get('render', 0):6.3f} {t.get('readback', 0):8.3f} | {sec['compare']:7.3f}  {lab['child_max_rss_kib'] / 1024:6.0f}"
+              f"  {lab['child_vm_peak_kib'] / 1024:10.0f}")
+EOF

@@ -1,0 +1,432 @@
+#!/usr/bin/env python3
+"""./kit grade --self-check: does the grader catch plausible mistakes, and only those?
+
+Every entry of instructor/grading/catalogue.json edits a copy of one lab's reference
+solution (solutions/NN-name/) and grades that lab alone with kit-grade:
+
+  * a "mistake" passes when it loses points (status graded, score < max);
+  * an "equivalent" (correct, written differently) passes when it keeps full marks.
+
+Before the entries, the unchanged solution of every lab involved is graded too
+(rows "solution-unchanged"): it must get full marks, or every other row means
+nothing.
+
+A mistake may carry "known_gap": "why" when the kit's grader is known not to
+catch it yet (too few pixels change for its tolerances, no check renders the
+scene that shows it). It is still graded every time: while it is missed the row
+reads GAP, which is listed but not a failure; once the grader catches it the
+row reads OK and asks for the known_gap to be removed.
+
+Verdicts: OK; MISSED (a mistake kept full marks); FALSE-FAIL (an equivalent
+lost points); GAP (a mistake with a known_gap kept full marks); STALE (a `find`
+text does not occur exactly once in the solution: the entry must be updated);
+BROKEN (the edit does not compile, or grading ended in a status other than
+graded, so the entry tests nothing); ERROR (kit-grade did not run or left no
+summary.json).
+
+The entries of one lab are graded by one `kit-grade --batch` run (--jobs at a
+time), which saves a process start and the loading of the references per entry.
+
+Exit status: 0 when no row failed (GAP rows do not fail), 1 when one did, 2 on
+a usage or catalogue-file error.
+"""
+
+import argparse
+import concurrent.futures
+import json
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import textwrap
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+KINDS = ("mistake", "equivalent")
+REQUIRED = {"id": str, "lab": int, "kind": str, "description": str, "edits": list}
+
+
+class CatalogueError(Exception):
+    pass
+
+
+def load_catalogue(path):
+    try:
+        data = json.loads(Path(path).read_text(encoding="utf-8"))
+    except FileNotFoundError:
+        raise CatalogueError(f"catalogue not found: {path}")
+    except json.JSONDecodeError as e:
+        raise CatalogueError(f"{path} is not valid JSON: {e}")
+    entries = data.get("entries") if isinstance(data, dict) else None
+    if not isinstance(entries, list) or not entries:
+        raise CatalogueError(f"{path}: expected an object with a non-empty 'entries' list")
+    seen = set()
+    for i, e in enumerate(entries):
+        where = f"{path}: entry {i + 1}" + (f" ('{e.get('id')}')" if isinstance(e, dict) and e.get("id") else "")
+        if not isinstance(e, dict):
+            raise CatalogueError(f"{where}: not an object")
+        for key, typ in REQUIRED.items():
+            if not isinstance(e.get(key), typ) or isinstance(e.get(key), bool):
+                raise CatalogueError(f"{where}: '{key}' must be a {typ.__name__}")
+        if not re.fullmatch(r"[a-z0-9][a-z0-9-]*", e["id"]):
+            raise CatalogueError(f"{where}: id must be lower-case letters, digits and dashes")
+        if e["id"] in seen:
+            raise CatalogueError(f"{where}: duplicate id")
+        seen.add(e["id"])
+        if not 1 <= e["lab"] <= 5:
+            raise CatalogueError(f"{where}: lab must be 1..5")
+        if e["kind"] not in KINDS:
+            raise CatalogueError(f"{where}: kind must be one of {', '.join(KINDS)}")
+        if not e["edits"]:
+            raise CatalogueError(f"{where}: needs at least one edit")
+        if "known_gap" in e and (e["kind"] != "mistake" or not isinstance(e["known_gap"], str) or not e["known_gap"]):
+            raise CatalogueError(f"{where}: 'known_gap' is a non-empty reason, and only for mistakes")
+        for j, ed in enumerate(e["edits"]):
+            if not isinstance(ed, dict) or not all(isinstance(ed.get(k), str) for k in ("file", "find", "replace")):
+                raise CatalogueError(f"{where}: edit {j + 1} needs string 'file', 'find' and 'replace'")
+            if not ed["find"]:
+                raise CatalogueError(f"{where}: edit {j + 1} has an empty 'find'")
+            if ed["find"] == ed["replace"]:
+                raise CatalogueError(f"{where}: edit {j + 1} replaces a text with itself")
+            if "/" in ed["file"] or ed["file"].startswith("."):
+                raise CatalogueError(f"{where}: edit {j + 1}: 'file' is a file name inside the lab folder")
+    return data
+
+
+def lab_folder(solutions, lab):
+    found = sorted(p for p in solutions.glob(f"{lab:02d}-*") if p.is_dir())
+    if len(found) != 1:
+        raise CatalogueError(f"expected one folder {solutions}/{lab:02d}-*, found {len(found)}")
+    return found[0]
+
+
+def snippet(text, width=70):
+    one_line = text.replace("\n", "\\n")
+    return one_line if len(one_line) <= width else one_line[: width - 3] + "..."
+
+
+def apply_edits(entry, lab_dir):
+    """The lab's files with the entry's edits applied, or raises CatalogueError naming the stale edit."""
+    files = {p.name: p.read_text(encoding="utf-8") for p in lab_dir.iterdir() if p.is_file()}
+    rel = f"solutions/{lab_dir.name}"
+    for j, ed in enumerate(entry["edits"], 1):
+        if ed["file"] not in files:
+            raise CatalogueError(f"edit {j}: {rel}/{ed['file']} does not exist")
+        count = files[ed["file"]].count(ed["find"])
+        if count != 1:
+            raise CatalogueError(
+                f"edit {j}: the find text occurs {count} times in {rel}/{ed['file']} (must be exactly once; "
+                f"the solution changed?): \"{snippet(ed['find'])}\"")
+        files[ed["file"]] = files[ed["file"]].replace(ed["find"], ed["replace"])
+    return files
+
+
+class Row:
+    def __init__(self, entry_id, lab, kind, description, known_gap=None):
+        self.id, self.lab, self.kind, self.description = entry_id, lab, kind, description
+        self.known_gap = known_gap
+        self.score = self.max_score = None
+        self.status = ""
+        self.verdict = ""
+        self.details = []  # lines printed under the table (failed rows, known gaps)
+
+    @property
+    def passed(self):
+        return self.verdict == "OK"
+
+    @property
+    def failed(self):
+        return self.verdict not in ("OK", "GAP")
+
+
+def write_submission(folder, lab_name, files):
+    (folder / lab_name).mkdir(parents=True)
+    for name, text in files.items():
+        (folder / lab_name / name).write_text(text, encoding="utf-8")
+
+
+def run_kit_grade(cmd, timeout):
+    """(exit status, output tail) of one kit-grade run; status None when it ran over `timeout`."""
+    try:
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return None, [f"kit-grade ran over {timeout} s: {' '.join(cmd)}"]
+    except OSError as e:
+        return -1, [f"cannot run kit-grade: {e}"]
+    tail = (proc.stderr + proc.stdout).strip().splitlines()[-8:]
+    return proc.returncode, [f"kit-grade exited {proc.returncode}: {' '.join(cmd)}"] + tail
+
+
+def grade_lab_batch(lab, jobs, args, work):
+    """All of one lab's rows in one `kit-grade --batch` run (saves a process start per row)."""
+    batch, out = work / f"lab{lab}" / "submissions", work / f"lab{lab}" / "results"
+    for row, files, lab_name in jobs:
+        write_submission(batch / row.id, lab_name, files)
+    out.mkdir(parents=True)
+    cmd = [str(args.kit_grade), "--batch", str(batch), "--labs", str(lab), "--out", str(out),
+           "--jobs", str(args.jobs)]
+    status, tail = run_kit_grade(cmd, args.timeout + 10 * len(jobs))
+    for row, _, _ in jobs:
+        judge(row, out / row.id, status, tail, args, batch / row.id)
+
+
+def grade_one(row, files, lab_name, args, work):
+    """One row, one `kit-grade SUBMISSION` run (--no-batch)."""
+    folder = work / f"lab{row.lab}-{row.id}"
+    write_submission(folder / "submission", lab_name, files)
+    out = folder / "result"
+    out.mkdir(parents=True)
+    cmd = [str(args.kit_grade), str(folder / "submission"), "--labs", str(row.lab), "--out", str(out), "--jobs", "1"]
+    status, tail = run_kit_grade(cmd, args.timeout)
+    judge(row, out, status, tail, args, folder / "submission")
+
+
+def judge(row, out, status, tail, args, submission):
+    """Fills row's score and verdict from kit-grade's files in `out`."""
+    summary_path = out / "summary.json"
+    if status != 0 or not summary_path.exists():
+        row.verdict = "ERROR"
+        row.details = ([] if summary_path.exists() else [f"no {summary_path}"]) + tail
+        return
+    try:
+        lab = json.loads(summary_path.read_text())["labs"][str(row.lab)]
+        row.score, row.max_score, row.status = float(lab["score"]), float(lab["max_score"]), lab["status"]
+    except (ValueError, KeyError, TypeError) as e:
+        row.verdict = "ERROR"
+        row.details = [f"summary.json has no usable labs.{row.lab} entry ({e}): {summary_path}"]
+        return
+    tests = []
+    try:
+        tests = json.loads((out / "results.json").read_text()).get("tests", [])
+    except (OSError, ValueError):
+        pass
+    full = row.score >= row.max_score - 1e-9 and row.max_score > 0
+    if row.status != "graded":
+        row.verdict = "BROKEN"
+        message = lab.get("message", "") if isinstance(lab, dict) else ""
+        row.details = [f"grading ended with status '{row.status}', so this entry tests nothing "
+                       "(an edit that does not compile?)"] + [f"  {line}" for line in str(message).splitlines()[:6]]
+    elif row.kind == "mistake":
+        row.verdict = ("GAP" if row.known_gap else "MISSED") if full else "OK"
+        if full and row.known_gap:
+            row.details = [f"known gap: {row.known_gap}"]
+        elif not full and row.known_gap:
+            row.details = ["detected now: remove this entry's known_gap from the catalogue"]
+        elif full:
+            row.details = ["every test passed; the tests of this lab:"] + [
+                f"  {t.get('name')}: {t.get('score')}/{t.get('max_score')}" for t in lab_tests(tests, row.lab)]
+    else:
+        row.verdict = "OK" if full else "FALSE-FAIL"
+        if not full:
+            row.details = failing_tests(tests, row.lab, limit=6)
+    if args.keep:
+        row.details.append(f"kept: {submission} -> {out}")
+
+
+def lab_tests(tests, lab):
+    """This lab's tests (names conventionally mention the lab); all tests when none do."""
+    mine = [t for t in tests if re.search(rf"(?i)\blab\s*0?{lab}\b|\b0{lab}-", str(t.get("name", "")))]
+    return mine or tests
+
+
+def plain(test):
+    """A test's output as text (kit-grade writes Markdown: drop its backslash escapes)."""
+    text = str(test.get("output", ""))
+    if test.get("output_format") == "md":
+        text = re.sub(r"\\([\\`*_{}\[\]()#+\-.!|%<>~])", r"\1", text)
+    return text
+
+
+def failing_tests(tests, lab, limit):
+    lines = []
+    for t in lab_tests(tests, lab):
+        try:
+            lost = float(t.get("score", 0)) < float(t.get("max_score", 0)) - 1e-9
+        except (TypeError, ValueError):
+            lost = True
+        if lost:
+            first = (plain(t).strip().splitlines() or [""])[0]
+            lines.append(f"  {t.get('name')}: {t.get('score')}/{t.get('max_score')}  {snippet(first, 110)}")
+    if len(lines) > limit:
+        lines = lines[:limit] + [f"  ... and {len(lines) - limit} more"]
+    return lines
+
+
+def fmt_score(row):
+    if row.score is None:
+        return "-"
+    return f"{row.score:g}/{row.max_score:g}"
+
+
+def print_table(rows, wide):
+    desc_width = 10_000 if wide else 60
+    def cut(s):
+        return s if len(s) <= desc_width else s[: desc_width - 3] + "..."
+    header = ("id", "lab", "kind", "description", "score/max", "verdict")
+    cells = [header] + [(r.id, str(r.lab), r.kind, cut(r.description), fmt_score(r), r.verdict) for r in rows]
+    widths = [max(len(c[i]) for c in cells) for i in range(len(header))]
+    def line(c):
+        return " | ".join(c[i].ljust(widths[i]) if i < len(c) - 1 else c[i] for i in range(len(c)))
+    print(line(header))
+    print("-+-".join("-" * w for w in widths))
+    for c in cells[1:]:
+        print(line(c))
+
+
+def write_entry(entries, entry_id, dest, solutions):
+    """--write: entry_id's lab folder with its edits applied, as DEST/NN-name/; 0, or 2 with a message."""
+    found = [e for e in entries if e["id"] == entry_id]
+    try:
+        if not found:
+            raise CatalogueError(f"no catalogue entry '{entry_id}'")
+        lab_dir = lab_folder(solutions, found[0]["lab"])
+        write_submission(dest, lab_dir.name, apply_edits(found[0], lab_dir))
+    except (CatalogueError, OSError) as e:
+        print(f"self-check: {e}", file=sys.stderr)
+        return 2
+    return 0
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(
+        prog="kit grade --self-check",
+        description="Grades every entry of the mistake catalogue and prints the detection table.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+        epilog=textwrap.dedent("""\
+            verdicts: OK, MISSED (mistake kept full marks), FALSE-FAIL (equivalent lost points),
+                      GAP (mistake with a known_gap kept full marks: listed, not a failure),
+                      STALE (find text not exactly once), BROKEN (status not graded), ERROR (kit-grade failed)"""))
+    parser.add_argument("--kit-grade", type=Path, default=ROOT / "build" / "default" / "tools" / "kit-grade",
+                        help="the grader binary (default: build/default/tools/kit-grade)")
+    parser.add_argument("--catalogue", type=Path, default=ROOT / "instructor" / "grading" / "catalogue.json",
+                        help="the catalogue (default: instructor/grading/catalogue.json)")
+    parser.add_argument("--solutions", type=Path, default=ROOT / "solutions",
+                        help="the reference solutions the edits apply to (default: solutions/)")
+    parser.add_argument("--jobs", type=int, default=2, help="entries graded at the same time (default 2)")
+    parser.add_argument("--no-batch", action="store_true",
+                        help="one kit-grade run per entry instead of one --batch run per lab (slower)")
+    parser.add_argument("--lab", type=int, action="append", help="only this lab (repeatable)")
+    parser.add_argument("--only", action="append", metavar="TEXT", help="only entries whose id contains TEXT (repeatable)")
+    parser.add_argument("--validate", action="store_true",
+                        help="only check the catalogue against the solutions (no grading, no kit-grade needed)")
+    parser.add_argument("--no-baseline", action="store_true", help="skip grading the unchanged solutions")
+    parser.add_argument("--timeout", type=int, default=300,
+                        help="seconds one kit-grade run may take, plus 10 s per entry in a batch (default 300)")
+    parser.add_argument("--keep", action="store_true", help="keep the submissions and results (paths are printed)")
+    parser.add_argument("--wide", action="store_true", help="do not shorten descriptions")
+    parser.add_argument("--write", nargs=2, metavar=("ID", "DIR"),
+                        help="only write entry ID's lab folder, edits applied, to DIR/NN-name/ (no grading; "
+                             "instructor/handout_images.sh shows mistakes this way)")
+    args = parser.parse_args(argv)
+
+    started = time.monotonic()
+    try:
+        catalogue = load_catalogue(args.catalogue)
+    except CatalogueError as e:
+        print(f"self-check: {e}", file=sys.stderr)
+        return 2
+    entries = catalogue["entries"]
+    if args.write:
+        return write_entry(entries, args.write[0], Path(args.write[1]), args.solutions)
+    if args.lab:
+        entries = [e for e in entries if e["lab"] in args.lab]
+    if args.only:
+        entries = [e for e in entries if any(s in e["id"] for s in args.only)]
+    if not entries:
+        print("self-check: no catalogue entry matches the filters", file=sys.stderr)
+        return 2
+
+    # Apply every edit first: stale entries are reported without grading anything.
+    rows, jobs = [], []
+    labs = sorted({e["lab"] for e in entries})
+    try:
+        lab_dirs = {lab: lab_folder(args.solutions, lab) for lab in labs}
+    except CatalogueError as e:
+        print(f"self-check: {e}", file=sys.stderr)
+        return 2
+    if not args.no_baseline and not args.validate:
+        for lab in labs:
+            row = Row("solution-unchanged", lab, "equivalent", f"the reference solution of lab {lab}, unchanged")
+            files = {p.name: p.read_text(encoding="utf-8") for p in lab_dirs[lab].iterdir() if p.is_file()}
+            rows.append(row)
+            jobs.append((row, files, lab_dirs[lab].name))
+    for e in entries:
+        row = Row(e["id"], e["lab"], e["kind"], e["description"], e.get("known_gap"))
+        rows.append(row)
+        try:
+            files = apply_edits(e, lab_dirs[e["lab"]])
+        except CatalogueError as err:
+            row.verdict = "STALE"
+            row.details = [f"stale catalogue entry: {err}"]
+            continue
+        if args.validate:
+            row.verdict = "OK"
+        else:
+            jobs.append((row, files, lab_dirs[e["lab"]].name))
+
+    if jobs:
+        if not args.kit_grade.is_file() or not os.access(args.kit_grade, os.X_OK):
+            print(f"self-check: kit-grade not found at {args.kit_grade} (build it with ./kit setup, "
+                  "or pass --kit-grade PATH)", file=sys.stderr)
+            return 2
+        work = Path(tempfile.mkdtemp(prefix="kit-self-check-"))
+        try:
+            by_lab = {}
+            for job in jobs:
+                by_lab.setdefault(job[0].lab, []).append(job)
+            for lab, lab_jobs in sorted(by_lab.items()):
+                if sys.stderr.isatty():
+                    print(f"self-check: lab {lab}: grading {len(lab_jobs)} submissions", file=sys.stderr, flush=True)
+                if args.no_batch:
+                    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+                        list(pool.map(lambda j: grade_one(*j, args, work), lab_jobs))
+                else:
+                    grade_lab_batch(lab, lab_jobs, args, work)
+        except Exception as e:  # a bug or a full disk must still end in a table that says so
+            for row, _, _ in jobs:
+                if not row.verdict:
+                    row.verdict = "ERROR"
+                    row.details = [f"self-check stopped: {type(e).__name__}: {e}"]
+        finally:
+            if args.keep:
+                print(f"self-check: submissions and results kept in {work}")
+            else:
+                shutil.rmtree(work, ignore_errors=True)
+
+    print_table(rows, args.wide)
+    failed = [r for r in rows if r.failed]
+    noted = [r for r in rows if r.failed or r.verdict == "GAP" or (r.known_gap and r.verdict == "OK" and r.score is not None)]
+    if noted:
+        print()
+        for r in noted:
+            print(f"{r.verdict}: {r.id} (lab {r.lab}, {r.kind}) {fmt_score(r)}")
+            for d in r.details:
+                print(f"    {d}")
+    undetectable = catalogue.get("not_detectable", [])
+    if undetectable and not args.only:
+        shown = [u for u in undetectable if not args.lab or u.get("lab") in args.lab]
+        if shown:
+            print(f"\nNot in the catalogue because the kit's scenes cannot show them ({len(shown)}):")
+            for u in shown:
+                print(f"  lab {u.get('lab')}: {u.get('id')}: {u.get('reason')}")
+    mistakes = [r for r in rows if r.kind == "mistake"]
+    equivalents = [r for r in rows if r.kind == "equivalent"]
+    print()
+    if args.validate:
+        print(f"{len(rows) - len(failed)} passed, {len(failed)} failed (catalogue check only: entries whose edits"
+              f" apply exactly once to {args.solutions}; nothing was graded)")
+    else:
+        gaps = sum(r.verdict == "GAP" for r in rows)
+        print(f"{sum(r.passed for r in rows)} passed, {len(failed)} failed")
+        print(f"({sum(r.passed for r in mistakes)}/{len(mistakes)} mistakes detected"
+              f"{f', {gaps} known gaps not counted' if gaps else ''},"
+              f" {sum(r.passed for r in equivalents)}/{len(equivalents)} equivalents at full marks;"
+              f" {time.monotonic() - started:.0f} s)")
+    return 1 if failed else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

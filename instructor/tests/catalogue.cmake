@@ -1,0 +1,21 @@
+# The grader's self-check (instructor/grading/self_check.py): every entry of
+# instructor/grading/catalogue.json graded with this build's kit-grade. Plausible
+# mistakes must lose points and equivalent solutions must keep full marks.
+# Included from tests/CMakeLists.txt.
+if(TARGET kit-grade)
+  # Debian's interpreter (the script needs only the standard library), else any python3.
+  find_program(KIT_SELF_CHECK_PYTHON NAMES python3 PATHS /usr/bin NO_DEFAULT_PATH)
+  find_program(KIT_SELF_CHECK_PYTHON NAMES python3 REQUIRED)
+  # Seconds: every catalogue entry is applied to the solutions; a stale one is named at once.
+  add_test(NAME grade_catalogue_entries
+           COMMAND ${KIT_SELF_CHECK_PYTHON} ${CMAKE_SOURCE_DIR}/instructor/grading/self_check.py --validate)
+  # About a minute on two cores: one kit-grade --batch run per lab.
+  add_test(NAME grade_self_check
+           COMMAND ${KIT_SELF_CHECK_PYTHON} ${CMAKE_SOURCE_DIR}/instructor/grading/self_check.py
+                   --kit-grade $<TARGET_FILE:kit-grade> --jobs 2)
+  set_tests_properties(grade_self_check PROPERTIES
+    TIMEOUT 600
+    ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
+    # It keeps both cores busy: running other tests beside it only slows both down.
+    RUN_SERIAL TRUE)
+endif()

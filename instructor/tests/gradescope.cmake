@@ -1,0 +1,10 @@
+# The Gradescope autograder end to end: package, unpack into a simulated
+# /autograder, run run_autograder with this build's kit-grade, validate
+# results.json against Gradescope's schema (instructor/tests/gradescope_test.sh).
+if(TARGET kit-grade)
+  add_test(NAME gradescope_autograder
+           COMMAND bash ${CMAKE_CURRENT_SOURCE_DIR}/gradescope_test.sh $<TARGET_FILE:kit-grade>)
+  set_tests_properties(gradescope_autograder PROPERTIES
+    TIMEOUT 600
+    ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes")
+endif()

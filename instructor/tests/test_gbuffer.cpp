@@ -1,0 +1,539 @@
+// The G-buffer (framework/gbuffer.*, framework/shaders/gbuffer_layout.h) and what the
+// reference geometry pass (solutions/01-gbuffer) writes into it, checked pixel
+// by pixel against ray casts through the scene's camera in double precision.
+#include <gtest/gtest.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "error.h"
+#include "gbuffer.h"
+#include "gbuffer_layout.h"
+#include "kit_test.h"
+#include "kit_test_files.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr int kWidth = 160;
+constexpr int kHeight = 120;
+
+// RGBA16F keeps 11 significant bits: a stored value is within 2^-11 of its size,
+// so 2^-10 relative leaves room for the float arithmetic before the store.
+constexpr double kHalfRelative = 1.0 / 1024.0;
+// Absolute slack for the rasteriser's float interpolation at the pixel centre (the
+// floor's y, exactly 0, has no relative room).
+constexpr double kPositionSlack = 1e-4;
+// A unit vector stored as RGBA16F: each component off by at most 2^-11 of itself.
+constexpr double kUnitLengthTolerance = 1e-3;
+// The 64 x 32 UV sphere's flat triangles tilt the interpolated normal by well under this
+// (angle between the true sphere normal at the ray hit and the mesh normal).
+constexpr double kTessellationAngleDegrees = 1.5;
+// The sphere scene's UV sphere: 64 segments around, 32 rings from pole to pole. Its flat
+// triangles lie inside the sphere, no deeper than the cosine of half a grid cell's
+// angular diagonal (the widest cell is at the equator).
+constexpr int kSphereSegments = 64, kSphereRings = 32;
+const double kInscribedMinRadius =
+    std::cos(0.5 * std::hypot(2.0 * M_PI / kSphereSegments, M_PI / kSphereRings));
+// Pixels where the true sphere is seen at a grazing angle are left out: there the
+// tessellated silhouette departs from the true one.
+constexpr double kMinSphereFacing = 0.3;
+// RGBA8 albedo: rounding of the store plus the sRGB decode table of the driver.
+constexpr double kAlbedoTolerance = 2.0 / 255.0;
+// Metallic, roughness and emission are RGBA16F values in [0, 4].
+constexpr double kMaterialTolerance = 4.0 * kHalfRelative;
+// The debug view's target is RGBA32F: (n + 1) / 2 in float arithmetic.
+constexpr double kDebugViewTolerance = 1e-6;
+// 24-bit window depth: a few 2^-24 steps of storage plus float interpolation.
+constexpr double kWindowDepthTolerance = 1e-6;
+// Linearised depth: deviation from a straight line in view-space distance. Reading
+// the depth back through the 24-bit store costs ~1e-5 here; showing window depth
+// itself would deviate by ~5e-3 (and by ~0.3 once stretched to [0, 1]).
+constexpr double kDepthLinearityTolerance = 1e-4;
+
+struct Ray {
+  glm::dvec3 origin, direction;  // direction is unit length
+};
+
+// The scene camera of a kWidth x kHeight render, rebuilt in double from the scene's camera.
+struct CpuCamera {
+  glm::dmat4 view, view_projection, inverse_view_projection;
+
+  explicit CpuCamera(const kit::Camera& camera) {
+    view = glm::dmat4(camera.view);
+    glm::dmat4 projection = glm::perspective(static_cast<double>(camera.yfov), static_cast<double>(kWidth) / kHeight,
+                                             static_cast<double>(camera.znear), static_cast<double>(camera.zfar));
+    view_projection = projection * view;
+    inverse_view_projection = glm::inverse(view_projection);
+  }
+
+  // The ray through the centre of image pixel (x, y); image row 0 is the top row.
+  Ray pixel_ray(int x, int y) const {
+    glm::dvec2 ndc((x + 0.5) / kWidth * 2.0 - 1.0, 1.0 - (y + 0.5) / kHeight * 2.0);
+    glm::dvec4 near_point = inverse_view_projection * glm::dvec4(ndc, -1.0, 1.0);
+    glm::dvec4 far_point = inverse_view_projection * glm::dvec4(ndc, 1.0, 1.0);
+    glm::dvec3 a = glm::dvec3(near_point) / near_point.w, b = glm::dvec3(far_point) / far_point.w;
+    return {a, glm::normalize(b - a)};
+  }
+
+  // The image pixel (x, y) a world point projects into.
+  std::pair<int, int> pixel_of(const glm::dvec3& p) const {
+    glm::dvec4 clip = view_projection * glm::dvec4(p, 1.0);
+    return {static_cast<int>(std::floor((clip.x / clip.w + 1.0) * 0.5 * kWidth)),
+            static_cast<int>(std::floor((1.0 - clip.y / clip.w) * 0.5 * kHeight))};
+  }
+  // GL window depth in [0, 1] of a world point (default depth range).
+  double window_depth(const glm::dvec3& p) const {
+    glm::dvec4 clip = view_projection * glm::dvec4(p, 1.0);
+    return 0.5 * clip.z / clip.w + 0.5;
+  }
+  // Distance in front of the camera along its viewing axis.
+  double view_depth(const glm::dvec3& p) const { return -(view * glm::dvec4(p, 1.0)).z; }
+};
+
+kit::RenderSettings small_settings() {
+  kit::RenderSettings s;
+  s.width = kWidth;
+  s.height = kHeight;
+  return s;
+}
+
+glm::dvec4 pixel(const kit::Image& image, int x, int y) {
+  glm::dvec4 v(0.0);
+  for (int c = 0; c < std::min(image.channels, 4); ++c) v[c] = image.at(x, y, c);
+  return v;
+}
+
+// Entry (t) of a ray into an axis-aligned box, if it meets the box in front of the origin.
+std::optional<double> ray_box_entry(const Ray& ray, const glm::dvec3& lo, const glm::dvec3& hi) {
+  double t_min = 0.0, t_max = std::numeric_limits<double>::infinity();
+  for (int a = 0; a < 3; ++a) {
+    if (ray.direction[a] == 0.0) {
+      if (ray.origin[a] < lo[a] || ray.origin[a] > hi[a]) return std::nullopt;
+      continue;
+    }
+    double t0 = (lo[a] - ray.origin[a]) / ray.direction[a], t1 = (hi[a] - ray.origin[a]) / ray.direction[a];
+    t_min = std::max(t_min, std::min(t0, t1));
+    t_max = std::min(t_max, std::max(t0, t1));
+  }
+  if (t_min > t_max) return std::nullopt;
+  return t_min;
+}
+
+// World-space bounding box of a draw (its primitive's bounds through its world matrix).
+std::pair<glm::dvec3, glm::dvec3> world_box(const kit::Scene& scene, const kit::DrawItem& d) {
+  const kit::Primitive& p = scene.primitives[static_cast<size_t>(d.primitive)];
+  glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  for (int corner = 0; corner < 8; ++corner) {
+    glm::dvec3 c((corner & 1) ? p.bounds_max.x : p.bounds_min.x, (corner & 2) ? p.bounds_max.y : p.bounds_min.y,
+                 (corner & 4) ? p.bounds_max.z : p.bounds_min.z);
+    glm::dvec3 w(glm::dmat4(d.world) * glm::dvec4(c, 1.0));
+    lo = glm::min(lo, w);
+    hi = glm::max(hi, w);
+  }
+  return {lo, hi};
+}
+
+bool is_mesh(const kit::Scene& scene, const kit::DrawItem& d, const std::string& mesh_name) {
+  return scene.primitives[static_cast<size_t>(d.primitive)].name.find("('" + mesh_name + "')") != std::string::npos;
+}
+
+const kit::DrawItem& draw_of(const kit::Scene& scene, const std::string& mesh_name) {
+  for (const kit::DrawItem& d : scene.draws)
+    if (is_mesh(scene, d, mesh_name)) return d;
+  throw std::runtime_error("no draw of mesh '" + mesh_name + "' in " + scene.path);
+}
+
+// Where (t) a ray meets the plane y = 0 in front of its origin.
+std::optional<double> ground_hit(const Ray& ray) {
+  if (ray.direction.y >= 0.0) return std::nullopt;
+  return -ray.origin.y / ray.direction.y;
+}
+
+// A pixel whose centre ray meets the floor (the plane y = 0) before any other draw's box.
+struct FloorPixel {
+  int x, y;
+  glm::dvec3 hit;
+};
+
+// Floor pixels of a scene whose floor is the mesh "floor" lying in y = 0, keeping
+// `margin` metres away from the floor's edges.
+std::vector<FloorPixel> visible_floor(const kit::Scene& scene, const CpuCamera& camera, double margin) {
+  auto [floor_lo, floor_hi] = world_box(scene, draw_of(scene, "floor"));
+  EXPECT_EQ(floor_lo.y, 0.0);
+  EXPECT_EQ(floor_hi.y, 0.0);
+  std::vector<FloorPixel> out;
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      Ray ray = camera.pixel_ray(x, y);
+      std::optional<double> t = ground_hit(ray);
+      if (!t) continue;
+      glm::dvec3 hit = ray.origin + *t * ray.direction;
+      if (hit.x < floor_lo.x + margin || hit.x > floor_hi.x - margin || hit.z < floor_lo.z + margin ||
+          hit.z > floor_hi.z - margin)
+        continue;
+      bool occluded = false;
+      for (const kit::DrawItem& d : scene.draws) {
+        if (is_mesh(scene, d, "floor")) continue;
+        auto [lo, hi] = world_box(scene, d);
+        std::optional<double> entry = ray_box_entry(ray, lo, hi);
+        if (entry && *entry < *t) occluded = true;
+      }
+      if (!occluded) out.push_back({x, y, hit});
+    }
+  }
+  return out;
+}
+
+double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+
+json scene_json(const kit::Scene& scene) { return json::parse(kit::test::read_file(scene.path)); }
+
+// The glTF material (JSON) of the node named `node_name`'s first primitive.
+const json& material_of_node(const json& doc, const std::string& node_name) {
+  for (const json& node : doc["nodes"])
+    if (node.value("name", "") == node_name && node.contains("mesh"))
+      return doc["materials"][doc["meshes"][node["mesh"].get<size_t>()]["primitives"][0]["material"].get<size_t>()];
+  throw std::runtime_error("no mesh node '" + node_name + "'");
+}
+
+// ---------------------------------------------------------------------------
+// Formats and completeness
+
+GLint texture_parameter(const kit::Texture2D& texture, GLenum parameter) {
+  GLint value = 0;
+  glBindTexture(GL_TEXTURE_2D, texture.id());
+  glGetTexLevelParameteriv(GL_TEXTURE_2D, 0, parameter, &value);
+  return value;
+}
+
+// Bytes a texel of `texture` takes: its channel bits, in whole 32-bit words (a 24-bit
+// depth texel is stored in a 32-bit word).
+int texel_bytes(const kit::Texture2D& texture) {
+  int bits = 0;
+  for (GLenum p : {GL_TEXTURE_RED_SIZE, GL_TEXTURE_GREEN_SIZE, GL_TEXTURE_BLUE_SIZE, GL_TEXTURE_ALPHA_SIZE,
+                   GL_TEXTURE_DEPTH_SIZE})
+    bits += texture_parameter(texture, p);
+  return (bits + 31) / 32 * 4;
+}
+
+void expect_gbuffer_shape(const kit::GBuffer& g, int width, int height) {
+  EXPECT_EQ(g.framebuffer().incomplete_reason(), "");
+  EXPECT_EQ(g.width(), width);
+  EXPECT_EQ(g.height(), height);
+  for (int i = 0; i < KIT_GBUF_COUNT; ++i) {
+    const kit::Texture2D& t = g.attachment(i);
+    EXPECT_EQ(texture_parameter(t, GL_TEXTURE_WIDTH), width) << kit::GBuffer::attachment_name(i);
+    EXPECT_EQ(texture_parameter(t, GL_TEXTURE_HEIGHT), height) << kit::GBuffer::attachment_name(i);
+    EXPECT_EQ(static_cast<GLenum>(texture_parameter(t, GL_TEXTURE_INTERNAL_FORMAT)),
+              kit::GBuffer::attachment_format(i).internal_format)
+        << kit::GBuffer::attachment_name(i);
+  }
+  EXPECT_EQ(texture_parameter(g.depth(), GL_TEXTURE_WIDTH), width);
+  EXPECT_EQ(texture_parameter(g.depth(), GL_TEXTURE_HEIGHT), height);
+  EXPECT_EQ(static_cast<GLenum>(texture_parameter(g.depth(), GL_TEXTURE_INTERNAL_FORMAT)),
+            kit::GBuffer::depth_format().internal_format);
+}
+
+TEST(gbuffer_formats, EachAttachmentIsCompleteAlone) {
+  kit::test::context();
+  for (int i = 0; i < KIT_GBUF_COUNT; ++i) {
+    kit::Texture2D texture(kWidth, kHeight, kit::GBuffer::attachment_format(i));
+    kit::Framebuffer fbo;
+    fbo.attach_color(0, texture);
+    fbo.set_draw_buffers(1);
+    EXPECT_EQ(fbo.incomplete_reason(), "") << kit::GBuffer::attachment_name(i);
+  }
+  kit::Texture2D depth(kWidth, kHeight, kit::GBuffer::depth_format());
+  kit::Framebuffer fbo;
+  fbo.attach_depth(depth);
+  glDrawBuffer(GL_NONE);  // a depth-only framebuffer draws no colour
+  glReadBuffer(GL_NONE);
+  EXPECT_EQ(fbo.incomplete_reason(), "") << "depth";
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  EXPECT_THROW(kit::GBuffer::attachment_format(KIT_GBUF_COUNT), kit::Error);
+}
+
+TEST(gbuffer_formats, AllTogetherAndAfterResize) {
+  kit::test::context();
+  kit::GBuffer g(kWidth, kHeight);
+  expect_gbuffer_shape(g, kWidth, kHeight);
+  g.resize(kWidth / 2 + 3, kHeight * 2);  // odd size, other aspect
+  expect_gbuffer_shape(g, kWidth / 2 + 3, kHeight * 2);
+  g.resize(1, 1);
+  expect_gbuffer_shape(g, 1, 1);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+TEST(gbuffer_formats, BytesPerPixelMatchTheFormats) {
+  kit::test::context();
+  kit::GBuffer g(4, 4);
+  int bytes = texel_bytes(g.depth());
+  for (int i = 0; i < KIT_GBUF_COUNT; ++i) bytes += texel_bytes(g.attachment(i));
+  EXPECT_EQ(kit::GBuffer::bytes_per_pixel(), bytes);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+TEST(gbuffer_formats, GeometryPassClearsToBackground) {
+  kit::test::context();
+  kit::GBuffer g(8, 6);
+  g.begin_geometry_pass();
+  for (int i = 0; i < KIT_GBUF_COUNT; ++i) {
+    kit::Image image = kit::read_texture(g.attachment(i));
+    for (float v : image.pixels) ASSERT_EQ(v, 0.0f) << kit::GBuffer::attachment_name(i);
+  }
+  kit::Image depth = kit::read_texture(g.depth(), true);
+  for (float v : depth.pixels) ASSERT_EQ(v, 1.0f);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+// ---------------------------------------------------------------------------
+// Contents written by the reference geometry pass
+
+TEST(gbuffer_contents, FloorPositionAndDepthMatchRayCasts) {
+  auto renderer = kit::test::render_stage("gbuffer", "default", small_settings());
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  const kit::Scene& scene = renderer->scene();
+  CpuCamera camera(*scene.camera);
+  kit::Image position = renderer->read_view(kit::View::Position, true);
+  kit::Image depth = renderer->read_view(kit::View::Depth, true);
+  kit::Image material = renderer->read_view(kit::View::Material, true);
+  kit::Image depth_view = renderer->read_view(kit::View::Depth, false);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+
+  constexpr double kEdgeMargin = 0.05;  // metres kept from the floor's edges
+  std::vector<FloorPixel> floor = visible_floor(scene, camera, kEdgeMargin);
+  ASSERT_GT(floor.size(), static_cast<size_t>(kWidth * kHeight / 10)) << "too few floor pixels to test";
+  for (const FloorPixel& f : floor) {
+    glm::dvec4 p = pixel(position, f.x, f.y);
+    for (int c = 0; c < 3; ++c)
+      ASSERT_NEAR(p[c], f.hit[c], kHalfRelative * std::fabs(f.hit[c]) + kPositionSlack)
+          << "pixel (" << f.x << ", " << f.y << ") axis " << c;
+    ASSERT_EQ(p.a, 1.0) << "pixel (" << f.x << ", " << f.y << ")";
+    ASSERT_EQ(pixel(material, f.x, f.y).a, 1.0) << "mask at (" << f.x << ", " << f.y << ")";
+    ASSERT_NEAR(depth.at(f.x, f.y, 0), camera.window_depth(f.hit), kWindowDepthTolerance)
+        << "pixel (" << f.x << ", " << f.y << ")";
+  }
+
+  // The depth view is linear in view-space distance: fit shown = a + b * distance over
+  // the floor pixels; every residual is small and b > 0 (farther is brighter).
+  double sz = 0, sc = 0, szz = 0, szc = 0;
+  for (const FloorPixel& f : floor) {
+    double z = camera.view_depth(f.hit), c = depth_view.at(f.x, f.y, 0);
+    sz += z, sc += c, szz += z * z, szc += z * c;
+  }
+  double n = static_cast<double>(floor.size());
+  double slope = (n * szc - sz * sc) / (n * szz - sz * sz), offset = (sc - slope * sz) / n;
+  EXPECT_GT(slope, 0.0);
+  for (const FloorPixel& f : floor) {
+    double c = depth_view.at(f.x, f.y, 0);
+    ASSERT_GT(c, 0.0);  // inside the unclamped range, so the fit means something
+    ASSERT_LT(c, 1.0);
+    ASSERT_NEAR(c, offset + slope * camera.view_depth(f.hit), kDepthLinearityTolerance)
+        << "pixel (" << f.x << ", " << f.y << ")";
+  }
+  // Two known pixels: the nearest and the farthest floor point keep their order.
+  auto by_distance = [&](const FloorPixel& a, const FloorPixel& b) { return camera.view_depth(a.hit) < camera.view_depth(b.hit); };
+  const FloorPixel& nearest = *std::min_element(floor.begin(), floor.end(), by_distance);
+  const FloorPixel& farthest = *std::max_element(floor.begin(), floor.end(), by_distance);
+  EXPECT_LT(depth_view.at(nearest.x, nearest.y, 0), depth_view.at(farthest.x, farthest.y, 0));
+}
+
+TEST(gbuffer_contents, FloorAlbedoIsFactorTimesDecodedTexel) {
+  auto renderer = kit::test::render_stage("gbuffer", "default", small_settings());
+  const kit::Scene& scene = renderer->scene();
+  CpuCamera camera(*scene.camera);
+  kit::Image albedo = renderer->read_view(kit::View::Albedo, true);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+
+  // The floor's material and texture file, from the glTF JSON.
+  json doc = scene_json(scene);
+  const json& material = material_of_node(doc, "floor");
+  glm::dvec4 factor(1.0);
+  const json& pbr = material["pbrMetallicRoughness"];
+  if (pbr.contains("baseColorFactor"))
+    for (int c = 0; c < 4; ++c) factor[c] = pbr["baseColorFactor"][static_cast<size_t>(c)].get<double>();
+  size_t texture = pbr["baseColorTexture"]["index"].get<size_t>();
+  std::string uri = doc["images"][doc["textures"][texture]["source"].get<size_t>()]["uri"];
+  kit::Image texels = kit::read_image((fs::path(scene.path).parent_path() / uri).string());
+  ASSERT_GT(texels.width, 0);
+
+  // The floor's UV mapping, from its mesh as loaded: an affine map of the local position,
+  // solved on the first triangle (p = p0 + s e1 + t e2  ->  uv = uv0 + s du1 + t du2).
+  const kit::DrawItem& floor_draw = draw_of(scene, "floor");
+  const kit::Primitive& prim = scene.primitives[static_cast<size_t>(floor_draw.primitive)];
+  const kit::Vertex& v0 = prim.vertices[prim.indices[0]];
+  const kit::Vertex& v1 = prim.vertices[prim.indices[1]];
+  const kit::Vertex& v2 = prim.vertices[prim.indices[2]];
+  glm::dvec3 e1 = glm::dvec3(v1.position - v0.position), e2 = glm::dvec3(v2.position - v0.position);
+  glm::dmat4 to_local = glm::inverse(glm::dmat4(floor_draw.world));
+  auto uv_at = [&](const glm::dvec3& world) {
+    glm::dvec3 q = glm::dvec3(to_local * glm::dvec4(world, 1.0)) - glm::dvec3(v0.position);
+    double a = glm::dot(e1, e1), b = glm::dot(e1, e2), c = glm::dot(e2, e2);
+    double det = a * c - b * b;
+    double s = (c * glm::dot(e1, q) - b * glm::dot(e2, q)) / det, t = (a * glm::dot(e2, q) - b * glm::dot(e1, q)) / det;
+    return glm::dvec2(v0.texcoord) + s * glm::dvec2(v1.texcoord - v0.texcoord) + t * glm::dvec2(v2.texcoord - v0.texcoord);
+  };
+  // The map reproduces every vertex's UV (the quad is affinely mapped); only double
+  // round-off separates them.
+  constexpr double kAffineMapTolerance = 1e-9;
+  for (const kit::Vertex& v : prim.vertices)
+    ASSERT_NEAR(glm::distance(uv_at(glm::dvec3(glm::dmat4(floor_draw.world) * glm::dvec4(glm::dvec3(v.position), 1.0))),
+                              glm::dvec2(v.texcoord)),
+                0.0, kAffineMapTolerance);
+
+  auto wrap = [](long i, int size) { return static_cast<int>(((i % size) + size) % size); };
+  const glm::dvec2 texture_size(texels.width, texels.height);
+  // Continuous texel coordinates where a pixel's centre ray meets the floor (v = 0 is
+  // the top row, as in the image file); none when the ray misses the plane.
+  auto texel_at = [&](int x, int y) -> std::optional<glm::dvec2> {
+    Ray ray = camera.pixel_ray(x, y);
+    std::optional<double> t = ground_hit(ray);
+    if (!t) return std::nullopt;
+    return uv_at(ray.origin + *t * ray.direction) * texture_size;
+  };
+  // Trilinear filtering at level L reads texels up to 1.5 texels of level L + 1 (2^(L+1)
+  // base texels each) from the sample; L grows with the pixel's footprint. Keep pixels
+  // whose sample has at least that margin of one uniform colour around it.
+  constexpr double kFootprintSafety = 1.5;  // drivers estimate the footprint coarsely
+  size_t tested = 0;
+  for (const FloorPixel& f : visible_floor(scene, camera, 0.0)) {
+    if (f.x + 1 >= kWidth || f.y + 1 >= kHeight) continue;
+    std::optional<glm::dvec2> here = texel_at(f.x, f.y), right = texel_at(f.x + 1, f.y), down = texel_at(f.x, f.y + 1);
+    if (!here || !right || !down) continue;
+    double footprint = std::max(glm::length(*right - *here), glm::length(*down - *here)) * kFootprintSafety;
+    int level = footprint > 1.0 ? static_cast<int>(std::floor(std::log2(footprint))) : 0;
+    long margin = static_cast<long>(std::ceil(1.5 * std::ldexp(1.0, level + 1))) + 1;
+    long cx = static_cast<long>(std::floor(here->x)), cy = static_cast<long>(std::floor(here->y));
+    const int centre_x = wrap(cx, texels.width), centre_y = wrap(cy, texels.height);
+    bool uniform = margin < std::min(texels.width, texels.height) / 2;
+    for (long dy = -margin; uniform && dy <= margin; ++dy)
+      for (long dx = -margin; uniform && dx <= margin; ++dx)
+        for (int c = 0; c < 3; ++c)
+          if (texels.at(wrap(cx + dx, texels.width), wrap(cy + dy, texels.height), c) != texels.at(centre_x, centre_y, c))
+            uniform = false;
+    if (!uniform) continue;
+    for (int c = 0; c < 3; ++c) {
+      double expected = factor[c] * srgb_to_linear(texels.at(centre_x, centre_y, c));
+      ASSERT_NEAR(albedo.at(f.x, f.y, c), expected, kAlbedoTolerance)
+          << "pixel (" << f.x << ", " << f.y << ") channel " << c << " texel (" << centre_x << ", " << centre_y << ")";
+    }
+    ++tested;
+  }
+  constexpr size_t kMinTestedPixels = 50;
+  EXPECT_GE(tested, kMinTestedPixels) << "too few floor pixels lie well inside a checker square";
+}
+
+TEST(gbuffer_contents, KnownSpheresMaterial) {
+  auto renderer = kit::test::render_stage("gbuffer", "default", small_settings());
+  const kit::Scene& scene = renderer->scene();
+  CpuCamera camera(*scene.camera);
+  kit::Image material = renderer->read_view(kit::View::Material, true);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+  json doc = scene_json(scene);
+  // Metallic and roughness of a gold and a dielectric sphere, emission of the glowing one,
+  // at the pixel their centre projects into.
+  for (const std::string node : {"sphere_gold_r50", "sphere_dielectric_r25", "sphere_gold_r100", "emissive_sphere"}) {
+    const json& m = material_of_node(doc, node);
+    const json& pbr = m["pbrMetallicRoughness"];
+    double metallic = pbr.value("metallicFactor", 1.0), roughness = pbr.value("roughnessFactor", 1.0);
+    double emission = 0.0;
+    for (const json& e : m.value("emissiveFactor", json::array({0.0, 0.0, 0.0}))) emission = std::max(emission, e.get<double>());
+    if (m.contains("extensions") && m["extensions"].contains("KHR_materials_emissive_strength"))
+      emission *= m["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"].get<double>();
+    auto [x, y] = camera.pixel_of(glm::dvec3(draw_of(scene, node).world[3]));
+    ASSERT_TRUE(x >= 0 && x < kWidth && y >= 0 && y < kHeight) << node;
+    glm::dvec4 got = pixel(material, x, y);
+    EXPECT_NEAR(got.r, metallic, kMaterialTolerance) << node;
+    EXPECT_NEAR(got.g, roughness, kMaterialTolerance) << node;
+    EXPECT_NEAR(got.b, emission, kMaterialTolerance * std::max(1.0, emission)) << node;
+    EXPECT_EQ(got.a, 1.0) << node;
+  }
+}
+
+TEST(gbuffer_contents, SphereNormalsMaskAndDebugView) {
+  // The sphere scene: one 64 x 32 UV sphere of radius 1 at the origin.
+  const glm::dvec3 kCentre(0.0);
+  constexpr double kRadius = 1.0;
+  auto renderer = kit::test::render_stage("gbuffer", "sphere", small_settings());
+  const kit::Scene& scene = renderer->scene();
+  ASSERT_EQ(scene.draws.size(), 1u);
+  auto [lo, hi] = world_box(scene, scene.draws[0]);
+  ASSERT_NEAR(glm::distance(lo, kCentre - kRadius), 0.0, 1e-6);
+  ASSERT_NEAR(glm::distance(hi, kCentre + kRadius), 0.0, 1e-6);
+  CpuCamera camera(*scene.camera);
+  kit::Image position = renderer->read_view(kit::View::Position, true);
+  kit::Image normal = renderer->read_view(kit::View::Normal, true);
+  kit::Image albedo = renderer->read_view(kit::View::Albedo, true);
+  kit::Image material = renderer->read_view(kit::View::Material, true);
+  kit::Image normal_view = renderer->read_view(kit::View::Normal, false);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+
+  json doc = scene_json(scene);
+  const json& m = material_of_node(doc, "sphere");
+  const json& pbr = m["pbrMetallicRoughness"];
+  glm::dvec3 base_color(pbr["baseColorFactor"][0], pbr["baseColorFactor"][1], pbr["baseColorFactor"][2]);
+  const double metallic = pbr.value("metallicFactor", 1.0), roughness = pbr.value("roughnessFactor", 1.0);
+
+  // Rays passing this far outside / inside the radius are clearly background / sphere.
+  constexpr double kOutside = 1.02, kInside = 0.98;
+  const double max_angle = glm::radians(kTessellationAngleDegrees);
+  size_t sphere_pixels = 0, background_pixels = 0;
+  for (int y = 0; y < kHeight; ++y) {
+    for (int x = 0; x < kWidth; ++x) {
+      Ray ray = camera.pixel_ray(x, y);
+      glm::dvec3 to_centre = kCentre - ray.origin;
+      double along = glm::dot(to_centre, ray.direction);
+      double miss = glm::length(to_centre - along * ray.direction) / kRadius;  // closest approach / radius
+      glm::dvec4 mat = pixel(material, x, y);
+      if (miss > kOutside) {
+        ASSERT_EQ(mat.a, 0.0) << "background pixel (" << x << ", " << y << ") has mask " << mat.a;
+        ASSERT_EQ(pixel(position, x, y), glm::dvec4(0.0)) << "background pixel (" << x << ", " << y << ")";
+        ASSERT_EQ(pixel(normal_view, x, y), glm::dvec4(0.0, 0.0, 0.0, 1.0)) << "background pixel (" << x << ", " << y << ")";
+        ++background_pixels;
+        continue;
+      }
+      if (miss > kInside) continue;
+      ASSERT_EQ(mat.a, 1.0) << "sphere pixel (" << x << ", " << y << ")";
+      double t = along - std::sqrt(kRadius * kRadius - glm::dot(to_centre, to_centre) + along * along);
+      glm::dvec3 hit = ray.origin + t * ray.direction;
+      glm::dvec3 expected = glm::normalize(hit - kCentre);
+      if (-glm::dot(expected, ray.direction) < kMinSphereFacing) continue;
+      ++sphere_pixels;
+      glm::dvec3 n(pixel(normal, x, y));
+      ASSERT_NEAR(glm::length(n), 1.0, kUnitLengthTolerance) << "pixel (" << x << ", " << y << ")";
+      double angle = std::acos(std::clamp(glm::dot(glm::normalize(n), expected), -1.0, 1.0));
+      ASSERT_LT(angle, max_angle) << "pixel (" << x << ", " << y << "): normal off by " << glm::degrees(angle) << " degrees";
+      // The stored point lies on the inscribed mesh: inside the sphere, close to it.
+      double radial = glm::distance(glm::dvec3(pixel(position, x, y)), kCentre);
+      ASSERT_LE(radial, kRadius * (1.0 + kHalfRelative)) << "pixel (" << x << ", " << y << ")";
+      ASSERT_GE(radial, kRadius * kInscribedMinRadius * (1.0 - kHalfRelative)) << "pixel (" << x << ", " << y << ")";
+      // No texture: albedo and material are the factors.
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(albedo.at(x, y, c), base_color[c], kAlbedoTolerance) << "pixel (" << x << ", " << y << ")";
+      ASSERT_NEAR(mat.r, metallic, kMaterialTolerance);
+      ASSERT_NEAR(mat.g, roughness, kMaterialTolerance);
+      ASSERT_EQ(mat.b, 0.0);
+      // The normal debug view maps the raw normal as (n + 1) / 2.
+      for (int c = 0; c < 3; ++c)
+        ASSERT_NEAR(normal_view.at(x, y, c), (n[c] + 1.0) * 0.5, kDebugViewTolerance) << "pixel (" << x << ", " << y << ")";
+    }
+  }
+  EXPECT_GT(sphere_pixels, static_cast<size_t>(kWidth * kHeight / 10));
+  EXPECT_GT(background_pixels, static_cast<size_t>(kWidth * kHeight / 10));
+}
+
+}  // namespace

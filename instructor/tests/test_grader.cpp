@@ -1,0 +1,385 @@
+// kit-grade end to end: the binary is run on submissions built here in temp
+// folders from copies of solutions/ and labs/ (big and binary files are made
+// at test time). Each kit-grade run is shared by many assertions, and several
+// broken labs that do not interact sit in one submission, so the suite stays
+// well under two minutes.
+#include <cmath>
+#include <nlohmann/json.hpp>
+
+#include <fstream>
+#include <map>
+#include <set>
+
+#include "kit_test.h"
+#include "stages.h"
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+constexpr int kLabCount = 5;
+// Short wall-clock limit for the run holding the endless loop.
+constexpr int kShortTimeoutSeconds = 5;
+
+struct GradeRun {
+  int exit_code = -1;
+  std::string output;
+  json results, summary;
+  fs::path out;
+};
+
+std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+
+json read_json(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) return json();
+  try {
+    return json::parse(in);
+  } catch (const json::exception&) {
+    return json("not valid JSON");
+  }
+}
+
+// Runs kit-grade (two labs at a time unless `extra` says otherwise).
+GradeRun grade(const fs::path& submission, const std::string& name, const std::string& extra = "") {
+  GradeRun r;
+  r.out = kit::test::temp_dir("grader-out-" + name);
+  r.exit_code = kit::test::run(kit::test::tool("kit-grade") + " " + quoted(submission) + " --out " + quoted(r.out) +
+                                   " --jobs 2 " + extra,
+                               &r.output);
+  r.results = read_json(r.out / "results.json");
+  r.summary = read_json(r.out / "summary.json");
+  return r;
+}
+
+// Copies a lab folder (NN-name) of solutions/ or labs/ into `root`.
+void copy_lab(const std::string& from, int lab, const fs::path& root) {
+  const std::string folder = kit::find_stage(std::to_string(lab)).folder;
+  fs::create_directories(root / folder);
+  fs::copy(kit::kit_root() / from / folder, root / folder,
+           fs::copy_options::recursive | fs::copy_options::overwrite_existing);
+}
+
+void write_file(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+// Replaces the only occurrence of `find` in a file (fails the test when it is not there once).
+void edit(const fs::path& path, const std::string& find, const std::string& replace) {
+  std::string text = read_file(path);
+  size_t at = text.find(find);
+  ASSERT_NE(at, std::string::npos) << path << " has no '" << find << "'";
+  ASSERT_EQ(text.find(find, at + 1), std::string::npos) << path << " has '" << find << "' twice";
+  write_file(path, text.replace(at, find.size(), replace));
+}
+
+// Gradescope's results.json: the keys and types its autograder reads.
+void expect_gradescope_schema(const json& r) {
+  ASSERT_TRUE(r.is_object()) << r.dump();
+  EXPECT_TRUE(r["score"].is_number());
+  EXPECT_TRUE(r["execution_time"].is_number());
+  EXPECT_TRUE(r["output"].is_string());
+  ASSERT_TRUE(r["tests"].is_array());
+  EXPECT_FALSE(r["tests"].empty());
+  double sum = 0.0, max_sum = 0.0;
+  for (const json& t : r["tests"]) {
+    ASSERT_TRUE(t.is_object());
+    EXPECT_TRUE(t["name"].is_string());
+    EXPECT_TRUE(t["score"].is_number());
+    EXPECT_TRUE(t["max_score"].is_number());
+    EXPECT_TRUE(t["status"] == "passed" || t["status"] == "failed") << t.dump();
+    EXPECT_TRUE(t["output"].is_string());
+    EXPECT_EQ(t["output_format"], "md");
+    EXPECT_EQ(t["visibility"], "visible");
+    EXPECT_LE(t["score"].get<double>(), t["max_score"].get<double>() + 1e-9);
+    sum += t["score"].get<double>();
+    max_sum += t["max_score"].get<double>();
+  }
+  // Shares are apportioned in thousandths (Config::max_score), so the sums are exact
+  // up to double rounding: 7 checks of a 10-point lab do not add up to 10.003.
+  EXPECT_NEAR(sum, r["score"].get<double>(), 1e-9) << "the tests' scores add up to the total";
+  EXPECT_NEAR(std::fmod(max_sum, 10.0), 0.0, 1e-9) << "grading.json's labs are worth 10 points each: " << max_sum;
+  ASSERT_TRUE(r["leaderboard"].is_array());
+  ASSERT_EQ(r["leaderboard"].size(), 1u);
+  EXPECT_EQ(r["leaderboard"][0]["name"], "render time (ms)");
+  EXPECT_TRUE(r["leaderboard"][0]["value"].is_number());
+  EXPECT_EQ(r["leaderboard"][0]["order"], "asc");
+}
+
+const json& lab(const GradeRun& r, int number) { return r.summary["labs"][std::to_string(number)]; }
+
+// All tests of one lab in results.json, joined (to look for a message).
+std::string lab_outputs(const GradeRun& r, int number) {
+  std::string prefix = "lab " + std::to_string(number) + " ", text;
+  for (const json& t : r.results["tests"])
+    if (t["name"].get<std::string>().rfind(prefix, 0) == 0) text += t["output"].get<std::string>() + "\n";
+  return text;
+}
+
+void expect_full_marks(const GradeRun& r, int number) {
+  const json& l = lab(r, number);
+  EXPECT_EQ(l["status"], "graded") << "lab " << number << ": " << l.dump();
+  EXPECT_GT(l["max_score"].get<double>(), 0.0);
+  EXPECT_DOUBLE_EQ(l["score"].get<double>(), l["max_score"].get<double>()) << "lab " << number << ": " << l.dump(1);
+}
+
+void expect_zero(const GradeRun& r, int number, const std::string& status, const std::string& message_part) {
+  const json& l = lab(r, number);
+  EXPECT_EQ(l["status"], status) << "lab " << number << ": " << l.dump(1);
+  EXPECT_DOUBLE_EQ(l["score"].get<double>(), 0.0) << "lab " << number;
+  std::string message = l["message"].get<std::string>() + "\n" + lab_outputs(r, number);
+  EXPECT_NE(message.find(message_part), std::string::npos)
+      << "lab " << number << ": the message should say '" << message_part << "':\n" << message;
+}
+
+void expect_ran(const GradeRun& r) {
+  EXPECT_EQ(r.exit_code, 0) << r.output;
+  expect_gradescope_schema(r.results);
+  EXPECT_TRUE(fs::exists(r.out / "report.html"));
+}
+
+// Zips `entries` (name in the archive -> content) into `zip` with Python's zipfile,
+// which writes any name, "../" included.
+void make_zip(const fs::path& zip, const std::map<std::string, std::string>& entries) {
+  fs::path spec = zip;
+  spec += ".json";
+  write_file(spec, json(entries).dump());
+  std::string script = "import json,sys,zipfile\n"
+                       "z=zipfile.ZipFile(sys.argv[2],'w')\n"
+                       "[z.writestr(n,c) for n,c in json.load(open(sys.argv[1])).items()]\n"
+                       "z.close()\n";
+  write_file(zip.parent_path() / "make_zip.py", script);
+  std::string output;
+  ASSERT_EQ(kit::test::run("python3 " + quoted(zip.parent_path() / "make_zip.py") + " " + quoted(spec) + " " + quoted(zip), &output), 0)
+      << output;
+}
+
+std::map<std::string, std::string> solution_entries(const std::string& prefix) {
+  std::map<std::string, std::string> entries;
+  for (const kit::Stage& s : kit::stages())
+    for (const std::string& f : s.files)
+      entries[prefix + s.folder + "/" + f] = read_file(kit::kit_root() / "solutions" / s.folder / f);
+  return entries;
+}
+
+}  // namespace
+
+// The solutions get full marks, three runs in a row, as a folder, as a zip with a
+// labs/ wrapper and inside a student-named wrapper folder.
+TEST(Grader, SolutionsScoreFullMarksThreeRunsOnOsmesa) {
+  fs::path dir = kit::test::temp_dir("grader-solutions");
+  fs::path wrapped = dir / "alice";
+  for (int n = 1; n <= kLabCount; ++n) copy_lab("solutions", n, wrapped / "labs-of-alice");
+  make_zip(dir / "bob.zip", solution_entries("labs/"));
+  const fs::path submissions[] = {kit::kit_root() / "solutions", dir / "bob.zip", wrapped};
+  int run = 0;
+  for (const fs::path& submission : submissions) {
+    GradeRun r = grade(submission, "solutions-" + std::to_string(++run));
+    expect_ran(r);
+    for (int n = 1; n <= kLabCount; ++n) expect_full_marks(r, n);
+    EXPECT_DOUBLE_EQ(r.summary["total"].get<double>(), r.summary["max_total"].get<double>());
+    for (const json& t : r.results["tests"]) EXPECT_EQ(t["status"], "passed") << t["name"];
+    EXPECT_NE(r.output.find("lab 2 lighting: 10/10  (4 of 4 checks passed)"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("total: 50/50"), std::string::npos) << r.output;
+  }
+}
+
+TEST(Grader, SolutionsScoreFullMarksOnEgl) {
+  GradeRun r = grade(kit::kit_root() / "solutions", "solutions-egl", "--backend egl");
+  expect_ran(r);
+  for (int n = 1; n <= kLabCount; ++n) expect_full_marks(r, n);
+  EXPECT_NE(r.summary["renderer"].get<std::string>().find("egl"), std::string::npos) << r.summary["renderer"];
+}
+
+// The starters (labs/) pass only the checks handouts/instructors.md lists as
+// their documented minimum: what the starter code already does right.
+TEST(Grader, StartersScoreTheDocumentedMinimum) {
+  GradeRun r = grade(kit::kit_root() / "labs", "starters");
+  expect_ran(r);
+  const std::map<int, std::set<std::string>> documented = {
+      {1, {}}, {2, {}}, {3, {}}, {4, {}}, {5, {"default-off", "custom-off"}}};
+  for (const auto& [number, passing] : documented) {
+    EXPECT_EQ(lab(r, number)["status"], "graded");
+    for (const auto& [key, check] : lab(r, number)["checks"].items())
+      EXPECT_EQ(check["passed"].get<bool>(), passing.count(key) == 1) << "lab " << number << " check " << key;
+  }
+}
+
+// Run A: a syntax error, NaN everywhere, a link error and an endless loop, with the
+// solution in lab 3, which keeps full marks. The endless loop (lab 5) is graded in a
+// run of its own under the short timeout; labs 1-4 keep the default one, so a busy
+// machine (the suite runs two tests at once, ASan slows rendering several times)
+// cannot push lab 3 past the short limit.
+TEST(Grader, BrokenLabsScoreZeroAndTheOthersFullMarksA) {
+  fs::path sub = kit::test::temp_dir("grader-bad-a");
+  for (int n = 1; n <= kLabCount; ++n) copy_lab("solutions", n, sub);
+  // Line 12 of gbuffer.frag becomes a syntax error.
+  std::string frag = read_file(sub / "01-gbuffer/gbuffer.frag");
+  size_t line12 = 0;
+  for (int i = 1; i < 12; ++i) line12 = frag.find('\n', line12) + 1;
+  write_file(sub / "01-gbuffer/gbuffer.frag", frag.insert(line12, "this is not GLSL;\n"));
+  edit(sub / "02-lighting/lighting.frag", "out_color = vec4(min(radiance, vec3(KIT_HDR_MAX)), 1.0);",
+       "float zero = material.a * 0.0;\n    out_color = vec4(vec3(zero / zero), 1.0);");
+  edit(sub / "02-lighting/lighting.frag", "out_color = vec4(u_clear_color, 1.0);\n        return;",
+       "float zero = material.a * 0.0;\n        out_color = vec4(vec3(zero / zero), 1.0);\n        return;");
+  // The vertex stage's output and the fragment stage's input disagree (Mesa refuses
+  // a type mismatch at link time; a renamed output is the next test's case).
+  edit(sub / "04-normalmap/gbuffer.vert", "out vec3 v_world_tangent;", "out vec4 v_world_tangent;");
+  edit(sub / "04-normalmap/gbuffer.vert", "v_world_tangent = t;", "v_world_tangent = vec4(t, 0.0);");
+  edit(sub / "05-postprocess/blur.frag", "void main() {",
+       "void main() {\n    float x = 1.0;\n    while (x > 0.0) x += u_resolution.x;  // never ends\n    if (x < 0.0) discard;");
+  GradeRun r = grade(sub, "bad-a", "--labs 1-4");
+  expect_ran(r);
+  expect_zero(r, 1, "compile_error", "labs/01-gbuffer/gbuffer.frag:12");
+  expect_zero(r, 2, "graded", "NaN or Inf");
+  expect_full_marks(r, 3);
+  expect_zero(r, 4, "compile_error", "link error (labs/04-normalmap/gbuffer.vert + labs/04-normalmap/gbuffer.frag)");
+  expect_zero(r, 4, "compile_error", "v_world_tangent");
+  GradeRun endless = grade(sub, "bad-a-endless", "--labs 5 --timeout " + std::to_string(kShortTimeoutSeconds));
+  expect_ran(endless);
+  expect_zero(endless, 5, "timeout", "did not finish within 5 s");
+  std::string report = read_file(r.out / "report.html");
+  EXPECT_NE(report.find("<pre>"), std::string::npos);
+  EXPECT_NE(report.find("labs/01-gbuffer/gbuffer.frag:12"), std::string::npos);
+}
+
+// A vertex output renamed so no fragment input matches it: Mesa links that (the
+// input reads zero) but other drivers do not, so the grader reports a link error.
+TEST(Grader, UnmatchedVaryingNamesAreALinkError) {
+  fs::path sub = kit::test::temp_dir("grader-varying");
+  copy_lab("solutions", 1, sub);
+  edit(sub / "01-gbuffer/gbuffer.vert", "out vec3 v_world_normal;", "out vec3 v_normal_in_world;");
+  edit(sub / "01-gbuffer/gbuffer.vert", "v_world_normal = u_normal_matrix * a_normal;",
+       "v_normal_in_world = u_normal_matrix * a_normal;");
+  GradeRun r = grade(sub, "varying", "--labs 1");
+  expect_ran(r);
+  expect_zero(r, 1, "compile_error", "link error (labs/01-gbuffer/gbuffer.vert + labs/01-gbuffer/gbuffer.frag)");
+  expect_zero(r, 1, "compile_error", "input `v_world_normal' has no matching output");
+  EXPECT_EQ(r.summary["labs"].size(), 1u) << "only the lab asked for";
+}
+
+// Run B: a shader that writes nothing, an #include outside the allowed folders,
+// binary garbage and a wrong #version, with the solution in lab 4.
+TEST(Grader, BrokenLabsScoreZeroAndTheOthersFullMarksB) {
+  fs::path sub = kit::test::temp_dir("grader-bad-b");
+  for (int n = 1; n <= kLabCount; ++n) copy_lab("solutions", n, sub);
+  edit(sub / "01-gbuffer/gbuffer.frag", "void main() {", "void main() {\n    discard;");
+  edit(sub / "02-lighting/brdf.glsl", "#include \"math.glsl\"", "#include \"../../../etc/passwd\"");
+  write_file(sub / "03-attenuation/attenuation.glsl", std::string("\x7f" "ELF\x02\x01\x01\0\0\0garbage\xff\xfe", 20));
+  edit(sub / "05-postprocess/bright.frag", "#version 330 core", "#version 450 core");
+  GradeRun r = grade(sub, "bad-b");
+  expect_ran(r);
+  expect_zero(r, 1, "graded", "does the shader write its output?");
+  expect_zero(r, 2, "compile_error", "refused");
+  expect_zero(r, 3, "invalid_files", "binary data");
+  expect_full_marks(r, 4);
+  expect_zero(r, 5, "compile_error", "labs/05-postprocess/bright.frag:1");
+}
+
+// Run C: a symlink out of the submission, an empty file, text that is not UTF-8,
+// a 10 MB file and a missing file.
+TEST(Grader, RefusedAndMissingFilesScoreZero) {
+  fs::path dir = kit::test::temp_dir("grader-bad-c");
+  fs::path sub = dir / "submission";
+  for (int n = 1; n <= kLabCount; ++n) copy_lab("solutions", n, sub);
+  write_file(dir / "outside.frag", read_file(sub / "01-gbuffer/gbuffer.frag"));
+  fs::remove(sub / "01-gbuffer/gbuffer.frag");
+  fs::create_symlink(dir / "outside.frag", sub / "01-gbuffer/gbuffer.frag");
+  write_file(sub / "02-lighting/brdf.glsl", "");
+  write_file(sub / "03-attenuation/tonemap.glsl", "// caf\xe9 in Latin-1\nvec3 tonemap(vec3 c) { return c; }\n");
+  write_file(sub / "04-normalmap/gbuffer.vert", std::string(10 * 1024 * 1024, 'x'));
+  fs::remove(sub / "05-postprocess/custom_effect.frag");
+  GradeRun r = grade(sub, "bad-c");
+  expect_ran(r);
+  expect_zero(r, 1, "invalid_files", "symbolic link");
+  expect_zero(r, 2, "invalid_files", "empty");
+  expect_zero(r, 3, "invalid_files", "not UTF-8");
+  expect_zero(r, 4, "invalid_files", "over the 262144-byte limit");
+  expect_zero(r, 5, "missing_files", "labs/05-postprocess/custom_effect.frag");
+}
+
+TEST(Grader, EmptySubmissionScoresZeroWithValidResults) {
+  GradeRun r = grade(kit::test::temp_dir("grader-empty"), "empty");
+  expect_ran(r);
+  for (int n = 1; n <= kLabCount; ++n) expect_zero(r, n, "missing_files", "missing");
+  EXPECT_DOUBLE_EQ(r.results["score"].get<double>(), 0.0);
+  // A file name that is not UTF-8 is listed in the notes: the JSON stays valid.
+  fs::path odd = kit::test::temp_dir("grader-odd-name");
+  write_file(odd / "caf\xe9 \xff.glsl", "x");
+  GradeRun o = grade(odd, "odd-name", "--labs 1");
+  expect_ran(o);
+  EXPECT_NE(o.results["output"].get<std::string>().find("caf\xef\xbf\xbd"), std::string::npos) << o.results["output"];
+}
+
+// Zip-slip: an entry with "../" refuses the whole archive before anything is extracted.
+TEST(Grader, ZipWithParentEntriesIsRefused) {
+  fs::path dir = kit::test::temp_dir("grader-zip-slip");
+  auto entries = solution_entries("labs/");
+  entries["labs/../../escaped.frag"] = "#version 330 core\nvoid main() {}\n";
+  make_zip(dir / "inner" / "slip.zip", entries);
+  GradeRun r = grade(dir / "inner" / "slip.zip", "zip-slip");
+  expect_ran(r);
+  for (int n = 1; n <= kLabCount; ++n) expect_zero(r, n, "invalid_files", "'..'");
+  EXPECT_NE(r.results["output"].get<std::string>().find("refused"), std::string::npos);
+  EXPECT_FALSE(fs::exists(dir / "escaped.frag"));
+  EXPECT_FALSE(fs::exists(dir / "inner" / "escaped.frag"));
+  // A top folder named like an unzip option ("-d DIR" would extract elsewhere) is refused too.
+  make_zip(dir / "dash.zip", solution_entries("-d/"));
+  GradeRun d = grade(dir / "dash.zip", "zip-dash", "--labs 2");
+  expect_ran(d);
+  expect_zero(d, 2, "invalid_files", "starts with '-'");
+}
+
+// A batch: one result folder per submission, a gradebook, and a second run that
+// skips what is already graded.
+TEST(Grader, BatchWritesAGradebookAndResumes) {
+  fs::path dir = kit::test::temp_dir("grader-batch");
+  fs::path in = dir / "submissions", out = dir / "results";
+  copy_lab("solutions", 2, in / "alice");
+  copy_lab("labs", 2, in / "bob");
+  fs::create_directories(in / "carol");
+  std::string output;
+  std::string command = kit::test::tool("kit-grade") + " --batch " + quoted(in) + " --out " + quoted(out) + " --labs 2 --jobs 2";
+  ASSERT_EQ(kit::test::run(command, &output), 0) << output;
+  for (const char* name : {"alice", "bob", "carol"}) {
+    expect_gradescope_schema(read_json(out / name / "results.json"));
+    EXPECT_NE(output.find(std::string("] ") + name + ": "), std::string::npos) << output;
+  }
+  std::string csv = read_file(out / "gradebook.csv");
+  EXPECT_NE(csv.find("submission,lab2,total,max_total,problems\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("alice,10,10,10,\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("bob,0,0,10,\n"), std::string::npos) << csv;
+  EXPECT_NE(csv.find("carol,0,0,10,lab2:missing_files\n"), std::string::npos) << csv;
+  auto stamp = fs::last_write_time(out / "alice" / "results.json");
+  ASSERT_EQ(kit::test::run(command, &output), 0) << output;
+  EXPECT_NE(output.find("0 to grade, 3 already graded"), std::string::npos) << output;
+  EXPECT_EQ(fs::last_write_time(out / "alice" / "results.json"), stamp);
+  ASSERT_EQ(kit::test::run(command + " --force", &output), 0) << output;
+  EXPECT_NE(output.find("3 to grade"), std::string::npos) << output;
+}
+
+TEST(Grader, BadArgumentsFailWithAMessage) {
+  std::string output;
+  EXPECT_EQ(kit::test::run(kit::test::tool("kit-grade") + " --labs 9 x", &output), 2);
+  EXPECT_NE(output.find("unknown stage '9'"), std::string::npos) << output;
+  EXPECT_EQ(kit::test::run(kit::test::tool("kit-grade") + " --batch /nonexistent-folder --out /tmp", &output), 2);
+  EXPECT_EQ(kit::test::run(kit::test::tool("kit-grade") + " " + quoted(kit::kit_root() / "solutions") +
+                               " --out /proc/kit-grade-cannot-write",
+                           &output),
+            2);
+  EXPECT_NE(output.find("cannot"), std::string::npos) << output;
+}
+
+// tools/grade/references/ still matches solutions/ and the check list.
+TEST(Grader, ReferencesAreUpToDate) {
+  std::string output;
+  EXPECT_EQ(kit::test::run(kit::test::tool("kit-grade") + " --check-references", &output), 0) << output;
+}
