@@ -44,7 +44,42 @@ std::string resolve_scene(const std::string& name_or_path) {
   return (dir / name_or_path / (name_or_path + ".gltf")).string();
 }
 
+void require_earlier_solutions(const Stage& stage) {
+  for (const Stage& earlier : stages()) {
+    if (earlier.number >= stage.number) break;
+    fs::path folder = kit_root() / "solutions" / earlier.folder;
+    if (!fs::is_directory(folder))
+      throw Error("stage " + std::to_string(stage.number) + " (" + stage.name + ") is built on the solution of lab " +
+                  std::to_string(earlier.number) + ", and " + folder.string() +
+                  " is missing (a student copy gets it with the release after lab " +
+                  std::to_string(earlier.number) + ")");
+  }
+}
+
+namespace {
+bool has_earlier_solutions(const Stage& stage) {
+  for (const Stage& earlier : stages())
+    if (earlier.number < stage.number && !fs::is_directory(kit_root() / "solutions" / earlier.folder)) return false;
+  return true;
+}
+}  // namespace
+
+std::vector<int> gradable_labs() {
+  std::vector<int> labs;
+  for (const Stage& s : stages())
+    if (fs::is_directory(kit_root() / "labs" / s.folder) && has_earlier_solutions(s)) labs.push_back(s.number);
+  return labs;
+}
+
+std::vector<int> labs_with_solutions() {
+  std::vector<int> labs;
+  for (const Stage& s : stages())
+    if (fs::is_directory(kit_root() / "solutions" / s.folder) && has_earlier_solutions(s)) labs.push_back(s.number);
+  return labs;
+}
+
 ShaderLibrary stage_library(const Stage& stage, const fs::path& lab_root) {
+  require_earlier_solutions(stage);
   fs::path root = kit_root();
   std::vector<ShaderFolder> folders;
   std::string lab_label = lab_root.filename().string();

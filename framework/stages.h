@@ -31,6 +31,16 @@ std::filesystem::path shaders_dir();
 // Scenes generated at build time, by name ("default") or as a path to a .gltf file.
 std::string resolve_scene(const std::string& name_or_path);
 
+// Throws kit::Error when a solution `stage` is assembled on is missing from
+// <kit root>/solutions (a student copy for lab N has those of labs 1..N-1 only).
+void require_earlier_solutions(const Stage& stage);
+// The labs this kit can grade and render from labs/: a starter folder in labs/ and
+// the solutions of every earlier lab. All of them in the instructor's kit; lab N
+// alone in a student copy for lab N.
+std::vector<int> gradable_labs();
+// The labs whose own solution and every earlier one are in <kit root>/solutions.
+std::vector<int> labs_with_solutions();
+
 // The shader folders a stage is assembled from: `lab_root`/NN-name for this
 // step's files, then solutions/ of every earlier step (latest first), then framework/shaders/.
 ShaderLibrary stage_library(const Stage& stage, const std::filesystem::path& lab_root);

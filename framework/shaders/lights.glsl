@@ -41,7 +41,7 @@ Light kit_light(int i) {
 // (window 1). Lab 3's light_radiance multiplies its falloff by this.
 float kit_range_window(Light light, vec3 p) {
     if (light.range <= 0.0) return 1.0;
-    vec3 to_light = light.position - p;
-    float q = dot(to_light, to_light) / (light.range * light.range);  // (d / range)^2
+    vec3 offset = light.position - p;
+    float q = dot(offset, offset) / (light.range * light.range);  // (d / range)^2
     return clamp(1.0 - q * q, 0.0, 1.0);
 }

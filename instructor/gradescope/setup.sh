@@ -1,10 +1,20 @@
 #!/usr/bin/env bash
 # Gradescope runs this once, as root, when it builds the autograder's image
-# (the zip is unpacked into /autograder/source). It installs the Debian/Ubuntu
-# packages and builds the kit through ./kit setup, so the package list lives in
-# one place (the kit script), then grades the reference solutions once: an
-# autograder that cannot give them full marks fails here, in the image build the
-# instructor sees, and not on every student's submission.
+# (the zip is unpacked into /autograder/source). Three steps:
+#   1. install the packages and build only what grading needs (./kit setup
+#      --grading: kit-render, kit-scenes, kit-grade; no viewer, no tests), so the
+#      package list lives in one place (the kit script);
+#   2. render the references again from the shipped solutions, on this image:
+#      the Mesa of Gradescope's Ubuntu image may round differently from the one
+#      the shipped references were made with, and a reference from another Mesa
+#      would cost every student the same points. The comparison with the shipped
+#      references is printed first, so the instructor sees whether it mattered;
+#   3. grade the reference solutions: an autograder that cannot give them full
+#      marks fails here, in the image build the instructor sees, and not on every
+#      student's submission.
+#
+# Environment (for testing it outside Gradescope; instructor/tests/gradescope_test.sh):
+#   KIT_GRADE_BIN  a kit-grade already built: skips step 1
 set -euo pipefail
 
 SOURCE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
@@ -12,24 +22,38 @@ KIT="$SOURCE/kit"
 say() { printf 'setup.sh: %s\n' "$*" >&2; }
 
 [ -x "$KIT/kit" ] || { say "no kit in $KIT: was the zip made by ./kit gradescope-package?"; exit 1; }
-if ! command -v apt-get >/dev/null; then
-  say "this image has no apt-get: choose a Debian or Ubuntu base image (README: instructor/gradescope/README.md)"
-  exit 1
-fi
 
 KIT_LABS=1,2,3,4,5
 # shellcheck source=/dev/null
 [ -f "$SOURCE/autograder.conf" ] && . "$SOURCE/autograder.conf"
 
 start=$SECONDS
-# Installs what is missing (apt-get) and builds build/default. If a package is
-# not in this image's apt sources, apt-get names it: pick a newer base image.
-"$KIT/kit" setup
-GRADER="$KIT/build/default/tools/kit-grade"
-[ -x "$GRADER" ] || { say "the build did not produce $GRADER"; exit 1; }
-say "kit built in $((SECONDS - start)) s"
+if [ -n "${KIT_GRADE_BIN:-}" ]; then
+  GRADER="$KIT_GRADE_BIN"
+else
+  if ! command -v apt-get >/dev/null; then
+    say "this image has no apt-get: choose a Debian or Ubuntu base image (README: instructor/gradescope/README.md)"
+    exit 1
+  fi
+  # Installs what is missing (apt-get) and builds build/default. If a package is
+  # not in this image's apt sources, apt-get names it: pick another base image.
+  "$KIT/kit" setup --grading
+  GRADER="$KIT/build/default/tools/kit-grade"
+  say "kit built in $((SECONDS - start)) s"
+fi
+[ -x "$GRADER" ] || { say "no kit-grade at $GRADER"; exit 1; }
+export KIT_ROOT="$KIT"
 
-# Smoke test: the reference solutions must score full marks on this image.
+# Step 2: the references, rendered on this image.
+if "$GRADER" --check-references >"$SOURCE/references-check.log" 2>&1; then
+  say "the shipped references match this image's renders of the solutions"
+else
+  say "this image renders the solutions differently from the shipped references:"
+  sed 's/^/  /' "$SOURCE/references-check.log" | head -20 >&2
+fi
+"$GRADER" --update-references >&2  # prints the GL renderer it used
+
+# Step 3: the reference solutions must score full marks on this image.
 check="$(mktemp -d)"
 trap 'rm -rf "$check"' EXIT
 "$GRADER" "$KIT/solutions" --labs "$KIT_LABS" --out "$check"

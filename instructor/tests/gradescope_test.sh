@@ -184,6 +184,29 @@ cp -r "$ROOT"/solutions/01-gbuffer "$AG/submission/"
 RUN_ENV=(KIT_GRADE_BIN="$TMP/no-such-kit-grade")
 run_case "autograder not built" zero "not built"
 
+# 6. setup.sh on an image whose Mesa renders differently from the one the shipped
+#    references came from (simulated: one reference brightened by 8/255). Witness
+#    first: graded against that reference, the solution of lab 2 loses points.
+#    Then setup.sh renders the references again on this image and proves full marks.
+REFS="$AG/source/kit/tools/grade/references"
+oiiotool "$REFS/lab2-default-final.png" --addc 0.03 -o "$REFS/lab2-default-final.png"
+witness="$(env KIT_ROOT="$AG/source/kit" "$GRADER" "$ROOT/solutions/02-lighting" --labs 2 --out "$TMP/witness" 2>&1)" || true
+if "$PY" -c 'import json,sys; s=json.load(open(sys.argv[1]))["labs"]["2"]; sys.exit(0 if s["score"] < s["max_score"] else 1)' \
+     "$TMP/witness/summary.json" 2>/dev/null; then
+  pass "witness: a reference from another renderer costs the solution of lab 2 points"
+else
+  fail "witness: the brightened reference did not cost the solution of lab 2 anything"; echo "$witness" | tail -5
+fi
+if (cd "$AG/source" && env KIT_GRADE_BIN="$GRADER" KIT_LABS=1,2,3,4,5 ./setup.sh) >"$TMP/setup.log" 2>&1; then
+  if grep -q "renders the solutions differently" "$TMP/setup.log" && grep -q "ready: labs" "$TMP/setup.log"; then
+    pass "setup.sh: saw the stale reference, rendered the references on this image, full marks"
+  else
+    fail "setup.sh passed without reporting the stale reference (log below)"; sed 's/^/    /' "$TMP/setup.log" | tail -20
+  fi
+else
+  fail "setup.sh failed (log below)"; sed 's/^/    /' "$TMP/setup.log" | tail -20
+fi
+
 if [ "$failures" -gt 0 ]; then
   echo "gradescope: $failures check(s) failed"
   exit 1

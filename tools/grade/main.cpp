@@ -176,8 +176,12 @@ int main(int argc, char** argv) {
         throw kit::Error("one SUBMISSION at a time ('" + submission + "' and '" + flag + "'); use --batch FOLDER for more");
       }
     }
-    if (options.labs.empty())
-      for (const kit::Stage& s : kit::stages()) options.labs.push_back(s.number);
+    // Default: every lab this kit can grade (all in the instructor's kit; a student
+    // copy's own lab). A lab named with --labs whose earlier solutions are missing
+    // is refused here, with what is missing, rather than failing in every submission.
+    if (options.labs.empty()) options.labs = kit::gradable_labs();
+    if (mode == Mode::Grade || mode == Mode::Batch)
+      for (int lab : options.labs) kit::require_earlier_solutions(kit::find_stage(std::to_string(lab)));
     switch (mode) {
       case Mode::Update: return kit::grade::update_references(options);
       case Mode::Check: return kit::grade::check_references(options);

@@ -1,0 +1,111 @@
+#!/usr/bin/env python3
+"""Searches a student copy for the solution logic of labs N and later.
+
+    leak_check.py COPY N [--kit KIT_ROOT]
+
+For every file of solutions/NN-name with NN >= N, each line the starter
+(labs/NN-name/same file) does not contain is a solution line, unless it is
+trivial: shorter than MIN_LINE_CHARS once whitespace is collapsed, or only
+punctuation and keywords (a brace, `return x;`, `#endif`). Every text file of
+the copy is searched for each solution line, compared line by line after the
+same whitespace collapsing, and long lines also as substrings (a line quoted
+inside a Markdown paragraph). Besides lines, the copy must hold no instructor/
+folder and no solutions/NN-name of the labs N and later.
+
+Exit status 0 when nothing leaks; 1 with one line per leak (file:line, the
+solution file and the line); 2 on bad arguments.
+"""
+import argparse
+import re
+import sys
+from pathlib import Path
+
+MIN_LINE_CHARS = 16          # shorter solution lines are too generic to call a leak
+SUBSTRING_MIN_CHARS = 32     # long lines are also searched inside longer lines
+BINARY_SUFFIXES = {".png", ".exr", ".jpg", ".jpeg", ".hdr", ".bin", ".glb", ".zip", ".pdf"}
+TRIVIAL = re.compile(r"^[\s{}();,]*$|^(return|break|continue|else|#endif|#else)\b[\w\s.;()]*$")
+
+
+def normalize(line):
+    return " ".join(line.split())
+
+
+def lab_number(folder):
+    m = re.match(r"^(\d+)-", folder)
+    return int(m.group(1)) if m else None
+
+
+def solution_lines(kit, first_lab):
+    """(solution file, line) for every non-trivial line a starter lacks, labs >= first_lab."""
+    found = []
+    for folder in sorted((kit / "solutions").iterdir()):
+        n = lab_number(folder.name)
+        if n is None or n < first_lab:
+            continue
+        for sol in sorted(folder.iterdir()):
+            starter = kit / "labs" / folder.name / sol.name
+            starter_lines = set()
+            if starter.is_file():
+                starter_lines = {normalize(l) for l in starter.read_text(encoding="utf-8").splitlines()}
+            for line in sol.read_text(encoding="utf-8").splitlines():
+                text = normalize(line)
+                if len(text) < MIN_LINE_CHARS or TRIVIAL.match(text) or text in starter_lines:
+                    continue
+                found.append((f"solutions/{folder.name}/{sol.name}", text))
+    return found
+
+
+def copy_files(copy):
+    for path in sorted(copy.rglob("*")):
+        if ".git" in path.relative_to(copy).parts or not path.is_file() or path.is_symlink():
+            continue
+        if path.suffix.lower() in BINARY_SUFFIXES:
+            continue
+        try:
+            yield path, path.read_text(encoding="utf-8").splitlines()
+        except (UnicodeDecodeError, OSError):
+            continue  # not text: images and the like cannot quote a line
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("copy", type=Path)
+    parser.add_argument("lab", type=int)
+    parser.add_argument("--kit", type=Path, default=Path(__file__).resolve().parents[2])
+    args = parser.parse_args()
+    if not args.copy.is_dir():
+        parser.error(f"{args.copy}: not a folder")
+
+    leaks = []
+    if (args.copy / "instructor").exists():
+        leaks.append("instructor/: the instructor's folder is in the copy")
+    for folder in (args.copy / "solutions").glob("*"):
+        n = lab_number(folder.name)
+        if n is not None and n >= args.lab:
+            leaks.append(f"solutions/{folder.name}/: lab {n} is not released in a copy for lab {args.lab}")
+
+    wanted = solution_lines(args.kit, args.lab)
+    exact = {}
+    for source, text in wanted:
+        exact.setdefault(text, source)
+    long_lines = [(text, source) for text, source in exact.items() if len(text) >= SUBSTRING_MIN_CHARS]
+    for path, lines in copy_files(args.copy):
+        rel = path.relative_to(args.copy)
+        for number, line in enumerate(lines, 1):
+            text = normalize(line)
+            if text in exact:
+                leaks.append(f"{rel}:{number}: line of {exact[text]}: {text}")
+                continue
+            for needle, source in long_lines:
+                if needle in text:
+                    leaks.append(f"{rel}:{number}: line of {source} inside: {needle}")
+                    break
+
+    print(f"leak_check: {len(wanted)} solution lines of labs >= {args.lab} searched in {args.copy}", file=sys.stderr)
+    for leak in leaks:
+        print(leak)
+    return 1 if leaks else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

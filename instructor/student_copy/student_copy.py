@@ -1,0 +1,148 @@
+#!/usr/bin/env python3
+"""./kit student-copy N DIR: the repository handed to students about to start lab N.
+
+What goes in: every file of the kit (git's tracked and untracked-but-not-ignored
+files, so build/ and out/ never do) except
+  * instructor/ (CPU reference, bench, mistake catalogue, Gradescope packaging,
+    the tests of the solutions, this script),
+  * solutions/NN-name for NN >= N (stage N is assembled on the solutions of the
+    labs before it, so those stay),
+  * labs/NN-name for NN < N (those labs are over; their solutions are in),
+and the README is replaced by one written for students (README.student.md here).
+The grader's reference images (tools/grade/references/) go in: a student grades
+their own lab with the same checks as the instructor's grader.
+
+DIR must not exist or be empty. It becomes a git repository with one commit, ready
+to push to a template repository or zip. leak_check.py then searches the copy for
+every solution line of labs N and later; any hit fails the command and removes DIR.
+"""
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+HERE = Path(__file__).resolve().parent
+
+
+def say(message):
+    print(f"student-copy: {message}", file=sys.stderr)
+
+
+def lab_folders():
+    """(number, folder name) of every lab, from labs/ (the stage table's folders)."""
+    out = []
+    for d in sorted((ROOT / "labs").iterdir()):
+        m = re.match(r"^(\d+)-", d.name)
+        if d.is_dir() and m:
+            out.append((int(m.group(1)), d.name))
+    return out
+
+
+def kit_files():
+    """Relative paths of the kit's files: git's view when it is a checkout, else a walk."""
+    try:
+        listing = subprocess.run(["git", "-C", str(ROOT), "ls-files", "-z", "--cached", "--others",
+                                  "--exclude-standard"], check=True, capture_output=True).stdout
+        names = [n for n in listing.decode().split("\0") if n]
+    except (OSError, subprocess.CalledProcessError):
+        names = [str(p.relative_to(ROOT)) for p in ROOT.rglob("*")
+                 if p.is_file() and p.relative_to(ROOT).parts[0] not in ("build", "out", ".git")]
+    return sorted(set(names))
+
+
+def wanted(rel, lab):
+    parts = Path(rel).parts
+    if parts[0] == "instructor":
+        return False
+    if parts[0] in ("solutions", "labs") and len(parts) > 1:
+        m = re.match(r"^(\d+)-", parts[1])
+        if m:
+            n = int(m.group(1))
+            return n < lab if parts[0] == "solutions" else n >= lab
+    return rel != "README.md"
+
+
+def student_readme(lab, labs):
+    text = (HERE / "README.student.md").read_text(encoding="utf-8")
+    rows = []
+    for n, folder in labs:
+        if n < lab:
+            continue
+        handout = f"handouts/{folder}.md"
+        files = ", ".join(f"`{p.name}`" for p in sorted((ROOT / "labs" / folder).iterdir()))
+        rows.append(f"| {n} | `labs/{folder}/` | {files} | [{folder}]({handout}) |")
+    released = ", ".join(str(n) for n, _ in labs if n < lab) or "none yet"
+    folder = dict(labs)[lab]
+    return (text.replace("@FOLDER@", folder).replace("@LAB@", str(lab)).replace("@LAB_ROWS@", "\n".join(rows))
+                .replace("@RELEASED@", released).replace("@LAST@", str(labs[-1][0])))
+
+
+def main():
+    parser = argparse.ArgumentParser(description="Writes the repository handed to students about to start lab N.")
+    parser.add_argument("lab", type=int, help="the lab the students are about to start (1 = the first)")
+    parser.add_argument("dest", type=Path, help="the new repository's folder (must not exist, or be empty)")
+    parser.add_argument("--no-git", action="store_true", help="a plain folder, no git repository")
+    args = parser.parse_args()
+
+    labs = lab_folders()
+    numbers = [n for n, _ in labs]
+    if args.lab not in numbers:
+        parser.error(f"lab {args.lab} does not exist (labs: {', '.join(map(str, numbers))})")
+    dest = args.dest.resolve()
+    if dest.exists() and (not dest.is_dir() or any(dest.iterdir())):
+        parser.error(f"{dest} exists and is not an empty folder")
+    try:
+        dest.relative_to(ROOT)
+        inside = True
+    except ValueError:
+        inside = False
+    if inside:
+        parser.error(f"{dest} is inside the kit ({ROOT}): write the copy somewhere else")
+
+    dest.mkdir(parents=True, exist_ok=True)
+    copied = 0
+    try:
+        for rel in kit_files():
+            src = ROOT / rel
+            if not wanted(rel, args.lab) or src.is_symlink() or not src.is_file():
+                continue
+            target = dest / rel
+            target.parent.mkdir(parents=True, exist_ok=True)
+            shutil.copy2(src, target)
+            copied += 1
+        (dest / "README.md").write_text(student_readme(args.lab, labs), encoding="utf-8")
+
+        leaks = subprocess.run([sys.executable, str(HERE / "leak_check.py"), str(dest), str(args.lab),
+                                "--kit", str(ROOT)], capture_output=True, text=True)
+        if leaks.returncode != 0:
+            sys.stderr.write(leaks.stdout + leaks.stderr)
+            raise RuntimeError("the copy holds solution lines of labs it must not (listed above); nothing written")
+
+        if not args.no_git:
+            env = dict(os.environ)
+            env.setdefault("GIT_AUTHOR_NAME", "Deferred rendering kit")
+            env.setdefault("GIT_AUTHOR_EMAIL", "kit@localhost")
+            env.setdefault("GIT_COMMITTER_NAME", env["GIT_AUTHOR_NAME"])
+            env.setdefault("GIT_COMMITTER_EMAIL", env["GIT_AUTHOR_EMAIL"])
+            for command in (["git", "init", "-q"], ["git", "add", "-A"],
+                            ["git", "commit", "-q", "-m", f"Deferred rendering kit: lab {args.lab}"]):
+                subprocess.run(command, cwd=dest, env=env, check=True, capture_output=True)
+    except Exception as e:  # leave nothing half-made behind
+        shutil.rmtree(dest, ignore_errors=True)
+        say(str(e) if not isinstance(e, subprocess.CalledProcessError)
+            else f"{' '.join(e.cmd)} failed: {e.stderr.decode(errors='replace').strip()}")
+        return 1
+
+    say(f"{copied} files for lab {args.lab}: starters of labs {args.lab}-{labs[-1][0]}, "
+        f"solutions of labs {', '.join(str(n) for n in numbers if n < args.lab) or 'none'}; "
+        f"no solution line of labs >= {args.lab} found in it")
+    print(dest)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
