@@ -378,8 +378,3 @@ TEST(Grader, BadArgumentsFailWithAMessage) {
   EXPECT_NE(output.find("cannot"), std::string::npos) << output;
 }
 
-// tools/grade/references/ still matches solutions/ and the check list.
-TEST(Grader, ReferencesAreUpToDate) {
-  std::string output;
-  EXPECT_EQ(kit::test::run(kit::test::tool("kit-grade") + " --check-references", &output), 0) << output;
-}

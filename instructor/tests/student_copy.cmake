@@ -1,0 +1,11 @@
+# ./kit student-copy end to end (instructor/tests/student_copy_test.sh): copies for
+# every lab hold no solution line of their lab or later (with a planted leak as
+# witness), and the copy for lab 2 builds from a fresh clone, passes its own
+# ./kit demo and ./kit test, and its grader scores the starter low and the
+# solution full. It builds a second kit (the copy's), so it takes minutes.
+add_test(NAME student_copy
+  COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/student_copy_test.sh $<TARGET_FILE:kit-grade> ${CMAKE_BINARY_DIR}/test-tmp/student_copy)
+set_tests_properties(student_copy PROPERTIES
+  TIMEOUT 1500
+  # It builds a whole copy of the kit on both cores.
+  RUN_SERIAL TRUE)

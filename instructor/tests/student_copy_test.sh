@@ -1,0 +1,95 @@
+#!/usr/bin/env bash
+# ./kit student-copy, tried as a new student would use the copy.
+# usage: student_copy_test.sh PATH/TO/kit-grade WORK_DIR
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+WORK="${2:?usage: student_copy_test.sh PATH/TO/kit-grade WORK_DIR}"
+PY=/usr/bin/python3
+rm -rf "$WORK" && mkdir -p "$WORK"
+failures=0
+fail() { printf 'FAIL: %s\n' "$*"; failures=$((failures + 1)); }
+pass() { printf 'ok: %s\n' "$*"; }
+score() {  # summary.json lab -> "score/max status"
+  "$PY" - "$1" "$2" <<'PY'
+import json, sys
+lab = json.load(open(sys.argv[1]))["labs"][sys.argv[2]]
+print("%g/%g %s" % (lab["score"], lab["max_score"], lab["status"]))
+PY
+}
+
+# 1. A copy for every lab: written, and no solution line of that lab or later in it
+#    (student_copy.py runs leak_check.py and fails on a hit).
+for n in 1 2 3 4 5; do
+  if "$ROOT/kit" student-copy "$n" "$WORK/copy$n" >"$WORK/copy$n.log" 2>&1; then
+    pass "copy for lab $n: $(tail -2 "$WORK/copy$n.log" | head -1)"
+  else
+    fail "copy for lab $n"; sed 's/^/    /' "$WORK/copy$n.log" | tail -10
+  fi
+done
+for n in 1 2 3 4 5; do
+  [ -d "$WORK/copy$n/instructor" ] && fail "copy $n holds instructor/"
+  for d in "$WORK/copy$n"/solutions/*/; do
+    [ -d "$d" ] || continue
+    m=$((10#$(basename "$d" | cut -d- -f1)))
+    [ "$m" -ge "$n" ] && fail "copy $n holds $(basename "$d")"
+  done
+done
+[ -f "$WORK/copy2/tools/grade/references/manifest.json" ] || fail "copy 2 has no grader references"
+grep -q "lab \*\*2\*\*" "$WORK/copy2/README.md" || fail "copy 2's README is not the students' one"
+
+# 2. Witnesses: the leak check finds a solution line planted in a handout, and a
+#    released-too-early solution folder.
+cp -r "$WORK/copy2" "$WORK/planted"
+grep -m1 'pow(clamp' "$ROOT/solutions/02-lighting/brdf.glsl" >>"$WORK/planted/handouts/02-lighting.md"
+if "$PY" "$ROOT/instructor/student_copy/leak_check.py" "$WORK/planted" 2 >"$WORK/planted.log" 2>&1; then
+  fail "witness: a lab-2 solution line planted in a handout was not found"
+else
+  grep -q "handouts/02-lighting.md" "$WORK/planted.log" && pass "witness: planted solution line found ($(head -1 "$WORK/planted.log"))" \
+    || fail "witness: the leak report does not name the handout"
+fi
+rm -rf "$WORK/planted" && cp -r "$WORK/copy2" "$WORK/planted" && cp -r "$ROOT/solutions/03-attenuation" "$WORK/planted/solutions/"
+"$PY" "$ROOT/instructor/student_copy/leak_check.py" "$WORK/planted" 2 >"$WORK/planted.log" 2>&1 \
+  && fail "witness: solutions/03-attenuation in a copy for lab 2 was not reported" \
+  || pass "witness: an unreleased solution folder is reported"
+rm -rf "$WORK/planted"
+
+# 3. The copy for lab 2 from a fresh clone: the README's two commands.
+git clone -q "$WORK/copy2" "$WORK/clone"
+cd "$WORK/clone"
+if ./kit demo >"$WORK/demo.log" 2>&1; then
+  ls out/demo/02-lighting-your-lab.png >/dev/null 2>&1 && ls out/demo/01-gbuffer-albedo.png >/dev/null 2>&1 \
+    && pass "copy: ./kit demo (solution of lab 1, the student's lab 2)" || fail "copy: ./kit demo wrote $(ls out/demo)"
+else
+  fail "copy: ./kit demo"; tail -20 "$WORK/demo.log" | sed 's/^/    /'
+fi
+if ./kit test >"$WORK/test.log" 2>&1; then
+  pass "copy: ./kit test ($(grep -E 'tests passed' "$WORK/test.log"))"
+else
+  fail "copy: ./kit test"; tail -30 "$WORK/test.log" | sed 's/^/    /'
+fi
+[ -e build/default/tools/kit-bench ] && fail "copy: kit-bench was built in a student copy"
+
+# 4. The copy's grader: the starter scores low, the solution full, as in the kit.
+./kit grade labs --labs 2 --out "$WORK/starter" >"$WORK/grade-starter.log" 2>&1 || fail "copy: grading the starter failed"
+s="$(score "$WORK/starter/summary.json" 2)"
+case "$s" in 0/*|[0-3]/*|[0-3].*) pass "copy: the starter of lab 2 scores $s" ;; *) fail "copy: the starter of lab 2 scores $s" ;; esac
+mkdir -p "$WORK/solution-submission/labs" && cp -r "$ROOT/solutions/02-lighting" "$WORK/solution-submission/labs/"
+./kit grade "$WORK/solution-submission" --labs 2 --out "$WORK/solution" >"$WORK/grade-solution.log" 2>&1 || fail "copy: grading the solution failed"
+s="$(score "$WORK/solution/summary.json" 2)"
+[ "$s" = "10/10 graded" ] && pass "copy: the solution of lab 2 scores $s" || fail "copy: the solution of lab 2 scores $s"
+# The same grade from the instructor's grader, the same report.
+"$1" "$WORK/solution-submission" --labs 2 --out "$WORK/solution-kit" >/dev/null 2>&1 || true
+[ "$(score "$WORK/solution-kit/summary.json" 2)" = "$s" ] && pass "copy and kit grade the solution alike" \
+  || fail "copy and kit disagree: $(score "$WORK/solution-kit/summary.json" 2) vs $s"
+./kit grade labs --labs 3 >"$WORK/grade-lab3.log" 2>&1 && fail "copy: lab 3 graded without lab 2's solution" \
+  || { grep -q "solutions/02-lighting" "$WORK/grade-lab3.log" && pass "copy: lab 3 refused, naming the missing solution" \
+       || fail "copy: lab 3 refused without naming the solution: $(tail -1 "$WORK/grade-lab3.log")"; }
+./kit bench --quick >"$WORK/bench.log" 2>&1 && fail "copy: ./kit bench ran" \
+  || { grep -q "instructor command" "$WORK/bench.log" && pass "copy: ./kit bench says it is an instructor command" || fail "copy: ./kit bench: $(cat "$WORK/bench.log")"; }
+
+if [ "$failures" -gt 0 ]; then
+  echo "student_copy: $failures check(s) failed"
+  exit 1
+fi
+echo "student_copy: every check passed"
