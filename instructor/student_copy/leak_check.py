@@ -4,7 +4,8 @@
     leak_check.py COPY N [--kit KIT_ROOT]
 
 For every file of solutions/NN-name with NN >= N, each line the starter
-(labs/NN-name/same file) does not contain is a solution line, unless it is
+(labs/NN-name/same file) does not contain is a solution line, unless a released
+solution (labs before N, which the copy holds) has it too, or it is
 trivial: shorter than MIN_LINE_CHARS once whitespace is collapsed, or only
 punctuation and keywords (a brace, `return x;`, `#endif`). Every text file of
 the copy is searched for each solution line, compared line by line after the
@@ -35,12 +36,26 @@ def lab_number(folder):
     return int(m.group(1)) if m else None
 
 
-def solution_lines(kit, first_lab):
-    """(solution file, line) for every non-trivial line a starter lacks, labs >= first_lab."""
-    found = []
+def released_lines(kit, first_lab):
+    """Every line of the solutions a copy for first_lab holds (labs before it)."""
+    lines = set()
     for folder in sorted((kit / "solutions").iterdir()):
         n = lab_number(folder.name)
-        if n is None or n < first_lab:
+        if n is not None and n < first_lab:
+            for sol in folder.iterdir():
+                lines.update(normalize(l) for l in sol.read_text(encoding="utf-8").splitlines())
+    return lines
+
+
+def solution_lines(kit, first_lab, last_lab=None):
+    """(solution file, line) for every non-trivial line of the solutions of labs
+    first_lab..last_lab that neither the same file's starter nor a released
+    solution (labs before first_lab) already holds."""
+    found = []
+    released = released_lines(kit, first_lab)
+    for folder in sorted((kit / "solutions").iterdir()):
+        n = lab_number(folder.name)
+        if n is None or n < first_lab or (last_lab is not None and n > last_lab):
             continue
         for sol in sorted(folder.iterdir()):
             starter = kit / "labs" / folder.name / sol.name
@@ -49,7 +64,7 @@ def solution_lines(kit, first_lab):
                 starter_lines = {normalize(l) for l in starter.read_text(encoding="utf-8").splitlines()}
             for line in sol.read_text(encoding="utf-8").splitlines():
                 text = normalize(line)
-                if len(text) < MIN_LINE_CHARS or TRIVIAL.match(text) or text in starter_lines:
+                if len(text) < MIN_LINE_CHARS or TRIVIAL.match(text) or text in starter_lines or text in released:
                     continue
                 found.append((f"solutions/{folder.name}/{sol.name}", text))
     return found

@@ -54,7 +54,26 @@ def kit_files():
     return sorted(set(names))
 
 
-def wanted(rel, lab):
+def starters_held_back(lab, labs):
+    """Later labs' starters that restate the solution of lab `lab` or a later one
+    (lab 4's geometry pass is lab 1's answer with a TODO): they come with the
+    release of the lab they build on. {folder: the first solution line found}."""
+    sys.path.insert(0, str(HERE))
+    import leak_check
+    held = {}
+    for n, folder in labs:
+        if n <= lab:
+            continue
+        answers = {text: source for source, text in leak_check.solution_lines(ROOT, lab, n - 1)}
+        for starter in sorted((ROOT / "labs" / folder).iterdir()):
+            for line in starter.read_text(encoding="utf-8").splitlines():
+                source = answers.get(leak_check.normalize(line))
+                if source and folder not in held:
+                    held[folder] = f"labs/{folder}/{starter.name} restates {source}"
+    return held
+
+
+def wanted(rel, lab, held):
     parts = Path(rel).parts
     if parts[0] == "instructor":
         return False
@@ -62,15 +81,17 @@ def wanted(rel, lab):
         m = re.match(r"^(\d+)-", parts[1])
         if m:
             n = int(m.group(1))
-            return n < lab if parts[0] == "solutions" else n >= lab
+            if parts[0] == "solutions":
+                return n < lab
+            return n >= lab and parts[1] not in held
     return rel != "README.md"
 
 
-def student_readme(lab, labs):
+def student_readme(lab, labs, held):
     text = (HERE / "README.student.md").read_text(encoding="utf-8")
     rows = []
     for n, folder in labs:
-        if n < lab:
+        if n < lab or folder in held:
             continue
         handout = f"handouts/{folder}.md"
         files = ", ".join(f"`{p.name}`" for p in sorted((ROOT / "labs" / folder).iterdir()))
@@ -95,26 +116,28 @@ def main():
     dest = args.dest.resolve()
     if dest.exists() and (not dest.is_dir() or any(dest.iterdir())):
         parser.error(f"{dest} exists and is not an empty folder")
-    try:
-        dest.relative_to(ROOT)
-        inside = True
+    try:  # inside the kit only where git ignores it (build/, out/), or the copy would copy itself
+        inside = dest.relative_to(ROOT).parts[0] not in ("build", "out")
     except ValueError:
         inside = False
     if inside:
         parser.error(f"{dest} is inside the kit ({ROOT}): write the copy somewhere else")
 
+    held = starters_held_back(args.lab, labs)
+    for folder, why in held.items():
+        say(f"labs/{folder}/ held back: {why} (it comes with that lab's release)")
     dest.mkdir(parents=True, exist_ok=True)
     copied = 0
     try:
         for rel in kit_files():
             src = ROOT / rel
-            if not wanted(rel, args.lab) or src.is_symlink() or not src.is_file():
+            if not wanted(rel, args.lab, held) or src.is_symlink() or not src.is_file():
                 continue
             target = dest / rel
             target.parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(src, target)
             copied += 1
-        (dest / "README.md").write_text(student_readme(args.lab, labs), encoding="utf-8")
+        (dest / "README.md").write_text(student_readme(args.lab, labs, held), encoding="utf-8")
 
         leaks = subprocess.run([sys.executable, str(HERE / "leak_check.py"), str(dest), str(args.lab),
                                 "--kit", str(ROOT)], capture_output=True, text=True)
@@ -137,7 +160,8 @@ def main():
             else f"{' '.join(e.cmd)} failed: {e.stderr.decode(errors='replace').strip()}")
         return 1
 
-    say(f"{copied} files for lab {args.lab}: starters of labs {args.lab}-{labs[-1][0]}, "
+    starters = [str(n) for n, folder in labs if n >= args.lab and folder not in held]
+    say(f"{copied} files for lab {args.lab}: starters of labs {', '.join(starters)}, "
         f"solutions of labs {', '.join(str(n) for n in numbers if n < args.lab) or 'none'}; "
         f"no solution line of labs >= {args.lab} found in it")
     print(dest)

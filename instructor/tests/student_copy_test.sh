@@ -36,7 +36,7 @@ for n in 1 2 3 4 5; do
   done
 done
 [ -f "$WORK/copy2/tools/grade/references/manifest.json" ] || fail "copy 2 has no grader references"
-grep -q "lab \*\*2\*\*" "$WORK/copy2/README.md" || fail "copy 2's README is not the students' one"
+grep -q "for \*\*lab 2\*\*" "$WORK/copy2/README.md" || fail "copy 2's README is not the students' one"
 
 # 2. Witnesses: the leak check finds a solution line planted in a handout, and a
 #    released-too-early solution folder.
