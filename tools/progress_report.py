@@ -16,7 +16,6 @@ import getpass
 import json
 import os
 import re
-import shutil
 import statistics
 import subprocess
 import sys
