@@ -3,6 +3,7 @@
 // Several --view/--out pairs share one context, scene load and shader compile.
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <iostream>
 
@@ -26,7 +27,9 @@ void usage() {
       "usage: kit-render --stage NAME [--view VIEW] --out FILE.png|FILE.exr [--view VIEW --out FILE ...] [options]\n"
       "Renders one headless frame. VIEW: final (default) | position | normal | albedo | material | depth | hdr.\n"
       "PNG shows a view for people (vectors as (v+1)/2, depth linearised); EXR keeps the float values.\n"
-      "  --timings             print where the time went (stderr)\n%s",
+      "  --timings             print where the time went (stderr)\n"
+      "  --frames N            render the frame N times (default 1); with --timings, each frame's\n"
+      "                        wall-clock time in ms, glFinish included (the first holds llvmpipe's JIT)\n%s",
       kit::common_options_help());
 }
 
@@ -38,6 +41,7 @@ int main(int argc, char** argv) {
   std::vector<Output> outputs;
   kit::View pending = kit::View::Final;
   bool timings = false;
+  int frames = 1;
   return kit::run_tool("kit-render", 1, [&]() -> int {
     for (int i = 1; i < argc; ++i)
       if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
@@ -46,6 +50,14 @@ int main(int argc, char** argv) {
       }
     kit::parse_options(argc, argv, options, [&](const std::string& flag, const kit::OptionValue& value) -> int {
       if (flag == "--timings") return timings = true, 1;
+      if (flag == "--frames") {
+        std::string text = value();
+        char* end = nullptr;
+        long n = std::strtol(text.c_str(), &end, 10);
+        if (text.empty() || *end != '\0' || n < 1 || n > 1000)
+          throw kit::Error("--frames expects a count from 1 to 1000 (got '" + text + "')");
+        return frames = static_cast<int>(n), 2;
+      }
       if (flag == "--view") return pending = kit::parse_view(value()), 2;
       if (flag == "--out") return outputs.push_back({pending, value()}), 2;
       return 0;
@@ -61,8 +73,13 @@ int main(int argc, char** argv) {
     auto t_compile = seconds_since(t0);
     const auto& s = options.settings;
     kit::Camera camera = scene.camera ? *scene.camera : kit::framing_camera(scene);
-    renderer.render(kit::frame_camera(camera, static_cast<float>(s.width) / static_cast<float>(s.height)));
-    glFinish();
+    std::vector<double> frame_ms;
+    for (int f = 0; f < frames; ++f) {
+      auto t_frame = std::chrono::steady_clock::now();
+      renderer.render(kit::frame_camera(camera, static_cast<float>(s.width) / static_cast<float>(s.height)));
+      glFinish();
+      frame_ms.push_back(1000.0 * seconds_since(t_frame));
+    }
     auto t_render = seconds_since(t0);
     for (const Output& out : outputs) {
       bool raw = out.path.size() > 4 && out.path.compare(out.path.size() - 4, 4, ".exr") == 0;
@@ -72,6 +89,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "timings: scene %.3fs, context %.3fs, compile %.3fs, render %.3fs, write %.3fs (%s)\n",
                    t_scene, t_context - t_scene, t_compile - t_context, t_render - t_compile, seconds_since(t0) - t_render,
                    context->describe().c_str());
+    if (timings && frames > 1) {
+      std::string list;
+      for (double ms : frame_ms) list += (list.empty() ? "" : " ") + std::to_string(ms);
+      std::fprintf(stderr, "frame ms: %s\n", list.c_str());
+    }
     return 0;
   });
 }

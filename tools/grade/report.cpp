@@ -180,8 +180,14 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
   for (const auto& [number, lab] : s.labs) {
     nlohmann::json checks = nlohmann::json::object();
     for (const CheckOutcome& c : lab.checks) {
-      nlohmann::json entry = {{"passed", c.passed}, {"score", rounded(c.score)}, {"max_score", rounded(c.max_score)}};
+      nlohmann::json entry = {{"title", c.check->title}, {"passed", c.passed}, {"score", rounded(c.score)},
+                              {"max_score", rounded(c.max_score)}};
       if (c.compared) {
+        entry["summary"] = c.comparison.summary;
+        entry["note"] = c.comparison.note;
+        entry["image"] = c.image;
+        entry["reference"] = c.reference;
+        entry["diff"] = c.diff;
         entry["max_error"] = c.comparison.max_error;
         entry["failing_percent"] = c.comparison.failing_percent;
         entry["psnr"] = std::isfinite(c.comparison.psnr) ? nlohmann::json(c.comparison.psnr) : nlohmann::json(nullptr);

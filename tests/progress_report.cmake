@@ -1,0 +1,15 @@
+# ./kit progress-report end to end (tests/progress_report_test.py): the PDF of the
+# starters' labs 1-2 with a notes file (pages, images on a lab page, the notes'
+# text), a lab that does not compile, no references and no notes (a student
+# copy), an unwritable output. Uses poppler-utils (pdfinfo, pdftoppm, pdftotext)
+# and Debian's python3 with matplotlib. Included from tests/CMakeLists.txt.
+if(TARGET kit-grade AND TARGET kit-render)
+  find_program(KIT_REPORT_PYTHON NAMES python3 PATHS /usr/bin NO_DEFAULT_PATH)
+  find_program(KIT_REPORT_PYTHON NAMES python3 REQUIRED)
+  add_test(NAME progress_report
+           COMMAND ${KIT_REPORT_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/progress_report_test.py
+                   $<TARGET_FILE:kit-grade> $<TARGET_FILE:kit-render> ${CMAKE_BINARY_DIR}/test-tmp/progress_report)
+  set_tests_properties(progress_report PROPERTIES
+    ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
+    TIMEOUT 300)
+endif()
