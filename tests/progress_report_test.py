@@ -1,9 +1,9 @@
 #!/usr/bin/python3
 """./kit progress-report end to end (tests/progress_report.cmake).
 
-Uses only what a student copy has: the starters in labs/ (labs 1 and 2; stage 2
-is assembled on solutions/01-gbuffer, which every copy from lab 2 on holds).
-  1. labs 1,2 with a notes file: the PDF has 4 pages (title, two labs, notes),
+Uses only what a student copy has: the starters in labs/ of the labs this kit
+can assemble (labs 1 and 2 in the instructor's kit; a student copy's own lab).
+  1. those labs with a notes file: the PDF has a title, a page per lab and notes,
      page 2 shows images, the notes and the grades are in its text;
   2. a lab that does not compile: still a page, with the grader's message;
   3. no references (as in a student copy) and no notes file: a template is
@@ -12,6 +12,7 @@ is assembled on solutions/01-gbuffer, which every copy from lab 2 on holds).
 Run: progress_report_test.py KIT_GRADE KIT_RENDER WORK_DIR
 """
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -28,6 +29,21 @@ The G-buffer pass works in my head; the normal matrix is next.
 """
 
 failures = []
+
+
+def gradable_labs():
+    """(number, folder) of the labs in labs/ whose earlier labs' solutions are all
+    present (kit::gradable_labs): 1 and 2 here, lab N alone in a copy for lab N."""
+    solutions = os.path.join(ROOT, "solutions")
+    released = {int(d.split("-")[0]) for d in os.listdir(solutions) if re.match(r"^\d+-", d)} \
+        if os.path.isdir(solutions) else set()
+    labs = []
+    for folder in sorted(os.listdir(os.path.join(ROOT, "labs"))):
+        if re.match(r"^\d+-", folder):
+            n = int(folder.split("-")[0])
+            if all(k in released for k in range(1, n)):
+                labs.append((n, folder))
+    return labs
 
 
 def check(condition, message):
@@ -89,41 +105,51 @@ def main():
         f.write(NOTES)
     references = os.path.exists(os.path.join(ROOT, "tools", "grade", "references", "manifest.json"))
 
+    labs = gradable_labs()[:2]
+    first, first_folder = labs[0]
+    names = ",".join(str(n) for n, _ in labs)
     if references:
-        # 1. The starters of labs 1 and 2.
+        # 1. The starters of the labs this kit can assemble.
         out = os.path.join(work, "report.pdf")
-        run = report(kit_grade, kit_render, "--labs", "1,2", "--notes", notes, "--out", out, "--student", "Test Student")
-        check(run.returncode == 0, "labs 1,2: exit status 0")
-        check(run.stdout.strip() == out, "labs 1,2: prints the PDF's path")
+        run = report(kit_grade, kit_render, "--labs", names, "--notes", notes, "--out", out, "--student", "Test Student")
+        check(run.returncode == 0, f"labs {names}: exit status 0")
+        check(run.stdout.strip() == out, f"labs {names}: prints the PDF's path")
         with open(out, "rb") as f:
-            check(f.read(5) == b"%PDF-", "labs 1,2: the file starts with %PDF")
-        check(pdf_pages(out) == 4, f"labs 1,2: 4 pages (title, lab 1, lab 2, notes): {pdf_pages(out)}")
+            check(f.read(5) == b"%PDF-", f"labs {names}: the file starts with %PDF")
+        pages = 2 + len(labs)
+        check(pdf_pages(out) == pages, f"labs {names}: {pages} pages (title, a page per lab, notes): {pdf_pages(out)}")
         colours, non_white = image_area_stats(page_png(out, 2, os.path.join(work, "page2")))
-        check(colours > 500, f"page 2 (lab 1): the image columns hold more than 500 colours: {colours}")
-        check(non_white > 0.3, f"page 2 (lab 1): more than 30 % of the image columns is not white: {non_white:.0%}")
+        check(colours > 500, f"page 2 (lab {first}): the image columns hold more than 500 colours: {colours}")
+        check(non_white > 0.3, f"page 2 (lab {first}): more than 30 % of the image columns is not white: {non_white:.0%}")
         title = pdf_text(out, 1)
-        for words in ["Progress report", "Test Student", "1 gbuffer, 2 lighting", "0 / 20", "Kit version"]:
+        expected_title = ["Progress report", "Test Student", "Kit version"]
+        if first == 1:  # the starters of labs 1 and 2 score nothing
+            expected_title += ["1 gbuffer, 2 lighting", "0 / 20"]
+        for words in expected_title:
             check(words in title, f"title page: '{words}'")
-        lab1 = pdf_text(out, 2)
-        for words in ["Lab 1: gbuffer", "0 / 10", "0 of 7 checks passed", "default scene, normal", "failed",
-                      "Frame time:", "median of 5 frames"]:
-            check(words in lab1, f"lab 1 page: '{words}'")
-        text = pdf_text(out, 4)
+        lab_page = pdf_text(out, 2)
+        expected_lab = [f"Lab {first}: {first_folder.split('-', 1)[1]}", "Frame time:", "median of 5 frames"]
+        if first == 1:
+            expected_lab += ["0 / 10", "0 of 7 checks passed", "default scene, normal", "failed"]
+        for words in expected_lab:
+            check(words in lab_page, f"lab {first} page: '{words}'")
+        text = pdf_text(out, pages)
         for words in ["Week 3 progress", "the normal matrix is next", "gbuffer.vert", "Still to do: the material channel"]:
             check(words in text, f"notes page: '{words}'")
         check("\u2022" in text, "notes page: the bullet is drawn as a bullet")
 
         # 2. A lab that does not compile is included with the grader's message.
         broken = os.path.join(work, "broken-labs")
-        shutil.copytree(os.path.join(ROOT, "labs", "01-gbuffer"), os.path.join(broken, "01-gbuffer"))
-        with open(os.path.join(broken, "01-gbuffer", "gbuffer.frag"), "a", encoding="utf-8") as f:
+        shutil.copytree(os.path.join(ROOT, "labs", first_folder), os.path.join(broken, first_folder))
+        broken_file = sorted(f for f in os.listdir(os.path.join(broken, first_folder)) if f.endswith(".frag"))[0]
+        with open(os.path.join(broken, first_folder, broken_file), "a", encoding="utf-8") as f:
             f.write("\nthis is not GLSL\n")
         out = os.path.join(work, "broken.pdf")
-        run = report(kit_grade, kit_render, "--labs-dir", broken, "--notes", notes, "--out", out)
+        run = report(kit_grade, kit_render, "--labs-dir", broken, "--labs", str(first), "--notes", notes, "--out", out)
         check(run.returncode == 0, "compile error: exit status 0")
-        check(os.path.exists(out) and pdf_pages(out) == 3, "compile error: 3 pages (title, lab 1, notes)")
-        lab1 = pdf_text(out, 2) if os.path.exists(out) else ""
-        check("compile error" in lab1 and "gbuffer.frag" in lab1 and "syntax error" in lab1,
+        check(os.path.exists(out) and pdf_pages(out) == 3, f"compile error: 3 pages (title, lab {first}, notes)")
+        lab_page = pdf_text(out, 2) if os.path.exists(out) else ""
+        check("compile error" in lab_page and broken_file in lab_page and "syntax error" in lab_page,
               "compile error: the lab page holds the grader's message")
     else:
         print("tools/grade/references/ is missing (a student copy): the graded runs are skipped")
@@ -133,7 +159,7 @@ def main():
     os.makedirs(empty)
     template = os.path.join(work, "new-notes", "progress-notes.md")
     out = os.path.join(work, "ungraded.pdf")
-    run = report(kit_grade, kit_render, "--labs", "1", "--references", empty, "--notes", template, "--out", out)
+    run = report(kit_grade, kit_render, "--labs", str(first), "--references", empty, "--notes", template, "--out", out)
     check(run.returncode == 0, "no references: exit status 0")
     check(os.path.exists(template), "no notes: the template was written")
     check("template" in run.stderr, "no notes: the command says so")
@@ -145,10 +171,10 @@ def main():
     # 4. An output that cannot be written.
     blocker = os.path.join(work, "a-file")
     open(blocker, "w").close()
-    run = report(kit_grade, kit_render, "--labs", "1", "--notes", notes, "--out", os.path.join(blocker, "r.pdf"))
+    run = report(kit_grade, kit_render, "--labs", str(first), "--notes", notes, "--out", os.path.join(blocker, "r.pdf"))
     check(run.returncode == 1 and "cannot write" in run.stderr, "unwritable output: exit 1 with 'cannot write'")
     # 5. No kit-grade.
-    run = report(os.path.join(work, "no-kit-grade"), kit_render, "--labs", "1", "--notes", notes,
+    run = report(os.path.join(work, "no-kit-grade"), kit_render, "--labs", str(first), "--notes", notes,
                  "--out", os.path.join(work, "x.pdf"))
     check(run.returncode == 1 and "kit-grade is not built" in run.stderr, "no kit-grade: exit 1 naming it")
 

@@ -95,7 +95,18 @@ def labs_present(labs_dir):
                    if m and os.path.isdir(os.path.join(labs_dir, m.group(0))))
     if not found:
         raise ReportError(f"no lab folders (01-gbuffer, ...) in {labs_dir}")
-    return found
+    # Only the labs this kit can assemble: a stage is built on the solutions of the
+    # labs before it, and a student copy for lab N has those of labs 1..N-1 alone.
+    solutions = os.path.join(ROOT, "solutions")
+    released = {int(m.group(1)) for m in (LAB_FOLDER.match(n) for n in os.listdir(solutions)) if m} \
+        if os.path.isdir(solutions) else set()
+    usable = [n for n in found if all(k in released for k in range(1, n))]
+    if len(usable) < len(found):
+        print(f"progress-report: labs {', '.join(str(n) for n in found if n not in usable)} left out: "
+              "they are built on solutions this kit does not have yet", file=sys.stderr)
+    if not usable:
+        raise ReportError(f"no lab in {labs_dir} can be rendered here: the solutions they build on are missing")
+    return usable
 
 
 def check_output_path(out):
