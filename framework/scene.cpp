@@ -4,7 +4,11 @@
 #include <OpenImageIO/imageio.h>
 #include <tiny_gltf.h>
 
+#include <nlohmann/json.hpp>
+
+#include <cctype>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
@@ -12,10 +16,17 @@
 
 #include "error.h"
 #include "gbuffer_layout.h"
+#include "safe_file.h"
 
 namespace kit {
 
 namespace {
+
+// Limits on what a scene file may ask for (documented in scene.h).
+constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t(1) << 30;  // a .gltf/.glb, a buffer or an image file
+constexpr int kMaxJsonDepth = 64;       // glTF itself nests 7 deep; tinygltf's JSON parser recurses per level
+constexpr int kMaxNodeDepth = 256;      // the node hierarchy is walked recursively
+constexpr int kMaxImageSide = 16384;    // pixels per side of a decoded texture
 
 // ---- image decoding: tinygltf hands us the bytes, OpenImageIO decodes them ----
 bool decode_image_with_oiio(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
@@ -34,6 +45,14 @@ bool decode_image_with_oiio(tinygltf::Image* image, const int index, std::string
     return false;
   }
   const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width <= 0 || spec.height <= 0 || spec.width > kMaxImageSide || spec.height > kMaxImageSide ||
+      spec.nchannels < 1 || spec.nchannels > 4) {
+    if (err)
+      *err += "image " + std::to_string(index) + " ('" + image->uri + "') is " + std::to_string(spec.width) + "x" +
+              std::to_string(spec.height) + " with " + std::to_string(spec.nchannels) + " channels (at most " +
+              std::to_string(kMaxImageSide) + " pixels a side and 4 channels)";
+    return false;
+  }
   std::vector<unsigned char> src(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
   if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, src.data())) {
     if (err) *err += "image " + std::to_string(index) + " ('" + image->uri + "'): " + in->geterror();
@@ -138,10 +157,24 @@ struct AccessorReader {
     size_t stride = view.byteStride ? view.byteStride : static_cast<size_t>(element_size);
     if (stride != static_cast<size_t>(element_size))
       fail(what + ": interleaved buffer views (byteStride " + std::to_string(view.byteStride) + ") are not supported");
-    size_t need = acc.count == 0 ? 0 : acc.byteOffset + stride * (acc.count - 1) + static_cast<size_t>(element_size);
-    if (view.byteOffset + view.byteLength > buffer.data.size() || need > view.byteLength)
-      fail(what + ": accessor reads past the end of its buffer (buffer " + std::to_string(view.buffer) + " has " +
-           std::to_string(buffer.data.size()) + " bytes)");
+    // Every number below comes from the file: each comparison is arranged so that no
+    // sum or product can wrap around (a count near 2^64 must fail here, not in a loop).
+    const size_t size = buffer.data.size();
+    if (view.byteOffset > size || view.byteLength > size - view.byteOffset)
+      fail(what + ": bufferView " + std::to_string(acc.bufferView) + " (offset " + std::to_string(view.byteOffset) +
+           ", length " + std::to_string(view.byteLength) + ") lies outside buffer " + std::to_string(view.buffer) +
+           " (" + std::to_string(size) + " bytes)");
+    if (acc.byteOffset > view.byteLength)
+      fail(what + ": accessor byteOffset " + std::to_string(acc.byteOffset) + " lies past its bufferView (" +
+           std::to_string(view.byteLength) + " bytes)");
+    const size_t available = view.byteLength - acc.byteOffset;
+    if (acc.count > 0 && (static_cast<size_t>(element_size) > available ||
+                          acc.count - 1 > (available - static_cast<size_t>(element_size)) / stride))
+      fail(what + ": accessor reads past the end of its buffer (" + std::to_string(acc.count) + " elements of " +
+           std::to_string(element_size) + " bytes from byte " + std::to_string(acc.byteOffset) + " of a " +
+           std::to_string(view.byteLength) + "-byte bufferView; buffer " + std::to_string(view.buffer) + " has " +
+           std::to_string(size) + " bytes)");
+    // From here count <= bytes in memory, so count * components (<= 4) cannot wrap.
     return buffer.data.data() + view.byteOffset + acc.byteOffset;
   }
 };
@@ -291,10 +324,20 @@ class SceneBuilder {
     return static_cast<int>(scene_.primitives.size()) - 1;
   }
 
+  // glTF's nodes form trees (a node has one parent at most), so each node is
+  // visited once: a node reached twice is refused, which bounds the walk by the
+  // node count (a graph listing each child twice would otherwise take 2^depth
+  // visits) and catches cycles; the depth bound keeps the recursion off the stack's end.
   void visit(int node_index, const glm::mat4& parent, int depth) {
     if (node_index < 0 || node_index >= static_cast<int>(model_.nodes.size()))
       throw Error(path_ + ": node index " + std::to_string(node_index) + " does not exist");
-    if (depth > 64) throw Error(path_ + ": the node hierarchy is deeper than 64 (a cycle?)");
+    if (depth > kMaxNodeDepth)
+      throw Error(path_ + ": the node hierarchy is deeper than " + std::to_string(kMaxNodeDepth) + " levels");
+    if (visited_.empty()) visited_.assign(model_.nodes.size(), false);
+    if (visited_[static_cast<size_t>(node_index)])
+      throw Error(path_ + ": node " + std::to_string(node_index) +
+                  " is reached twice (glTF nodes form a tree: one parent each, no cycles)");
+    visited_[static_cast<size_t>(node_index)] = true;
     const tinygltf::Node& node = model_.nodes[static_cast<size_t>(node_index)];
     glm::mat4 world = parent * node_local_matrix(node);
     if (node.mesh >= 0) {
@@ -348,26 +391,160 @@ class SceneBuilder {
   AccessorReader reader_;
   Scene scene_;
   std::vector<std::vector<int>> mesh_primitives_;
+  std::vector<bool> visited_;
 };
+
+// ---- the file and the files it names ----
+
+// Refuses JSON nested deeper than kMaxJsonDepth before the recursive parser sees it.
+void check_json_depth(const unsigned char* text, size_t size, const std::string& path) {
+  int depth = 0;
+  bool in_string = false, escaped = false;
+  for (size_t i = 0; i < size; ++i) {
+    unsigned char c = text[i];
+    if (in_string) {
+      if (escaped) escaped = false;
+      else if (c == '\\') escaped = true;
+      else if (c == '"') in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '{' || c == '[') {
+      if (++depth > kMaxJsonDepth)
+        throw Error(path + ": invalid glTF: JSON nested deeper than " + std::to_string(kMaxJsonDepth) +
+                    " levels (at byte " + std::to_string(i) + ")");
+    } else if (c == '}' || c == ']') {
+      --depth;
+    }
+  }
+}
+
+// The length of a .glb's JSON chunk, which starts at kGlbJsonOffset (header and
+// chunk lengths checked against the file).
+constexpr size_t kGlbJsonOffset = 20;
+size_t glb_json_chunk(const std::vector<unsigned char>& bytes, const std::string& path) {
+  if (bytes.size() < kGlbJsonOffset || std::memcmp(bytes.data(), "glTF", 4) != 0)
+    throw Error(path + ": invalid glTF: not a binary glTF file (no 'glTF' header)");
+  uint32_t json_length;
+  std::memcpy(&json_length, bytes.data() + 12, 4);
+  if (json_length > bytes.size() - kGlbJsonOffset)
+    throw Error(path + ": invalid glTF: the JSON chunk (" + std::to_string(json_length) + " bytes) is longer than the file");
+  return json_length;
+}
+
+// A buffer's or image's URI names a file beside the scene or below it: absolute
+// paths and ".." are refused here with the element's name (read_file_inside checks
+// the file itself again, links included). Percent-escapes are decoded first, as
+// the loader decodes them.
+void check_uris(const unsigned char* json_text, size_t size, const std::string& path) {
+  nlohmann::json doc = nlohmann::json::parse(json_text, json_text + size, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) return;  // the loader reports what is wrong with it
+  for (const char* kind : {"buffers", "images"}) {
+    auto list = doc.find(kind);
+    if (list == doc.end() || !list->is_array()) continue;
+    for (size_t i = 0; i < list->size(); ++i) {
+      const nlohmann::json& item = (*list)[i];
+      if (!item.is_object() || !item.contains("uri") || !item["uri"].is_string()) continue;
+      std::string uri = item["uri"].get<std::string>(), decoded;
+      if (uri.rfind("data:", 0) == 0) continue;
+      for (size_t k = 0; k < uri.size(); ++k) {
+        if (uri[k] == '%' && k + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[k + 1])) &&
+            std::isxdigit(static_cast<unsigned char>(uri[k + 2]))) {
+          decoded += static_cast<char>(std::stoi(uri.substr(k + 1, 2), nullptr, 16));
+          k += 2;
+        } else {
+          decoded += uri[k];
+        }
+      }
+      std::filesystem::path file(decoded);
+      bool escapes = file.is_absolute();
+      for (const auto& part : file) escapes = escapes || part == "..";
+      if (escapes)
+        throw Error(path + ": " + std::string(kind).substr(0, std::strlen(kind) - 1) + " " + std::to_string(i) +
+                    ": uri '" + uri + "' lies outside the scene's folder (a scene may only name files beside it or below it)");
+    }
+  }
+}
+
+// tinygltf reads buffers and images through these: confined to the scene's folder,
+// regular files only, never blocking, size-limited (safe_file.h).
+struct SceneFolder {
+  std::filesystem::path folder;
+};
+
+bool scene_file_exists(const std::string& path, void*) {
+  std::error_code ec;
+  return std::filesystem::exists(std::filesystem::symlink_status(path, ec));
+}
+
+std::string scene_file_path(const std::string& path, void*) { return path; }  // no ~ or $VAR expansion
+
+bool read_scene_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  try {
+    *out = read_file_inside(path, static_cast<SceneFolder*>(user)->folder, kMaxSceneFileBytes);
+    return true;
+  } catch (const Error& e) {
+    if (err) *err += std::string(e.what()) + "\n";
+    return false;
+  }
+}
+
+bool refuse_write(std::string* err, const std::string& path, const std::vector<unsigned char>&, void*) {
+  if (err) *err += path + ": the kit never writes scene files\n";
+  return false;
+}
+
+Scene load_scene_unguarded(const std::string& path) {
+  std::vector<unsigned char> bytes = read_regular_file(path, kMaxSceneFileBytes);
+  bool binary = path.size() > 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
+  // The JSON text (a .glb's first chunk): its depth, then the files it names.
+  const unsigned char* json_text = bytes.data();
+  size_t json_size = bytes.size();
+  if (binary) {
+    json_size = glb_json_chunk(bytes, path);
+    json_text = bytes.data() + kGlbJsonOffset;
+  }
+  check_json_depth(json_text, json_size, path);
+  check_uris(json_text, json_size, path);
+
+  SceneFolder folder{std::filesystem::absolute(path).parent_path()};
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(decode_image_with_oiio, nullptr);
+  tinygltf::FsCallbacks files{};
+  files.FileExists = scene_file_exists;
+  files.ExpandFilePath = scene_file_path;
+  files.ReadWholeFile = read_scene_file;
+  files.WriteWholeFile = refuse_write;
+  files.user_data = &folder;
+  loader.SetFsCallbacks(files);
+  std::string err, warn;
+  const std::string base = folder.folder.string();
+  bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()), base)
+                   : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                                static_cast<unsigned>(bytes.size()), base);
+  if (!ok || !err.empty()) {
+    while (!err.empty() && err.back() == '\n') err.pop_back();
+    throw Error(path + ": invalid glTF: " + (err.empty() ? std::string("the file could not be parsed") : err));
+  }
+  return SceneBuilder(model, path).build();
+}
 
 }  // namespace
 
 glm::mat4 Camera::projection(float aspect) const { return glm::perspective(yfov, aspect, znear, zfar); }
 
 Scene load_scene(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw Error(path + ": scene file not found");
-  tinygltf::Model model;
-  tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(decode_image_with_oiio, nullptr);
-  std::string err, warn;
-  bool binary = path.size() > 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
-  bool ok = binary ? loader.LoadBinaryFromFile(&model, &err, &warn, path) : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-  if (!ok || !err.empty()) {
-    while (!err.empty() && err.back() == '\n') err.pop_back();
-    throw Error(path + ": invalid glTF: " + (err.empty() ? std::string("the file could not be parsed") : err));
+  // Whatever the file makes the loader do, the message names the file: a
+  // bad_alloc or length_error from a size the file asked for becomes a kit::Error.
+  try {
+    return load_scene_unguarded(path);
+  } catch (const Error&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw Error(path + ": the scene asks for more memory than there is (a size in the file is too large)");
+  } catch (const std::exception& e) {
+    throw Error(path + ": the scene could not be loaded: " + e.what());
   }
-  return SceneBuilder(model, path).build();
 }
 
 void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t>& indices) {

@@ -8,6 +8,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
 
+#include <sys/stat.h>
+
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -93,7 +95,7 @@ void expect_error(const fs::path& path, const std::string& phrase) {
 
 TEST(scene_loader_errors, MissingFile) {
   fs::path missing = kit::test::temp_dir("scene_loader/missing") / "no_such_scene.gltf";
-  expect_error(missing, "scene file not found");
+  expect_error(missing, "file not found");
 }
 
 TEST(scene_loader_errors, TruncatedJson) {
@@ -158,6 +160,100 @@ TEST(scene_loader_errors, AccessorPastTheEndOfItsBuffer) {
   copy.doc["accessors"][position]["count"] = copy.doc["accessors"][position]["count"].get<size_t>() * 4;
   copy.save_json();
   expect_error(copy.gltf, "reads past the end of its buffer");
+}
+
+// ---- hostile files: each would crash, hang or read outside the scene before ----
+
+// The bounds check the loader used to make, in size_t as it made it: it wraps.
+size_t naive_accessor_end(size_t byte_offset, size_t stride, size_t count, size_t element) {
+  return byte_offset + stride * (count - 1) + element;
+}
+
+TEST(scene_loader_hostile, AccessorCountThatWrapsTheBoundsCheckIsRefused) {
+  SceneCopy copy("sphere", "wrapping_count");
+  size_t position = static_cast<size_t>(copy.accessor("POSITION"));
+  const size_t count = (size_t{1} << 62) + 1;  // 12 * (count - 1) + 12 wraps to 12
+  const size_t view_length = copy.doc["bufferViews"][copy.doc["accessors"][position]["bufferView"].get<size_t>()]["byteLength"];
+  // Witness: the old check passed this accessor (and the read loop then wrote past its vector).
+  EXPECT_LE(naive_accessor_end(0, 12, count, 12), view_length);
+  copy.doc["accessors"][position]["count"] = count;
+  copy.save_json();
+  expect_error(copy.gltf, "reads past the end of its buffer");
+}
+
+TEST(scene_loader_hostile, ByteOffsetNearTwoToThe64IsRefused) {
+  SceneCopy copy("sphere", "huge_offset");
+  size_t position = static_cast<size_t>(copy.accessor("POSITION"));
+  const size_t offset = ~size_t{0} - 7;  // view offset + this wraps to just before the buffer
+  const size_t count = copy.doc["accessors"][position]["count"];
+  EXPECT_LT(naive_accessor_end(offset, 12, count, 12), offset) << "witness: the old sum wraps";
+  copy.doc["accessors"][position]["byteOffset"] = offset;
+  copy.save_json();
+  expect_error(copy.gltf, "byteOffset");
+}
+
+TEST(scene_loader_hostile, DeeplyNestedJsonIsRefusedBeforeParsing) {
+  SceneCopy copy("sphere", "deep_json");
+  std::string text = kit::test::read_file(copy.gltf);
+  const size_t depth = 100000;  // tinygltf's recursive parser runs off the stack at this depth
+  std::string deep = "\"extras\": " + std::string(depth, '[') + std::string(depth, ']') + ",";
+  text.insert(text.find('{') + 1, deep);
+  kit::test::write_file(copy.gltf, text);
+  expect_error(copy.gltf, "nested deeper than 64");
+  // The limit refuses nothing a real file does: 60 levels load.
+  SceneCopy ok("sphere", "deep_json_ok");
+  std::string fine = kit::test::read_file(ok.gltf);
+  fine.insert(fine.find('{') + 1, "\"extras\": " + std::string(58, '[') + std::string(58, ']') + ",");
+  kit::test::write_file(ok.gltf, fine);
+  EXPECT_NO_THROW(kit::load_scene(ok.gltf.string()));
+}
+
+TEST(scene_loader_hostile, BufferThatIsAFifoFailsAtOnce) {
+  SceneCopy copy("sphere", "fifo");
+  fs::remove(copy.bin);
+  ASSERT_EQ(mkfifo(copy.bin.c_str(), 0600), 0);  // opening it for reading would wait for a writer forever
+  std::string message = load_error(copy.gltf);
+  EXPECT_NE(message.find("not a regular file"), std::string::npos) << message;
+  EXPECT_NE(message.find(copy.gltf.string()), std::string::npos) << message;
+}
+
+TEST(scene_loader_hostile, NodeGraphThatDoublesAtEachLevelIsRefused) {
+  SceneCopy copy("sphere", "doubling_nodes");
+  // 40 nodes, each listing the next one twice: 2^40 visits for a walk that does not
+  // remember where it has been, though the depth (40) is within any depth limit.
+  const int levels = 40;
+  json nodes = json::array();
+  for (int i = 0; i < levels; ++i) {
+    json node = {{"name", "n" + std::to_string(i)}};
+    if (i + 1 < levels) node["children"] = {i + 1, i + 1};
+    else node["mesh"] = 0;
+    nodes.push_back(node);
+  }
+  copy.doc["nodes"] = nodes;
+  copy.doc["scenes"] = json::array({{{"nodes", {0}}}});
+  copy.doc["scene"] = 0;
+  copy.doc.erase("cameras");
+  copy.save_json();
+  double naive_visits = std::pow(2.0, levels - 1);
+  EXPECT_GT(naive_visits, 1e11) << "witness: the old walk's work";
+  expect_error(copy.gltf, "reached twice");
+}
+
+TEST(scene_loader_hostile, UrisOutsideTheSceneFolderAreRefused) {
+  SceneCopy copy("sphere", "escape/inner");
+  fs::path outside = copy.dir.parent_path() / "outside.bin";
+  fs::copy_file(copy.bin, outside, fs::copy_options::overwrite_existing);
+  copy.doc["buffers"][0]["uri"] = "../outside.bin";
+  copy.save_json();
+  expect_error(copy.gltf, "outside the scene's folder");
+  copy.doc["buffers"][0]["uri"] = fs::absolute(outside).string();
+  copy.save_json();
+  expect_error(copy.gltf, "outside the scene's folder");
+  // A link inside the folder that points out of it is refused too.
+  fs::create_symlink(outside, copy.dir / "link.bin");
+  copy.doc["buffers"][0]["uri"] = "link.bin";
+  copy.save_json();
+  expect_error(copy.gltf, "symbolic link");
 }
 
 // ---- valid scenes ----
