@@ -228,7 +228,7 @@ Program::UniformProblems Program::uniform_problems() const {
     } else if (it->second.set_as != 0 && !accepts(type, it->second.set_as)) {
       problems.mistyped.push_back(site + ": uniform `" + base + "' is declared " + glsl_type_name(type) +
                                   ", but the framework sets it as " + glsl_type_name(it->second.set_as) +
-                                  " (declare it as uniforms.glsl does, or include that file)");
+                                  " (include uniforms.glsl or geometry_uniforms.glsl rather than declaring it yourself)");
     }
   }
   return problems;

@@ -242,6 +242,72 @@ TEST_F(student_tools, UniformNothingSetsIsAWarningNamingItsLine) {
   EXPECT_TRUE(contains(output, "so it reads 0")) << output;
 }
 
+TEST_F(student_tools, UniformOfAnotherTypeIsAnErrorNamingItsLine) {
+  // Uniforms declared by hand instead of through geometry_uniforms.glsl, one with the wrong type.
+  const std::string vert = R"(#version 330 core
+#include "gbuffer_layout.h"
+uniform mat4 u_model;
+uniform mat3 u_normal_matrix;
+uniform mat4 u_view;
+uniform mat4 u_projection;
+layout(location = KIT_ATTR_POSITION) in vec3 a_position;
+layout(location = KIT_ATTR_NORMAL) in vec3 a_normal;
+out vec3 v_world_normal;
+void main() {
+    v_world_normal = u_normal_matrix * a_normal;
+    gl_Position = u_projection * u_view * u_model * vec4(a_position, 1.0);
+}
+)";
+  const std::string frag = R"(#version 330 core
+#include "gbuffer_layout.h"
+uniform vec4 u_base_color_factor;
+uniform float u_roughness_factor;
+in vec3 v_world_normal;
+layout(location = KIT_GBUF_POSITION) out vec4 out_position;
+layout(location = KIT_GBUF_NORMAL) out vec4 out_normal;
+layout(location = KIT_GBUF_ALBEDO) out vec4 out_albedo;
+layout(location = KIT_GBUF_MATERIAL) out vec4 out_material;
+void main() {
+    out_position = vec4(0.0, 0.0, 0.0, 1.0);
+    out_normal = vec4(normalize(v_world_normal), 0.0);
+    out_albedo = u_base_color_factor;
+    out_material = vec4(0.0, u_roughness_factor, 0.0, 1.0);
+}
+)";
+  std::string output;
+  lab("labs", "01-gbuffer", vert, frag);
+  ASSERT_EQ(render("--size 64x48 --out " + out("float.png"), &output), 0) << "witness, declared float:\n" << output;
+  lab("labs", "01-gbuffer", vert,
+      replaced(replaced(frag, "uniform float u_roughness_factor;", "uniform vec3 u_roughness_factor;"),
+               "vec4(0.0, u_roughness_factor, 0.0, 1.0)", "vec4(0.0, u_roughness_factor.x, 0.0, 1.0)"));
+  EXPECT_EQ(render("--size 64x48 --out " + out("vec3.png"), &output), 1) << output;
+  EXPECT_TRUE(contains(output, "kit-render: labs/01-gbuffer/gbuffer.frag:4: uniform `u_roughness_factor' is declared "
+                               "vec3, but the framework sets it as float"))
+      << output;
+}
+
+// kit-view stops the same way (a stuck frame blocks the window too). Under Xvfb,
+// as the window tests run it; the viewer is optional, so is this test.
+TEST_F(student_tools, ViewerEndlessLoopStopsAfterTheTimeout) {
+  const std::string viewer = kit::test::tool("kit-view");
+  if (!fs::exists(viewer)) GTEST_SKIP() << "kit-view is not built (KIT_BUILD_VIEWER is off)";
+  std::string output;
+  ASSERT_EQ(kit::test::run("command -v xvfb-run", &output), 0) << "xvfb-run is not installed (Debian: xvfb)";
+  auto view = [&](std::string* text) {
+    return kit::test::run("KIT_ROOT=" + quoted(root_.string()) + " xvfb-run -a -s '-screen 0 1024x768x24' " + quoted(viewer) +
+                              " --frames 2 --timeout 3",
+                          text);
+  };
+  ASSERT_EQ(view(&output), 0) << "witness, without the loop:\n" << output;
+  lab("labs", "01-gbuffer", kGbufferVert,
+      replaced(kGbufferFrag, "    out_position = vec4(v_world_position, 1.0);\n",
+               "    float x = 1.0;\n    while (x > 0.0)\n        while (x > 0.0) x += abs(u_roughness_factor);\n"
+               "    out_position = vec4(v_world_position, x);\n"));
+  EXPECT_EQ(view(&output), kit::kTimedOutStatus) << output;
+  EXPECT_TRUE(contains(output, "kit-view: timed out after 3 s rendering stage gbuffer: does a shader loop forever?"))
+      << output;
+}
+
 TEST_F(student_tools, ByteOrderMarkIsIgnored) {
   std::string output;
   const std::string views = " --size 160x120 --view normal --out ";
