@@ -2,6 +2,9 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <regex>
+#include <sstream>
+
 #include "error.h"
 #include "gbuffer_layout.h"
 
@@ -83,6 +86,7 @@ Program::Program(const ShaderLibrary& library, const std::string& vertex, const 
     throw;
   }
   program_ = GlName<delete_program>(link({v, f}, vs.files.front() + " + " + fs.files.front()));
+  sources_ = {std::move(vs), std::move(fs)};
 }
 
 Program::Program(const ShaderLibrary& library, const std::string& compute) {
@@ -90,23 +94,145 @@ Program::Program(const ShaderLibrary& library, const std::string& compute) {
   source_paths_ = cs.paths;
   GLuint shader = compile(GL_COMPUTE_SHADER, cs);
   program_ = GlName<delete_program>(link({shader}, cs.files.front()));
+  sources_ = {std::move(cs)};
 }
 
-GLint Program::location(const std::string& name) const {
-  auto it = locations_.find(name);
-  if (it != locations_.end()) return it->second;
-  GLint loc = glGetUniformLocation(program_.get(), name.c_str());
-  locations_.emplace(name, loc);
-  return loc;
+const Program::Slot& Program::slot(const std::string& name) const {
+  auto it = slots_.find(name);
+  if (it != slots_.end()) return it->second;
+  Slot s;
+  s.location = glGetUniformLocation(program_.get(), name.c_str());
+  return slots_.emplace(name, s).first->second;
 }
 
-void Program::set(const std::string& name, int v) const { glUniform1i(location(name), v); }
-void Program::set(const std::string& name, float v) const { glUniform1f(location(name), v); }
-void Program::set(const std::string& name, const glm::vec2& v) const { glUniform2fv(location(name), 1, glm::value_ptr(v)); }
-void Program::set(const std::string& name, const glm::vec3& v) const { glUniform3fv(location(name), 1, glm::value_ptr(v)); }
-void Program::set(const std::string& name, const glm::vec4& v) const { glUniform4fv(location(name), 1, glm::value_ptr(v)); }
-void Program::set(const std::string& name, const glm::mat3& v) const { glUniformMatrix3fv(location(name), 1, GL_FALSE, glm::value_ptr(v)); }
-void Program::set(const std::string& name, const glm::mat4& v) const { glUniformMatrix4fv(location(name), 1, GL_FALSE, glm::value_ptr(v)); }
+GLint Program::location(const std::string& name) const { return slot(name).location; }
+
+void Program::record(const std::string& name, GLenum type) const { slots_[name].set_as = type; }
+
+void Program::set(const std::string& name, int v) const { glUniform1i(location(name), v); record(name, GL_INT); }
+void Program::set(const std::string& name, float v) const { glUniform1f(location(name), v); record(name, GL_FLOAT); }
+void Program::set(const std::string& name, const glm::vec2& v) const {
+  glUniform2fv(location(name), 1, glm::value_ptr(v));
+  record(name, GL_FLOAT_VEC2);
+}
+void Program::set(const std::string& name, const glm::vec3& v) const {
+  glUniform3fv(location(name), 1, glm::value_ptr(v));
+  record(name, GL_FLOAT_VEC3);
+}
+void Program::set(const std::string& name, const glm::vec4& v) const {
+  glUniform4fv(location(name), 1, glm::value_ptr(v));
+  record(name, GL_FLOAT_VEC4);
+}
+void Program::set(const std::string& name, const glm::mat3& v) const {
+  glUniformMatrix3fv(location(name), 1, GL_FALSE, glm::value_ptr(v));
+  record(name, GL_FLOAT_MAT3);
+}
+void Program::set(const std::string& name, const glm::mat4& v) const {
+  glUniformMatrix4fv(location(name), 1, GL_FALSE, glm::value_ptr(v));
+  record(name, GL_FLOAT_MAT4);
+}
+
+namespace {
+
+// GLSL's name for a uniform type (those a lab could declare).
+std::string glsl_type_name(GLenum type) {
+  switch (type) {
+    case GL_FLOAT: return "float";
+    case GL_FLOAT_VEC2: return "vec2";
+    case GL_FLOAT_VEC3: return "vec3";
+    case GL_FLOAT_VEC4: return "vec4";
+    case GL_INT: return "int";
+    case GL_INT_VEC2: return "ivec2";
+    case GL_INT_VEC3: return "ivec3";
+    case GL_INT_VEC4: return "ivec4";
+    case GL_UNSIGNED_INT: return "uint";
+    case GL_BOOL: return "bool";
+    case GL_BOOL_VEC2: return "bvec2";
+    case GL_BOOL_VEC3: return "bvec3";
+    case GL_BOOL_VEC4: return "bvec4";
+    case GL_FLOAT_MAT2: return "mat2";
+    case GL_FLOAT_MAT3: return "mat3";
+    case GL_FLOAT_MAT4: return "mat4";
+    case GL_SAMPLER_2D: return "sampler2D";
+    case GL_SAMPLER_3D: return "sampler3D";
+    case GL_SAMPLER_CUBE: return "samplerCube";
+    default: return "a type the framework does not set";
+  }
+}
+
+bool is_sampler(GLenum type) {
+  switch (type) {
+    case GL_SAMPLER_1D: case GL_SAMPLER_2D: case GL_SAMPLER_3D: case GL_SAMPLER_CUBE:
+    case GL_SAMPLER_2D_SHADOW: case GL_SAMPLER_2D_ARRAY: case GL_SAMPLER_BUFFER:
+    case GL_INT_SAMPLER_2D: case GL_UNSIGNED_INT_SAMPLER_2D: case GL_SAMPLER_2D_RECT:
+      return true;
+    default:
+      return false;
+  }
+}
+
+// Whether glUniform* for a value of type `set_as` may set a uniform declared `declared`.
+bool accepts(GLenum declared, GLenum set_as) {
+  if (declared == set_as) return true;
+  switch (set_as) {
+    case GL_INT: return declared == GL_BOOL || is_sampler(declared);
+    case GL_FLOAT: return declared == GL_BOOL;
+    case GL_FLOAT_VEC2: return declared == GL_BOOL_VEC2;
+    case GL_FLOAT_VEC3: return declared == GL_BOOL_VEC3;
+    case GL_FLOAT_VEC4: return declared == GL_BOOL_VEC4;
+    default: return false;
+  }
+}
+
+}  // namespace
+
+std::string Program::declaration_site(const std::string& uniform) const {
+  const std::regex declaration("\\buniform\\b[^;]*\\b" + uniform + "\\b");
+  for (const AssembledShader& source : sources_) {
+    std::istringstream lines(source.text);
+    std::string line;
+    for (size_t n = 0; std::getline(lines, line); ++n) {
+      if (n >= source.lines.size() || !std::regex_search(line, declaration)) continue;
+      const SourceLine& at = source.lines[n];
+      return source.files[static_cast<size_t>(at.file)] + ":" + std::to_string(at.line);
+    }
+  }
+  return sources_.empty() ? std::string("?") : sources_.back().files.front();
+}
+
+Program::UniformProblems Program::uniform_problems() const {
+  UniformProblems problems;
+  GLint count = 0, longest = 0;
+  glGetProgramiv(program_.get(), GL_ACTIVE_UNIFORMS, &count);
+  glGetProgramiv(program_.get(), GL_ACTIVE_UNIFORM_MAX_LENGTH, &longest);
+  std::string pass;
+  for (const AssembledShader& s : sources_) pass += (pass.empty() ? "" : " + ") + s.files.front();
+  for (GLuint i = 0; i < static_cast<GLuint>(count); ++i) {
+    std::vector<char> buffer(static_cast<size_t>(std::max(longest, 1)) + 1, '\0');
+    GLsizei length = 0;
+    GLint size = 0, block = -1;
+    GLenum type = 0;
+    glGetActiveUniform(program_.get(), i, static_cast<GLsizei>(buffer.size()), &length, &size, &type, buffer.data());
+    glGetActiveUniformsiv(program_.get(), 1, &i, GL_UNIFORM_BLOCK_INDEX, &block);
+    if (block != -1) continue;  // a uniform block's member: set through its buffer, not by name
+    std::string name(buffer.data(), static_cast<size_t>(length));
+    if (name.rfind("gl_", 0) == 0) continue;
+    const size_t bracket = name.find('[');
+    const std::string base = name.substr(0, bracket);
+    auto it = slots_.find(base);
+    if (it == slots_.end() && bracket != std::string::npos) it = slots_.find(name);
+    const std::string site = declaration_site(base.substr(0, base.find('.')));
+    if (it == slots_.end()) {
+      problems.unset.push_back(site + ": uniform `" + base + "' is never set by the framework for " + pass +
+                               ", so it reads 0 (use a const for a value of your own)");
+    } else if (it->second.set_as != 0 && !accepts(type, it->second.set_as)) {
+      problems.mistyped.push_back(site + ": uniform `" + base + "' is declared " + glsl_type_name(type) +
+                                  ", but the framework sets it as " + glsl_type_name(it->second.set_as) +
+                                  " (include uniforms.glsl or geometry_uniforms.glsl rather than declaring it yourself)");
+    }
+  }
+  return problems;
+}
 
 Texture2D::Texture2D(int width, int height, TextureFormat fmt, const void* data, bool mipmaps)
     : width_(width), height_(height), format_(fmt) {

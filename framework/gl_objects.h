@@ -75,10 +75,28 @@ class Program {
   void set(const std::string& name, const glm::mat3& v) const;
   void set(const std::string& name, const glm::mat4& v) const;
 
+  // What the program's uniforms tell once it has drawn with everything its
+  // caller sets: each line reads "FILE:LINE: uniform `name' ...", naming where
+  // the uniform is declared.
+  struct UniformProblems {
+    std::vector<std::string> unset;     // used by the shaders, never looked up by name: nothing sets them, they read 0
+    std::vector<std::string> mistyped;  // set with a value of another type than declared: GL refuses the call
+  };
+  UniformProblems uniform_problems() const;
+
  private:
+  struct Slot {
+    GLint location = -1;
+    GLenum set_as = 0;  // the GL type of the last value set (GL_INT, GL_FLOAT_VEC3, ...); 0 before any
+  };
+  const Slot& slot(const std::string& name) const;
+  void record(const std::string& name, GLenum type) const;
+  std::string declaration_site(const std::string& uniform) const;
+
   GlName<delete_program> program_;
-  mutable std::unordered_map<std::string, GLint> locations_;
+  mutable std::unordered_map<std::string, Slot> slots_;
   std::vector<std::filesystem::path> source_paths_;
+  std::vector<AssembledShader> sources_;  // for the file and line of a declaration
 };
 
 struct TextureFormat {

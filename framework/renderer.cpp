@@ -3,8 +3,11 @@
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
 
+#include <algorithm>
+
 #include "error.h"
 #include "gbuffer_layout.h"
+#include "interface_check.h"
 #include "mesh_optimize.h"
 
 namespace kit {
@@ -173,6 +176,7 @@ Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene
 Renderer::~Renderer() = default;
 
 void Renderer::build_programs() {
+  check_stage_interfaces(stage_, library_);
   auto p = std::make_unique<Programs>();
   p->geometry = make_program(library_, "gbuffer.vert", "gbuffer.frag");
   if (stage_.lighting) {
@@ -187,6 +191,7 @@ void Renderer::build_programs() {
   }
   p->debug = make_program(library_, "fullscreen.vert", "debug_view.frag");
   programs_ = std::move(p);  // replaced only once everything compiled and linked
+  used_.clear();
 }
 
 void Renderer::reload_shaders() { build_programs(); }
@@ -280,9 +285,28 @@ void Renderer::fullscreen_pass(const Program& program, const Framebuffer& target
 }
 
 void Renderer::render(const FrameCamera& camera) {
+  used_.clear();
+  try {
+    render_passes(camera);
+  } catch (const Error& e) {
+    // A uniform set with another type than declared is a GL error in its pass: say which.
+    std::string mistyped;
+    for (const Program* program : used_)
+      for (const std::string& line : program->uniform_problems().mistyped) mistyped += line + "\n";
+    if (mistyped.empty()) throw;
+    throw Error(mistyped + "(" + e.what() + ")");
+  }
+}
+
+void Renderer::render_passes(const FrameCamera& camera) {
   if (settings_.extra_lights + static_cast<int>(scene_.lights.size()) != light_count_) upload_lights();
   camera_ = camera;
   const Programs& p = *programs_;
+  for (const Program* program : {&p.geometry, &p.lighting, &p.display, &p.bright, &p.blur, &p.composite, &p.custom}) {
+    bool drawn = program->valid() && (program != &p.display || !stage_.postprocess) &&
+                 (program != &p.blur || settings_.blur_passes > 0);
+    if (drawn) used_.push_back(program);
+  }
 
   // 1. Geometry pass: every draw item into the G-buffer.
   gbuffer_.begin_geometry_pass();
@@ -319,6 +343,29 @@ void Renderer::render(const FrameCamera& camera) {
   set_frame_uniforms(p.custom);
   fullscreen_pass(p.custom, final_fbo_, settings_.width, settings_.height);
   check_gl("postprocess passes");
+}
+
+size_t Renderer::count_non_finite(View view) {
+  if (view == View::Final && stage_.lighting) view = View::Hdr;
+  return kit::count_non_finite(read_view(view, true));
+}
+
+std::vector<NonFiniteCount> Renderer::non_finite_pixels() {
+  std::vector<NonFiniteCount> out;
+  const size_t pixels = static_cast<size_t>(settings_.width) * static_cast<size_t>(settings_.height);
+  for (View view : {View::Position, View::Normal, View::Material, View::Hdr}) {
+    if (view == View::Hdr && !stage_.lighting) continue;
+    out.push_back({view, count_non_finite(view), pixels});
+  }
+  return out;
+}
+
+std::vector<std::string> Renderer::uniform_warnings() const {
+  std::vector<std::string> out;
+  for (const Program* program : used_)
+    for (const std::string& line : program->uniform_problems().unset)
+      if (std::find(out.begin(), out.end(), line) == out.end()) out.push_back(line);
+  return out;
 }
 
 const Texture2D& Renderer::final_texture() const {

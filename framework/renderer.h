@@ -77,10 +77,20 @@ int blur_result(int passes);  // 0 after an even pass count, 1 after an odd one
 void blur_ping_pong(const FullscreenTriangle& triangle, const Program& blur, const Texture2D (&targets)[2],
                     const Framebuffer (&fbos)[2], int passes, int width, int height);
 
+// What to do about NaN/Inf pixels, in the words every tool uses.
+constexpr const char* kNonFiniteAdvice = "guard the divisions and square roots (guards.glsl)";
+
+// NaN/Inf pixels in one float buffer of a frame.
+struct NonFiniteCount {
+  View view;
+  size_t pixels = 0, of = 0;  // pixels holding a NaN or Inf in any channel, out of all
+};
+
 class Renderer {
  public:
   // `library` resolves the stage's shaders (see stage_library). Throws kit::Error
-  // on any shader or GL problem.
+  // on any shader or GL problem; before compiling, the stage's vertex/fragment
+  // pairs must agree on their varyings (interface_check.h).
   Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene, RenderSettings settings);
   ~Renderer();
 
@@ -103,9 +113,21 @@ class Renderer {
   // maps it, so a window can show it without a CPU round trip.
   const Texture2D& display_texture(View view);
 
+  // NaN/Inf pixels in the float data behind `view` as the last frame left it:
+  // the attachment for a G-buffer view, the HDR buffer for hdr and (lit stages)
+  // final, whose 8-bit image cannot hold them.
+  size_t count_non_finite(View view);
+  // The same for every float buffer the frame wrote: position, normal and
+  // material, and hdr on lit stages. Reads them back (not for every frame).
+  std::vector<NonFiniteCount> non_finite_pixels();
+  // Uniforms the last frame's programs use but the framework never set (they
+  // read 0), one line each naming the file and line of the declaration.
+  std::vector<std::string> uniform_warnings() const;
+
  private:
   struct Programs;
   void build_programs();
+  void render_passes(const FrameCamera& camera);
   void upload_lights();
   void set_frame_uniforms(const Program& program) const;
   void fullscreen_pass(const Program& program, const Framebuffer& target, int width, int height) const;
@@ -125,6 +147,7 @@ class Renderer {
   Framebuffer hdr_fbo_, bloom_fbo_[2], composite_fbo_, final_fbo_, debug_fbo_;
   Texture2D debug_target_;
   FrameCamera camera_;
+  std::vector<const Program*> used_;  // the programs the last frame drew with, in order
 };
 
 }  // namespace kit

@@ -14,6 +14,7 @@ namespace kit {
 namespace {
 
 constexpr int kMaxIncludeDepth = 16;
+const std::string kUtf8ByteOrderMark = "\xEF\xBB\xBF";
 
 bool valid_utf8(const std::string& s, size_t* bad_offset) {
   for (size_t i = 0; i < s.size();) {
@@ -67,6 +68,8 @@ std::string read_shader_text(const fs::path& path, const std::string& display) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw Error(display + ": cannot open file");
   std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  // A UTF-8 byte-order mark (some Windows editors write one) is not part of the text.
+  if (text.compare(0, kUtf8ByteOrderMark.size(), kUtf8ByteOrderMark) == 0) text.erase(0, kUtf8ByteOrderMark.size());
   if (text.find_first_not_of(" \t\r\n") == std::string::npos)
     throw Error(display + ": file is empty");
   if (text.find('\0') != std::string::npos)

@@ -59,7 +59,8 @@ class ShaderLibrary {
 };
 
 // Reads a whole file as shader text: size limit, no NUL bytes, valid UTF-8,
-// not empty. Throws kit::Error naming `display`.
+// not empty. A UTF-8 byte-order mark at the start is dropped. Throws kit::Error
+// naming `display`.
 std::string read_shader_text(const std::filesystem::path& path, const std::string& display);
 
 // True when `name` is a plain file name the resolver accepts.

@@ -219,6 +219,29 @@ TEST_F(shader_source, FileContentChecks) {
   EXPECT_NE(error_of([&] { lib.locate("folder.glsl"); }).find("not a regular file"), std::string::npos);
 }
 
+// A UTF-8 byte-order mark (Notepad and some Windows editors write one) is dropped:
+// the #version line behind it is the first line, and the text equals the file's without it.
+TEST_F(shader_source, ByteOrderMarkIsDropped) {
+  const std::string bom = "\xEF\xBB\xBF";
+  const std::string body = kVersion + "#include \"common.glsl\"\nvoid main() {}\n";
+  write("plain", "main.frag", body);
+  write("plain", "common.glsl", "// common\n");
+  write("bom", "main.frag", bom + body);
+  write("bom", "common.glsl", bom + "// common\n");
+  kit::AssembledShader plain = library({"plain"}).assemble("main.frag");
+  kit::AssembledShader with_bom;
+  EXPECT_NO_THROW(with_bom = library({"bom"}).assemble("main.frag"));
+  EXPECT_EQ(with_bom.text, plain.text);
+  EXPECT_EQ(with_bom.text.find(bom), std::string::npos);
+  EXPECT_EQ(kit::read_shader_text(root_ / "bom" / "common.glsl", "bom/common.glsl"), "// common\n");
+  // A mark and nothing else is still an empty file; a mark later in the text is kept (valid UTF-8).
+  write("bom", "only_bom.glsl", bom + "\n");
+  EXPECT_NE(error_of([&] { kit::read_shader_text(root_ / "bom" / "only_bom.glsl", "bom/only_bom.glsl"); })
+                .find("bom/only_bom.glsl: file is empty"), std::string::npos);
+  write("bom", "inner.glsl", "// x" + bom + "\n");
+  EXPECT_EQ(kit::read_shader_text(root_ / "bom" / "inner.glsl", "bom/inner.glsl"), "// x" + bom + "\n");
+}
+
 TEST_F(shader_source, OnlyRestrictsAFolderToItsListedNames) {
   write("lab", "mine.glsl", "// lab mine\n");
   write("lab", "theirs.glsl", "// lab theirs\n");

@@ -1,12 +1,19 @@
 #include "cli.h"
 
+#include <system_error>
+
 #include "error.h"
 
 namespace kit {
 
 const char* common_options_help() {
-  return "  --stage NAME          gbuffer | lighting | attenuation | normalmap | postprocess (or 1-5)\n"
-         "  --shaders DIR         folder holding NN-name/ lab folders (default: solutions/)\n"
+  return "  --stage NAME          gbuffer | lighting | attenuation | normalmap | postprocess (or 1-5);\n"
+         "                        default: the stage of the lab folder --shaders names, else gbuffer\n"
+         "  --shaders DIR         your lab files: a folder holding NN-name/ lab folders (default: labs/),\n"
+         "                        or one lab folder itself (labs/02-lighting)\n"
+         "  --solution            the reference solutions (solutions/) instead of your labs\n"
+         "  --timeout S           seconds the shaders may take to compile and draw before the run stops\n"
+         "                        with a message (default 30, as the grader's; 0: no limit)\n"
          "  --scene NAME|FILE     kit scene name (default, sphere, grazing, normalmap) or a .gltf/.glb\n"
          "  --backend NAME        osmesa (default) | egl\n"
          "  --size WxH            image size (default 640x480)\n"
@@ -65,6 +72,11 @@ void parse_options(int argc, char** argv, CommonOptions& o,
     RenderSettings& s = o.settings;
     if (flag == "--stage") o.stage = value();
     else if (flag == "--shaders") o.shaders = value();
+    else if (flag == "--solution") o.solution = true;
+    else if (flag == "--timeout") {
+      o.timeout = parse_float(value(), flag);
+      if (!(o.timeout >= 0.0 && o.timeout <= 86400.0)) throw Error("--timeout expects seconds from 0 (no limit) to 86400");
+    }
     else if (flag == "--scene") o.scene = value();
     else if (flag == "--backend") o.backend = value();
     else if (flag == "--size" || flag == "-s") parse_size(value(), &s.width, &s.height);
@@ -89,8 +101,73 @@ void parse_options(int argc, char** argv, CommonOptions& o,
   if (o.settings.extra_lights < 0 || o.settings.extra_lights > 65536) throw Error("--lights must be 0..65536");
 }
 
-std::filesystem::path shaders_root(const CommonOptions& options) {
-  return options.shaders.empty() ? kit_root() / "solutions" : std::filesystem::path(options.shaders);
+namespace {
+
+namespace fs = std::filesystem;
+
+// The stage whose lab folder `path` is (its name is NN-name), or null.
+const Stage* lab_folder_stage(const fs::path& path) {
+  const std::string name = path.filename().string();
+  for (const Stage& s : stages())
+    if (s.folder == name) return &s;
+  return nullptr;
+}
+
+std::string lab_folder_list() {
+  std::string out;
+  for (const Stage& s : stages()) out += (out.empty() ? "" : ", ") + s.folder;
+  return out;
+}
+
+}  // namespace
+
+void check_lab_folder(const CommonOptions& o, const fs::path& root, const Stage& stage) {
+  std::error_code ec;
+  const fs::path folder = root / stage.folder;
+  if (fs::is_directory(folder, ec)) return;
+  const std::string where = folder.string() + ": no such folder, so stage " + std::to_string(stage.number) + " (" +
+                            stage.name + ") has no lab files to render. ";
+  if (o.solution)
+    throw Error(where + "This copy of the kit holds no solution of lab " + std::to_string(stage.number) +
+                " (a student copy keeps only the solutions of the labs before its own); leave out --solution "
+                "to render your own lab from labs/" + stage.folder);
+  if (o.shaders.empty())
+    throw Error(where + "labs/ should hold every lab's starter folder (" + lab_folder_list() +
+                "): restore it (git checkout -- labs/" + stage.folder + "), or give --shaders DIR");
+  throw Error(where + "--shaders " + o.shaders + " must be a folder holding the lab folders (" + lab_folder_list() +
+              ") or one lab folder itself, e.g. --shaders " + (fs::path(o.shaders) / stage.folder).string());
+}
+
+LabSelection select_lab(const CommonOptions& o) {
+  if (o.solution && !o.shaders.empty()) throw Error("--solution and --shaders both say where the lab files are: give one");
+  LabSelection out;
+  const Stage* from_folder = nullptr;
+  if (o.solution) {
+    out.root = kit_root() / "solutions";
+  } else if (o.shaders.empty()) {
+    out.root = kit_root() / "labs";
+  } else {
+    std::error_code ec;
+    fs::path given(o.shaders);
+    if (!fs::is_directory(given, ec))
+      throw Error("--shaders " + o.shaders + ": no such folder (give the folder holding your NN-name lab folders, "
+                  "such as labs, or one lab folder, such as labs/02-lighting)");
+    fs::path absolute = fs::absolute(given, ec).lexically_normal();
+    if (absolute.filename().empty()) absolute = absolute.parent_path();  // "labs/02-lighting/"
+    from_folder = lab_folder_stage(absolute);
+    out.root = from_folder ? absolute.parent_path() : given;
+  }
+  if (!o.stage.empty()) {
+    out.stage = &find_stage(o.stage);
+    if (from_folder && from_folder != out.stage)
+      throw Error("--shaders " + o.shaders + " is the folder of lab " + std::to_string(from_folder->number) + " (" +
+                  from_folder->name + "), but --stage asks for lab " + std::to_string(out.stage->number) + " (" +
+                  out.stage->name + "): leave out --stage, or give --shaders " + out.root.string());
+  } else {
+    out.stage = from_folder ? from_folder : &find_stage("gbuffer");
+  }
+  check_lab_folder(o, out.root, *out.stage);
+  return out;
 }
 
 }  // namespace kit

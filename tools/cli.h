@@ -6,14 +6,17 @@
 #include <vector>
 
 #include "renderer.h"
+#include "watchdog.h"
 
 namespace kit {
 
 struct CommonOptions {
-  std::string stage = "gbuffer";
-  std::string shaders;           // root holding NN-name/ folders; empty = solutions/
+  std::string stage;             // --stage; empty: from a lab folder given to --shaders, else gbuffer
+  std::string shaders;           // --shaders: a folder of NN-name/ lab folders, or one of them; empty: labs/
+  bool solution = false;         // --solution: the reference solutions (solutions/) instead of labs/
   std::string scene = "default"; // scene name or .gltf path
   std::string backend = "osmesa";
+  double timeout = kDefaultTimeoutSeconds;  // --timeout: seconds of GL work before the watchdog ends the run; 0: none
   RenderSettings settings;
 };
 
@@ -32,7 +35,18 @@ void parse_options(int argc, char** argv, CommonOptions& options,
 void parse_size(const std::string& text, int* width, int* height);
 bool parse_on_off(const std::string& text, const std::string& flag);
 
-// The folder of lab files a stage is assembled from (solutions/ by default).
-std::filesystem::path shaders_root(const CommonOptions& options);
+// Which lab files a run renders: the stage and the folder holding the NN-name
+// lab folders (the root stage_library takes).
+struct LabSelection {
+  const Stage* stage = nullptr;
+  std::filesystem::path root;
+};
+// --solution: solutions/; --shaders DIR: DIR, or DIR's parent when DIR is a lab
+// folder itself (labs/02-lighting), whose stage is then the default; otherwise
+// labs/. Throws kit::Error when the folders are missing (see check_lab_folder)
+// or --stage names another lab than the folder given.
+LabSelection select_lab(const CommonOptions& options);
+// Throws kit::Error naming root/NN-name and how to fix it when that is not a folder.
+void check_lab_folder(const CommonOptions& options, const std::filesystem::path& root, const Stage& stage);
 
 }  // namespace kit

@@ -1,5 +1,6 @@
 // kit-render: one deterministic headless frame of a stage, written as PNG or EXR.
 //   kit-render --stage gbuffer --view normal --out normal.png [--view depth --out depth.exr ...]
+// It renders the student's labs/ (--solution: the reference solutions; --shaders: any lab folders).
 // Several --view/--out pairs share one context, scene load and shader compile.
 #include <chrono>
 #include <cstdio>
@@ -27,9 +28,12 @@ void usage() {
       "usage: kit-render --stage NAME [--view VIEW] --out FILE.png|FILE.exr [--view VIEW --out FILE ...] [options]\n"
       "Renders one headless frame. VIEW: final (default) | position | normal | albedo | material | depth | hdr.\n"
       "PNG shows a view for people (vectors as (v+1)/2, depth linearised); EXR keeps the float values.\n"
+      "Renders your labs/ unless --solution or --shaders says otherwise. Warns (stderr) about NaN/Inf pixels\n"
+      "and uniforms nothing sets; exits 1 on a shader error, %d when --timeout runs out.\n"
       "  --timings             print where the time went (stderr)\n"
       "  --frames N            render the frame N times (default 1); with --timings, each frame's\n"
       "                        wall-clock time in ms, glFinish included (the first holds llvmpipe's JIT)\n%s",
+      kit::kTimedOutStatus,
       kit::common_options_help());
 }
 
@@ -64,13 +68,18 @@ int main(int argc, char** argv) {
     });
     if (outputs.empty()) throw kit::Error("--out FILE is required (see --help)");
 
-    const kit::Stage& stage = kit::find_stage(options.stage);
+    const kit::LabSelection lab = kit::select_lab(options);
+    const kit::Stage& stage = *lab.stage;
     kit::Scene scene = kit::load_scene(kit::resolve_scene(options.scene));
     auto t_scene = seconds_since(t0);
     auto context = kit::create_headless_context(kit::parse_backend(options.backend));
     auto t_context = seconds_since(t0);
-    kit::Renderer renderer(stage, kit::stage_library(stage, kit::shaders_root(options)), scene, options.settings);
+    // One time limit for compiling, drawing and reading back, as the grader gives a lab.
+    kit::Watchdog watchdog("kit-render", options.timeout);
+    watchdog.arm("compiling the shaders of stage " + stage.name);
+    kit::Renderer renderer(stage, kit::stage_library(stage, lab.root), scene, options.settings);
     auto t_compile = seconds_since(t0);
+    watchdog.relabel("rendering stage " + stage.name);
     const auto& s = options.settings;
     kit::Camera camera = scene.camera ? *scene.camera : kit::framing_camera(scene);
     std::vector<double> frame_ms;
@@ -85,6 +94,13 @@ int main(int argc, char** argv) {
       bool raw = out.path.size() > 4 && out.path.compare(out.path.size() - 4, 4, ".exr") == 0;
       kit::write_image(out.path, renderer.read_view(out.view, raw));
     }
+    // What the grader would say besides the images: NaN/Inf in the float buffers, uniforms nothing sets.
+    for (const kit::NonFiniteCount& n : renderer.non_finite_pixels())
+      if (n.pixels > 0)
+        std::fprintf(stderr, "kit-render: warning: %zu of %zu pixels of the %s view are NaN or Inf: %s\n", n.pixels, n.of,
+                     kit::view_name(n.view), kit::kNonFiniteAdvice);
+    for (const std::string& line : renderer.uniform_warnings()) std::fprintf(stderr, "kit-render: warning: %s\n", line.c_str());
+    watchdog.disarm();
     if (timings)
       std::fprintf(stderr, "timings: scene %.3fs, context %.3fs, compile %.3fs, render %.3fs, write %.3fs (%s)\n",
                    t_scene, t_context - t_scene, t_compile - t_context, t_render - t_compile, seconds_since(t0) - t_render,

@@ -14,6 +14,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -35,6 +36,7 @@ namespace {
 constexpr const char* kImGuiGlslVersion = "#version 330 core";
 constexpr double kShaderPollSeconds = 0.25;    // how often shader files are checked for changes
 constexpr double kTitleRefreshSeconds = 0.25;  // the title shows the frame time, but not every frame
+constexpr double kWarningCheckSeconds = 2.0;   // NaN/Inf read-back and uniform check (a read-back costs a few ms)
 constexpr double kFrameTimeSmoothing = 0.05;   // weight of the newest frame in the moving average
 constexpr float kGammaCycle[] = {2.2f, 1.0f, 0.5f, 2.5f};  // the G key, as in the gamma slides
 constexpr float kGammaMin = 0.2f, kGammaMax = 3.0f;
@@ -50,8 +52,15 @@ constexpr float kFlySpeed = 0.25f;           // scene sizes per second
 constexpr float kFlyFastFactor = 4.0f;       // with Shift held
 constexpr float kMaxPitch = 1.55f;           // just under 90 degrees: look-at stays well defined
 constexpr float kPanelWidth = 340.0f, kPanelItemWidth = 180.0f;
+constexpr float kWindowMargin = 8.0f;           // between the viewport's edges and the panel or messages
+constexpr float kMessagesMaxHeightFraction = 0.45f;  // of the viewport: the image stays visible above
 const ImVec4 kErrorColor{1.0f, 0.35f, 0.35f, 1.0f};
+const ImVec4 kWarningColor{1.0f, 0.8f, 0.3f, 1.0f};
 const ImVec4 kNoteColor{0.7f, 0.7f, 0.7f, 1.0f};
+// The first stage each setting changes the image in (the panel shows a control from there on).
+constexpr int kFirstLitStage = 2;         // extra lights: the lighting pass
+constexpr int kFirstDisplayStage = 3;     // gamma and the attenuation model: lab 3's tonemap.glsl and attenuation.glsl
+constexpr int kFirstPostprocessStage = 5; // bloom, its threshold and the custom effect
 
 constexpr kit::View kViewKeys[] = {kit::View::Final,    kit::View::Position, kit::View::Normal, kit::View::Albedo,
                                    kit::View::Material, kit::View::Depth,    kit::View::Hdr};
@@ -75,12 +84,14 @@ void usage() {
       "  --screenshot FILE     after the last frame, write the stage's final image (PNG or EXR)\n"
       "  --window-screenshot FILE  after the last frame, write the window as shown, panel included\n"
       "  --hidden              invisible window (the image is still rendered)\n"
-      "  --no-ui               no control panel\n"
+      "  --no-ui               no control panel (errors and warnings still go to stderr)\n"
       "Keys: 1-7 view (final, position, normal, albedo, material, depth, hdr), P postprocess, C custom effect,\n"
       "      G gamma 2.2/1.0/0.5/2.5, A attenuation model (orbit mode), F fly/orbit, F12 or K screenshot,\n"
       "      R reload shaders, Esc quit.\n"
       "Mouse: orbit: left drag rotates, wheel zooms, right/middle drag pans;\n"
       "       fly: WASD move, Q/E down/up, Shift faster, right drag looks around.\n"
+      "A frame (or a shader build) that takes longer than --timeout ends the viewer with a message on stderr:\n"
+      "a GL call that never returns blocks the window too.\n"
       "Shared options (--size sets the window size; --backend is not used, the window is the context):\n%s",
       kit::common_options_help());
 }
@@ -95,12 +106,6 @@ int parse_frame_count(const std::string& text) {
   throw kit::Error("--frames expects a whole number of at least 1 (got '" + text + "')");
 }
 
-fs::path checked_shader_root(const kit::CommonOptions& options) {
-  fs::path root = kit::shaders_root(options);
-  std::error_code ec;
-  if (!fs::is_directory(root, ec)) throw kit::Error("--shaders: '" + root.string() + "' is not a folder (it should hold the NN-name lab folders)");
-  return root;
-}
 
 // Orbit and fly cameras over one state: a target point, a distance and a
 // direction (yaw, pitch). Until the first move the scene's own camera is used
@@ -237,8 +242,11 @@ class Viewer {
   explicit Viewer(ViewerOptions options)
       : options_(std::move(options)),
         settings_(options_.common.settings),
-        stage_(&kit::find_stage(options_.common.stage)),
-        shader_root_(checked_shader_root(options_.common)),
+        lab_(kit::select_lab(options_.common)),
+        stage_(lab_.stage),
+        shader_root_(lab_.root),
+        watchdog_("kit-view", options_.common.timeout,
+                  "The window cannot show this while the GL call runs: fix the shader, then open the viewer again."),
         scene_(kit::load_scene(kit::resolve_scene(options_.common.scene))),
         window_(settings_.width, settings_.height, title_prefix(), !options_.hidden),
         rig_(scene_),
@@ -270,7 +278,7 @@ class Viewer {
 
   int run() {
     const double start = glfwGetTime();
-    double last = start, next_poll = start, next_title = start;
+    double last = start, next_poll = start, next_title = start, next_check = start;
     int frame = 0;
     while (!window_.should_close()) {
       glfwPollEvents();
@@ -292,13 +300,23 @@ class Viewer {
         glfwWaitEvents();
         continue;
       }
+      // Everything up to the swap runs under the time limit: a shader that never
+      // finishes blocks whichever GL call waits for it first.
+      in_frame_ = true;
+      watchdog_.arm(frame_activity());
       draw_frame(width, height);
-      if (imgui_) draw_panel();
+      if (renderer_ && (warnings_due_ || now >= next_check)) {
+        refresh_warnings();
+        next_check = now + kWarningCheckSeconds;
+      }
+      if (imgui_) draw_ui();
 
       bool last_frame = options_.frames > 0 && frame + 1 >= options_.frames;
       if (screenshot_requested_) write_key_screenshot();
       if (last_frame) write_final_screenshots();
       window_.swap_buffers();
+      watchdog_.disarm();
+      in_frame_ = false;
       if (now >= next_title) {
         refresh_title();
         next_title = now + kTitleRefreshSeconds;
@@ -335,11 +353,18 @@ class Viewer {
       return;
     }
     switch (key) {
-      case GLFW_KEY_P: settings_.postprocess = !settings_.postprocess; break;
-      case GLFW_KEY_C: settings_.custom_effect = !settings_.custom_effect; break;
-      case GLFW_KEY_G: cycle_gamma(); break;
+      case GLFW_KEY_P:
+        if (applies(kFirstPostprocessStage, "postprocess (P)")) settings_.postprocess = !settings_.postprocess;
+        break;
+      case GLFW_KEY_C:
+        if (applies(kFirstPostprocessStage, "the custom effect (C)")) settings_.custom_effect = !settings_.custom_effect;
+        break;
+      case GLFW_KEY_G:
+        if (applies(kFirstDisplayStage, "gamma (G)")) cycle_gamma();
+        break;
       case GLFW_KEY_A:  // in fly mode A strafes left; the panel still switches the model
-        if (!rig_.flying()) settings_.attenuation_model = 1 - settings_.attenuation_model;
+        if (!rig_.flying() && applies(kFirstDisplayStage, "the attenuation model (A)"))
+          settings_.attenuation_model = 1 - settings_.attenuation_model;
         break;
       case GLFW_KEY_F: rig_.toggle_fly(); break;
       case GLFW_KEY_F12:
@@ -347,6 +372,14 @@ class Viewer {
       case GLFW_KEY_R: reload_now(); break;
       default: break;
     }
+  }
+
+  // Whether a setting first used by stage `first` changes the current stage's image; says so when not.
+  bool applies(int first, const char* what) {
+    if (stage_->number >= first) return true;
+    set_note(std::string(what) + " changes nothing before stage " + std::to_string(first) + " (" +
+             kit::stages()[static_cast<size_t>(first - 1)].name + ")");
+    return false;
   }
 
   void cycle_gamma() {
@@ -495,8 +528,30 @@ class Viewer {
   }
 
   // ---- Shaders: building, hot reload, errors.
+  // Shader builds run under the time limit as well; inside a frame, the frame's
+  // limit starts again once the build is done.
+  class TimedWork {
+   public:
+    TimedWork(Viewer& viewer, const std::string& activity) : viewer_(viewer) { viewer_.watchdog_.arm(activity); }
+    ~TimedWork() {
+      if (viewer_.in_frame_) viewer_.watchdog_.arm(viewer_.frame_activity());
+      else viewer_.watchdog_.disarm();
+    }
+    TimedWork(const TimedWork&) = delete;
+    TimedWork& operator=(const TimedWork&) = delete;
+
+   private:
+    Viewer& viewer_;
+  };
+
+  std::string frame_activity() const {
+    return "rendering stage " + (renderer_ ? renderer_->stage().name : stage_->name);
+  }
+
   void build_renderer() {
+    TimedWork timed(*this, "compiling the shaders of stage " + stage_->name);
     try {
+      kit::check_lab_folder(options_.common, shader_root_, *stage_);
       auto renderer = std::make_unique<kit::Renderer>(*stage_, kit::stage_library(*stage_, shader_root_), scene_, settings_);
       bool retry = !error_.empty();
       renderer_ = std::move(renderer);  // replaces the old stage only once the new one built
@@ -504,6 +559,7 @@ class Viewer {
       if (!gpu_timer_) gpu_timer_ = std::make_unique<GpuTimer>();
       if (!blit_source_) blit_source_ = std::make_unique<kit::Framebuffer>();
       error_.clear();
+      warnings_due_ = true;
     } catch (const kit::Error& e) {
       report_error(e.what());
     }
@@ -524,9 +580,11 @@ class Viewer {
       build_renderer();
       return;
     }
+    TimedWork timed(*this, "compiling the shaders of stage " + stage_->name);
     try {
       renderer_->reload_shaders();
       error_.clear();
+      warnings_due_ = true;
       set_note("shaders reloaded");
     } catch (const kit::Error& e) {
       report_error(e.what());  // the old programs keep running
@@ -578,6 +636,28 @@ class Viewer {
     watched_ = same_files ? std::move(times) : std::move(after);
   }
 
+  // NaN/Inf pixels and uniforms nothing sets, as kit-render and the grader report
+  // them; printed once when they change, shown under the image.
+  void refresh_warnings() {
+    warnings_due_ = false;
+    std::vector<std::string> found;
+    try {
+      for (const kit::NonFiniteCount& n : renderer_->non_finite_pixels())
+        if (n.pixels > 0)
+          found.push_back(std::to_string(n.pixels) + " of " + std::to_string(n.of) + " pixels of the " + kit::view_name(n.view) +
+                          " view are NaN or Inf: " + kit::kNonFiniteAdvice);
+      for (const std::string& line : renderer_->uniform_warnings()) found.push_back(line);
+    } catch (const kit::Error& e) {
+      report_error(e.what());
+      return;
+    }
+    if (found == warnings_) return;
+    for (const std::string& line : found)
+      if (std::find(warnings_.begin(), warnings_.end(), line) == warnings_.end())
+        std::fprintf(stderr, "kit-view: warning: %s\n", line.c_str());
+    warnings_ = std::move(found);
+  }
+
   void set_note(const std::string& message) {
     std::printf("kit-view: %s\n", message.c_str());
     std::fflush(stdout);  // in order with the errors on stderr when both go to one log
@@ -599,12 +679,59 @@ class Viewer {
     glfwSetWindowTitle(window_.handle(), text);
   }
 
-  void draw_panel() {
+  void draw_ui() {
     ImGui_ImplOpenGL3_NewFrame();
     ImGui_ImplGlfw_NewFrame();
     ImGui::NewFrame();
-    ImGui::SetNextWindowPos(ImVec2(8, 8), ImGuiCond_FirstUseEver);
+    float messages_height = draw_messages();
+    draw_panel(messages_height);
+    ImGui::Render();
+    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  }
+
+  // The shader error and the warnings, in a window across the bottom of the
+  // viewport: wrapped to its width, never taller than kMessagesMaxHeightFraction
+  // of it (it scrolls), so they show at any window size. Returns its height.
+  float draw_messages() {
+    if (error_.empty() && warnings_.empty()) return 0.0f;
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    const float width = std::max(display.x - 2.0f * kWindowMargin, 1.0f);
+    const float max_height = std::max(display.y * kMessagesMaxHeightFraction, 1.0f);
+    ImGui::SetNextWindowPos(ImVec2(kWindowMargin, display.y - kWindowMargin), ImGuiCond_Always, ImVec2(0.0f, 1.0f));
+    ImGui::SetNextWindowSizeConstraints(ImVec2(width, 0.0f), ImVec2(width, max_height));
+    ImGui::SetNextWindowBgAlpha(0.85f);
+    const ImGuiWindowFlags flags = ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                                   ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_AlwaysAutoResize;
+    std::string title = error_.empty() ? "warnings" : "shader error";
+    if (!error_.empty()) title += renderer_ ? ": the last shaders that built keep running" : ": nothing to show until it builds";
+    ImGui::Begin((title + "###messages").c_str(), nullptr, flags);
+    ImGui::PushTextWrapPos(0.0f);
+    if (!error_.empty()) {
+      ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
+      ImGui::TextUnformatted(error_.c_str());
+      ImGui::PopStyleColor();
+      ImGui::TextColored(kNoteColor, "saving a shader file (or R) tries again");
+    }
+    for (const std::string& warning : warnings_) {
+      ImGui::PushStyleColor(ImGuiCol_Text, kWarningColor);
+      ImGui::TextUnformatted(("warning: " + warning).c_str());
+      ImGui::PopStyleColor();
+    }
+    ImGui::PopTextWrapPos();
+    float height = ImGui::GetWindowSize().y;
+    ImGui::End();
+    return height;
+  }
+
+  // The controls, top left, above the messages. Only what changes the current
+  // stage's image is shown: lights from stage 2, gamma and the attenuation
+  // model from stage 3, bloom and the custom effect in stage 5.
+  void draw_panel(float messages_height) {
+    const ImVec2 display = ImGui::GetIO().DisplaySize;
+    float room = display.y - 2.0f * kWindowMargin - (messages_height > 0.0f ? messages_height + kWindowMargin : 0.0f);
+    ImGui::SetNextWindowPos(ImVec2(kWindowMargin, kWindowMargin), ImGuiCond_FirstUseEver);
     ImGui::SetNextWindowSize(ImVec2(kPanelWidth, 0), ImGuiCond_FirstUseEver);
+    ImGui::SetNextWindowSizeConstraints(ImVec2(0.0f, 0.0f), ImVec2(FLT_MAX, std::max(room, ImGui::GetFrameHeight())));
     ImGui::Begin("kit-view");
     ImGui::PushItemWidth(kPanelItemWidth);  // leaves room for the labels on the right
     ImGui::Text("frame %.2f ms (%.0f fps), GPU %.2f ms", frame_ms_, frame_ms_ > 0.0 ? 1000.0 / frame_ms_ : 0.0,
@@ -620,7 +747,6 @@ class Viewer {
     }
     if (renderer_ && !stage_is_built())
       ImGui::TextColored(kNoteColor, "showing %s until %s builds", renderer_->stage().name.c_str(), stage_->name.c_str());
-    if (!renderer_) ImGui::TextColored(kNoteColor, "nothing to show until the stage builds: saving a shader retries");
 
     if (ImGui::BeginCombo("view", kit::view_name(view_))) {
       for (size_t i = 0; i < std::size(kViewKeys); ++i) {
@@ -632,40 +758,41 @@ class Viewer {
       ImGui::EndCombo();
     }
 
-    ImGui::BeginDisabled(!stage_->postprocess);
-    ImGui::Checkbox("postprocess (P)", &settings_.postprocess);
-    ImGui::Checkbox("custom effect (C)", &settings_.custom_effect);
-    ImGui::SliderFloat("bloom threshold", &settings_.bloom_threshold, 0.0f, kBloomThresholdMax);
-    ImGui::EndDisabled();
-    ImGui::SliderFloat("gamma (G)", &settings_.gamma, kGammaMin, kGammaMax, "%.2f");
-    ImGui::TextUnformatted("attenuation (A)");
-    ImGui::SameLine();
-    ImGui::RadioButton("physical", &settings_.attenuation_model, 0);
-    ImGui::SameLine();
-    ImGui::RadioButton("simple", &settings_.attenuation_model, 1);
-    ImGui::SliderInt("extra lights", &settings_.extra_lights, 0, kMaxViewerLights);
+    const int stage = stage_->number;
+    if (stage >= kFirstPostprocessStage) {
+      ImGui::Checkbox("postprocess (P)", &settings_.postprocess);
+      ImGui::Checkbox("custom effect (C)", &settings_.custom_effect);
+      ImGui::BeginDisabled(!settings_.postprocess);
+      ImGui::SliderFloat("bloom threshold", &settings_.bloom_threshold, 0.0f, kBloomThresholdMax);
+      ImGui::EndDisabled();
+    }
+    if (stage >= kFirstDisplayStage) {
+      ImGui::SliderFloat("gamma (G)", &settings_.gamma, kGammaMin, kGammaMax, "%.2f");
+      ImGui::TextUnformatted("attenuation (A)");
+      ImGui::SameLine();
+      ImGui::RadioButton("physical", &settings_.attenuation_model, 0);
+      ImGui::SameLine();
+      ImGui::RadioButton("simple", &settings_.attenuation_model, 1);
+    }
+    if (stage >= kFirstLitStage) ImGui::SliderInt("extra lights", &settings_.extra_lights, 0, kMaxViewerLights);
     ImGui::TextWrapped("camera (F): %s", rig_.flying() ? "fly: WASD, Q/E down/up, right drag looks"
                                                          : "orbit: left drag turns, wheel zooms, right drag pans");
     if (ImGui::Button("reload shaders (R)")) reload_now();
     ImGui::SameLine();
     if (ImGui::Button("screenshot (K)")) screenshot_requested_ = true;
     if (!note_.empty()) ImGui::TextColored(kNoteColor, "%s", note_.c_str());
-    if (!error_.empty()) {
-      ImGui::PushStyleColor(ImGuiCol_Text, kErrorColor);
-      ImGui::TextWrapped("%s", error_.c_str());
-      ImGui::PopStyleColor();
-    }
+    if (!error_.empty()) ImGui::TextColored(kErrorColor, "shader error: see below");
     ImGui::PopItemWidth();
     ImGui::End();
-    ImGui::Render();
-    ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   }
 
   // Members in construction order: the window (and its GL context) outlives everything that uses GL.
   ViewerOptions options_;
   kit::RenderSettings settings_;  // what the controls set; copied into the renderer each frame
+  kit::LabSelection lab_;         // the stage and lab folders the command line asked for
   const kit::Stage* stage_;       // the stage asked for (the renderer may still show an earlier one)
   fs::path shader_root_;
+  kit::Watchdog watchdog_;        // --timeout for each frame and each shader build
   kit::Scene scene_;
   kit::Window window_;
   std::unique_ptr<ImGuiSession> imgui_;
@@ -676,6 +803,9 @@ class Viewer {
   kit::View view_;
   std::map<fs::path, fs::file_time_type> watched_;
   std::string error_, note_;
+  std::vector<std::string> warnings_;  // NaN/Inf and uniform warnings of the last check
+  bool warnings_due_ = false;          // check at the next frame (shaders were built)
+  bool in_frame_ = false;              // the watchdog times the current frame
   double frame_ms_ = 0.0;
   double cursor_x_ = 0.0, cursor_y_ = 0.0;
   float wheel_steps_ = 0.0f;

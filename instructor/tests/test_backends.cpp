@@ -45,7 +45,7 @@ fs::path render_with(const std::string& backend, const fs::path& dir) {
   fs::path out = dir / backend;
   fs::create_directories(out);
   for (const Job& job : kJobs) {
-    std::string args = "--stage " + job.stage + " --scene default --size " + kSize + " --backend " + backend + " --timings";
+    std::string args = "--solution --stage " + job.stage + " --scene default --size " + kSize + " --backend " + backend + " --timings";
     for (const auto& [view, file] : job.outputs) args += " --view " + view + " --out " + shell_quoted((out / file).string());
     std::string output;
     int status = kit_render(args, &output);

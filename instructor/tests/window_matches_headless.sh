@@ -28,9 +28,9 @@ for stage in "${STAGES[@]}"; do
   shown="$work/$stage-window-pixels.png"     # what the window itself shows
   headless="$work/$stage-headless.png"
   # A visible window: a hidden one need not own its pixels, so its back buffer is undefined.
-  xvfb-run -a -s "$XVFB_SCREEN" "$view" --stage "$stage" --frames 3 --no-ui --size "$SIZE" \
+  xvfb-run -a -s "$XVFB_SCREEN" "$view" --solution --stage "$stage" --frames 3 --no-ui --size "$SIZE" \
     --screenshot "$window" --window-screenshot "$shown" || fail "kit-view --stage $stage exited with status $?"
-  "$render" --stage "$stage" --size "$SIZE" --out "$headless" || fail "kit-render --stage $stage exited with status $?"
+  "$render" --solution --stage "$stage" --size "$SIZE" --out "$headless" || fail "kit-render --stage $stage exited with status $?"
 
   idiff "$window" "$headless" >"$work/$stage-final.idiff" 2>&1 ||
     fail "$stage: the viewer's final image differs from kit-render's:"$'\n'"$(cat "$work/$stage-final.idiff")"

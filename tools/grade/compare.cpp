@@ -7,6 +7,8 @@
 #include <cmath>
 #include <cstdio>
 
+#include "renderer.h"
+
 namespace kit::grade {
 
 namespace {
@@ -203,8 +205,8 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
               (metric == Metric::Normal ? format("; mean angle %.3g degrees", r.mean_error) : format("; mean error %.3g", r.mean_error)) +
               "; PSNR " + psnr_text(r.psnr);
   if (r.non_finite > 0) {
-    r.note = std::to_string(r.non_finite) + format(" pixels (%.1f%%) are NaN or Inf: guard the divisions and square "
-                                                   "roots (guards.glsl)", 100.0 * static_cast<double>(r.non_finite) / pixels);
+    r.note = std::to_string(r.non_finite) + format(" pixels (%.1f%%) are NaN or Inf: ", 100.0 * static_cast<double>(r.non_finite) / pixels) +
+             kNonFiniteAdvice;
   } else if (!r.passed && is_uniform(image) && !is_uniform(reference)) {
     r.note = "every pixel is " + pixel_text(image) + ": does the shader write its output?";
   }

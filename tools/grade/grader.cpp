@@ -15,6 +15,7 @@
 
 #include "error.h"
 #include "references.h"
+#include "renderer.h"
 #include "render_child.h"
 #include "report.h"
 #include "scene.h"
@@ -229,7 +230,7 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
     if (hdr_bad > 0 && check.metric != Metric::Changes) {
       c.comparison.passed = false;
       c.comparison.note = "the HDR buffer behind this image holds " + std::to_string(hdr_bad) +
-                          " NaN or Inf pixels: guard the divisions and square roots (guards.glsl)";
+                          " NaN or Inf pixels: " + kNonFiniteAdvice;
     }
     c.compared = true;
     c.passed = c.comparison.passed;

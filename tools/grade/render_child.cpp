@@ -11,7 +11,6 @@
 #include "checks.h"
 #include "error.h"
 #include "gl.h"
-#include "interface_check.h"
 #include "renderer.h"
 #include "report.h"
 #include "stages.h"
@@ -115,7 +114,6 @@ int render_lab(const RenderJob& job) {
       try {
         ShaderLibrary library = spec->isolate_custom ? isolated_custom_library(stage, job.lab_root)
                                                      : stage_library(stage, job.lab_root);
-        check_stage_interfaces(stage, library);
         renderer = std::make_unique<Renderer>(stage, std::move(library), scene, settings);
       } catch (const Error& e) {
         write_text(error_file, e.what());
@@ -138,7 +136,7 @@ int render_lab(const RenderJob& job) {
       write_raw_image(raw_image_path(job.out_dir, spec->id), renderer->read_view(spec->view, spec->raw));
       // A display image cannot hold NaN (RGBA8): count them where they start, in the HDR buffer.
       if (stage.lighting && spec->view != View::Hdr)
-        report["hdr_non_finite"][spec->id] = count_non_finite(renderer->read_view(View::Hdr, true));
+        report["hdr_non_finite"][spec->id] = renderer->count_non_finite(View::Hdr);
       readback += since(t);
     } catch (const Error& e) {
       write_text(error_file, std::string("while rendering ") + spec->scene + ": " + e.what());

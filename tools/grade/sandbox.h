@@ -21,10 +21,12 @@
 #include <string>
 #include <vector>
 
+#include "watchdog.h"
+
 namespace kit::grade {
 
 struct Limits {
-  double wall_seconds = 30.0;  // --timeout: wall clock, then SIGKILL to the process group
+  double wall_seconds = kDefaultTimeoutSeconds;  // --timeout: wall clock, then SIGKILL to the process group
   rlim_t cpu_seconds = 60;     // --cpu-limit: RLIMIT_CPU (llvmpipe's threads add up)
   rlim_t address_space_mib = 4096;  // --memory-limit: RLIMIT_AS (llvmpipe reserves ~1 GiB of address space)
   rlim_t file_size_mib = 64;   // RLIMIT_FSIZE: a lab's raw images are ~8 MiB

@@ -7,12 +7,13 @@
 
 #include "error.h"
 
-namespace kit::grade {
+namespace kit {
 
 namespace {
 
 struct Varying {
   std::string type, name;
+  size_t offset = 0;  // of its declaration in the code
 };
 
 // Qualifiers that may stand between `layout(...)` and the type of a declaration.
@@ -24,7 +25,8 @@ bool is_qualifier(const std::string& word) {
 
 bool identifier_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
 
-// Comments and preprocessor lines removed (the assembled text has its includes inlined).
+// Comments and preprocessor lines blanked out (the assembled text has its
+// includes inlined); every newline is kept, so offsets still tell the line.
 std::string code_only(const std::string& text) {
   std::string out;
   bool line_start = true;
@@ -33,8 +35,11 @@ std::string code_only(const std::string& text) {
       while (i < text.size() && text[i] != '\n') ++i;
     } else if (text.compare(i, 2, "/*") == 0) {
       size_t end = text.find("*/", i + 2);
-      i = end == std::string::npos ? text.size() : end + 1;
+      end = end == std::string::npos ? text.size() : end + 2;
       out += ' ';
+      for (; i < end; ++i)
+        if (text[i] == '\n') out += '\n';
+      --i;
       continue;
     } else if (line_start && text[i] == '#') {
       while (i < text.size() && text[i] != '\n') ++i;
@@ -47,34 +52,42 @@ std::string code_only(const std::string& text) {
   return out;
 }
 
-// Statements at global scope, with function bodies and blocks left out; a
-// statement that had a block ({...}) is marked by a leading '{'.
-std::vector<std::string> global_statements(const std::string& code) {
-  std::vector<std::string> out;
-  std::string current;
+struct Statement {
+  std::string text;   // a statement that had a block ({...}) starts with '{'
+  size_t offset = 0;  // where its first character is in the code
+};
+
+// Statements at global scope, with function bodies and blocks left out.
+std::vector<Statement> global_statements(const std::string& code) {
+  std::vector<Statement> out;
+  Statement current;
   int depth = 0;
   bool had_block = false;
-  for (char c : code) {
+  for (size_t i = 0; i < code.size(); ++i) {
+    char c = code[i];
     if (c == '{') {
       if (depth++ == 0) had_block = true;
       continue;
     }
     if (c == '}') {
       depth = std::max(0, depth - 1);
-      if (depth == 0 && current.find('(') != std::string::npos) {  // a function body ended
-        current.clear();
+      if (depth == 0 && current.text.find('(') != std::string::npos) {  // a function body ended
+        current = Statement();
         had_block = false;
       }
       continue;
     }
     if (depth > 0) continue;
     if (c == ';') {
-      out.push_back((had_block ? "{" : "") + current);
-      current.clear();
+      if (had_block) current.text.insert(0, "{");
+      out.push_back(current);
+      current = Statement();
       had_block = false;
       continue;
     }
-    current += c;
+    if (current.text.find_first_not_of(" \t\r\n") == std::string::npos && !std::isspace(static_cast<unsigned char>(c)))
+      current.offset = i;
+    current.text += c;
   }
   return out;
 }
@@ -97,7 +110,8 @@ std::vector<std::string> words(const std::string& text) {
 // Global declarations with storage qualifier `storage` ("in" or "out"): `out vec3 a, b[2];`.
 std::vector<Varying> declarations(const std::string& code, const std::string& storage) {
   std::vector<Varying> out;
-  for (std::string statement : global_statements(code)) {
+  for (const Statement& s : global_statements(code)) {
+    std::string statement = s.text;
     if (!statement.empty() && statement[0] == '{') continue;  // interface blocks: matched by block name, not checked
     size_t layout = statement.find("layout");
     if (layout != std::string::npos) {
@@ -120,12 +134,20 @@ std::vector<Varying> declarations(const std::string& code, const std::string& st
       while (end < declarator.size() && identifier_char(declarator[end])) ++end;
       std::string suffix = declarator.substr(end);  // an array size belongs to the type
       suffix = suffix.substr(0, suffix.find('='));
-      if (end > 0) out.push_back({type + suffix, declarator.substr(0, end)});
+      if (end > 0) out.push_back({type + suffix, declarator.substr(0, end), s.offset});
       if (comma == std::string::npos) break;
       start = comma + 1;
     }
   }
   return out;
+}
+
+// "file:line" of an offset into code_only(shader.text).
+std::string where(const AssembledShader& shader, const std::string& code, size_t offset) {
+  size_t line = static_cast<size_t>(std::count(code.begin(), code.begin() + static_cast<std::ptrdiff_t>(std::min(offset, code.size())), '\n'));
+  if (line >= shader.lines.size()) return shader.files.front();
+  const SourceLine& s = shader.lines[line];
+  return shader.files[static_cast<size_t>(s.file)] + ":" + std::to_string(s.line);
 }
 
 // "Statically read", approximated: the name occurs again after its declaration.
@@ -149,11 +171,13 @@ void check_pair(const ShaderLibrary& library, const std::string& vertex, const s
   for (const Varying& in : declarations(fs_code, "in")) {
     if (!used(fs_code, in.name)) continue;
     auto match = std::find_if(outputs.begin(), outputs.end(), [&](const Varying& o) { return o.name == in.name; });
+    std::string line = "\n" + where(fs, fs_code, in.offset) + ": fragment shader input `" + in.name + "' ";
     if (match == outputs.end())
-      problems += "\nfragment shader input `" + in.name + "' has no matching output in the vertex shader (it writes: " +
+      problems += line + "has no matching output in the vertex shader " + vs.files.front() + " (it writes: " +
                   (written.empty() ? "nothing" : written) + ")";
     else if (match->type != in.type)
-      problems += "\nfragment shader input `" + in.name + "' is " + in.type + ", the vertex shader's output " + match->type;
+      problems += line + "is " + in.type + ", the vertex shader's output (" + where(vs, vs_code, match->offset) +
+                  ") " + match->type;
   }
   if (!problems.empty())
     throw Error("link error (" + vs.files.front() + " + " + fs.files.front() + "):" + problems +
@@ -171,4 +195,4 @@ void check_stage_interfaces(const Stage& stage, const ShaderLibrary& library) {
   }
 }
 
-}  // namespace kit::grade
+}  // namespace kit
