@@ -255,6 +255,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
   }
   std::vector<Running> running;
   auto complete = [&](Entry& e, LabOutcome lab) {
+    lab.folder = e.prepared->labs.at(lab.lab).folder;
     e.outcome.labs[lab.lab] = std::move(lab);
     if (--e.labs_left > 0) return;
     e.outcome.seconds = since(e.started);

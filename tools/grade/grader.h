@@ -49,6 +49,7 @@ struct LabOutcome {
   int lab = 0;
   std::string status;
   std::string message;        // the problem in plain text (compiler log, missing files, ...)
+  std::string folder;         // where its files were taken from, relative to the submission ("" when not found)
   std::vector<CheckOutcome> checks;
   double score = 0.0, max_score = 0.0;
   double render_ms = 0.0;     // GPU work of the lab's frames (child.json)

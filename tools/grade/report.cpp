@@ -195,6 +195,7 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
         {"max_score", rounded(lab.max_score)},
         {"status", lab.status},
         {"message", lab.message},
+        {"folder", lab.folder},
         {"checks_passed", lab.passed_checks()},
         {"checks", checks},
         {"render_ms", rounded(lab.render_ms)},
