@@ -2,7 +2,7 @@
 // checks, the tolerances and the output files.
 //
 //   kit-grade SUBMISSION [--labs 1-5] [--out DIR] [--jobs N] [--backend osmesa|egl]
-//   kit-grade --batch FOLDER --out DIR [--jobs N] [--force]
+//   kit-grade --batch FOLDER --out DIR [--jobs N] [--force]   (regrades what changed since its result)
 //   kit-grade --update-references | --check-references
 //
 // Exit status: 0 when grading ran (whatever the score), 1 when --check-references
@@ -48,7 +48,8 @@ void usage() {
       "  --config FILE         weights, points and tolerances (default tools/grade/grading.json)\n"
       "  --references DIR      reference renders (default tools/grade/references)\n"
       "  --batch FOLDER        grade every subfolder and .zip of FOLDER into DIR/<name>/, plus DIR/gradebook.csv;\n"
-      "                        submissions with a results.json are skipped unless --force\n"
+      "                        a submission with a results.json is skipped unless its files changed since\n"
+      "                        (content hash in its summary.json) or --force\n"
       "  --keep-temp           keep the sanitized copies and raw renders (path printed)\n"
       "  --update-references   render solutions/ into the references and write their manifest\n"
       "  --check-references    re-render solutions/ and fail (exit 1) when the references are stale\n"

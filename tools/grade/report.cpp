@@ -211,6 +211,7 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
           {"max_total", rounded(s.max_total())},
           {"problem", s.problem},
           {"notes", s.notes},
+          {"content_hash", s.content_hash},
           {"renderer", s.renderer},
           {"execution_time", rounded(s.seconds)}};
 }

@@ -1,5 +1,6 @@
 #include "submission.h"
 
+#include <OpenImageIO/hash.h>
 #include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -7,6 +8,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cerrno>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <set>
@@ -464,7 +466,74 @@ std::string extract_zip(const fs::path& zip, const fs::path& dest, const fs::pat
   return "";
 }
 
+// Feeds `file`'s bytes to `sha`; false when it cannot be read. Links are not
+// followed, and a FIFO never blocks (O_NONBLOCK, then only regular files are read).
+bool hash_file(OIIO::SHA1& sha, const fs::path& file, bool follow) {
+  int fd = open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | (follow ? 0 : O_NOFOLLOW));
+  if (fd < 0) return false;
+  struct stat st {};
+  bool ok = fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
+  std::vector<char> buffer(1 << 16);
+  while (ok) {
+    ssize_t n = read(fd, buffer.data(), buffer.size());
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) ok = false;
+    if (n <= 0) break;
+    sha.append(buffer.data(), static_cast<size_t>(n));
+  }
+  close(fd);
+  return ok;
+}
+
+// Every entry of a folder, by relative path, without following links or entering ignored names.
+void list_all(const fs::path& dir, const std::string& prefix, std::vector<std::pair<std::string, fs::path>>& out) {
+  std::error_code ec;
+  for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
+    std::string name = it->path().filename().string();
+    if (ignored_name(name)) continue;
+    std::string rel = prefix.empty() ? name : prefix + "/" + name;
+    out.push_back({rel, it->path()});
+    if (entry_kind(it->path()) == Kind::Directory) list_all(it->path(), rel, out);
+  }
+}
+
 }  // namespace
+
+std::string content_hash(const fs::path& submission) {
+  OIIO::SHA1 sha;
+  // Length-prefixed fields, so no two different trees feed the same bytes.
+  auto field = [&sha](const std::string& text) {
+    std::uint64_t n = text.size();
+    sha.append(&n, sizeof n);
+    sha.append(text.data(), text.size());
+  };
+  std::error_code ec;
+  if (is_zip(submission) && fs::is_regular_file(submission, ec)) {
+    field("zip");
+    if (!hash_file(sha, submission, true)) field("unreadable");
+    return "sha1:" + lower(sha.digest());
+  }
+  field("folder");
+  std::vector<std::pair<std::string, fs::path>> entries;
+  list_all(submission, "", entries);
+  std::sort(entries.begin(), entries.end());
+  for (const auto& [rel, path] : entries) {
+    field(rel);
+    switch (entry_kind(path)) {
+      case Kind::Directory: field("folder"); break;
+      case Kind::Symlink: field("link"); field(fs::read_symlink(path, ec).string()); break;
+      case Kind::Regular: {
+        // The file's own digest: its bytes need no length prefix.
+        OIIO::SHA1 file_sha;
+        field(hash_file(file_sha, path, false) ? "file" : "unreadable file");
+        field(file_sha.digest());
+        break;
+      }
+      default: field("other"); break;
+    }
+  }
+  return "sha1:" + lower(sha.digest());
+}
 
 bool is_zip(const fs::path& path) {
   std::string ext = path.extension().string();

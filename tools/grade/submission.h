@@ -61,6 +61,12 @@ bool is_zip(const std::filesystem::path& path);
 // Folders a lab folder may sit below the top of a submission (name/name/labs/02-lighting).
 constexpr size_t kMaxWrapperDepth = 3;
 
+// A fingerprint of what a submission holds, "sha1:<40 hex digits>" (OpenImageIO's
+// SHA-1): a zip's bytes, or for a folder the sorted relative paths of its entries
+// with each regular file's bytes and each symbolic link's target (never followed);
+// hidden entries and __MACOSX are left out, as the grader ignores them. A batch
+// stores it in summary.json and regrades a submission whose fingerprint changed.
+std::string content_hash(const std::filesystem::path& submission);
 
 // How a lab's file is named in messages: "labs/02-lighting/brdf.glsl" (the
 // folder label kit::stage_library gives the private lab root).
