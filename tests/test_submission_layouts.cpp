@@ -202,12 +202,14 @@ TEST(SubmissionLayouts, OneLabFolderInTwoPlacesIsRefusedNamingBoth) {
   expect_refused(loose, {2}, 2, {"loose in 2 places", "'./'", "'bob/'"});
 }
 
-// Folders named like a lab that hold none of its files give way to the one that does;
+// Folders named like a lab that hold none of its files, and plain files of that name,
+// give way to the folder that holds them;
 // __MACOSX and hidden folders are noise wherever they are.
 TEST(SubmissionLayouts, NoiseIsIgnored) {
   fs::path root = kit::test::temp_dir("layouts-noise") / "alice";
   write_lab(root, "alice/labs/02-lighting");
   write_file(root / "alice/screenshots/02-lighting/result.png", "not a lab file");
+  write_file(root / "alice/notes/02-lighting", "a plain file named like the lab folder\n");
   write_lab(root, "__MACOSX/alice/labs/02-lighting");
   write_lab(root, "alice/.git/02-lighting");
   write_lab(root, ".backup/02-lighting");

@@ -244,11 +244,11 @@ LabSource find_lab_source(const Tree& tree, const Stage& stage, size_t labs_grad
     (e.parts.size() - 1 <= kMaxWrapperDepth ? near : deep).push_back(&e);
   }
   // A folder of that name holding none of the lab's files (say a folder of
-  // screenshots) gives way to one that does; a link or a file of that name does
-  // not, so that it is refused by name.
+  // screenshots), or a plain file of that name, gives way to a folder that holds
+  // them; a link or a device of that name does not, so that it is refused by name.
   std::vector<const TreeEntry*> holding;
   for (const TreeEntry* e : near)
-    if (e->kind != Kind::Directory || holds_any(tree, e->parts, stage)) holding.push_back(e);
+    if (e->kind == Kind::Directory ? holds_any(tree, e->parts, stage) : e->kind != Kind::Regular) holding.push_back(e);
   const std::vector<const TreeEntry*>& choice = holding.empty() ? near : holding;
   if (choice.size() == 1) {
     source.found = true;
