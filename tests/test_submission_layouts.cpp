@@ -58,10 +58,12 @@ fs::path as_zip(const fs::path& folder) {
   return zip;
 }
 
-// The grader's own preparation of `submission` for `labs`.
+// The grader's own preparation of `submission` for `labs`, in a private folder
+// named after the test (ctest runs the tests of this file in parallel processes).
 PreparedSubmission prepare(const fs::path& submission, const std::vector<int>& labs) {
   static int count = 0;
-  fs::path temp = kit::test::temp_dir("layouts-prepare-" + std::to_string(++count));
+  std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  fs::path temp = kit::test::temp_dir("layouts-prepare-" + test + "-" + std::to_string(++count));
   return kit::grade::prepare_submission(submission, labs, temp, kit::grade::Limits{});
 }
 
