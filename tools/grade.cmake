@@ -1,8 +1,16 @@
 # kit-grade: the autograder (tools/grade/). Included from tools/CMakeLists.txt;
 # needs kitcore (which brings OpenImageIO for the comparisons) and the scenes.
 find_package(nlohmann_json 3 REQUIRED)
+# How a submission is found, sanitized and fingerprinted (submission.cpp, with the
+# sandbox it runs unzip in): a library of its own, so tests/test_submission_layouts
+# calls the very functions kit-grade does.
+set(kit_grade_submission_sources ${CMAKE_CURRENT_LIST_DIR}/grade/submission.cpp ${CMAKE_CURRENT_LIST_DIR}/grade/sandbox.cpp)
+add_library(kit_grade_submission STATIC ${kit_grade_submission_sources})
+target_include_directories(kit_grade_submission PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
+target_link_libraries(kit_grade_submission PUBLIC kitcore PkgConfig::OIIO)
 file(GLOB kit_grade_sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/grade/*.cpp)
+list(REMOVE_ITEM kit_grade_sources ${kit_grade_submission_sources})
 add_executable(kit-grade ${kit_grade_sources})
-target_link_libraries(kit-grade PRIVATE kitcore PkgConfig::OIIO nlohmann_json::nlohmann_json)
+target_link_libraries(kit-grade PRIVATE kit_grade_submission kitcore PkgConfig::OIIO nlohmann_json::nlohmann_json)
 # The grader renders the generated scenes: building it builds them.
 add_dependencies(kit-grade kit_scene_files)

@@ -58,6 +58,7 @@ struct Run {
 struct Entry {
   fs::path source;
   fs::path result_dir;  // report images are written here (a staging folder in a batch)
+  std::string content_hash;  // computed before grading, stored in summary.json
   SubmissionOutcome outcome;
   std::optional<PreparedSubmission> prepared;
   fs::path temp;
@@ -250,6 +251,7 @@ void prepare(const Run& run, Entry& e) {
   e.outcome.source = e.source;
   e.outcome.problem = e.prepared->problem;
   e.outcome.notes = e.prepared->notes;
+  e.outcome.content_hash = e.content_hash;
 }
 
 // Runs every lab of every entry, at most options.jobs children at a time;
@@ -263,6 +265,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
   }
   std::vector<Running> running;
   auto complete = [&](Entry& e, LabOutcome lab) {
+    lab.folder = e.prepared->labs.at(lab.lab).folder;
     e.outcome.labs[lab.lab] = std::move(lab);
     if (--e.labs_left > 0) return;
     e.outcome.seconds = since(e.started);
@@ -365,6 +368,17 @@ void print_submission(const SubmissionOutcome& s) {
   std::fflush(stdout);
 }
 
+// The content hash a result was written with ("" when it has none or cannot be read).
+std::string stored_content_hash(const fs::path& summary) {
+  std::ifstream in(summary);
+  try {
+    nlohmann::json doc = nlohmann::json::parse(in);
+    return doc.is_object() ? doc.value("content_hash", "") : "";
+  } catch (const nlohmann::json::exception&) {
+    return "";
+  }
+}
+
 bool writable_folder(const fs::path& dir, std::string* why) {
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -412,6 +426,7 @@ int grade_submission(const fs::path& submission, const Options& options) {
   std::vector<Entry> entries(1);
   entries[0].source = submission;
   entries[0].result_dir = options.out;
+  entries[0].content_hash = content_hash(submission);
   bool grader_error = false;
   bool completed = run_entries(run, entries, [&](Entry& e) {
     write_results(options.out, e.outcome);
@@ -442,7 +457,8 @@ int grade_batch(const fs::path& folder, const Options& options) {
   std::sort(sources.begin(), sources.end());
   // Two sources with one name (alice/ and alice.zip) would share a result folder.
   std::set<std::string> names;
-  std::vector<std::string> all_names;
+  std::vector<std::string> all_names, changed, unhashed;
+  std::set<std::string> changed_set;
   std::vector<Entry> entries;
   size_t skipped = 0;
   for (const fs::path& source : sources) {
@@ -452,17 +468,37 @@ int grade_batch(const fs::path& folder, const Options& options) {
       continue;
     }
     all_names.push_back(name);
+    std::string hash = content_hash(source);
     if (!options.force && fs::exists(options.out / name / "results.json")) {
-      ++skipped;
-      continue;
+      // A result stands while the submission holds what it held when graded.
+      std::string stored = stored_content_hash(options.out / name / "summary.json");
+      if (stored.empty()) unhashed.push_back(name);  // written before content hashes were stored
+      if (stored.empty() || stored == hash) {
+        ++skipped;
+        continue;
+      }
+      changed.push_back(name);
+      changed_set.insert(name);
     }
     Entry e;
     e.source = source;
     e.result_dir = options.out / ("." + name + ".partial");
+    e.content_hash = hash;
     entries.push_back(std::move(e));
   }
-  std::printf("kit-grade: %zu submissions in %s: %zu to grade, %zu already graded%s\n", all_names.size(), folder.c_str(),
-              entries.size(), skipped, skipped ? " (--force regrades them)" : "");
+  std::printf("kit-grade: %zu submissions in %s: %zu to grade%s, %zu already graded%s\n", all_names.size(),
+              folder.c_str(), entries.size(),
+              changed.empty() ? "" : (" (" + std::to_string(changed.size()) + " changed since graded)").c_str(), skipped,
+              skipped ? " (--force regrades them)" : "");
+  if (!changed.empty()) {
+    std::string list;
+    for (const std::string& n : changed) list += (list.empty() ? "" : ", ") + n;
+    std::printf("kit-grade: regrading, their files changed since their results were written: %s\n", list.c_str());
+  }
+  if (!unhashed.empty())
+    std::printf("kit-grade: %zu results have no content hash (written by an older kit-grade): kept as they are; "
+                "--force regrades them\n",
+                unhashed.size());
   std::fflush(stdout);
   Run run = make_run(options, true);
   size_t done = 0;
@@ -479,9 +515,9 @@ int grade_batch(const fs::path& folder, const Options& options) {
     std::string problems;
     for (const auto& [n, lab] : e.outcome.labs)
       if (lab.status != kGraded) problems += " lab" + std::to_string(n) + ":" + lab.status;
-    std::printf("[%zu/%zu] %s: %s/%s  (%.1f s)%s\n", ++done, entries.size(), e.outcome.name.c_str(),
+    std::printf("[%zu/%zu] %s: %s/%s  (%.1f s)%s%s\n", ++done, entries.size(), e.outcome.name.c_str(),
                 format_score(e.outcome.total()).c_str(), format_score(e.outcome.max_total()).c_str(), e.outcome.seconds,
-                problems.c_str());
+                problems.c_str(), changed_set.count(e.outcome.name) ? "  [regraded: changed]" : "");
     std::fflush(stdout);
   });
   remove_run_temp(run);

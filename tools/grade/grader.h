@@ -22,7 +22,7 @@ struct Options {
   Limits limits;                       // --timeout, --cpu-limit, --memory-limit
   std::filesystem::path config;        // --config (default tools/grade/grading.json)
   std::filesystem::path references;    // --references (default tools/grade/references)
-  bool force = false;                  // --force: regrade batch submissions that have results
+  bool force = false;                  // --force: regrade batch submissions that have unchanged results
   bool keep_temp = false;              // --keep-temp: leave the private copies and raw renders
   bool quiet = false;                  // no per-lab lines (batch prints one line per submission)
 };
@@ -49,6 +49,7 @@ struct LabOutcome {
   int lab = 0;
   std::string status;
   std::string message;        // the problem in plain text (compiler log, missing files, ...)
+  std::string folder;         // where its files were taken from, relative to the submission ("" when not found)
   std::vector<CheckOutcome> checks;
   double score = 0.0, max_score = 0.0;
   double render_ms = 0.0;     // GPU work of the lab's frames (child.json)
@@ -64,6 +65,7 @@ struct SubmissionOutcome {
   std::filesystem::path source;
   std::string problem;              // whole-submission problem (zip refused, ...)
   std::vector<std::string> notes;
+  std::string content_hash;         // content_hash() of the submission when it was graded
   std::map<int, LabOutcome> labs;
   std::string renderer;             // GL_RENDERER of the children
   double seconds = 0.0;

@@ -2,7 +2,7 @@
 // checks, the tolerances and the output files.
 //
 //   kit-grade SUBMISSION [--labs 1-5] [--out DIR] [--jobs N] [--backend osmesa|egl]
-//   kit-grade --batch FOLDER --out DIR [--jobs N] [--force]
+//   kit-grade --batch FOLDER --out DIR [--jobs N] [--force]   (regrades what changed since its result)
 //   kit-grade --update-references | --check-references
 //
 // Exit status: 0 when grading ran (whatever the score), 1 when --check-references
@@ -32,8 +32,12 @@ void usage() {
       "       kit-grade --batch FOLDER --out DIR [--force] [options]\n"
       "       kit-grade --update-references | --check-references [--references DIR]\n"
       "       kit-grade --self-check [self_check.py options]\n"
-      "Grades a student's lab files (a folder or .zip in the labs/ layout: NN-name/file, or inside one folder)\n"
-      "against the reference solutions. Writes DIR/results.json (Gradescope), DIR/summary.json, DIR/report.html.\n"
+      "Grades a student's lab files against the reference solutions. SUBMISSION is a folder or a .zip holding\n"
+      "the lab folders (NN-name/file, any case) at most %zu folders deep: 02-lighting/, labs/02-lighting/,\n"
+      "alice/labs/02-lighting/ or alice/alice/labs/02-lighting/. With one lab graded (--labs 2) its files may\n"
+      "also lie loose, at the top or inside one folder. A lab folder found in two places is refused, naming both.\n"
+      "Writes DIR/results.json (Gradescope), DIR/summary.json, DIR/report.html; their notes say which folder\n"
+      "each lab was taken from.\n"
       "  --labs SPEC           labs to grade: 1-5 (default), 2, 1,3,5 or names (lighting)\n"
       "  --out DIR             result folder (default out/grade/<submission name>)\n"
       "  --jobs N              labs (and batch submissions) rendered at once (default: cores, at most %d)\n"
@@ -44,12 +48,13 @@ void usage() {
       "  --config FILE         weights, points and tolerances (default tools/grade/grading.json)\n"
       "  --references DIR      reference renders (default tools/grade/references)\n"
       "  --batch FOLDER        grade every subfolder and .zip of FOLDER into DIR/<name>/, plus DIR/gradebook.csv;\n"
-      "                        submissions with a results.json are skipped unless --force\n"
+      "                        a submission with a results.json is skipped unless its files changed since\n"
+      "                        (content hash in its summary.json) or --force\n"
       "  --keep-temp           keep the sanitized copies and raw renders (path printed)\n"
       "  --update-references   render solutions/ into the references and write their manifest\n"
       "  --check-references    re-render solutions/ and fail (exit 1) when the references are stale\n"
       "  --self-check          run instructor/grading/self_check.py (the mistake catalogue) with this grader\n",
-      kMaxDefaultJobs);
+      kit::grade::kMaxWrapperDepth, kMaxDefaultJobs);
 }
 
 int parse_int(const std::string& text, const std::string& flag, int lo, int hi) {

@@ -201,6 +201,7 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
         {"max_score", rounded(lab.max_score)},
         {"status", lab.status},
         {"message", lab.message},
+        {"folder", lab.folder},
         {"checks_passed", lab.passed_checks()},
         {"checks", checks},
         {"render_ms", rounded(lab.render_ms)},
@@ -216,6 +217,7 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
           {"max_total", rounded(s.max_total())},
           {"problem", s.problem},
           {"notes", s.notes},
+          {"content_hash", s.content_hash},
           {"renderer", s.renderer},
           {"execution_time", rounded(s.seconds)}};
 }

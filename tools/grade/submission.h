@@ -1,16 +1,27 @@
 #pragma once
 // Sanitizing a submission before anything renders it.
 //
-// A submission is a folder or a .zip holding the student's lab files in the
-// labs/ layout (NN-name/file), directly or under one wrapper folder
-// (labs/02-lighting/..., alice/02-lighting/...). For every lab graded, only the
-// file names that lab expects (the table in framework/stages.cpp) are copied into a
-// private temporary lab root; the renderer never sees anything else. Refused:
-// symbolic links (checked with lstat and opened with O_NOFOLLOW), anything that
-// is not a regular file, files over kit::kMaxShaderFileBytes, and text the
-// shader reader refuses (empty, NUL bytes, not UTF-8). A zip is listed first and
-// refused as a whole when an entry is absolute or has a ".." component
-// (zip-slip); only the expected entries are extracted, by unzip under limits.
+// A submission is a folder or a .zip holding the student's lab files. Each lab's
+// folder (NN-name, matched case-insensitively: 02-Lighting is 02-lighting) is
+// looked for at most kMaxWrapperDepth folders below the top: 02-lighting/,
+// labs/02-lighting/, alice/labs/02-lighting/, alice/alice/labs/02-lighting/.
+// Different labs may come from different places; one lab found in two places is
+// refused naming both. With no folder for it, a lab's files lying loose at the
+// top or directly inside one top-level folder are taken when that lab is the only
+// one graded (--labs 2), and refused with a message saying the layout otherwise.
+// Hidden entries and __MACOSX are ignored at every level. The folder each lab came
+// from is recorded (LabFiles::folder) and told to the student in the notes.
+//
+// For every lab graded, only the file names that lab expects (the table in
+// framework/stages.cpp) are copied into a private temporary lab root; the renderer
+// never sees anything else. Refused: symbolic links (checked with lstat and opened
+// with O_NOFOLLOW; the search never descends into one), anything that is not a
+// regular file, files over kit::kMaxShaderFileBytes, and text the shader reader
+// refuses (empty, NUL bytes, not UTF-8). A zip is listed first and refused as a
+// whole when an entry is absolute or has a ".." component (zip-slip); the layout
+// is decided on the listing, and only the chosen expected entries are extracted,
+// by unzip under limits.
+#include <cstddef>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -24,6 +35,9 @@ struct LabFiles {
   bool ready = false;    // every expected file copied and accepted
   std::string status;    // when not ready: "missing_files" or "invalid_files"
   std::string message;   // one line per problem, naming the file
+  // Where the files were taken from, relative to the submission ("alice/labs/02-Lighting";
+  // "." for the top itself, with loose files); "" when nothing was found for the lab.
+  std::string folder;
 };
 
 struct PreparedSubmission {
@@ -43,6 +57,16 @@ PreparedSubmission prepare_submission(const std::filesystem::path& submission, c
 // The name a submission is reported under: the folder's name, or the zip's without ".zip".
 std::string submission_name(const std::filesystem::path& submission);
 bool is_zip(const std::filesystem::path& path);
+
+// Folders a lab folder may sit below the top of a submission (name/name/labs/02-lighting).
+constexpr size_t kMaxWrapperDepth = 3;
+
+// A fingerprint of what a submission holds, "sha1:<40 hex digits>" (OpenImageIO's
+// SHA-1): a zip's bytes, or for a folder the sorted relative paths of its entries
+// with each regular file's bytes and each symbolic link's target (never followed);
+// hidden entries and __MACOSX are left out, as the grader ignores them. A batch
+// stores it in summary.json and regrades a submission whose fingerprint changed.
+std::string content_hash(const std::filesystem::path& submission);
 
 // How a lab's file is named in messages: "labs/02-lighting/brdf.glsl" (the
 // folder label kit::stage_library gives the private lab root).
