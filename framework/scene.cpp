@@ -494,6 +494,8 @@ bool refuse_write(std::string* err, const std::string& path, const std::vector<u
 }
 
 Scene load_scene_unguarded(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) throw Error(path + ": scene file not found");
   std::vector<unsigned char> bytes = read_regular_file(path, kMaxSceneFileBytes);
   bool binary = path.size() > 4 && path.compare(path.size() - 4, 4, ".glb") == 0;
   // The JSON text (a .glb's first chunk): its depth, then the files it names.

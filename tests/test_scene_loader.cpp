@@ -95,7 +95,7 @@ void expect_error(const fs::path& path, const std::string& phrase) {
 
 TEST(scene_loader_errors, MissingFile) {
   fs::path missing = kit::test::temp_dir("scene_loader/missing") / "no_such_scene.gltf";
-  expect_error(missing, "file not found");
+  expect_error(missing, "scene file not found");
 }
 
 TEST(scene_loader_errors, TruncatedJson) {
