@@ -35,10 +35,11 @@ out vec3 v_world_position;
 out vec3 v_world_normal;
 
 void main() {
-    vec4 world = u_model * vec4(a_position, 1.0);
-    v_world_position = world.xyz;
-    v_world_normal = u_normal_matrix * a_normal;
-    gl_Position = u_projection * u_view * world;
+    // The starter's placeholders, not lab 1's answer: these tests need a
+    // G-buffer that renders, not a right one (a student copy holds this file).
+    v_world_position = vec3(0.0);
+    v_world_normal = a_normal;
+    gl_Position = u_projection * u_view * u_model * vec4(a_position, 1.0);
 }
 )";
 
@@ -192,7 +193,7 @@ TEST_F(student_tools, RenamedVaryingFailsNamingBothFilesAndTheVariable) {
   ASSERT_EQ(render("--size 64x48 --out " + out("witness.png"), &output), 0) << "witness, names matching:\n" << output;
 
   std::string vert = replaced(kGbufferVert, "out vec3 v_world_normal;", "out vec3 v_normal_in_world;");
-  vert = replaced(vert, "v_world_normal = u_normal_matrix", "v_normal_in_world = u_normal_matrix");
+  vert = replaced(vert, "v_world_normal = a_normal", "v_normal_in_world = a_normal");
   lab("labs", "01-gbuffer", vert, kGbufferFrag);
   EXPECT_EQ(render("--size 64x48 --out " + out("renamed.png"), &output), 1) << output;
   EXPECT_TRUE(contains(output, "kit-render: link error (labs/01-gbuffer/gbuffer.vert + labs/01-gbuffer/gbuffer.frag)"))
@@ -247,14 +248,13 @@ TEST_F(student_tools, UniformOfAnotherTypeIsAnErrorNamingItsLine) {
   const std::string vert = R"(#version 330 core
 #include "gbuffer_layout.h"
 uniform mat4 u_model;
-uniform mat3 u_normal_matrix;
 uniform mat4 u_view;
 uniform mat4 u_projection;
 layout(location = KIT_ATTR_POSITION) in vec3 a_position;
 layout(location = KIT_ATTR_NORMAL) in vec3 a_normal;
 out vec3 v_world_normal;
 void main() {
-    v_world_normal = u_normal_matrix * a_normal;
+    v_world_normal = a_normal;
     gl_Position = u_projection * u_view * u_model * vec4(a_position, 1.0);
 }
 )";
@@ -269,7 +269,7 @@ layout(location = KIT_GBUF_ALBEDO) out vec4 out_albedo;
 layout(location = KIT_GBUF_MATERIAL) out vec4 out_material;
 void main() {
     out_position = vec4(0.0, 0.0, 0.0, 1.0);
-    out_normal = vec4(normalize(v_world_normal), 0.0);
+    out_normal = vec4(v_world_normal, 0.0);
     out_albedo = u_base_color_factor;
     out_material = vec4(0.0, u_roughness_factor, 0.0, 1.0);
 }

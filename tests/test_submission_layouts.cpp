@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <filesystem>
 #include <map>
 #include <string>
@@ -117,12 +118,23 @@ json read_json(const fs::path& path) {
   }
 }
 
-// Lab 1's starters (labs/01-gbuffer), copied into `folder`.
+// The first lab this kit can grade: lab 1 in the instructor's kit, a student
+// copy's own lab there (its starters are in labs/, earlier labs' are not).
+const kit::Stage& graded_stage() { return kit::find_stage(std::to_string(kit::gradable_labs().at(0))); }
+std::string graded_lab() { return std::to_string(graded_stage().number); }
+// Its folder name upper-cased ("01-GBUFFER"),
+// as a student's file manager might leave it.
+std::string shouted(std::string name) {
+  for (char& c : name) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  return name;
+}
+
+// That lab's starters (labs/NN-name), copied into `folder`.
 void copy_starters(const fs::path& folder) {
-  fs::path starters = kit::kit_root() / "labs" / "01-gbuffer";
+  fs::path starters = kit::kit_root() / "labs" / graded_stage().folder;
   ASSERT_TRUE(fs::is_directory(starters)) << starters;
   fs::create_directories(folder);
-  for (const std::string& file : kit::find_stage("1").files) fs::copy_file(starters / file, folder / file);
+  for (const std::string& file : graded_stage().files) fs::copy_file(starters / file, folder / file);
 }
 
 }  // namespace
@@ -277,21 +289,22 @@ TEST(SubmissionLayouts, ContentHashFollowsTheFiles) {
 // folder; the student is told which folder was graded.
 TEST(SubmissionLayouts, KitGradeReportsTheFolderUsed) {
   fs::path dir = kit::test::temp_dir("layouts-kit-grade");
-  copy_starters(dir / "alice" / "alice" / "alice" / "Labs" / "01-GBuffer");
+  const std::string lab = graded_lab(), folder = "alice/alice/Labs/" + shouted(graded_stage().folder);
+  copy_starters(dir / "alice" / folder);
   fs::path zip = as_zip(dir / "alice");
   fs::path out = dir / "out";
   std::string output;
-  ASSERT_EQ(kit::test::run(kit::test::tool("kit-grade") + " " + quoted(zip) + " --labs 1 --jobs 2 --out " + quoted(out),
+  ASSERT_EQ(kit::test::run(kit::test::tool("kit-grade") + " " + quoted(zip) + " --labs " + lab + " --jobs 2 --out " + quoted(out),
                            &output),
             0)
       << output;
   json summary = read_json(out / "summary.json"), results = read_json(out / "results.json");
-  EXPECT_EQ(summary["labs"]["1"]["status"], "graded") << summary.dump(1);
-  EXPECT_EQ(summary["labs"]["1"]["folder"], "alice/alice/Labs/01-GBuffer");
-  const std::string note = "lab 1 gbuffer: files taken from 'alice/alice/Labs/01-GBuffer/'";
+  EXPECT_EQ(summary["labs"][lab]["status"], "graded") << summary.dump(1);
+  EXPECT_EQ(summary["labs"][lab]["folder"], folder);
+  const std::string note = "lab " + lab + " " + graded_stage().name + ": files taken from '" + folder + "/'";
   EXPECT_TRUE(contains(summary["notes"].dump(), note)) << summary["notes"];
   EXPECT_TRUE(contains(results["output"].get<std::string>(), note)) << results["output"];
-  EXPECT_TRUE(contains(read_file(out / "report.html"), "files taken from &#39;alice/alice/Labs/01-GBuffer/&#39;"));
+  EXPECT_TRUE(contains(read_file(out / "report.html"), "files taken from &#39;" + folder + "/&#39;"));
   EXPECT_EQ(summary["content_hash"], kit::grade::content_hash(zip));
 }
 
@@ -300,17 +313,18 @@ TEST(SubmissionLayouts, KitGradeReportsTheFolderUsed) {
 TEST(SubmissionLayouts, BatchResumeRegradesWhatChanged) {
   fs::path dir = kit::test::temp_dir("layouts-batch");
   fs::path in = dir / "submissions", out = dir / "results";
-  copy_starters(in / "alice" / "labs" / "01-gbuffer");
-  copy_starters(dir / "bob" / "bob" / "01-gbuffer");
+  const std::string lab = graded_lab(), folder = graded_stage().folder;
+  copy_starters(in / "alice" / "labs" / folder);
+  copy_starters(dir / "bob" / "bob" / folder);
   as_zip(dir / "bob");
   fs::rename(dir / "bob.zip", in / "bob.zip");
   const std::string command =
-      kit::test::tool("kit-grade") + " --batch " + quoted(in) + " --out " + quoted(out) + " --labs 1 --jobs 2";
+      kit::test::tool("kit-grade") + " --batch " + quoted(in) + " --out " + quoted(out) + " --labs " + lab + " --jobs 2";
   std::string output;
   ASSERT_EQ(kit::test::run(command, &output), 0) << output;
   EXPECT_TRUE(contains(output, "2 to grade, 0 already graded")) << output;
   for (const char* name : {"alice", "bob"}) {
-    EXPECT_EQ(read_json(out / name / "summary.json")["labs"]["1"]["status"], "graded") << name;
+    EXPECT_EQ(read_json(out / name / "summary.json")["labs"][lab]["status"], "graded") << name;
     EXPECT_EQ(read_json(out / name / "summary.json")["content_hash"].get<std::string>().size(), 45u) << name;
   }
   // A marker in each result folder: a regraded result replaces its whole folder.
@@ -328,7 +342,7 @@ TEST(SubmissionLayouts, BatchResumeRegradesWhatChanged) {
   EXPECT_FALSE(regraded("bob"));
 
   // Alice edits a file: only she is regraded, and the output says why.
-  fs::path frag = in / "alice" / "labs" / "01-gbuffer" / "gbuffer.frag";
+  fs::path frag = in / "alice" / "labs" / folder / graded_stage().files.at(0);
   write_file(frag, read_file(frag) + "// edited after grading\n");
   ASSERT_TRUE(fs::exists(out / "alice" / "results.json")) << "the old rule (a results.json exists) would skip her";
   ASSERT_EQ(kit::test::run(command, &output), 0) << output;
@@ -345,7 +359,8 @@ TEST(SubmissionLayouts, BatchResumeRegradesWhatChanged) {
 
   // Bob's zip is made again with a changed file: only he is regraded.
   mark("alice");
-  write_file(dir / "bob/bob/01-gbuffer/gbuffer.vert", read_file(dir / "bob/bob/01-gbuffer/gbuffer.vert") + "// v2\n");
+  const fs::path bob_file = dir / "bob" / "bob" / folder / graded_stage().files.back();
+  write_file(bob_file, read_file(bob_file) + "// v2\n");
   as_zip(dir / "bob");
   fs::rename(dir / "bob.zip", in / "bob.zip");
   ASSERT_EQ(kit::test::run(command, &output), 0) << output;
