@@ -6,6 +6,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstring>
@@ -220,7 +221,10 @@ class SceneBuilder {
     for (const auto& m : model_.materials) scene_.materials.push_back(material(m));
     for (size_t mi = 0; mi < model_.meshes.size(); ++mi) {
       std::vector<int> prims;
-      for (size_t pi = 0; pi < model_.meshes[mi].primitives.size(); ++pi) prims.push_back(primitive(mi, pi));
+      for (size_t pi = 0; pi < model_.meshes[mi].primitives.size(); ++pi) {
+        int id = primitive(mi, pi);
+        if (id >= 0) prims.push_back(id);
+      }
       mesh_primitives_.push_back(prims);
     }
     int scene_index = model_.defaultScene >= 0 ? model_.defaultScene : 0;
@@ -267,16 +271,24 @@ class SceneBuilder {
   int primitive(size_t mesh, size_t prim) {
     const tinygltf::Primitive& p = model_.meshes[mesh].primitives[prim];
     std::string what = "mesh " + std::to_string(mesh) + " ('" + model_.meshes[mesh].name + "') primitive " + std::to_string(prim);
-    if (p.mode != -1 && p.mode != TINYGLTF_MODE_TRIANGLES) throw Error(path_ + ": " + what + ": only triangle lists are supported");
+    const int mode = p.mode == -1 ? TINYGLTF_MODE_TRIANGLES : p.mode;
+    if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP && mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+      // Points and lines have no surface to put in a G-buffer: left out, said once.
+      scene_.warnings.push_back(path_ + ": " + what + ": mode " + std::to_string(mode) +
+                                " (points or lines) is not drawn; the kit draws triangles");
+      return -1;
+    }
     auto attr = [&](const char* name) {
       auto it = p.attributes.find(name);
       return it == p.attributes.end() ? -1 : it->second;
     };
     if (attr("POSITION") < 0) throw Error(path_ + ": " + what + ": has no POSITION attribute");
-    if (attr("NORMAL") < 0) throw Error(path_ + ": " + what + ": has no NORMAL attribute (the kit does not generate normals)");
     std::vector<float> pos = reader_.floats(attr("POSITION"), TINYGLTF_TYPE_VEC3, 3, false, what + " POSITION");
-    std::vector<float> nrm = reader_.floats(attr("NORMAL"), TINYGLTF_TYPE_VEC3, 3, false, what + " NORMAL");
     size_t n = pos.size() / 3;
+    // No NORMAL: glTF asks for flat normals, computed below once the triangles are known.
+    const bool flat = attr("NORMAL") < 0;
+    std::vector<float> nrm = flat ? std::vector<float>(pos.size(), 0.0f)
+                                  : reader_.floats(attr("NORMAL"), TINYGLTF_TYPE_VEC3, 3, false, what + " NORMAL");
     if (nrm.size() / 3 != n) throw Error(path_ + ": " + what + ": NORMAL count differs from POSITION count");
     std::vector<float> uv, tan;
     if (attr("TEXCOORD_0") >= 0) uv = reader_.floats(attr("TEXCOORD_0"), TINYGLTF_TYPE_VEC2, 2, true, what + " TEXCOORD_0");
@@ -308,11 +320,13 @@ class SceneBuilder {
       out.indices.resize(n);
       for (size_t i = 0; i < n; ++i) out.indices[i] = static_cast<uint32_t>(i);
     }
-    if (out.indices.size() % 3 != 0) throw Error(path_ + ": " + what + ": index count is not a multiple of 3");
     for (size_t i = 0; i < out.indices.size(); ++i)
       if (out.indices[i] >= n)
         throw Error(path_ + ": " + what + ": index " + std::to_string(out.indices[i]) + " at position " + std::to_string(i) +
                     " is out of range (" + std::to_string(n) + " vertices)");
+    if (mode != TINYGLTF_MODE_TRIANGLES) out.indices = triangle_list(out.indices, mode);
+    if (out.indices.size() % 3 != 0) throw Error(path_ + ": " + what + ": index count is not a multiple of 3");
+    if (flat) use_flat_normals(out);
     if (tan.empty() && !uv.empty()) {
       generate_tangents(out.vertices, out.indices);
       out.tangents_generated = true;
@@ -322,6 +336,39 @@ class SceneBuilder {
     }
     scene_.primitives.push_back(std::move(out));
     return static_cast<int>(scene_.primitives.size()) - 1;
+  }
+
+  // A strip's or a fan's triangles as a list, each wound as glTF says (a strip's
+  // odd triangles swap their first two corners to keep the winding).
+  static std::vector<uint32_t> triangle_list(const std::vector<uint32_t>& in, int mode) {
+    std::vector<uint32_t> out;
+    for (size_t i = 2; i < in.size(); ++i) {
+      if (mode == TINYGLTF_MODE_TRIANGLE_FAN) out.insert(out.end(), {in[0], in[i - 1], in[i]});
+      else if (i % 2 == 0) out.insert(out.end(), {in[i - 2], in[i - 1], in[i]});
+      else out.insert(out.end(), {in[i - 1], in[i - 2], in[i]});
+    }
+    return out;
+  }
+
+  // glTF: "When normals are not specified, client implementations MUST calculate
+  // flat normals": every triangle gets its own three vertices, with the normal of
+  // its plane (a degenerate triangle gets +z, which keeps the frame finite).
+  static void use_flat_normals(Primitive& prim) {
+    std::vector<Vertex> vertices;
+    vertices.reserve(prim.indices.size());
+    for (size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
+      Vertex a = prim.vertices[prim.indices[t]], b = prim.vertices[prim.indices[t + 1]], c = prim.vertices[prim.indices[t + 2]];
+      glm::vec3 normal = glm::cross(b.position - a.position, c.position - a.position);
+      float length = glm::length(normal);
+      normal = length > 0.0f && std::isfinite(length) ? normal / length : glm::vec3(0.0f, 0.0f, 1.0f);
+      for (Vertex* v : {&a, &b, &c}) {
+        v->normal = normal;
+        vertices.push_back(*v);
+      }
+    }
+    prim.vertices = std::move(vertices);
+    prim.indices.resize(prim.vertices.size());
+    for (size_t i = 0; i < prim.indices.size(); ++i) prim.indices[i] = static_cast<uint32_t>(i);
   }
 
   // glTF's nodes form trees (a node has one parent at most), so each node is
@@ -493,6 +540,21 @@ bool refuse_write(std::string* err, const std::string& path, const std::vector<u
   return false;
 }
 
+// A file that requires an extension the kit does not implement would render
+// wrongly or fail later with an unrelated message (a Draco mesh has no
+// bufferView): it is refused up front, by the extension's name.
+void check_required_extensions(const tinygltf::Model& model, const std::string& path) {
+  static const char* const kSupported[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength"};
+  for (const std::string& name : model.extensionsRequired) {
+    if (std::find(std::begin(kSupported), std::end(kSupported), name) != std::end(kSupported)) continue;
+    std::string hint = name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression"
+                           ? " (its meshes are compressed: save the model uncompressed, e.g. with a glTF tool's --no-compression option)"
+                           : "";
+    throw Error(path + ": requires the glTF extension " + name + ", which the kit does not support" + hint +
+                "; supported: KHR_lights_punctual, KHR_materials_emissive_strength");
+  }
+}
+
 Scene load_scene_unguarded(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(std::filesystem::symlink_status(path, ec))) throw Error(path + ": scene file not found");
@@ -528,6 +590,7 @@ Scene load_scene_unguarded(const std::string& path) {
     while (!err.empty() && err.back() == '\n') err.pop_back();
     throw Error(path + ": invalid glTF: " + (err.empty() ? std::string("the file could not be parsed") : err));
   }
+  check_required_extensions(model, path);
   return SceneBuilder(model, path).build();
 }
 

@@ -70,6 +70,9 @@ struct Scene {
   std::vector<Light> lights;
   std::optional<Camera> camera;
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};  // world space, over all draws
+  // What was loaded differently from the file (points and lines left out, ...);
+  // the programs print each once.
+  std::vector<std::string> warnings;
 };
 
 // Loads and validates a .gltf/.glb file. Any problem throws kit::Error whose

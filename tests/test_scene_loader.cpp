@@ -256,6 +256,79 @@ TEST(scene_loader_hostile, UrisOutsideTheSceneFolderAreRefused) {
   expect_error(copy.gltf, "symbolic link");
 }
 
+// ---- glTF core features beyond the kit's own scenes ----
+
+TEST(scene_loader_gltf, RequiredExtensionTheKitLacksIsRefusedByName) {
+  SceneCopy copy("sphere", "required_extension");
+  copy.doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  copy.save_json();
+  EXPECT_NO_THROW(kit::load_scene(copy.gltf.string())) << "witness: merely used, it loads";
+  copy.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  copy.save_json();
+  expect_error(copy.gltf, "requires the glTF extension KHR_draco_mesh_compression");
+}
+
+TEST(scene_loader_gltf, PointsAndLinesAreLeftOutWithAWarning) {
+  SceneCopy copy("sphere", "points");
+  json points = copy.doc["meshes"][0]["primitives"][0];
+  points["mode"] = 0;  // POINTS
+  copy.doc["meshes"][0]["primitives"].push_back(points);
+  copy.save_json();
+  const kit::Scene triangles = kit::load_scene(kit::resolve_scene("sphere"));
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  EXPECT_EQ(scene.draws.size(), triangles.draws.size());
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_NE(scene.warnings[0].find("mode 0 (points or lines) is not drawn"), std::string::npos) << scene.warnings[0];
+}
+
+// No NORMAL: each triangle gets its plane's normal, in double from the JSON's positions.
+TEST(scene_loader_gltf, MissingNormalsAreFlatNormals) {
+  SceneCopy copy("sphere", "flat_normals");
+  json& prim = copy.doc["meshes"][0]["primitives"][0];
+  prim["attributes"].erase("NORMAL");
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  const kit::Primitive& p = scene.primitives.at(0);
+  const kit::Scene source = kit::load_scene(kit::resolve_scene("sphere"));
+  const kit::Primitive& indexed = source.primitives.at(0);
+  ASSERT_EQ(p.indices.size(), indexed.indices.size());
+  ASSERT_EQ(p.vertices.size(), p.indices.size()) << "one vertex per triangle corner";
+  size_t checked = 0;
+  for (size_t t = 0; t + 2 < indexed.indices.size(); t += 3) {
+    glm::dvec3 a(indexed.vertices[indexed.indices[t]].position), b(indexed.vertices[indexed.indices[t + 1]].position),
+        c(indexed.vertices[indexed.indices[t + 2]].position);
+    glm::dvec3 n = glm::cross(b - a, c - a);
+    if (glm::length(n) < 1e-9) continue;  // degenerate (the sphere's poles)
+    n = glm::normalize(n);
+    for (int k = 0; k < 3; ++k) {
+      const kit::Vertex& v = p.vertices[p.indices[t + static_cast<size_t>(k)]];
+      EXPECT_NEAR(glm::distance(glm::dvec3(v.position), k == 0 ? a : k == 1 ? b : c), 0.0, 1e-9);
+      EXPECT_NEAR(glm::distance(glm::dvec3(v.normal), n), 0.0, kUnitTolerance) << "triangle " << t / 3;
+    }
+    ++checked;
+  }
+  EXPECT_GT(checked, indexed.indices.size() / 3 / 2);
+}
+
+TEST(scene_loader_gltf, StripsAndFansBecomeTriangleLists) {
+  SceneCopy copy("sphere", "strip");
+  // A strip over the first primitive's first 5 indices: triangles (0,1,2), (2,1,3), (2,3,4).
+  const kit::Scene source = kit::load_scene(kit::resolve_scene("sphere"));
+  copy.doc["meshes"][0]["primitives"][0]["mode"] = 5;  // TRIANGLE_STRIP
+  copy.save_json();
+  const kit::Scene strip = kit::load_scene(copy.gltf.string());
+  const std::vector<uint32_t>& in = source.primitives.at(0).indices;
+  const std::vector<uint32_t>& out = strip.primitives.at(0).indices;
+  ASSERT_EQ(out.size(), 3 * (in.size() - 2));
+  EXPECT_EQ(std::vector<uint32_t>(out.begin(), out.begin() + 9),
+            (std::vector<uint32_t>{in[0], in[1], in[2], in[2], in[1], in[3], in[2], in[3], in[4]}));
+  copy.doc["meshes"][0]["primitives"][0]["mode"] = 6;  // TRIANGLE_FAN
+  copy.save_json();
+  const kit::Scene fan = kit::load_scene(copy.gltf.string());
+  const std::vector<uint32_t>& f = fan.primitives.at(0).indices;
+  EXPECT_EQ(std::vector<uint32_t>(f.begin(), f.begin() + 6), (std::vector<uint32_t>{in[0], in[1], in[2], in[0], in[2], in[3]}));
+}
+
 // ---- valid scenes ----
 
 // glTF node local matrix (matrix, or T * R * S) in double.

@@ -71,6 +71,7 @@ int main(int argc, char** argv) {
     const kit::LabSelection lab = kit::select_lab(options);
     const kit::Stage& stage = *lab.stage;
     kit::Scene scene = kit::load_scene(kit::resolve_scene(options.scene));
+    for (const std::string& warning : scene.warnings) std::fprintf(stderr, "kit-render: warning: %s\n", warning.c_str());
     auto t_scene = seconds_since(t0);
     auto context = kit::create_headless_context(kit::parse_backend(options.backend));
     auto t_context = seconds_since(t0);

@@ -251,6 +251,7 @@ class Viewer {
         window_(settings_.width, settings_.height, title_prefix(), !options_.hidden),
         rig_(scene_),
         view_(options_.view) {
+    for (const std::string& warning : scene_.warnings) std::fprintf(stderr, "kit-view: warning: %s\n", warning.c_str());
     if (settings_.extra_lights > kMaxViewerLights) {
       std::fprintf(stderr, "kit-view: note: --lights %d is more than the viewer's slider holds; using %d\n",
                    settings_.extra_lights, kMaxViewerLights);
