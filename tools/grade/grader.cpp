@@ -123,28 +123,37 @@ std::string trimmed(std::string text) {
 }
 
 // Sets status and message from how the child ended; true when it rendered everything.
-bool classify_child(const Run& run, const Outcome& o, const fs::path& dir, LabOutcome& lab) {
-  const Limits& limits = run.options.limits;
+bool classify_child(const Outcome& o, const fs::path& dir, LabOutcome& lab) {
   std::string log = trimmed(read_tail(dir / "child.log", kLogTailBytes));
   std::string log_part = log.empty() ? "" : "\n\nlast output of the renderer:\n" + log;
-  char buf[256];
-  if (o.kind == Outcome::Kind::TimedOut) {
-    std::snprintf(buf, sizeof buf, "rendering did not finish within %.0f s and was stopped (an endless loop in a shader?)",
-                  limits.wall_seconds);
-    lab.status = kTimeout;
-    lab.message = buf;
-    return false;
-  }
-  if (o.kind == Outcome::Kind::Signaled) {
-    if (o.code == SIGXCPU) {
+  char buf[320];
+  switch (o.kind) {
+    case Outcome::Kind::TimedOut:
+      // The backstop: the CPU limit ends a shader that loops; this one a child that
+      // makes no progress at all, or a machine far too busy to render in time.
+      std::snprintf(buf, sizeof buf,
+                    "rendering did not finish within %.0f s of wall-clock time (--timeout; it had used %.1f s of CPU "
+                    "time) and was stopped (an endless loop in a shader, or a machine too busy to render?)",
+                    o.wall_limit, o.cpu_seconds);
       lab.status = kTimeout;
-      lab.message = "the renderer used more than " + std::to_string(limits.cpu_seconds) +
-                    " s of CPU time and was stopped (an endless loop in a shader?)";
-    } else {
+      lab.message = buf;
+      return false;
+    case Outcome::Kind::CpuLimit:
+      lab.status = kTimeout;
+      lab.message = "the renderer used more than " + std::to_string(o.cpu_limit) +
+                    " s of CPU time (--cpu-limit) and was stopped (an endless loop in a shader?)";
+      return false;
+    case Outcome::Kind::OutOfMemory:
+      lab.status = kCrash;
+      lab.message = o.describe() + ": the renderer ran out of memory while running this lab's shaders (its address "
+                    "space is limited by --memory-limit)" + log_part;
+      return false;
+    case Outcome::Kind::Signaled:
       lab.status = kCrash;
       lab.message = "the renderer crashed (" + o.describe() + ") while running this lab's shaders" + log_part;
-    }
-    return false;
+      return false;
+    case Outcome::Kind::Running:
+    case Outcome::Kind::Exited: break;
   }
   switch (o.code) {
     case kChildOk: return true;
@@ -163,9 +172,7 @@ bool classify_child(const Run& run, const Outcome& o, const fs::path& dir, LabOu
     default: break;
   }
   lab.status = kCrash;
-  bool memory = log.find("bad_alloc") != std::string::npos || log.find("out of memory") != std::string::npos;
-  lab.message = memory ? "the renderer ran out of memory (limit " + std::to_string(limits.address_space_mib) + " MiB)" + log_part
-                       : "the renderer stopped with " + o.describe() + log_part;
+  lab.message = "the renderer stopped with " + o.describe() + log_part;
   return false;
 }
 
@@ -254,6 +261,18 @@ void prepare(const Run& run, Entry& e) {
   e.outcome.content_hash = e.content_hash;
 }
 
+// A render child works in its task folder, and Mesa's shader cache (which it
+// writes) is the submission's own, in its temporary folder: nothing is shared
+// with another student's children or left in ~/.cache, and the labs of one
+// submission (and the second scene of a lab) still find their compiled shaders.
+ChildSetup render_setup(const Entry& e, const fs::path& dir) {
+  ChildSetup setup;
+  setup.working_dir = dir;
+  setup.environment = {{"MESA_SHADER_CACHE_DIR", (e.temp / "mesa-shader-cache").string()},
+                       {"XDG_CACHE_HOME", (e.temp / "cache").string()}};
+  return setup;
+}
+
 // Runs every lab of every entry, at most options.jobs children at a time;
 // `finished` is called as each entry completes. Returns false when interrupted.
 bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished) {
@@ -294,8 +313,8 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
       fs::path dir = e.temp / ("lab" + std::to_string(task.lab));
       fs::create_directories(dir);
       RenderJob job{task.lab, e.prepared->lab_root, dir, run.options.backend, &run.scenes};
-      auto child = std::make_unique<Child>(
-          Child::fork_function([job] { return render_lab(job); }, run.options.limits, dir / "child.log"));
+      auto child = std::make_unique<Child>(Child::fork_function([job] { return render_lab(job); }, run.options.limits,
+                                                                dir / "child.log", render_setup(e, dir)));
       running.push_back({task, dir, std::move(child)});
     }
   };
@@ -328,7 +347,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
       lab.child_seconds = o.wall_seconds;
       lab.child_cpu_seconds = o.cpu_seconds;
       lab.child_max_rss_kib = o.max_rss_kib;
-      if (classify_child(run, o, done.dir, lab)) compare_lab(run, done.dir, e.result_dir, lab);
+      if (classify_child(o, done.dir, lab)) compare_lab(run, done.dir, e.result_dir, lab);
       std::ifstream child_report(done.dir / "child.json");
       if (child_report) {
         try {
