@@ -2,11 +2,18 @@
 
 #include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdlib.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <deque>
 #include <fstream>
 #include <memory>
@@ -58,6 +65,7 @@ struct Run {
 struct Entry {
   fs::path source;
   fs::path result_dir;  // report images are written here (a staging folder in a batch)
+  fs::path final_dir;   // a batch: the submission's result folder
   std::string content_hash;  // computed before grading, stored in summary.json
   SubmissionOutcome outcome;
   std::optional<PreparedSubmission> prepared;
@@ -86,6 +94,16 @@ void single_threaded_image_io() {
   OIIO::attribute("threads", 1);
   OIIO::attribute("exr_threads", -1);
 }
+
+// A run's temporary folder: kRunTempPrefix, the process id, '-' and mkdtemp's six characters.
+constexpr const char* kRunTempPrefix = "kit-grade-";
+// A batch's lock in its output folder (hidden: no submission's name can be it).
+constexpr const char* kBatchLockFile = ".kit-grade.lock";
+// What a batch writes at the top of its output folder, and what a result folder
+// holds: a submission named like one of them (in any case) gets its result
+// folder under its name plus kReservedSuffix.
+const char* const kBatchOwnNames[] = {"gradebook.csv", "results.json", "summary.json", "report.html", "img"};
+constexpr const char* kReservedSuffix = ".submission";
 
 // A fresh private folder (mode 0700) under `base`.
 fs::path make_temp_dir(const fs::path& base, const std::string& prefix) {
@@ -361,13 +379,45 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
   return true;
 }
 
+// Removes the temporary folders of kit-grade runs that ended without removing
+// them (kill -9, a power cut): folders "kit-grade-<pid>-XXXXXX" in `base`, owned
+// by this user, whose process no longer exists. A folder whose process id is in
+// use again is left (harmless; a later run removes it). Says what it removed.
+void remove_stale_run_temps(const fs::path& base) {
+  std::error_code ec;
+  std::vector<std::string> removed;
+  for (fs::directory_iterator it(base, ec), end; !ec && it != end; it.increment(ec)) {
+    std::string name = it->path().filename().string();
+    if (name.rfind(kRunTempPrefix, 0) != 0) continue;
+    size_t digits = std::strlen(kRunTempPrefix), dash = name.find('-', digits);
+    if (dash == std::string::npos || dash == digits || dash + 7 != name.size()) continue;
+    std::string number = name.substr(digits, dash - digits);
+    if (number.find_first_not_of("0123456789") != std::string::npos || number.size() > 9) continue;
+    pid_t pid = static_cast<pid_t>(std::stol(number));
+    struct stat st {};
+    if (lstat(it->path().c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != getuid()) continue;
+    if (pid == getpid() || kill(pid, 0) == 0 || errno == EPERM) continue;  // its run is alive
+    std::error_code remove_ec;
+    fs::remove_all(it->path(), remove_ec);
+    if (!remove_ec) removed.push_back(it->path().string() + " (pid " + number + ")");
+  }
+  if (removed.empty()) return;
+  std::string list;
+  for (const std::string& r : removed) list += (list.empty() ? "" : ", ") + r;
+  std::fprintf(stderr, "kit-grade: removed %zu temporary folder%s left by kit-grade runs that ended without removing them: %s\n",
+               removed.size(), removed.size() == 1 ? "" : "s", list.c_str());
+}
+
 Run make_run(const Options& options, bool need_references) {
   Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, nullptr, {}};
   if (need_references)
     run.references = load_references(options.references.empty() ? default_references_dir() : options.references, options.labs);
   run.scenes = load_scenes(options.labs);
   const char* tmp = std::getenv("TMPDIR");
-  run.temp = make_temp_dir(tmp && *tmp ? tmp : "/tmp", "kit-grade-");
+  fs::path base = fs::absolute(tmp && *tmp ? tmp : "/tmp");
+  remove_stale_run_temps(base);
+  // Named with this process's id, so a later run can tell when it is gone.
+  run.temp = make_temp_dir(base, kRunTempPrefix + std::to_string(getpid()) + "-");
   return run;
 }
 
@@ -412,6 +462,93 @@ bool writable_folder(const fs::path& dir, std::string* why) {
   if (!ok) *why = dir.string() + ": cannot write in the output folder";
   return ok;
 }
+
+std::string lower_case(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+  return text;
+}
+
+bool batch_own_name(const std::string& name) {
+  return std::any_of(std::begin(kBatchOwnNames), std::end(kBatchOwnNames),
+                     [&](const char* own) { return lower_case(name) == own; });
+}
+
+// A submission's result folder in a batch: its name, unless that is one of the
+// batch's own (a student folder named gradebook.csv must not take the gradebook's place).
+std::string result_folder_name(const std::string& name) { return batch_own_name(name) ? name + kReservedSuffix : name; }
+
+// An older kit-grade wrote a submission named like the batch's files into a
+// folder of that name (DIR/gradebook.csv/), which then stopped every batch from
+// writing its gradebook: such a result folder is moved to its new name.
+void move_reserved_result_folders(const fs::path& out) {
+  for (const char* own : kBatchOwnNames) {
+    fs::path old_dir = out / own, new_dir = out / (std::string(own) + kReservedSuffix);
+    struct stat st {};
+    if (lstat(old_dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || !fs::exists(old_dir / "results.json")) continue;
+    std::error_code ec;
+    if (fs::exists(fs::symlink_status(new_dir, ec))) {
+      fs::remove_all(old_dir, ec);  // the result it held was replaced since
+      std::printf("kit-grade: removed %s, a result folder an older kit-grade wrote in the place of the batch's %s\n",
+                  old_dir.c_str(), own);
+    } else {
+      fs::rename(old_dir, new_dir, ec);
+      std::printf("kit-grade: moved %s to %s: an older kit-grade wrote that submission's result in the place of "
+                  "the batch's %s\n",
+                  old_dir.c_str(), new_dir.c_str(), own);
+    }
+    if (ec) throw Error(old_dir.string() + ": cannot move it out of the batch's way: " + ec.message());
+  }
+}
+
+// Staging folders (".name.partial") a batch killed while writing left behind:
+// with the lock held, no other batch is writing them.
+void remove_partial_results(const fs::path& out) {
+  std::error_code ec;
+  for (fs::directory_iterator it(out, ec), end; !ec && it != end; it.increment(ec)) {
+    std::string name = it->path().filename().string();
+    const std::string suffix = ".partial";
+    if (name.size() <= suffix.size() + 1 || name[0] != '.' ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    std::error_code remove_ec;
+    fs::remove_all(it->path(), remove_ec);
+  }
+}
+
+// An exclusive flock on DIR/.kit-grade.lock for as long as a batch runs: two
+// batches writing one output folder would rename result folders under each
+// other and interleave the gradebook. The kernel releases it however the run
+// ends (kill -9 included); the file holds the owner's process id for the message.
+class BatchLock {
+ public:
+  explicit BatchLock(const fs::path& out) {
+    fs::path path = out / kBatchLockFile;
+    fd_ = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd_ < 0) throw Error(path.string() + ": cannot open the batch's lock file: " + std::strerror(errno));
+    if (flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      int err = errno;
+      char text[32] = {0};
+      ssize_t n = pread(fd_, text, sizeof text - 1, 0);
+      std::string holder = n > 0 ? trimmed(std::string(text, static_cast<size_t>(n))) : "";
+      close(fd_);
+      if (err == EWOULDBLOCK)
+        throw Error(out.string() + ": another kit-grade batch (pid " + (holder.empty() ? "unknown" : holder) +
+                    ") is grading into this folder and holds its lock " + path.string() +
+                    "; wait for it to finish, or grade into another --out");
+      throw Error(path.string() + ": cannot lock: " + std::strerror(err));
+    }
+    std::string pid = std::to_string(getpid()) + "\n";
+    if (ftruncate(fd_, 0) != 0 || pwrite(fd_, pid.data(), pid.size(), 0) < 0) {
+      // The lock holds all the same; only the message of a second run lacks the pid.
+    }
+  }
+  ~BatchLock() { close(fd_); }
+  BatchLock(const BatchLock&) = delete;
+  BatchLock& operator=(const BatchLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
 
 }  // namespace
 
@@ -467,6 +604,9 @@ int grade_batch(const fs::path& folder, const Options& options) {
   if (!fs::is_directory(folder, ec)) throw Error(folder.string() + ": not a folder of submissions");
   std::string why;
   if (!writable_folder(options.out, &why)) throw Error(why);
+  BatchLock lock(options.out);
+  move_reserved_result_folders(options.out);
+  remove_partial_results(options.out);
   std::vector<fs::path> sources;
   for (const auto& entry : fs::directory_iterator(folder)) {
     std::string name = entry.path().filename().string();
@@ -474,23 +614,28 @@ int grade_batch(const fs::path& folder, const Options& options) {
     if (entry.is_directory() || (is_zip(entry.path()) && entry.is_regular_file())) sources.push_back(entry.path());
   }
   std::sort(sources.begin(), sources.end());
-  // Two sources with one name (alice/ and alice.zip) would share a result folder.
-  std::set<std::string> names;
-  std::vector<std::string> all_names, changed, unhashed;
+  // Two sources with one result folder (alice/ and alice.zip) would share it.
+  std::set<std::string> folders;
+  std::vector<std::pair<std::string, std::string>> all_names;  // submission, result folder
+  std::vector<std::string> changed, unhashed, renamed;
   std::set<std::string> changed_set;
   std::vector<Entry> entries;
   size_t skipped = 0;
   for (const fs::path& source : sources) {
     std::string name = submission_name(source);
-    if (!names.insert(name).second) {
-      std::fprintf(stderr, "kit-grade: %s: skipped, another submission is also named '%s'\n", source.c_str(), name.c_str());
+    std::string folder_name = result_folder_name(name);
+    if (!folders.insert(folder_name).second) {
+      std::fprintf(stderr, "kit-grade: %s: skipped, another submission has the result folder '%s'\n", source.c_str(),
+                   folder_name.c_str());
       continue;
     }
-    all_names.push_back(name);
+    if (folder_name != name) renamed.push_back(name + " -> " + folder_name + "/");
+    all_names.push_back({name, folder_name});
+    const fs::path final_dir = options.out / folder_name;
     std::string hash = content_hash(source);
-    if (!options.force && fs::exists(options.out / name / "results.json")) {
+    if (!options.force && fs::exists(final_dir / "results.json")) {
       // A result stands while the submission holds what it held when graded.
-      std::string stored = stored_content_hash(options.out / name / "summary.json");
+      std::string stored = stored_content_hash(final_dir / "summary.json");
       if (stored.empty()) unhashed.push_back(name);  // written before content hashes were stored
       if (stored.empty() || stored == hash) {
         ++skipped;
@@ -501,9 +646,16 @@ int grade_batch(const fs::path& folder, const Options& options) {
     }
     Entry e;
     e.source = source;
-    e.result_dir = options.out / ("." + name + ".partial");
+    e.result_dir = options.out / ("." + folder_name + ".partial");
+    e.final_dir = final_dir;
     e.content_hash = hash;
     entries.push_back(std::move(e));
+  }
+  if (!renamed.empty()) {
+    std::string list;
+    for (const std::string& r : renamed) list += (list.empty() ? "" : ", ") + r;
+    std::printf("kit-grade: named like the batch's own files, so their results go in folders named otherwise: %s\n",
+                list.c_str());
   }
   std::printf("kit-grade: %zu submissions in %s: %zu to grade%s, %zu already graded%s\n", all_names.size(),
               folder.c_str(), entries.size(),
@@ -524,7 +676,7 @@ int grade_batch(const fs::path& folder, const Options& options) {
   bool grader_error = false;
   auto t0 = Clock::now();
   bool completed = run_entries(run, entries, [&](Entry& e) {
-    fs::path final_dir = options.out / e.outcome.name;
+    const fs::path& final_dir = e.final_dir;
     fs::create_directories(e.result_dir);
     write_results(e.result_dir, e.outcome);
     std::error_code remove_ec;
