@@ -60,6 +60,9 @@ struct Run {
   std::map<std::string, Image> references;
   std::map<std::string, Image>* collect = nullptr;  // --update-references: keep the raw renders instead
   fs::path temp;
+  // --check-references and --update-references render only the kit's own files:
+  // their children write the shader cache seed that graded submissions start from.
+  bool writes_cache_seed = false;
 };
 
 struct Entry {
@@ -268,9 +271,37 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
   lab.compare_seconds = since(t0);
 }
 
+// Mesa's shader cache as the kit's own renders leave it (solutions/ and
+// framework/shaders/ only, never a submission's file): $XDG_CACHE_HOME (else
+// ~/.cache) /kit-grade/mesa-shader-cache. "" when there is no home to put it in.
+fs::path shader_cache_seed() {
+  const char* xdg = std::getenv("XDG_CACHE_HOME");
+  const char* home = std::getenv("HOME");
+  fs::path base = xdg && *xdg ? fs::path(xdg) : home && *home ? fs::path(home) / ".cache" : fs::path();
+  return base.empty() ? base : base / "kit-grade" / "mesa-shader-cache";
+}
+
+// A run that renders only the kit's own files has its children write the seed
+// (Mesa creates only the last folder of its cache's path).
+void write_cache_seed(Run& run) {
+  fs::path seed = shader_cache_seed();
+  std::error_code ec;
+  if (!seed.empty()) fs::create_directories(seed, ec);
+  run.writes_cache_seed = !seed.empty() && !ec;
+}
+
+// A submission's private shader cache, in its temporary folder.
+fs::path private_shader_cache(const Entry& e) { return e.temp / "mesa-shader-cache"; }
+
 void prepare(const Run& run, Entry& e) {
   e.started = Clock::now();
   e.temp = make_temp_dir(run.temp, "submission-");
+  // Started as a copy of the seed, so the programs every submission shares (the
+  // earlier labs' solutions, the framework's passes) are not compiled again.
+  fs::path seed = shader_cache_seed();
+  std::error_code ec;
+  if (!run.writes_cache_seed && !seed.empty() && fs::is_directory(seed, ec))
+    fs::copy(seed, private_shader_cache(e), fs::copy_options::recursive | fs::copy_options::skip_symlinks, ec);
   e.prepared = prepare_submission(e.source, run.options.labs, e.temp, run.options.limits);
   e.outcome.name = e.prepared->name;
   e.outcome.source = e.source;
@@ -280,14 +311,17 @@ void prepare(const Run& run, Entry& e) {
 }
 
 // A render child works in its task folder, and Mesa's shader cache (which it
-// writes) is the submission's own, in its temporary folder: nothing is shared
-// with another student's children or left in ~/.cache, and the labs of one
-// submission (and the second scene of a lab) still find their compiled shaders.
-ChildSetup render_setup(const Entry& e, const fs::path& dir) {
+// writes) is the submission's own, in its temporary folder: nothing a student's
+// shaders compile to is shared with another student's children or left in
+// ~/.cache, and the labs of one submission (and the second scene of a lab) still
+// find their compiled shaders. Only runs that render the kit's own files alone
+// write the seed.
+ChildSetup render_setup(const Run& run, const Entry& e, const fs::path& dir) {
   ChildSetup setup;
   setup.working_dir = dir;
-  setup.environment = {{"MESA_SHADER_CACHE_DIR", (e.temp / "mesa-shader-cache").string()},
-                       {"XDG_CACHE_HOME", (e.temp / "cache").string()}};
+  fs::path seed = shader_cache_seed();
+  fs::path cache = run.writes_cache_seed && !seed.empty() ? seed : private_shader_cache(e);
+  setup.environment = {{"MESA_SHADER_CACHE_DIR", cache.string()}, {"XDG_CACHE_HOME", (e.temp / "cache").string()}};
   return setup;
 }
 
@@ -332,7 +366,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
       fs::create_directories(dir);
       RenderJob job{task.lab, e.prepared->lab_root, dir, run.options.backend, &run.scenes};
       auto child = std::make_unique<Child>(Child::fork_function([job] { return render_lab(job); }, run.options.limits,
-                                                                dir / "child.log", render_setup(e, dir)));
+                                                                dir / "child.log", render_setup(run, e, dir)));
       running.push_back({task, dir, std::move(child)});
     }
   };
@@ -704,6 +738,7 @@ int update_references(const Options& options) {
   o.labs.clear();
   for (const Stage& s : stages()) o.labs.push_back(s.number);
   Run run = make_run(o, false);
+  write_cache_seed(run);
   std::map<std::string, Image> collected;
   run.collect = &collected;
   std::vector<Entry> entries(1);
@@ -735,6 +770,7 @@ int check_references(const Options& options) {
   std::vector<std::string> stale = manifest_differences(dir);
   if (stale.empty() && !o.labs.empty()) {
     Run run = make_run(o, true);
+    write_cache_seed(run);
     // Stale means: any pixel of a solution over its per-pixel threshold (no share of failing pixels allowed).
     for (auto& [metric, tolerance] : run.config.tolerances) tolerance.fail_percent = 0.0;
     std::vector<Entry> entries(1);

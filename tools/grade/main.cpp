@@ -64,7 +64,9 @@ void usage() {
       "  --self-check          run instructor/grading/self_check.py (the mistake catalogue) with this grader\n"
       "Each lab renders in a child process in the run's temporary folder ($TMPDIR/kit-grade-<pid>-XXXXXX, removed\n"
       "at the end; a later run removes those of runs that were killed) with a Mesa shader cache of its submission's\n"
-      "own there, and at most %lu open files and (not as root) %lu more processes than its user has.\n",
+      "own there (a copy of the seed --check-references writes from the solutions in\n"
+      "$XDG_CACHE_HOME/kit-grade/mesa-shader-cache), and at most %lu open files and (not as root) %lu more\n"
+      "processes than its user has.\n",
       kit::grade::kMaxWrapperDepth, kit::grade::kMaxZipEntries, kMaxDefaultJobs, static_cast<unsigned long>(kit::grade::kDefaultCpuSeconds),
       kit::grade::kDefaultWallSeconds, static_cast<unsigned long>(kit::grade::Limits{}.open_files),
       static_cast<unsigned long>(kit::grade::Limits{}.extra_processes));
