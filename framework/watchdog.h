@@ -6,8 +6,9 @@
 //   "TOOL: timed out after N s ACTIVITY: does a shader loop forever?"
 // on stderr and ends the process with kTimedOutStatus. It ends it with _exit:
 // the stuck call holds the GL driver's locks, so no destructor may run.
-// kit-render and kit-view use it (--timeout); the grader's sandbox kills its
-// render children from outside after the same default time.
+// kit-render and kit-view use it (--timeout); the grader's sandbox stops its
+// render children from outside: after the same number of seconds of CPU time
+// (RLIMIT_CPU), with a longer wall-clock backstop.
 #include <chrono>
 #include <condition_variable>
 #include <mutex>
@@ -17,7 +18,7 @@
 namespace kit {
 
 constexpr int kTimedOutStatus = 124;             // as timeout(1) exits
-constexpr double kDefaultTimeoutSeconds = 30.0;  // kit-render, kit-view and kit-grade's --timeout
+constexpr double kDefaultTimeoutSeconds = 30.0;  // kit-render and kit-view's --timeout (kit-grade: --cpu-limit 30)
 
 class Watchdog {
  public:

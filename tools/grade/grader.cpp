@@ -2,11 +2,18 @@
 
 #include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
+#include <fcntl.h>
 #include <signal.h>
 #include <stdlib.h>
+#include <sys/file.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cstdio>
+#include <cstring>
 #include <deque>
 #include <fstream>
 #include <memory>
@@ -53,11 +60,15 @@ struct Run {
   std::map<std::string, Image> references;
   std::map<std::string, Image>* collect = nullptr;  // --update-references: keep the raw renders instead
   fs::path temp;
+  // --check-references and --update-references render only the kit's own files:
+  // their children write the shader cache seed that graded submissions start from.
+  bool writes_cache_seed = false;
 };
 
 struct Entry {
   fs::path source;
   fs::path result_dir;  // report images are written here (a staging folder in a batch)
+  fs::path final_dir;   // a batch: the submission's result folder
   std::string content_hash;  // computed before grading, stored in summary.json
   SubmissionOutcome outcome;
   std::optional<PreparedSubmission> prepared;
@@ -86,6 +97,16 @@ void single_threaded_image_io() {
   OIIO::attribute("threads", 1);
   OIIO::attribute("exr_threads", -1);
 }
+
+// A run's temporary folder: kRunTempPrefix, the process id, '-' and mkdtemp's six characters.
+constexpr const char* kRunTempPrefix = "kit-grade-";
+// A batch's lock in its output folder (hidden: no submission's name can be it).
+constexpr const char* kBatchLockFile = ".kit-grade.lock";
+// What a batch writes at the top of its output folder, and what a result folder
+// holds: a submission named like one of them (in any case) gets its result
+// folder under its name plus kReservedSuffix.
+const char* const kBatchOwnNames[] = {"gradebook.csv", "results.json", "summary.json", "report.html", "img"};
+constexpr const char* kReservedSuffix = ".submission";
 
 // A fresh private folder (mode 0700) under `base`.
 fs::path make_temp_dir(const fs::path& base, const std::string& prefix) {
@@ -123,28 +144,37 @@ std::string trimmed(std::string text) {
 }
 
 // Sets status and message from how the child ended; true when it rendered everything.
-bool classify_child(const Run& run, const Outcome& o, const fs::path& dir, LabOutcome& lab) {
-  const Limits& limits = run.options.limits;
+bool classify_child(const Outcome& o, const fs::path& dir, LabOutcome& lab) {
   std::string log = trimmed(read_tail(dir / "child.log", kLogTailBytes));
   std::string log_part = log.empty() ? "" : "\n\nlast output of the renderer:\n" + log;
-  char buf[256];
-  if (o.kind == Outcome::Kind::TimedOut) {
-    std::snprintf(buf, sizeof buf, "rendering did not finish within %.0f s and was stopped (an endless loop in a shader?)",
-                  limits.wall_seconds);
-    lab.status = kTimeout;
-    lab.message = buf;
-    return false;
-  }
-  if (o.kind == Outcome::Kind::Signaled) {
-    if (o.code == SIGXCPU) {
+  char buf[320];
+  switch (o.kind) {
+    case Outcome::Kind::TimedOut:
+      // The backstop: the CPU limit ends a shader that loops; this one a child that
+      // makes no progress at all, or a machine far too busy to render in time.
+      std::snprintf(buf, sizeof buf,
+                    "rendering did not finish within %.0f s of wall-clock time (--timeout; it had used %.1f s of CPU "
+                    "time) and was stopped (an endless loop in a shader, or a machine too busy to render?)",
+                    o.wall_limit, o.cpu_seconds);
       lab.status = kTimeout;
-      lab.message = "the renderer used more than " + std::to_string(limits.cpu_seconds) +
-                    " s of CPU time and was stopped (an endless loop in a shader?)";
-    } else {
+      lab.message = buf;
+      return false;
+    case Outcome::Kind::CpuLimit:
+      lab.status = kTimeout;
+      lab.message = "the renderer used more than " + std::to_string(o.cpu_limit) +
+                    " s of CPU time (--cpu-limit) and was stopped (an endless loop in a shader?)";
+      return false;
+    case Outcome::Kind::OutOfMemory:
+      lab.status = kCrash;
+      lab.message = o.describe() + ": the renderer ran out of memory while running this lab's shaders (its address "
+                    "space is limited by --memory-limit)" + log_part;
+      return false;
+    case Outcome::Kind::Signaled:
       lab.status = kCrash;
       lab.message = "the renderer crashed (" + o.describe() + ") while running this lab's shaders" + log_part;
-    }
-    return false;
+      return false;
+    case Outcome::Kind::Running:
+    case Outcome::Kind::Exited: break;
   }
   switch (o.code) {
     case kChildOk: return true;
@@ -163,9 +193,7 @@ bool classify_child(const Run& run, const Outcome& o, const fs::path& dir, LabOu
     default: break;
   }
   lab.status = kCrash;
-  bool memory = log.find("bad_alloc") != std::string::npos || log.find("out of memory") != std::string::npos;
-  lab.message = memory ? "the renderer ran out of memory (limit " + std::to_string(limits.address_space_mib) + " MiB)" + log_part
-                       : "the renderer stopped with " + o.describe() + log_part;
+  lab.message = "the renderer stopped with " + o.describe() + log_part;
   return false;
 }
 
@@ -243,15 +271,58 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
   lab.compare_seconds = since(t0);
 }
 
+// Mesa's shader cache as the kit's own renders leave it (solutions/ and
+// framework/shaders/ only, never a submission's file): $XDG_CACHE_HOME (else
+// ~/.cache) /kit-grade/mesa-shader-cache. "" when there is no home to put it in.
+fs::path shader_cache_seed() {
+  const char* xdg = std::getenv("XDG_CACHE_HOME");
+  const char* home = std::getenv("HOME");
+  fs::path base = xdg && *xdg ? fs::path(xdg) : home && *home ? fs::path(home) / ".cache" : fs::path();
+  return base.empty() ? base : base / "kit-grade" / "mesa-shader-cache";
+}
+
+// A run that renders only the kit's own files has its children write the seed
+// (Mesa creates only the last folder of its cache's path).
+void write_cache_seed(Run& run) {
+  fs::path seed = shader_cache_seed();
+  std::error_code ec;
+  if (!seed.empty()) fs::create_directories(seed, ec);
+  run.writes_cache_seed = !seed.empty() && !ec;
+}
+
+// A submission's private shader cache, in its temporary folder.
+fs::path private_shader_cache(const Entry& e) { return e.temp / "mesa-shader-cache"; }
+
 void prepare(const Run& run, Entry& e) {
   e.started = Clock::now();
   e.temp = make_temp_dir(run.temp, "submission-");
+  // Started as a copy of the seed, so the programs every submission shares (the
+  // earlier labs' solutions, the framework's passes) are not compiled again.
+  fs::path seed = shader_cache_seed();
+  std::error_code ec;
+  if (!run.writes_cache_seed && !seed.empty() && fs::is_directory(seed, ec))
+    fs::copy(seed, private_shader_cache(e), fs::copy_options::recursive | fs::copy_options::skip_symlinks, ec);
   e.prepared = prepare_submission(e.source, run.options.labs, e.temp, run.options.limits);
   e.outcome.name = e.prepared->name;
   e.outcome.source = e.source;
   e.outcome.problem = e.prepared->problem;
   e.outcome.notes = e.prepared->notes;
   e.outcome.content_hash = e.content_hash;
+}
+
+// A render child works in its task folder, and Mesa's shader cache (which it
+// writes) is the submission's own, in its temporary folder: nothing a student's
+// shaders compile to is shared with another student's children or left in
+// ~/.cache, and the labs of one submission (and the second scene of a lab) still
+// find their compiled shaders. Only runs that render the kit's own files alone
+// write the seed.
+ChildSetup render_setup(const Run& run, const Entry& e, const fs::path& dir) {
+  ChildSetup setup;
+  setup.working_dir = dir;
+  fs::path seed = shader_cache_seed();
+  fs::path cache = run.writes_cache_seed && !seed.empty() ? seed : private_shader_cache(e);
+  setup.environment = {{"MESA_SHADER_CACHE_DIR", cache.string()}, {"XDG_CACHE_HOME", (e.temp / "cache").string()}};
+  return setup;
 }
 
 // Runs every lab of every entry, at most options.jobs children at a time;
@@ -294,8 +365,8 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
       fs::path dir = e.temp / ("lab" + std::to_string(task.lab));
       fs::create_directories(dir);
       RenderJob job{task.lab, e.prepared->lab_root, dir, run.options.backend, &run.scenes};
-      auto child = std::make_unique<Child>(
-          Child::fork_function([job] { return render_lab(job); }, run.options.limits, dir / "child.log"));
+      auto child = std::make_unique<Child>(Child::fork_function([job] { return render_lab(job); }, run.options.limits,
+                                                                dir / "child.log", render_setup(run, e, dir)));
       running.push_back({task, dir, std::move(child)});
     }
   };
@@ -328,7 +399,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
       lab.child_seconds = o.wall_seconds;
       lab.child_cpu_seconds = o.cpu_seconds;
       lab.child_max_rss_kib = o.max_rss_kib;
-      if (classify_child(run, o, done.dir, lab)) compare_lab(run, done.dir, e.result_dir, lab);
+      if (classify_child(o, done.dir, lab)) compare_lab(run, done.dir, e.result_dir, lab);
       std::ifstream child_report(done.dir / "child.json");
       if (child_report) {
         try {
@@ -342,13 +413,45 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
   return true;
 }
 
+// Removes the temporary folders of kit-grade runs that ended without removing
+// them (kill -9, a power cut): folders "kit-grade-<pid>-XXXXXX" in `base`, owned
+// by this user, whose process no longer exists. A folder whose process id is in
+// use again is left (harmless; a later run removes it). Says what it removed.
+void remove_stale_run_temps(const fs::path& base) {
+  std::error_code ec;
+  std::vector<std::string> removed;
+  for (fs::directory_iterator it(base, ec), end; !ec && it != end; it.increment(ec)) {
+    std::string name = it->path().filename().string();
+    if (name.rfind(kRunTempPrefix, 0) != 0) continue;
+    size_t digits = std::strlen(kRunTempPrefix), dash = name.find('-', digits);
+    if (dash == std::string::npos || dash == digits || dash + 7 != name.size()) continue;
+    std::string number = name.substr(digits, dash - digits);
+    if (number.find_first_not_of("0123456789") != std::string::npos || number.size() > 9) continue;
+    pid_t pid = static_cast<pid_t>(std::stol(number));
+    struct stat st {};
+    if (lstat(it->path().c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != getuid()) continue;
+    if (pid == getpid() || kill(pid, 0) == 0 || errno == EPERM) continue;  // its run is alive
+    std::error_code remove_ec;
+    fs::remove_all(it->path(), remove_ec);
+    if (!remove_ec) removed.push_back(it->path().string() + " (pid " + number + ")");
+  }
+  if (removed.empty()) return;
+  std::string list;
+  for (const std::string& r : removed) list += (list.empty() ? "" : ", ") + r;
+  std::fprintf(stderr, "kit-grade: removed %zu temporary folder%s left by kit-grade runs that ended without removing them: %s\n",
+               removed.size(), removed.size() == 1 ? "" : "s", list.c_str());
+}
+
 Run make_run(const Options& options, bool need_references) {
   Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, nullptr, {}};
   if (need_references)
     run.references = load_references(options.references.empty() ? default_references_dir() : options.references, options.labs);
   run.scenes = load_scenes(options.labs);
   const char* tmp = std::getenv("TMPDIR");
-  run.temp = make_temp_dir(tmp && *tmp ? tmp : "/tmp", "kit-grade-");
+  fs::path base = fs::absolute(tmp && *tmp ? tmp : "/tmp");
+  remove_stale_run_temps(base);
+  // Named with this process's id, so a later run can tell when it is gone.
+  run.temp = make_temp_dir(base, kRunTempPrefix + std::to_string(getpid()) + "-");
   return run;
 }
 
@@ -393,6 +496,93 @@ bool writable_folder(const fs::path& dir, std::string* why) {
   if (!ok) *why = dir.string() + ": cannot write in the output folder";
   return ok;
 }
+
+std::string lower_case(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+  return text;
+}
+
+bool batch_own_name(const std::string& name) {
+  return std::any_of(std::begin(kBatchOwnNames), std::end(kBatchOwnNames),
+                     [&](const char* own) { return lower_case(name) == own; });
+}
+
+// A submission's result folder in a batch: its name, unless that is one of the
+// batch's own (a student folder named gradebook.csv must not take the gradebook's place).
+std::string result_folder_name(const std::string& name) { return batch_own_name(name) ? name + kReservedSuffix : name; }
+
+// An older kit-grade wrote a submission named like the batch's files into a
+// folder of that name (DIR/gradebook.csv/), which then stopped every batch from
+// writing its gradebook: such a result folder is moved to its new name.
+void move_reserved_result_folders(const fs::path& out) {
+  for (const char* own : kBatchOwnNames) {
+    fs::path old_dir = out / own, new_dir = out / (std::string(own) + kReservedSuffix);
+    struct stat st {};
+    if (lstat(old_dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || !fs::exists(old_dir / "results.json")) continue;
+    std::error_code ec;
+    if (fs::exists(fs::symlink_status(new_dir, ec))) {
+      fs::remove_all(old_dir, ec);  // the result it held was replaced since
+      std::printf("kit-grade: removed %s, a result folder an older kit-grade wrote in the place of the batch's %s\n",
+                  old_dir.c_str(), own);
+    } else {
+      fs::rename(old_dir, new_dir, ec);
+      std::printf("kit-grade: moved %s to %s: an older kit-grade wrote that submission's result in the place of "
+                  "the batch's %s\n",
+                  old_dir.c_str(), new_dir.c_str(), own);
+    }
+    if (ec) throw Error(old_dir.string() + ": cannot move it out of the batch's way: " + ec.message());
+  }
+}
+
+// Staging folders (".name.partial") a batch killed while writing left behind:
+// with the lock held, no other batch is writing them.
+void remove_partial_results(const fs::path& out) {
+  std::error_code ec;
+  for (fs::directory_iterator it(out, ec), end; !ec && it != end; it.increment(ec)) {
+    std::string name = it->path().filename().string();
+    const std::string suffix = ".partial";
+    if (name.size() <= suffix.size() + 1 || name[0] != '.' ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    std::error_code remove_ec;
+    fs::remove_all(it->path(), remove_ec);
+  }
+}
+
+// An exclusive flock on DIR/.kit-grade.lock for as long as a batch runs: two
+// batches writing one output folder would rename result folders under each
+// other and interleave the gradebook. The kernel releases it however the run
+// ends (kill -9 included); the file holds the owner's process id for the message.
+class BatchLock {
+ public:
+  explicit BatchLock(const fs::path& out) {
+    fs::path path = out / kBatchLockFile;
+    fd_ = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+    if (fd_ < 0) throw Error(path.string() + ": cannot open the batch's lock file: " + std::strerror(errno));
+    if (flock(fd_, LOCK_EX | LOCK_NB) != 0) {
+      int err = errno;
+      char text[32] = {0};
+      ssize_t n = pread(fd_, text, sizeof text - 1, 0);
+      std::string holder = n > 0 ? trimmed(std::string(text, static_cast<size_t>(n))) : "";
+      close(fd_);
+      if (err == EWOULDBLOCK)
+        throw Error(out.string() + ": another kit-grade batch (pid " + (holder.empty() ? "unknown" : holder) +
+                    ") is grading into this folder and holds its lock " + path.string() +
+                    "; wait for it to finish, or grade into another --out");
+      throw Error(path.string() + ": cannot lock: " + std::strerror(err));
+    }
+    std::string pid = std::to_string(getpid()) + "\n";
+    if (ftruncate(fd_, 0) != 0 || pwrite(fd_, pid.data(), pid.size(), 0) < 0) {
+      // The lock holds all the same; only the message of a second run lacks the pid.
+    }
+  }
+  ~BatchLock() { close(fd_); }
+  BatchLock(const BatchLock&) = delete;
+  BatchLock& operator=(const BatchLock&) = delete;
+
+ private:
+  int fd_ = -1;
+};
 
 }  // namespace
 
@@ -448,6 +638,9 @@ int grade_batch(const fs::path& folder, const Options& options) {
   if (!fs::is_directory(folder, ec)) throw Error(folder.string() + ": not a folder of submissions");
   std::string why;
   if (!writable_folder(options.out, &why)) throw Error(why);
+  BatchLock lock(options.out);
+  move_reserved_result_folders(options.out);
+  remove_partial_results(options.out);
   std::vector<fs::path> sources;
   for (const auto& entry : fs::directory_iterator(folder)) {
     std::string name = entry.path().filename().string();
@@ -455,23 +648,28 @@ int grade_batch(const fs::path& folder, const Options& options) {
     if (entry.is_directory() || (is_zip(entry.path()) && entry.is_regular_file())) sources.push_back(entry.path());
   }
   std::sort(sources.begin(), sources.end());
-  // Two sources with one name (alice/ and alice.zip) would share a result folder.
-  std::set<std::string> names;
-  std::vector<std::string> all_names, changed, unhashed;
+  // Two sources with one result folder (alice/ and alice.zip) would share it.
+  std::set<std::string> folders;
+  std::vector<std::pair<std::string, std::string>> all_names;  // submission, result folder
+  std::vector<std::string> changed, unhashed, renamed;
   std::set<std::string> changed_set;
   std::vector<Entry> entries;
   size_t skipped = 0;
   for (const fs::path& source : sources) {
     std::string name = submission_name(source);
-    if (!names.insert(name).second) {
-      std::fprintf(stderr, "kit-grade: %s: skipped, another submission is also named '%s'\n", source.c_str(), name.c_str());
+    std::string folder_name = result_folder_name(name);
+    if (!folders.insert(folder_name).second) {
+      std::fprintf(stderr, "kit-grade: %s: skipped, another submission has the result folder '%s'\n", source.c_str(),
+                   folder_name.c_str());
       continue;
     }
-    all_names.push_back(name);
+    if (folder_name != name) renamed.push_back(name + " -> " + folder_name + "/");
+    all_names.push_back({name, folder_name});
+    const fs::path final_dir = options.out / folder_name;
     std::string hash = content_hash(source);
-    if (!options.force && fs::exists(options.out / name / "results.json")) {
+    if (!options.force && fs::exists(final_dir / "results.json")) {
       // A result stands while the submission holds what it held when graded.
-      std::string stored = stored_content_hash(options.out / name / "summary.json");
+      std::string stored = stored_content_hash(final_dir / "summary.json");
       if (stored.empty()) unhashed.push_back(name);  // written before content hashes were stored
       if (stored.empty() || stored == hash) {
         ++skipped;
@@ -482,9 +680,16 @@ int grade_batch(const fs::path& folder, const Options& options) {
     }
     Entry e;
     e.source = source;
-    e.result_dir = options.out / ("." + name + ".partial");
+    e.result_dir = options.out / ("." + folder_name + ".partial");
+    e.final_dir = final_dir;
     e.content_hash = hash;
     entries.push_back(std::move(e));
+  }
+  if (!renamed.empty()) {
+    std::string list;
+    for (const std::string& r : renamed) list += (list.empty() ? "" : ", ") + r;
+    std::printf("kit-grade: named like the batch's own files, so their results go in folders named otherwise: %s\n",
+                list.c_str());
   }
   std::printf("kit-grade: %zu submissions in %s: %zu to grade%s, %zu already graded%s\n", all_names.size(),
               folder.c_str(), entries.size(),
@@ -505,7 +710,7 @@ int grade_batch(const fs::path& folder, const Options& options) {
   bool grader_error = false;
   auto t0 = Clock::now();
   bool completed = run_entries(run, entries, [&](Entry& e) {
-    fs::path final_dir = options.out / e.outcome.name;
+    const fs::path& final_dir = e.final_dir;
     fs::create_directories(e.result_dir);
     write_results(e.result_dir, e.outcome);
     std::error_code remove_ec;
@@ -533,6 +738,7 @@ int update_references(const Options& options) {
   o.labs.clear();
   for (const Stage& s : stages()) o.labs.push_back(s.number);
   Run run = make_run(o, false);
+  write_cache_seed(run);
   std::map<std::string, Image> collected;
   run.collect = &collected;
   std::vector<Entry> entries(1);
@@ -564,6 +770,7 @@ int check_references(const Options& options) {
   std::vector<std::string> stale = manifest_differences(dir);
   if (stale.empty() && !o.labs.empty()) {
     Run run = make_run(o, true);
+    write_cache_seed(run);
     // Stale means: any pixel of a solution over its per-pixel threshold (no share of failing pixels allowed).
     for (auto& [metric, tolerance] : run.config.tolerances) tolerance.fail_percent = 0.0;
     std::vector<Entry> entries(1);

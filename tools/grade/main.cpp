@@ -37,24 +37,39 @@ void usage() {
       "alice/labs/02-lighting/ or alice/alice/labs/02-lighting/. With one lab graded (--labs 2) its files may\n"
       "also lie loose, at the top or inside one folder. A lab folder found in two places is refused, naming both.\n"
       "Writes DIR/results.json (Gradescope), DIR/summary.json, DIR/report.html; their notes say which folder\n"
-      "each lab was taken from.\n"
+      "each lab was taken from. Only regular files with one name are read (symbolic and hard links are refused);\n"
+      "a zip is refused whole when an entry would leave its folder or it lists over %zu entries, and an\n"
+      "encrypted or damaged (bad CRC) lab file in it is refused by name.\n"
       "  --labs SPEC           labs to grade: 1-5 (default), 2, 1,3,5 or names (lighting)\n"
       "  --out DIR             result folder (default out/grade/<submission name>)\n"
       "  --jobs N              labs (and batch submissions) rendered at once (default: cores, at most %d)\n"
       "  --backend NAME        osmesa (default) | egl\n"
-      "  --timeout S           wall-clock seconds a lab's renderer may take (default 30)\n"
-      "  --cpu-limit S         CPU seconds a lab's renderer may use (RLIMIT_CPU, default 60)\n"
-      "  --memory-limit MIB    address space of a lab's renderer (RLIMIT_AS, default 4096)\n"
+      "  --cpu-limit S         the time limit: CPU seconds a lab's renderer may use, all its threads together\n"
+      "                        (RLIMIT_CPU, default %lu); CPU time does not grow when the machine is busy\n"
+      "  --timeout S           wall-clock backstop per lab (default %.0f): a renderer still running after S s is\n"
+      "                        stopped whatever CPU it used (keep it well above --cpu-limit)\n"
+      "  --memory-limit MIB    address space of a lab's renderer (RLIMIT_AS, default 4096); one that runs out\n"
+      "                        is reported as \"out of memory (limit MIB MiB)\" (status crash)\n"
       "  --config FILE         weights, points and tolerances (default tools/grade/grading.json)\n"
       "  --references DIR      reference renders (default tools/grade/references)\n"
       "  --batch FOLDER        grade every subfolder and .zip of FOLDER into DIR/<name>/, plus DIR/gradebook.csv;\n"
       "                        a submission with a results.json is skipped unless its files changed since\n"
-      "                        (content hash in its summary.json) or --force\n"
+      "                        (content hash in its summary.json) or --force. A submission named like the\n"
+      "                        batch's own files (gradebook.csv, results.json, summary.json, report.html, img)\n"
+      "                        gets DIR/<name>.submission/. One batch at a time per DIR: a second is refused\n"
+      "                        (exit 2) while the first holds DIR/.kit-grade.lock\n"
       "  --keep-temp           keep the sanitized copies and raw renders (path printed)\n"
       "  --update-references   render solutions/ into the references and write their manifest\n"
       "  --check-references    re-render solutions/ and fail (exit 1) when the references are stale\n"
-      "  --self-check          run instructor/grading/self_check.py (the mistake catalogue) with this grader\n",
-      kit::grade::kMaxWrapperDepth, kMaxDefaultJobs);
+      "  --self-check          run instructor/grading/self_check.py (the mistake catalogue) with this grader\n"
+      "Each lab renders in a child process in the run's temporary folder ($TMPDIR/kit-grade-<pid>-XXXXXX, removed\n"
+      "at the end; a later run removes those of runs that were killed) with a Mesa shader cache of its submission's\n"
+      "own there (a copy of the seed --check-references writes from the solutions in\n"
+      "$XDG_CACHE_HOME/kit-grade/mesa-shader-cache), and at most %lu open files and (not as root) %lu more\n"
+      "processes than its user has.\n",
+      kit::grade::kMaxWrapperDepth, kit::grade::kMaxZipEntries, kMaxDefaultJobs, static_cast<unsigned long>(kit::grade::kDefaultCpuSeconds),
+      kit::grade::kDefaultWallSeconds, static_cast<unsigned long>(kit::grade::Limits{}.open_files),
+      static_cast<unsigned long>(kit::grade::Limits{}.extra_processes));
 }
 
 int parse_int(const std::string& text, const std::string& flag, int lo, int hi) {

@@ -3,7 +3,6 @@
 #include <nlohmann/json.hpp>
 
 #include <chrono>
-#include <cstdlib>
 #include <cstring>
 #include <fstream>
 #include <memory>
@@ -12,6 +11,7 @@
 #include "error.h"
 #include "gl.h"
 #include "renderer.h"
+#include "sandbox.h"
 #include "report.h"
 #include "stages.h"
 
@@ -42,15 +42,6 @@ ShaderLibrary isolated_custom_library(const Stage& stage, const fs::path& lab_ro
   student.only = {"custom_effect.frag"};
   folders.insert(folders.begin(), student);
   return ShaderLibrary(std::move(folders));
-}
-
-// Peak virtual size of this process (what RLIMIT_AS limits), from /proc.
-long vm_peak_kib() {
-  std::ifstream status("/proc/self/status");
-  std::string line;
-  while (std::getline(status, line))
-    if (line.rfind("VmPeak:", 0) == 0) return std::atol(line.c_str() + 7);
-  return 0;
 }
 
 }  // namespace
@@ -147,7 +138,7 @@ int render_lab(const RenderJob& job) {
   report["seconds"]["render"] = render;
   report["seconds"]["readback"] = readback;
   report["seconds"]["total"] = since(t0);
-  report["vm_peak_kib"] = vm_peak_kib();
+  report["vm_peak_kib"] = peak_address_space_kib();  // what RLIMIT_AS limits
   write_text(job.out_dir / "child.json", json_text(report));
   return kChildOk;
 }

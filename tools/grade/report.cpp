@@ -312,7 +312,8 @@ void write_results(const fs::path& dir, const SubmissionOutcome& outcome) {
   write_file_atomic(dir / "results.json", json_text(results_json(outcome)));
 }
 
-void write_gradebook(const fs::path& dir, const std::vector<std::string>& names, const std::vector<int>& labs) {
+void write_gradebook(const fs::path& dir, const std::vector<std::pair<std::string, std::string>>& submissions,
+                     const std::vector<int>& labs) {
   auto csv = [](std::string field) {
     // A leading = + - @ would make a spreadsheet read a submission's name as a formula.
     if (!field.empty() && std::string("=+-@").find(field[0]) != std::string::npos) field = "'" + field;
@@ -324,8 +325,8 @@ void write_gradebook(const fs::path& dir, const std::vector<std::string>& names,
   std::string text = "submission";
   for (int lab : labs) text += ",lab" + std::to_string(lab);
   text += ",total,max_total,problems\n";
-  for (const std::string& name : names) {
-    std::ifstream in(dir / name / "summary.json");
+  for (const auto& [name, folder] : submissions) {
+    std::ifstream in(dir / folder / "summary.json");
     nlohmann::json summary;
     try {
       summary = nlohmann::json::parse(in);

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "grader.h"
@@ -30,8 +31,10 @@ std::string lab_line(const LabOutcome& lab);
 std::string lab_title(int lab);
 std::string format_score(double score);
 
-// gradebook.csv from the summary.json of each named result folder under `dir`.
-void write_gradebook(const std::filesystem::path& dir, const std::vector<std::string>& names, const std::vector<int>& labs);
+// gradebook.csv from the summary.json of each submission's result folder under
+// `dir`: (submission name, result folder name) pairs, in the gradebook's order.
+void write_gradebook(const std::filesystem::path& dir, const std::vector<std::pair<std::string, std::string>>& submissions,
+                     const std::vector<int>& labs);
 
 std::string html_escape(const std::string& text);
 

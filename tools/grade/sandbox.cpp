@@ -1,16 +1,20 @@
 #include "sandbox.h"
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
+#include <stdlib.h>
 #include <sys/prctl.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <new>
 #include <thread>
 #include <utility>
 
@@ -31,34 +35,86 @@ constexpr bool kAddressSanitizerBuild = true;
 constexpr bool kAddressSanitizerBuild = false;
 #endif
 
-
 constexpr rlim_t kMiB = 1024 * 1024;
 // RLIMIT_CPU's soft limit sends SIGXCPU; the hard limit this much later SIGKILLs.
 constexpr rlim_t kCpuHardGraceSeconds = 5;
 // Between two polls of running children.
 constexpr auto kPollPause = std::chrono::milliseconds(2);
+// A peak address space this close to RLIMIT_AS counts as having reached it.
+constexpr long kMemoryMarginMinKib = 32 * 1024;
 
-// In the child, before the body runs or the program is exec'd: its own process
-// group, the limits, the log as stdout and stderr, no stdin. Only
-// async-signal-safe calls, as after fork() in any process.
-void enter_child(const Limits& limits, const char* log_path) {
-  setpgid(0, 0);
+// What a forked child's fatal-signal handler needs, set before the body runs.
+rlim_t g_child_memory_limit_mib = 0;  // 0: no address-space limit applies
+alignas(16) char g_alternate_stack[64 * 1024];
+
+// Async-signal-safe output: decimal numbers and text to stderr.
+void write_text(const char* text) {
+  ssize_t ignored = write(STDERR_FILENO, text, std::strlen(text));
+  (void)ignored;
+}
+
+void write_number(long value) {
+  char digits[24];
+  int n = 0;
+  if (value < 0) value = 0;
+  do {
+    digits[n++] = static_cast<char>('0' + value % 10);
+    value /= 10;
+  } while (value > 0 && n < 23);
+  char out[24];
+  for (int i = 0; i < n; ++i) out[i] = digits[n - 1 - i];
+  out[n] = '\0';
+  write_text(out);
+}
+
+// In a forked child, at a fatal signal: out of memory when the address space had
+// reached its limit (Mesa and LLVM crash or abort when an allocation fails), so
+// the grader reports that instead of a crash; otherwise the signal goes on.
+void on_fatal_signal(int sig) {
+  long peak = peak_address_space_kib();
+  if (reached_memory_limit(peak, g_child_memory_limit_mib)) {
+    write_text("kit-grade: child: out of memory: signal ");
+    write_number(sig);
+    write_text(" with its peak address space at ");
+    write_number(peak / 1024);
+    write_text(" MiB of the ");
+    write_number(static_cast<long>(g_child_memory_limit_mib));
+    write_text(" MiB limit\n");
+    _exit(kOutOfMemoryExit);
+  }
+  raise(sig);  // SA_RESETHAND restored the default action: it ends the child on return
+}
+
+void catch_fatal_signals() {
+  stack_t stack{};
+  stack.ss_sp = g_alternate_stack;
+  stack.ss_size = sizeof g_alternate_stack;
+  sigaltstack(&stack, nullptr);
+  struct sigaction action {};
+  action.sa_handler = on_fatal_signal;
+  action.sa_flags = SA_RESETHAND | SA_ONSTACK;
+  sigemptyset(&action.sa_mask);
+  for (int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGILL}) sigaction(sig, &action, nullptr);
+}
+
+// How many more processes the child's user may have: its count now plus the
+// allowance. 0 when RLIMIT_NPROC does not apply (root) or is not wanted.
+rlim_t process_limit(const Limits& limits) {
+  if (limits.extra_processes == 0 || getuid() == 0) return 0;
+  return static_cast<rlim_t>(count_user_tasks(getuid())) + limits.extra_processes;
+}
+
+// In the child, before the body runs or the program is exec'd: its own session
+// and process group (no controlling terminal), the limits, its working directory
+// and environment, the log as stdout and stderr, no stdin.
+void enter_child(const Limits& limits, rlim_t processes, const char* log_path, const ChildSetup& setup) {
+  setsid();
   prctl(PR_SET_PDEATHSIG, SIGKILL);  // its own group gets no terminal signals: die with the grader
   sigset_t unblock;
   sigemptyset(&unblock);
   sigaddset(&unblock, SIGINT);
   sigaddset(&unblock, SIGTERM);
   sigprocmask(SIG_UNBLOCK, &unblock, nullptr);
-  rlimit cpu{limits.cpu_seconds, limits.cpu_seconds + kCpuHardGraceSeconds};
-  setrlimit(RLIMIT_CPU, &cpu);
-  if (!kAddressSanitizerBuild) {
-    rlimit as{limits.address_space_mib * kMiB, limits.address_space_mib * kMiB};
-    setrlimit(RLIMIT_AS, &as);
-  }
-  rlimit fsize{limits.file_size_mib * kMiB, limits.file_size_mib * kMiB};
-  setrlimit(RLIMIT_FSIZE, &fsize);
-  rlimit no_core{0, 0};  // a crashing student shader must not leave core files behind
-  setrlimit(RLIMIT_CORE, &no_core);
   int log = open(log_path, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
   if (log >= 0) {
     dup2(log, STDOUT_FILENO);
@@ -70,6 +126,27 @@ void enter_child(const Limits& limits, const char* log_path) {
     dup2(null, STDIN_FILENO);
     close(null);
   }
+  if (!setup.working_dir.empty() && chdir(setup.working_dir.c_str()) != 0) {
+    std::fprintf(stderr, "kit-grade: child: cannot enter %s: %s\n", setup.working_dir.c_str(), std::strerror(errno));
+    _exit(127);
+  }
+  for (const auto& [name, value] : setup.environment) setenv(name.c_str(), value.c_str(), 1);
+  rlimit cpu{limits.cpu_seconds, limits.cpu_seconds + kCpuHardGraceSeconds};
+  setrlimit(RLIMIT_CPU, &cpu);
+  if (!kAddressSanitizerBuild) {
+    rlimit as{limits.address_space_mib * kMiB, limits.address_space_mib * kMiB};
+    setrlimit(RLIMIT_AS, &as);
+  }
+  rlimit fsize{limits.file_size_mib * kMiB, limits.file_size_mib * kMiB};
+  setrlimit(RLIMIT_FSIZE, &fsize);
+  rlimit files{limits.open_files, limits.open_files};
+  setrlimit(RLIMIT_NOFILE, &files);
+  if (processes > 0) {
+    rlimit nproc{processes, processes};
+    setrlimit(RLIMIT_NPROC, &nproc);
+  }
+  rlimit no_core{0, 0};  // a crashing student shader must not leave core files behind
+  setrlimit(RLIMIT_CORE, &no_core);
 }
 
 pid_t fork_or_throw() {
@@ -80,88 +157,143 @@ pid_t fork_or_throw() {
   return pid;
 }
 
+// In a forked child that failed: out of memory when its address space had reached the limit.
+[[noreturn]] void exit_child(int code) {
+  std::fflush(nullptr);
+  if (code != 0 && g_child_memory_limit_mib > 0) {
+    long peak = peak_address_space_kib();
+    if (reached_memory_limit(peak, g_child_memory_limit_mib)) {
+      std::fprintf(stderr, "kit-grade: child: out of memory: failed with its peak address space at %ld MiB of the %lu MiB limit\n",
+                   peak / 1024, static_cast<unsigned long>(g_child_memory_limit_mib));
+      std::fflush(nullptr);
+      code = kOutOfMemoryExit;
+    }
+  }
+  _exit(code);  // no atexit handlers or static destructors of the parent's state
+}
+
+double seconds_of(const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); }
+
 }  // namespace
 
 std::string Outcome::describe() const {
-  char buf[160];
+  char buf[200];
   switch (kind) {
     case Kind::Running: return "still running";
     case Kind::Exited: std::snprintf(buf, sizeof buf, "exit status %d", code); return buf;
     case Kind::Signaled:
       std::snprintf(buf, sizeof buf, "signal %d (%s)", code, strsignal(code));
       return buf;
-    case Kind::TimedOut: std::snprintf(buf, sizeof buf, "killed after %.1f s", wall_seconds); return buf;
+    case Kind::TimedOut:
+      std::snprintf(buf, sizeof buf, "stopped after %.0f s of wall-clock time (it had used %.1f s of CPU time)",
+                    wall_limit, cpu_seconds);
+      return buf;
+    case Kind::CpuLimit:
+      std::snprintf(buf, sizeof buf, "stopped after %lu s of CPU time (the CPU limit)", static_cast<unsigned long>(cpu_limit));
+      return buf;
+    case Kind::OutOfMemory:
+      std::snprintf(buf, sizeof buf, "out of memory (limit %lu MiB)", static_cast<unsigned long>(memory_limit_mib));
+      return buf;
   }
   return "?";
 }
 
-Child::Child(pid_t pid, double wall_seconds)
-    : pid_(pid), wall_limit_(wall_seconds), started_(std::chrono::steady_clock::now()) {
-  setpgid(pid, pid);  // also in the child: whichever runs first, the group exists before any kill
+Child::Child(pid_t pid, const Limits& limits, bool reports_memory)
+    : pid_(pid), reports_memory_(reports_memory), started_(std::chrono::steady_clock::now()) {
+  outcome_.wall_limit = limits.wall_seconds;
+  outcome_.cpu_limit = limits.cpu_seconds;
+  outcome_.memory_limit_mib = limits.address_space_mib;
 }
 
 Child::Child(Child&& other) noexcept
     : pid_(std::exchange(other.pid_, -1)),
-      wall_limit_(other.wall_limit_),
+      reports_memory_(other.reports_memory_),
       killed_for_time_(other.killed_for_time_),
       started_(other.started_),
       outcome_(other.outcome_) {}
 
 Child::~Child() {
   if (pid_ > 0 && outcome_.kind == Outcome::Kind::Running) {
-    kill(-pid_, SIGKILL);
+    kill_all();
     int status = 0;
     while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
     }
   }
 }
 
-Child Child::fork_function(const std::function<int()>& body, const Limits& limits, const fs::path& log) {
+void Child::kill_all() {
+  kill(-pid_, SIGKILL);  // its session's group: llvmpipe's threads and any helper
+  kill(pid_, SIGKILL);   // the child itself, should it not have called setsid() yet
+}
+
+Child Child::fork_function(const std::function<int()>& body, const Limits& limits, const fs::path& log,
+                           const ChildSetup& setup) {
   std::string log_path = log.string();
+  rlim_t processes = process_limit(limits);
   pid_t pid = fork_or_throw();
   if (pid == 0) {
-    enter_child(limits, log_path.c_str());
+    enter_child(limits, processes, log_path.c_str(), setup);
+    g_child_memory_limit_mib = kAddressSanitizerBuild ? 0 : limits.address_space_mib;
+    if (g_child_memory_limit_mib > 0) catch_fatal_signals();
     int code = 1;
     try {
       code = body();
+    } catch (const std::bad_alloc&) {
+      std::fprintf(stderr, "kit-grade: child: out of memory (std::bad_alloc) under the %lu MiB limit\n",
+                   static_cast<unsigned long>(limits.address_space_mib));
+      std::fflush(nullptr);
+      _exit(kOutOfMemoryExit);
     } catch (const std::exception& e) {
       std::fprintf(stderr, "kit-grade: child: %s\n", e.what());
     } catch (...) {
       std::fprintf(stderr, "kit-grade: child: unknown exception\n");
     }
-    std::fflush(nullptr);
-    _exit(code);  // no atexit handlers or static destructors of the parent's state
+    exit_child(code);
   }
-  return Child(pid, limits.wall_seconds);
+  return Child(pid, limits, true);
 }
 
-Child Child::exec_program(const std::vector<std::string>& args, const Limits& limits, const fs::path& log) {
+Child Child::exec_program(const std::vector<std::string>& args, const Limits& limits, const fs::path& log,
+                          const ChildSetup& setup) {
   std::string log_path = log.string();
   std::vector<char*> argv;
   for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
   argv.push_back(nullptr);
+  rlim_t processes = process_limit(limits);
   pid_t pid = fork_or_throw();
   if (pid == 0) {
-    enter_child(limits, log_path.c_str());
+    enter_child(limits, processes, log_path.c_str(), setup);
     execvp(argv[0], argv.data());
     const char msg[] = "kit-grade: could not run the program\n";
     ssize_t ignored = write(STDERR_FILENO, msg, sizeof msg - 1);
     (void)ignored;
     _exit(127);
   }
-  return Child(pid, limits.wall_seconds);
+  return Child(pid, limits, false);
 }
 
 void Child::reap(int status, const rusage& usage) {
   outcome_.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
-  outcome_.cpu_seconds = static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
-                         1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+  outcome_.cpu_seconds = seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime);
   outcome_.max_rss_kib = usage.ru_maxrss;
+  bool signaled = WIFSIGNALED(status);
+  int sig = signaled ? WTERMSIG(status) : 0;
+  // SIGXCPU at the soft CPU limit; SIGKILL at the hard one, when SIGXCPU was
+  // ignored. (wait4's CPU time can read up to a fifth under the kernel's own
+  // count on a loaded machine, hence the allowance.)
+  bool cpu_limit = signaled && (sig == SIGXCPU || (sig == SIGKILL && !killed_for_time_ &&
+                                                   outcome_.cpu_seconds >= 0.75 * static_cast<double>(outcome_.cpu_limit)));
   if (killed_for_time_) {
     outcome_.kind = Outcome::Kind::TimedOut;
-  } else if (WIFSIGNALED(status)) {
+  } else if (cpu_limit) {
+    outcome_.kind = Outcome::Kind::CpuLimit;
+    outcome_.code = sig;
+  } else if (signaled) {
     outcome_.kind = Outcome::Kind::Signaled;
-    outcome_.code = WTERMSIG(status);
+    outcome_.code = sig;
+  } else if (reports_memory_ && WEXITSTATUS(status) == kOutOfMemoryExit) {
+    outcome_.kind = Outcome::Kind::OutOfMemory;
+    outcome_.code = kOutOfMemoryExit;
   } else {
     outcome_.kind = Outcome::Kind::Exited;
     outcome_.code = WEXITSTATUS(status);
@@ -184,9 +316,9 @@ bool Child::poll() {
     return true;
   }
   double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
-  if (elapsed > wall_limit_ && !killed_for_time_) {
+  if (elapsed > outcome_.wall_limit && !killed_for_time_) {
     killed_for_time_ = true;
-    kill(-pid_, SIGKILL);
+    kill_all();
   }
   return false;
 }
@@ -222,6 +354,59 @@ std::string read_tail(const fs::path& path, size_t max_bytes) {
   std::string text(static_cast<size_t>(size - start), '\0');
   in.read(text.data(), static_cast<std::streamsize>(text.size()));
   return text;
+}
+
+long peak_address_space_kib() {
+  int fd = open("/proc/self/status", O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return 0;
+  char text[8192];
+  size_t used = 0;
+  for (;;) {
+    ssize_t n = read(fd, text + used, sizeof text - 1 - used);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) break;
+    used += static_cast<size_t>(n);
+    if (used == sizeof text - 1) break;
+  }
+  close(fd);
+  text[used] = '\0';
+  const char* p = std::strstr(text, "VmPeak:");
+  if (!p) return 0;
+  p += 7;
+  while (*p == ' ' || *p == '\t') ++p;
+  long kib = 0;
+  while (*p >= '0' && *p <= '9') kib = kib * 10 + (*p++ - '0');
+  return kib;
+}
+
+bool reached_memory_limit(long peak_kib, rlim_t limit_mib) {
+  if (limit_mib == 0 || peak_kib <= 0) return false;
+  long limit_kib = static_cast<long>(limit_mib) * 1024;
+  long margin = std::max(limit_kib / 16, kMemoryMarginMinKib);
+  return peak_kib + margin >= limit_kib;
+}
+
+size_t count_user_tasks(uid_t uid) {
+  size_t tasks = 0;
+  DIR* proc = opendir("/proc");
+  if (!proc) return 0;
+  while (dirent* entry = readdir(proc)) {
+    if (entry->d_name[0] < '0' || entry->d_name[0] > '9') continue;
+    std::ifstream status(std::string("/proc/") + entry->d_name + "/status");
+    std::string line;
+    bool mine = false;
+    while (std::getline(status, line)) {
+      if (line.rfind("Uid:", 0) == 0) {
+        mine = std::strtoul(line.c_str() + 4, nullptr, 10) == uid;  // the first field: the real user
+        if (!mine) break;
+      } else if (mine && line.rfind("Threads:", 0) == 0) {
+        tasks += std::strtoul(line.c_str() + 8, nullptr, 10);
+        break;
+      }
+    }
+  }
+  closedir(proc);
+  return tasks;
 }
 
 }  // namespace kit::grade

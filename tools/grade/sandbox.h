@@ -1,7 +1,16 @@
 #pragma once
-// Child processes under limits: each runs in its own process group (so a
-// timeout kills it and every thread or helper it started), with rlimits on CPU
-// time, address space and written file size, stdout+stderr to a log file.
+// Child processes under limits: each runs in a session and process group of its
+// own (so a timeout kills it and every thread or helper it started, and it has
+// no controlling terminal to read a password from), in a working directory of
+// the grader's temporary folder, with rlimits on CPU time, address space,
+// written file size, open files and processes, stdout+stderr to a log file.
+//
+// Time: RLIMIT_CPU is the limit (CPU time does not grow when the machine is
+// busy, so a heavy but valid shader is not stopped by other load); the wall
+// clock is a larger backstop for a child that makes no progress without using
+// CPU. Memory: RLIMIT_AS; a child that dies for lack of it (std::bad_alloc, or
+// a signal or failure with its peak address space at the limit) ends as
+// Outcome::Kind::OutOfMemory, not as a crash.
 //
 // Render children are fork()ed without exec(): kit-grade links OpenImageIO,
 // whose ~260 shared libraries cost ~0.3 s of CPU and ~130 MB of RSS per exec
@@ -19,39 +28,65 @@
 #include <filesystem>
 #include <functional>
 #include <string>
+#include <utility>
 #include <vector>
-
-#include "watchdog.h"
 
 namespace kit::grade {
 
+// Defaults of kit-grade's --cpu-limit and --timeout.
+constexpr rlim_t kDefaultCpuSeconds = 30;
+constexpr double kDefaultWallSeconds = 120.0;
+
 struct Limits {
-  double wall_seconds = kDefaultTimeoutSeconds;  // --timeout: wall clock, then SIGKILL to the process group
-  rlim_t cpu_seconds = 60;     // --cpu-limit: RLIMIT_CPU (llvmpipe's threads add up)
+  double wall_seconds = kDefaultWallSeconds;  // --timeout: wall-clock backstop, then SIGKILL to the process group
+  rlim_t cpu_seconds = kDefaultCpuSeconds;    // --cpu-limit: RLIMIT_CPU, all threads together (SIGXCPU)
   rlim_t address_space_mib = 4096;  // --memory-limit: RLIMIT_AS (llvmpipe reserves ~1 GiB of address space)
   rlim_t file_size_mib = 64;   // RLIMIT_FSIZE: a lab's raw images are ~8 MiB
+  rlim_t open_files = 256;     // RLIMIT_NOFILE: a render child opens a few (logs, raw images, Mesa's cache)
+  // RLIMIT_NPROC is counted per user, over all of the user's processes and
+  // threads: a child may start this many more than the user runs when it is
+  // forked (llvmpipe starts up to 32 threads). The kernel does not apply it to
+  // root, so it is not set then (the process-group kill still ends every helper).
+  rlim_t extra_processes = 512;
 };
 
+// How a child starts besides its limits.
+struct ChildSetup {
+  std::filesystem::path working_dir;  // its current directory ("": the grader's)
+  std::vector<std::pair<std::string, std::string>> environment;  // variables set (or replaced) in the child
+};
+
+// A render child's exit status when it ran out of memory (std::bad_alloc, or a
+// fatal signal or failure with its peak address space at RLIMIT_AS).
+constexpr int kOutOfMemoryExit = 86;
+
 struct Outcome {
-  enum class Kind { Running, Exited, Signaled, TimedOut };
+  enum class Kind { Running, Exited, Signaled, TimedOut, CpuLimit, OutOfMemory };
   Kind kind = Kind::Running;
   int code = 0;           // exit status, or the signal number
   double wall_seconds = 0.0;
   double cpu_seconds = 0.0;  // user + system, from wait4
   long max_rss_kib = 0;      // peak resident set, from wait4
-  std::string describe() const;  // "exit 2", "signal 11 (Segmentation fault)", "timed out after 30 s"
+  double wall_limit = 0.0;   // the limits it ran under, for describe()
+  rlim_t cpu_limit = 0, memory_limit_mib = 0;
+  // "exit status 2", "signal 11 (Segmentation fault)", "out of memory (limit 4096 MiB)",
+  // "stopped after 30 s of CPU time (the CPU limit)", "stopped after 120 s of wall-clock time (1.2 s of CPU)"
+  std::string describe() const;
 };
 
 class Child {
  public:
   // Runs `body` in a forked child; its return value is the exit status.
-  static Child fork_function(const std::function<int()>& body, const Limits& limits, const std::filesystem::path& log);
+  static Child fork_function(const std::function<int()>& body, const Limits& limits, const std::filesystem::path& log,
+                             const ChildSetup& setup = {});
   // Runs a program (looked up in PATH) with `args` (args[0] is the program).
-  static Child exec_program(const std::vector<std::string>& args, const Limits& limits, const std::filesystem::path& log);
+  static Child exec_program(const std::vector<std::string>& args, const Limits& limits,
+                            const std::filesystem::path& log, const ChildSetup& setup = {});
 
   Child(Child&& other) noexcept;
   Child& operator=(Child&&) = delete;
   Child(const Child&) = delete;
+  Child& operator=(const Child&) = delete;
   ~Child();  // kills and reaps a child still running
 
   // Non-blocking: reaps the child if it ended, kills its group past the wall limit.
@@ -63,10 +98,11 @@ class Child {
   pid_t pid() const { return pid_; }
 
  private:
-  Child(pid_t pid, double wall_seconds);
+  Child(pid_t pid, const Limits& limits, bool reports_memory);
   void reap(int status, const rusage& usage);
+  void kill_all();
   pid_t pid_ = -1;
-  double wall_limit_ = 0.0;
+  bool reports_memory_ = false;  // a forked body: kOutOfMemoryExit means out of memory
   bool killed_for_time_ = false;
   std::chrono::steady_clock::time_point started_;
   Outcome outcome_;
@@ -92,5 +128,17 @@ void poll_pause();
 
 // The last `max_bytes` of a (log) file, or "" when unreadable.
 std::string read_tail(const std::filesystem::path& path, size_t max_bytes);
+
+// This process's peak address space (VmPeak, what RLIMIT_AS limits) in KiB, 0
+// when unknown. Async-signal-safe: a fatal-signal handler calls it.
+long peak_address_space_kib();
+
+// Whether a peak address space counts as having reached a limit of `limit_mib`:
+// within 1/16 of it (at least 32 MiB), since the allocation that failed is not
+// counted in the peak.
+bool reached_memory_limit(long peak_kib, rlim_t limit_mib);
+
+// Processes and threads whose real user is `uid`, as RLIMIT_NPROC counts them.
+size_t count_user_tasks(uid_t uid);
 
 }  // namespace kit::grade

@@ -1,20 +1,19 @@
 #include "submission.h"
 
 #include <OpenImageIO/hash.h>
-#include <fcntl.h>
 #include <sys/stat.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
-#include <cerrno>
 #include <cstdint>
-#include <cstring>
+#include <csignal>
 #include <fstream>
+#include <functional>
 #include <set>
 #include <sstream>
 
 #include "error.h"
+#include "safe_file.h"
 #include "shader_source.h"
 #include "stages.h"
 
@@ -27,8 +26,8 @@ namespace {
 // Name of the private lab root: messages then read "labs/02-lighting/brdf.glsl",
 // the layout students work in.
 constexpr const char* kLabRootName = "labs";
-// More entries than any plausible submission: refuse instead of listing on.
-constexpr size_t kMaxZipEntries = 10000;
+// Unsafe or repeated entries named in the message.
+constexpr size_t kMaxNamedEntries = 5;
 // Wall-clock limit for one unzip run (listing or extracting a few small files).
 constexpr double kUnzipSeconds = 20.0;
 // How deep the tree is looked at: the wrappers, one more (to name a lab folder
@@ -83,41 +82,26 @@ std::string where_loose(const std::vector<std::string>& folder) {
   return (folder.empty() ? "at " : "in ") + shown_place(folder);
 }
 
-// Copies one expected file without following links; "" on success, else why not.
+// Copies one expected file; "" on success, else why not. Read by kit's safe
+// reader: opened with O_NOFOLLOW and without blocking, then checked on the
+// descriptor: a regular file, one name only (a hard link's other name may lie
+// outside the submission), at most kit::kMaxShaderFileBytes.
 std::string copy_regular_file(const fs::path& from, const fs::path& to, const std::string& shown) {
-  int in = open(from.c_str(), O_RDONLY | O_NOFOLLOW | O_NONBLOCK | O_CLOEXEC);
-  if (in < 0) {
-    if (errno == ELOOP) return shown + " is a symbolic link: refused (submit the file itself)";
-    return shown + ": cannot open (" + std::strerror(errno) + ")";
+  std::vector<unsigned char> data;
+  SafeOpen how;
+  how.shown = shown;
+  how.refuse_hard_links = true;
+  try {
+    data = read_regular_file(from, kMaxShaderFileBytes, how);
+  } catch (const Error& e) {
+    return std::string(e.what()) + ": refused";
   }
-  struct stat st {};
-  std::string problem;
-  if (fstat(in, &st) != 0 || !S_ISREG(st.st_mode)) {
-    problem = shown + " is not a regular file: refused";
-  } else if (static_cast<std::uintmax_t>(st.st_size) > kMaxShaderFileBytes) {
-    problem = shown + ": file is " + std::to_string(st.st_size) + " bytes, over the " +
-              std::to_string(kMaxShaderFileBytes) + "-byte limit for a shader (kit::kMaxShaderFileBytes): refused";
-  } else {
-    // Read at most one byte past the limit, whatever the size said a moment ago.
-    std::string data(static_cast<size_t>(kMaxShaderFileBytes) + 1, '\0');
-    size_t used = 0;
-    while (used < data.size()) {
-      ssize_t n = read(in, data.data() + used, data.size() - used);
-      if (n < 0 && errno == EINTR) continue;
-      if (n <= 0) break;
-      used += static_cast<size_t>(n);
-    }
-    if (used > kMaxShaderFileBytes) {
-      problem = shown + ": file grew over the " + std::to_string(kMaxShaderFileBytes) + "-byte limit: refused";
-    } else {
-      std::ofstream out(to, std::ios::binary);
-      out.write(data.data(), static_cast<std::streamsize>(used));
-      if (!out) problem = shown + ": could not be copied for grading";
-    }
-  }
-  close(in);
-  return problem;
+  std::ofstream out(to, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(data.data()), static_cast<std::streamsize>(data.size()));
+  if (!out) return shown + ": could not be copied for grading";
+  return "";
 }
+
 std::vector<std::string> split_path(const std::string& entry) {
   std::vector<std::string> parts;
   std::string part;
@@ -133,15 +117,14 @@ std::vector<std::string> split_path(const std::string& entry) {
   return parts;
 }
 
-std::vector<std::string> lines_of(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
+// Calls `use` with each non-empty line of a file (a log of ours), however long the file is.
+void for_each_line(const fs::path& path, const std::function<void(const std::string&)>& use) {
+  std::ifstream in(path, std::ios::binary);
   std::string line;
   while (std::getline(in, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (!line.empty()) lines.push_back(line);
+    if (!line.empty()) use(line);
   }
-  return lines;
 }
 
 // unzip's wildcard characters matched literally ("[" becomes "[[]").
@@ -154,19 +137,42 @@ std::string unzip_literal(const std::string& name) {
   return out;
 }
 
-// Runs unzip with `args`; its output in *output. False when it could not finish.
-bool run_unzip(const std::vector<std::string>& args, const Limits& base, const fs::path& log, std::string* output,
-               std::string* why) {
+// Runs unzip with `args` (absolute paths), its stdout and stderr going to `log`,
+// in the folder of the log (the grader's temporary folder).
+Outcome run_unzip(const std::vector<std::string>& args, const Limits& base, const fs::path& log) {
   Limits limits = base;
   limits.wall_seconds = kUnzipSeconds;
-  Child child = Child::exec_program(args, limits, log);
-  const Outcome& o = child.wait();
-  *output = read_tail(log, 4 * 1024 * 1024);
-  bool ok = o.kind == Outcome::Kind::Exited && (o.code == 0 || o.code == 1);  // 1: warnings only
-  if (!ok) *why = "unzip ended with " + o.describe();
-  return ok;
+  ChildSetup setup;
+  setup.working_dir = fs::absolute(log).parent_path();
+  Child child = Child::exec_program(args, limits, log, setup);
+  return child.wait();
 }
 
+bool unzip_succeeded(const Outcome& o) {
+  return o.kind == Outcome::Kind::Exited && (o.code == 0 || o.code == 1);  // 1: warnings only
+}
+
+// The start of unzip's log on one line, for a message.
+std::string unzip_said(const fs::path& log) {
+  constexpr size_t kMaxSaid = 400;
+  std::string text;
+  for_each_line(log, [&](const std::string& line) {
+    if (text.size() > kMaxSaid) return;
+    size_t start = line.find_first_not_of(' ');
+    text += (text.empty() ? "" : " ") + line.substr(start == std::string::npos ? 0 : start);
+  });
+  if (text.size() > kMaxSaid) text = text.substr(0, kMaxSaid) + "...";
+  return text;
+}
+
+std::string unzip_failed(const std::string& zip, const Outcome& o, const fs::path& log) {
+  if (o.kind == Outcome::Kind::Signaled && o.code == SIGXFSZ)
+    return zip + ": the list of its entries is over " + std::to_string(kMaxZipListingMiB) +
+           " MiB (far more files, or far longer names, than a submission has): refused, nothing was extracted";
+  std::string said = unzip_said(log);
+  return zip + ": not a readable zip archive (unzip ended with " + o.describe() + (said.empty() ? "" : ": " + said) +
+         ")";
+}
 
 // What a submission holds, as far down as the layout is looked for: relative
 // paths ('/'-separated) from a folder walk that never follows a link, or from a
@@ -375,32 +381,45 @@ void prepare_lab(const Stage& stage, const fs::path& top, const LabSource& sourc
 }
 
 
+// An entry that would be written outside the folder it is extracted into.
+bool unsafe_entry(const std::string& e) {
+  std::vector<std::string> parts = split_path(e);
+  bool absolute = e[0] == '/' || e[0] == '\\' || (e.size() > 1 && e[1] == ':');
+  return absolute || std::find(parts.begin(), parts.end(), "..") != parts.end();
+}
+
 // Lists a zip into `tree` after its safety checks. Returns "" or a problem with the whole archive.
+// Every line of the listing is read and every entry checked, whatever the listing's length.
 std::string list_zip(const fs::path& zip, const fs::path& temp, const Limits& limits, Tree& tree) {
-  std::string listing, why;
-  if (!run_unzip({"unzip", "-Z1", zip.string()}, limits, temp / "unzip-list.log", &listing, &why))
-    return zip.filename().string() + ": not a readable zip archive (" + why + ")";
-  std::vector<std::string> entries = lines_of(listing);
-  if (entries.size() > kMaxZipEntries)
-    return zip.filename().string() + ": " + std::to_string(entries.size()) + " entries, more than the " +
-           std::to_string(kMaxZipEntries) + " accepted: refused";
-  std::vector<std::string> unsafe;
-  for (const std::string& e : entries) {
-    std::vector<std::string> parts = split_path(e);
-    bool absolute = e[0] == '/' || e[0] == '\\' || (e.size() > 1 && e[1] == ':');
-    bool climbs = std::find(parts.begin(), parts.end(), "..") != parts.end();
-    if (absolute || climbs) unsafe.push_back(e);
-  }
-  // The same name twice (say a link, then a file) could make unzip write through the first.
+  const std::string name = zip.filename().string();
+  const fs::path log = temp / "unzip-list.log";
+  Limits listing = limits;
+  listing.file_size_mib = kMaxZipListingMiB;
+  Outcome o = run_unzip({"unzip", "-Z1", fs::absolute(zip).string()}, listing, log);
+  if (!unzip_succeeded(o)) return unzip_failed(name, o, log);
+  size_t count = 0, unsafe_count = 0;
+  std::vector<std::string> unsafe, entries;
   std::set<std::string> names;
-  for (const std::string& e : entries)
-    if (!names.insert(e).second) unsafe.push_back(e);
+  for_each_line(log, [&](const std::string& e) {
+    ++count;
+    // The same name twice (say a link, then a file) could make unzip write through the first.
+    bool bad = unsafe_entry(e) || (count <= kMaxZipEntries && !names.insert(e).second);
+    if (bad) {
+      if (++unsafe_count <= kMaxNamedEntries) unsafe.push_back(e);
+    } else if (count <= kMaxZipEntries) {
+      entries.push_back(e);
+    }
+  });
   if (!unsafe.empty()) {
-    if (unsafe.size() > 5) unsafe.resize(5);
-    return zip.filename().string() + ": refused, nothing was extracted: entries with an absolute path or a '..' "
-           "component would be written outside the submission folder, and a name may appear only once (" +
-           list_names(unsafe) + ")";
+    std::string more = unsafe_count > unsafe.size() ? " and " + std::to_string(unsafe_count - unsafe.size()) + " more"
+                                                    : "";
+    return name + ": refused, nothing was extracted: entries with an absolute path or a '..' component would be "
+           "written outside the submission folder, and a name may appear only once (" + list_names(unsafe) + more +
+           ")";
   }
+  if (count > kMaxZipEntries)
+    return name + ": " + std::to_string(count) + " entries, more than the " + std::to_string(kMaxZipEntries) +
+           " accepted: refused, nothing was extracted";
   for (const std::string& e : entries) add_zip_entry(e, tree);
   return "";
 }
@@ -410,79 +429,116 @@ struct ZipPick {
   std::string entry, key;
 };
 
+void refuse_pick(const ZipPick& p, const std::string& why, PreparedSubmission& out) {
+  // Reported by its lab as refused rather than missing.
+  size_t slash = p.key.find('/');
+  out.refused_entries[p.key] = shown_name(p.key.substr(0, slash), p.key.substr(slash + 1)) + ": refused: " + why;
+}
+
+// Why unzip could not test one entry, from its log: encrypted, damaged (bad CRC,
+// data that does not inflate) or a compression method it does not know.
+std::string damaged_entry(const std::string& entry, const fs::path& log) {
+  std::string said = unzip_said(log);
+  if (said.find("password") != std::string::npos)
+    return "encrypted entries are not supported: '" + entry + "' is encrypted (zip the files again without a password)";
+  if (said.find("bad CRC") != std::string::npos)
+    return "the archive's entry '" + entry + "' is corrupt: its bytes do not match their CRC checksum (unzip: " + said +
+           "); zip the files again";
+  if (said.find("compression method") != std::string::npos)
+    return "the archive's entry '" + entry + "' uses a compression method unzip cannot read (unzip: " + said +
+           "); zip the files again with the zip command or your system's Compress";
+  return "the archive's entry '" + entry + "' is corrupt and could not be extracted (unzip: " +
+         (said.empty() ? std::string("no message") : said) + "); zip the files again";
+}
+
 // Extracts the chosen entries of a zip into `dest`. Returns "" or a problem with the whole archive.
 std::string extract_zip(const fs::path& zip, const fs::path& dest, const fs::path& temp, const Limits& limits,
                         const std::vector<ZipPick>& picks, PreparedSubmission& out) {
   if (picks.empty()) return "";  // every lab reports its missing files
+  const std::string name = zip.filename().string();
   // Entry names are passed to unzip as arguments: one starting with '-' would be read as an option.
   for (const ZipPick& p : picks)
     if (p.entry[0] == '-')
-      return zip.filename().string() + ": the folder '" + split_path(p.entry)[0] +
+      return name + ": the folder '" + split_path(p.entry)[0] +
              "' starts with '-': rename it (or zip the lab folders themselves)";
-  // Declared sizes first, so an oversized entry is refused by name, not extracted.
-  std::string long_listing, why;
-  if (!run_unzip({"unzip", "-Zl", zip.string()}, limits, temp / "unzip-sizes.log", &long_listing, &why))
-    return zip.filename().string() + ": not a readable zip archive (" + why + ")";
-  std::set<std::string> picked, oversized;
+  // Declared sizes and encryption first, so such an entry is refused by name, not extracted.
+  const fs::path long_log = temp / "unzip-sizes.log";
+  Limits listing = limits;
+  listing.file_size_mib = kMaxZipListingMiB;
+  const std::string archive = fs::absolute(zip).string();
+  Outcome o = run_unzip({"unzip", "-Zl", archive}, listing, long_log);
+  if (!unzip_succeeded(o)) return unzip_failed(name, o, long_log);
+  std::set<std::string> picked, oversized, encrypted;
   for (const ZipPick& p : picks) picked.insert(p.entry);
-  for (const std::string& line : lines_of(long_listing)) {
-    // zipinfo -l: perms version os size type csize method date time name
+  for_each_line(long_log, [&](const std::string& line) {
+    // zipinfo -l: perms version os size type csize method date time name; the
+    // type's first letter is capitalised (T, B) when the entry is encrypted.
     std::istringstream fields(line);
     std::string f[9];
     for (std::string& field : f) fields >> field;
-    std::string name;
-    std::getline(fields, name);
-    size_t start = name.find_first_not_of(' ');
-    name = start == std::string::npos ? "" : name.substr(start);
-    if (!picked.count(name)) continue;
+    std::string entry;
+    std::getline(fields, entry);
+    size_t start = entry.find_first_not_of(' ');
+    entry = start == std::string::npos ? "" : entry.substr(start);
+    if (!picked.count(entry)) return;
+    if (!f[4].empty() && (f[4][0] == 'T' || f[4][0] == 'B')) encrypted.insert(entry);
     try {
-      if (std::stoull(f[3]) > kMaxShaderFileBytes) oversized.insert(name);
+      if (std::stoull(f[3]) > kMaxShaderFileBytes) oversized.insert(entry);
     } catch (const std::exception&) {
     }
-  }
-  std::vector<std::string> args = {"unzip", "-qq", "-o", zip.string()};
+  });
+  std::vector<const ZipPick*> extract;
   for (const ZipPick& p : picks) {
-    if (oversized.count(p.entry)) {
-      // Reported by its lab as refused rather than missing.
-      size_t slash = p.key.find('/');
-      out.refused_entries[p.key] = shown_name(p.key.substr(0, slash), p.key.substr(slash + 1)) + ": over the " +
-                                   std::to_string(kMaxShaderFileBytes) +
-                                   "-byte limit for a shader (kit::kMaxShaderFileBytes) in the archive: refused";
-      continue;
+    if (encrypted.count(p.entry)) {
+      refuse_pick(p, "encrypted entries are not supported: '" + p.entry +
+                         "' is encrypted (zip the files again without a password)", out);
+    } else if (oversized.count(p.entry)) {
+      refuse_pick(p, "over the " + std::to_string(kMaxShaderFileBytes) +
+                         "-byte limit for a shader (kit::kMaxShaderFileBytes) in the archive", out);
+    } else {
+      extract.push_back(&p);
     }
-    args.push_back(unzip_literal(p.entry));
   }
+  if (extract.empty()) return "";
+  std::vector<std::string> args = {"unzip", "-qq", "-o", archive};
+  for (const ZipPick* p : extract) args.push_back(unzip_literal(p->entry));
   args.push_back("-d");
-  args.push_back(dest.string());
+  args.push_back(fs::absolute(dest).string());
   fs::create_directories(dest);
-  if (args.size() > 6) {
-    // The declared sizes can lie: the written size is capped as well.
-    Limits capped = limits;
-    capped.file_size_mib = 1 + kMaxShaderFileBytes / (1024 * 1024);
-    std::string output;
-    if (!run_unzip(args, capped, temp / "unzip-extract.log", &output, &why))
-      out.notes.push_back(zip.filename().string() + ": extraction incomplete (" + why + ")");
+  // The declared sizes can lie: the written size is capped as well.
+  Limits capped = limits;
+  capped.file_size_mib = 1 + kMaxShaderFileBytes / (1024 * 1024);
+  Outcome extracted = run_unzip(args, capped, temp / "unzip-extract.log");
+  if (unzip_succeeded(extracted)) return "";
+  // Something failed: test each entry on its own to name the damaged ones (a
+  // bad CRC leaves a file of wrong bytes, bad compressed data an empty one).
+  bool named = false;
+  for (const ZipPick* p : extract) {
+    const fs::path test_log = temp / "unzip-test.log";
+    Outcome tested = run_unzip({"unzip", "-tqq", archive, unzip_literal(p->entry)}, limits, test_log);
+    if (unzip_succeeded(tested)) continue;
+    refuse_pick(*p, damaged_entry(p->entry, test_log), out);
+    named = true;
+  }
+  if (!named) {
+    std::string said = unzip_said(temp / "unzip-extract.log");
+    out.notes.push_back(name + ": extraction incomplete (unzip ended with " + extracted.describe() +
+                        (said.empty() ? "" : ": " + said) + ")");
   }
   return "";
 }
 
-// Feeds `file`'s bytes to `sha`; false when it cannot be read. Links are not
-// followed, and a FIFO never blocks (O_NONBLOCK, then only regular files are read).
+// Feeds `file`'s bytes to `sha`; false when it cannot be read (kit's safe
+// reader: links followed only when `follow`, a FIFO never blocks, regular files only).
 bool hash_file(OIIO::SHA1& sha, const fs::path& file, bool follow) {
-  int fd = open(file.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC | (follow ? 0 : O_NOFOLLOW));
-  if (fd < 0) return false;
-  struct stat st {};
-  bool ok = fstat(fd, &st) == 0 && S_ISREG(st.st_mode);
-  std::vector<char> buffer(1 << 16);
-  while (ok) {
-    ssize_t n = read(fd, buffer.data(), buffer.size());
-    if (n < 0 && errno == EINTR) continue;
-    if (n < 0) ok = false;
-    if (n <= 0) break;
-    sha.append(buffer.data(), static_cast<size_t>(n));
+  SafeOpen how;
+  how.follow_link = follow;
+  try {
+    stream_regular_file(file, [&sha](const unsigned char* bytes, size_t n) { sha.append(bytes, n); }, how);
+    return true;
+  } catch (const Error&) {
+    return false;
   }
-  close(fd);
-  return ok;
 }
 
 // Every entry of a folder, by relative path, without following links or entering ignored names.

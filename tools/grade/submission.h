@@ -16,11 +16,17 @@
 // framework/stages.cpp) are copied into a private temporary lab root; the renderer
 // never sees anything else. Refused: symbolic links (checked with lstat and opened
 // with O_NOFOLLOW; the search never descends into one), anything that is not a
-// regular file, files over kit::kMaxShaderFileBytes, and text the shader reader
-// refuses (empty, NUL bytes, not UTF-8). A zip is listed first and refused as a
-// whole when an entry is absolute or has a ".." component (zip-slip); the layout
-// is decided on the listing, and only the chosen expected entries are extracted,
-// by unzip under limits.
+// regular file, hard links (a regular file with more than one name: its other
+// name may lie outside the submission; checked with fstat on the descriptor
+// opened with O_NOFOLLOW, by kit's safe reader, framework/safe_file.h), files
+// over kit::kMaxShaderFileBytes, and text the shader reader refuses (empty, NUL
+// bytes, not UTF-8). A zip is listed first, every line of the listing read, and
+// refused as a whole when an entry is absolute or has a ".." component
+// (zip-slip), when a name appears twice, or when it lists more than
+// kMaxZipEntries entries or more than kMaxZipListingMiB of names; the layout is
+// decided on the listing, and only the chosen expected entries are extracted,
+// by unzip under limits. An expected entry that is encrypted, over the size
+// limit, or damaged (bad CRC, data that does not inflate) is refused by name.
 #include <cstddef>
 #include <filesystem>
 #include <map>
@@ -60,6 +66,12 @@ bool is_zip(const std::filesystem::path& path);
 
 // Folders a lab folder may sit below the top of a submission (name/name/labs/02-lighting).
 constexpr size_t kMaxWrapperDepth = 3;
+// More entries than any plausible submission: the whole zip is refused (after
+// every entry's name was checked, so an unsafe one is still named).
+constexpr size_t kMaxZipEntries = 10000;
+// The most unzip may write when listing a zip's names (RLIMIT_FSIZE of its log):
+// a longer list refuses the whole zip, since only a complete list can be checked.
+constexpr rlim_t kMaxZipListingMiB = 64;
 
 // A fingerprint of what a submission holds, "sha1:<40 hex digits>" (OpenImageIO's
 // SHA-1): a zip's bytes, or for a folder the sorted relative paths of its entries

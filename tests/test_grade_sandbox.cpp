@@ -1,0 +1,588 @@
+// kit-grade against hostile submissions and hostile shaders (tools/grade/sandbox.*,
+// submission.*, grader.*): hard links out of the submission, zips whose listing
+// is longer than any bounded read, encrypted and damaged zips, children that
+// loop, allocate or open without end, Mesa's shader cache, and batches that
+// collide with their own files, with each other, or with a killed run. Each
+// test has a witness where one can be had: the attack really works against the
+// behaviour replaced (or Mesa's default), and no longer against kit-grade.
+//
+// Shipped to students: nothing here reads solutions/. Lab 1's starters
+// (labs/01-gbuffer, built on no earlier solution) are what kit-grade renders;
+// the zip tests prepare lab 2's files without rendering them.
+#include <fcntl.h>
+#include <grp.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include <signal.h>
+#include <sys/file.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <string>
+#include <system_error>
+#include <thread>
+#include <vector>
+
+#include "kit_test.h"
+#include "kit_test_files.h"
+#include "sandbox.h"
+#include "stages.h"
+#include "submission.h"
+
+namespace fs = std::filesystem;
+using kit::grade::Child;
+using kit::grade::ChildSetup;
+using kit::grade::Limits;
+using kit::grade::Outcome;
+using kit::grade::PreparedSubmission;
+using kit::test::read_file;
+using kit::test::write_file;
+using nlohmann::json;
+
+namespace {
+
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizerBuild = true;  // no RLIMIT_AS there (see sandbox.cpp)
+#else
+constexpr bool kAddressSanitizerBuild = false;
+#endif
+
+std::string quoted(const fs::path& p) { return "'" + p.string() + "'"; }
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+json read_json(const fs::path& path) {
+  try {
+    return json::parse(read_file(path));
+  } catch (const std::exception&) {
+    return json();
+  }
+}
+
+std::string kit_grade(const std::string& args) { return kit::test::tool("kit-grade") + " " + args; }
+
+// Lab 1's starters in `root`/01-gbuffer.
+void copy_starters(const fs::path& root) {
+  fs::path starters = kit::kit_root() / "labs" / "01-gbuffer";
+  fs::create_directories(root / "01-gbuffer");
+  for (const std::string& file : kit::find_stage("1").files)
+    fs::copy_file(starters / file, root / "01-gbuffer" / file, fs::copy_options::overwrite_existing);
+}
+
+// Lab 1's starters with a fragment shader that never ends.
+void copy_endless_starters(const fs::path& root) {
+  copy_starters(root);
+  fs::path frag = root / "01-gbuffer" / "gbuffer.frag";
+  std::string text = read_file(frag);
+  size_t at = text.find("void main() {");
+  ASSERT_NE(at, std::string::npos);
+  text.insert(at + 13, "\n    float x = 1.0;\n    while (x > 0.0) x += gl_FragCoord.x;  // never ends\n    if (x < 0.0) discard;");
+  write_file(frag, text);
+}
+
+// Python lines (inside a `with ZipFile(...) as z:` block) writing lab 2's files
+// (never rendered) as entries under `prefix`.
+std::string lab2_entries_python(const std::string& prefix) {
+  return "    for n in ('brdf.glsl', 'lighting.frag'):\n"
+         "        z.writestr('" + prefix + "' + n, '// ' + n + '\\n')\n";
+}
+
+// Runs a Python script (written to `dir`/make.py) in `dir`.
+void python(const fs::path& dir, const std::string& script) {
+  write_file(dir / "make.py", script);
+  std::string output;
+  ASSERT_EQ(kit::test::run("cd " + quoted(dir) + " && python3 make.py", &output), 0) << output;
+}
+
+// The grader's own preparation of `submission`, in a folder named after the test.
+PreparedSubmission prepare(const fs::path& submission, const std::vector<int>& labs) {
+  static int count = 0;
+  std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  fs::path temp = kit::test::temp_dir("sandbox-prepare-" + test + "-" + std::to_string(++count));
+  return kit::grade::prepare_submission(submission, labs, temp, Limits{});
+}
+
+// This process's address space now (VmSize), in MiB.
+long address_space_mib() {
+  std::string status = read_file("/proc/self/status");
+  size_t at = status.find("VmSize:");
+  return at == std::string::npos ? 0 : std::atol(status.c_str() + at + 7) / 1024;
+}
+
+Outcome run_child(const std::function<int()>& body, const Limits& limits, const fs::path& log,
+                  const ChildSetup& setup = {}) {
+  Child child = Child::fork_function(body, limits, log, setup);
+  return child.wait();
+}
+
+}  // namespace
+
+// A hard link in the submission to a file outside it: the link's path lies
+// inside, so only the link count (fstat on the opened descriptor) tells.
+TEST(GradeSandbox, HardLinkToAFileOutsideIsRefused) {
+  fs::path dir = kit::test::temp_dir("sandbox-hard-link");
+  const std::string token = "SECRET_OUTSIDE_7f3a9c";
+  const std::string secret = "#version 330 core\nout vec4 c;\nvoid main() { c = vec4(" + token + "); }\n";
+  write_file(dir / "outside" / "secret.frag", secret);
+  copy_starters(dir / "linked");
+  fs::path link = dir / "linked" / "01-gbuffer" / "gbuffer.frag";
+  fs::remove(link);
+  fs::create_hard_link(dir / "outside" / "secret.frag", link);
+
+  // Witness: the link reads the outside file, and that text, graded as a file of
+  // the submission, reaches results.json through the compiler log.
+  ASSERT_EQ(read_file(link), secret);
+  copy_starters(dir / "copied");
+  write_file(dir / "copied" / "01-gbuffer" / "gbuffer.frag", secret);
+  std::string output;
+  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "copied") + " --labs 1 --out " + quoted(dir / "out-copied")), &output), 0)
+      << output;
+  EXPECT_EQ(read_json(dir / "out-copied" / "summary.json")["labs"]["1"]["status"], "compile_error");
+  ASSERT_TRUE(contains(read_file(dir / "out-copied" / "results.json"), token)) << "the leak this test guards against";
+
+  PreparedSubmission p = prepare(dir / "linked", {1});
+  EXPECT_EQ(p.labs.at(1).status, "invalid_files");
+  EXPECT_TRUE(contains(p.labs.at(1).message, "labs/01-gbuffer/gbuffer.frag: is a hard link")) << p.labs.at(1).message;
+  EXPECT_FALSE(fs::exists(p.lab_root / "01-gbuffer" / "gbuffer.frag")) << "nothing of it is copied";
+
+  fs::path out = dir / "out-linked";
+  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "linked") + " --labs 1 --out " + quoted(out)), &output), 0) << output;
+  json summary = read_json(out / "summary.json");
+  EXPECT_EQ(summary["labs"]["1"]["status"], "invalid_files") << summary.dump(1);
+  EXPECT_TRUE(contains(summary["labs"]["1"]["message"].get<std::string>(), "gbuffer.frag: is a hard link"));
+  for (const char* file : {"results.json", "summary.json", "report.html"})
+    EXPECT_FALSE(contains(read_file(out / file), token)) << file;
+  EXPECT_FALSE(contains(output, token)) << output;
+}
+
+// A listing longer than 4 MiB (what the grader used to read of it) with a
+// "../" entry near its start: every entry is checked, and the zip refused
+// naming it.
+TEST(GradeSandbox, ZipListingsAreCheckedWhole) {
+  fs::path dir = kit::test::temp_dir("sandbox-zip-listing");
+  python(dir, "import zipfile\n"
+              "with zipfile.ZipFile('many.zip', 'w') as z:\n" +
+                  lab2_entries_python("02-lighting/") +
+                  "    z.writestr('../evil', 'x')\n"
+                  "    for i in range(60000):\n"
+                  "        z.writestr('pad/' + 'n' * 90 + '%06d' % i, '')\n"
+                  // Fewer entries than the limit, with long names: the old count said nothing.
+                  "with zipfile.ZipFile('long.zip', 'w') as z:\n"
+                  "    z.writestr('../long-evil', 'x')\n" +
+                  lab2_entries_python("02-lighting/") +
+                  "    for i in range(5000):\n"
+                  "        z.writestr('pad/' + 'l' * 1000 + '%06d' % i, '')\n"
+                  "with zipfile.ZipFile('count.zip', 'w') as z:\n" +
+                  lab2_entries_python("02-lighting/") +
+                  "    for i in range(60000):\n"
+                  "        z.writestr('pad/' + 'n' * 90 + '%06d' % i, '')\n");
+  // Witness: the listings are longer than 4 MiB and the unsafe entries lie in
+  // their first kilobyte, outside their last 4 MiB; long.zip's last 4 MiB also
+  // hold fewer entries than kMaxZipEntries, so no count refused it either.
+  for (const char* zip : {"many.zip", "long.zip"}) {
+    std::string listing;
+    ASSERT_EQ(kit::test::run("unzip -Z1 " + quoted(dir / zip), &listing), 0);
+    EXPECT_GT(listing.size(), size_t{4} * 1024 * 1024 + 1024) << zip;
+    EXPECT_LT(listing.find("evil"), size_t{1024}) << zip;
+  }
+
+  PreparedSubmission many = prepare(dir / "many.zip", {2});
+  EXPECT_TRUE(contains(many.problem, "many.zip: refused, nothing was extracted")) << many.problem;
+  EXPECT_TRUE(contains(many.problem, "'../evil'")) << many.problem;
+  EXPECT_EQ(many.labs.at(2).status, "invalid_files");
+  EXPECT_FALSE(fs::exists(dir / "evil"));
+  PreparedSubmission long_names = prepare(dir / "long.zip", {2});
+  EXPECT_TRUE(contains(long_names.problem, "'../long-evil'")) << long_names.problem;
+  // With nothing unsafe, the entry count refuses it as a whole, saying so.
+  PreparedSubmission count = prepare(dir / "count.zip", {2});
+  EXPECT_TRUE(contains(count.problem, "60002 entries, more than the 10000 accepted: refused")) << count.problem;
+}
+
+// Encrypted entries: named, never extracted (unzip would ask for a password).
+TEST(GradeSandbox, EncryptedZipEntriesAreNamed) {
+  fs::path dir = kit::test::temp_dir("sandbox-zip-encrypted");
+  for (const std::string& file : kit::find_stage("2").files) write_file(dir / "files" / "02-lighting" / file, "// " + file + "\n");
+  std::string output;
+  ASSERT_EQ(kit::test::run("cd " + quoted(dir / "files") + " && zip -q -r ../plain.zip . && zip -q -r -e -P secret ../locked.zip .",
+                           &output),
+            0)
+      << output;
+  // Witness: the same files without a password are taken.
+  EXPECT_TRUE(prepare(dir / "plain.zip", {2}).labs.at(2).ready);
+  PreparedSubmission p = prepare(dir / "locked.zip", {2});
+  const kit::grade::LabFiles& lab = p.labs.at(2);
+  EXPECT_EQ(lab.status, "invalid_files");
+  EXPECT_TRUE(contains(lab.message, "labs/02-lighting/brdf.glsl: refused: encrypted entries are not supported: "
+                                    "'02-lighting/brdf.glsl' is encrypted"))
+      << lab.message;
+  EXPECT_FALSE(contains(lab.message, "not in the submission")) << lab.message;
+}
+
+// Damaged entries: a bad CRC (stored data with flipped bytes) and deflated data
+// that does not inflate are named as such, not "empty" or "missing".
+TEST(GradeSandbox, CorruptZipEntriesAreNamed) {
+  fs::path dir = kit::test::temp_dir("sandbox-zip-corrupt");
+  python(dir, "import random, zipfile\n"
+              "random.seed(7)\n"
+              "text = '// brdf ' + ''.join(random.choice('abcdefghijklmnopqrstuvwxyz ') for _ in range(3000)) + '\\n'\n"
+              "for name, method in (('stored', zipfile.ZIP_STORED), ('deflated', zipfile.ZIP_DEFLATED)):\n"
+              "    with zipfile.ZipFile(name + '.zip', 'w', compression=method) as z:\n"
+              "        z.writestr('02-lighting/brdf.glsl', text)\n"
+              "        z.writestr('02-lighting/lighting.frag', '// lighting\\n')\n"
+              "    data = bytearray(open(name + '.zip', 'rb').read())\n"
+              "    open(name + '-intact.zip', 'wb').write(data)\n"
+              "    at = data.index(b'02-lighting/brdf.glsl') + len('02-lighting/brdf.glsl') + 40\n"
+              "    for k in range(40): data[at + k] ^= 0x5a\n"
+              "    open(name + '.zip', 'wb').write(data)\n");
+  for (const char* name : {"stored", "deflated"}) {
+    SCOPED_TRACE(name);
+    // Witness: the zips were whole before their bytes were flipped.
+    EXPECT_TRUE(prepare(dir / (std::string(name) + "-intact.zip"), {2}).labs.at(2).ready);
+    PreparedSubmission p = prepare(dir / (std::string(name) + ".zip"), {2});
+    const kit::grade::LabFiles& lab = p.labs.at(2);
+    EXPECT_EQ(lab.status, "invalid_files");
+    EXPECT_TRUE(contains(lab.message, "labs/02-lighting/brdf.glsl: refused: the archive's entry '02-lighting/brdf.glsl' "
+                                      "is corrupt"))
+        << lab.message;
+    if (std::string(name) == "stored") {
+      EXPECT_TRUE(contains(lab.message, "CRC")) << lab.message;
+    }
+    EXPECT_FALSE(contains(lab.message, "empty")) << lab.message;
+    EXPECT_FALSE(contains(lab.message, "lighting.frag")) << "the intact entry is taken: " << lab.message;
+  }
+}
+
+// The time limit is CPU time: a child that loops is stopped by RLIMIT_CPU long
+// before the wall clock, and one that only waits (as a renderer on a busy
+// machine does) is not stopped at all; the wall clock stays a backstop.
+TEST(GradeSandbox, CpuTimeIsTheTimeLimit) {
+  fs::path dir = kit::test::temp_dir("sandbox-cpu");
+  Limits limits;
+  limits.cpu_seconds = 1;
+  limits.wall_seconds = 60;
+  Outcome busy = run_child([]() -> int {
+    volatile unsigned long spin = 0;
+    for (;;) spin = spin + 1;
+  }, limits, dir / "busy.log");
+  EXPECT_EQ(busy.kind, Outcome::Kind::CpuLimit) << busy.describe();
+  EXPECT_GE(busy.cpu_seconds, 0.5);  // wait4's count may read under the kernel's on a loaded machine
+  EXPECT_LT(busy.wall_seconds, 60.0);
+  EXPECT_EQ(busy.describe(), "stopped after 1 s of CPU time (the CPU limit)");
+  // Witness: more wall-clock time than the CPU limit, little CPU: not stopped.
+  Outcome waiting = run_child([] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+    return 0;
+  }, limits, dir / "waiting.log");
+  EXPECT_EQ(waiting.kind, Outcome::Kind::Exited) << waiting.describe();
+  EXPECT_GE(waiting.wall_seconds, 2.5);
+  limits.wall_seconds = 1;
+  Outcome stuck = run_child([] {
+    std::this_thread::sleep_for(std::chrono::seconds(30));
+    return 0;
+  }, limits, dir / "stuck.log");
+  EXPECT_EQ(stuck.kind, Outcome::Kind::TimedOut) << stuck.describe();
+  EXPECT_TRUE(contains(stuck.describe(), "stopped after 1 s of wall-clock time")) << stuck.describe();
+}
+
+// Running out of address space is named, whether the child sees std::bad_alloc
+// or (as Mesa and LLVM do) crashes after an allocation failed.
+TEST(GradeSandbox, OutOfMemoryIsNamed) {
+  if (kAddressSanitizerBuild) GTEST_SKIP() << "no RLIMIT_AS in a sanitizer build";
+  fs::path dir = kit::test::temp_dir("sandbox-memory");
+  Limits limits;
+  limits.address_space_mib = static_cast<rlim_t>(address_space_mib() + 256);
+  const std::string named = "out of memory (limit " + std::to_string(limits.address_space_mib) + " MiB)";
+  Outcome thrown = run_child([] {
+    std::vector<char> huge(size_t{16} << 30);
+    return static_cast<int>(huge[1]);
+  }, limits, dir / "bad_alloc.log");
+  EXPECT_EQ(thrown.kind, Outcome::Kind::OutOfMemory) << thrown.describe();
+  EXPECT_EQ(thrown.describe(), named);
+  Outcome crashed = run_child([] {
+    std::vector<void*> blocks;
+    while (void* block = std::malloc(size_t{16} << 20)) blocks.push_back(block);
+    raise(SIGSEGV);  // what a C library does with the null pointer it got
+    return 0;
+  }, limits, dir / "segv.log");
+  EXPECT_EQ(crashed.kind, Outcome::Kind::OutOfMemory) << crashed.describe();
+  EXPECT_EQ(crashed.describe(), named);
+  EXPECT_TRUE(contains(read_file(dir / "segv.log"), "out of memory: signal 11")) << read_file(dir / "segv.log");
+  // Witness: the same crash far from the limit stays a crash.
+  Outcome plain = run_child([] {
+    raise(SIGSEGV);
+    return 0;
+  }, limits, dir / "plain.log");
+  EXPECT_EQ(plain.kind, Outcome::Kind::Signaled) << plain.describe();
+  EXPECT_EQ(plain.code, SIGSEGV);
+}
+
+// A child works in the folder it is given, with the environment it is given,
+// no controlling terminal, and few open files.
+TEST(GradeSandbox, ChildrenHaveTheirFolderAndFewOpenFiles) {
+  fs::path dir = kit::test::temp_dir("sandbox-files");
+  Limits limits;
+  limits.open_files = 32;
+  ChildSetup setup;
+  setup.working_dir = dir / "work";
+  setup.environment = {{"MESA_SHADER_CACHE_DIR", (dir / "work" / "cache").string()}};
+  fs::create_directories(setup.working_dir);
+  Outcome o = run_child([&] {
+    const char* cache = std::getenv("MESA_SHADER_CACHE_DIR");
+    if (!cache || cache != (dir / "work" / "cache").string()) return 10;
+    if (open("/dev/tty", O_RDONLY) >= 0) return 11;
+    std::vector<int> fds;
+    for (int fd = 0; fds.size() < 1000 && (fd = open("/dev/null", O_RDONLY)) >= 0;) fds.push_back(fd);
+    for (int fd : fds) close(fd);
+    write_file("opened.txt", std::to_string(fds.size()));  // relative: lands in the working directory
+    return 0;
+  }, limits, dir / "child.log", setup);
+  ASSERT_EQ(o.kind, Outcome::Kind::Exited) << o.describe();
+  ASSERT_EQ(o.code, 0) << read_file(dir / "child.log");
+  int opened = std::stoi(read_file(dir / "work" / "opened.txt"));
+  EXPECT_LT(opened, 32);
+  // Witness: this process, without the limit, opens far more.
+  std::vector<int> fds;
+  for (int i = 0; i < 100; ++i) fds.push_back(open("/dev/null", O_RDONLY));
+  EXPECT_GE(*std::min_element(fds.begin(), fds.end()), 0);
+  for (int fd : fds) close(fd);
+}
+
+// RLIMIT_NPROC counts the user's processes and threads: a child may start only
+// a few more than its user has. The kernel exempts root, so as root the check
+// runs as nobody in a process of its own.
+TEST(GradeSandbox, ProcessCountIsLimited) {
+  // Threads started by a child allowed `extra` more tasks; -1 when the child failed.
+  auto threads_started = [](rlim_t extra) -> int {
+    Limits limits;
+    limits.extra_processes = extra;
+    Outcome o = run_child([] {
+      std::vector<std::thread> threads;
+      int started = 0;
+      for (int i = 0; i < 64; ++i) {
+        try {
+          threads.emplace_back([] { std::this_thread::sleep_for(std::chrono::milliseconds(300)); });
+          ++started;
+        } catch (const std::system_error&) {
+        }
+      }
+      for (std::thread& t : threads) t.join();
+      return started;
+    }, limits, "/dev/null");
+    return o.kind == Outcome::Kind::Exited ? o.code : -1;
+  };
+  if (getuid() != 0) {
+    EXPECT_LT(threads_started(8), 8);
+    EXPECT_EQ(threads_started(0), 64) << "witness: without the limit every thread starts";
+    return;
+  }
+  pid_t helper = fork();
+  ASSERT_GE(helper, 0);
+  if (helper == 0) {
+    if (setgroups(0, nullptr) != 0 || setgid(65534) != 0 || setuid(65534) != 0) _exit(100);
+    int limited = threads_started(8), unlimited = threads_started(0);
+    _exit(limited >= 0 && limited < 8 && unlimited == 64 ? 0 : 1 + (limited < 0 ? 0 : limited % 50));
+  }
+  int status = 0;
+  waitpid(helper, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status));
+  if (WEXITSTATUS(status) == 100) GTEST_SKIP() << "cannot become nobody to check RLIMIT_NPROC as root";
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "as nobody: threads started under the limit, or a failed child";
+}
+
+// kit-grade end to end: the lab of a renderer that runs out of memory says so.
+TEST(GradeSandbox, KitGradeReportsOutOfMemory) {
+  if (kAddressSanitizerBuild) GTEST_SKIP() << "no RLIMIT_AS in a sanitizer build";
+  fs::path dir = kit::test::temp_dir("sandbox-kit-grade-memory");
+  copy_starters(dir / "alice");
+  std::string output;
+  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "alice") + " --labs 1 --memory-limit 256 --out " + quoted(dir / "out")),
+                           &output),
+            0)
+      << output;
+  json lab = read_json(dir / "out" / "summary.json")["labs"]["1"];
+  EXPECT_EQ(lab["status"], "crash") << lab.dump(1);
+  EXPECT_EQ(lab["message"].get<std::string>().rfind("out of memory (limit 256 MiB)", 0), 0u) << lab.dump(1);
+  EXPECT_TRUE(contains(output, "out of memory (limit 256 MiB)")) << output;
+  EXPECT_FALSE(contains(lab["message"].get<std::string>(), "signal 11 (Segmentation fault))")) << lab.dump(1);
+  // Witness: under the default limit the same lab renders.
+  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "alice") + " --labs 1 --out " + quoted(dir / "out-default")), &output), 0)
+      << output;
+  EXPECT_EQ(read_json(dir / "out-default" / "summary.json")["labs"]["1"]["status"], "graded");
+}
+
+// kit-grade end to end: a shader that never ends is stopped by the CPU limit,
+// long before the wall-clock backstop.
+TEST(GradeSandbox, KitGradeStopsAnEndlessLoopByCpuTime) {
+  fs::path dir = kit::test::temp_dir("sandbox-kit-grade-cpu");
+  copy_endless_starters(dir / "alice");
+  std::string output;
+  auto t0 = std::chrono::steady_clock::now();
+  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "alice") + " --labs 1 --cpu-limit 2 --timeout 300 --out " +
+                                     quoted(dir / "out")),
+                           &output),
+            0)
+      << output;
+  double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  json lab = read_json(dir / "out" / "summary.json")["labs"]["1"];
+  EXPECT_EQ(lab["status"], "timeout") << lab.dump(1);
+  EXPECT_TRUE(contains(lab["message"].get<std::string>(), "more than 2 s of CPU time (--cpu-limit)")) << lab.dump(1);
+  EXPECT_LT(seconds, 300.0);
+}
+
+// Mesa writes its shader cache under $XDG_CACHE_HOME (else ~/.cache) by default;
+// kit-grade's children write theirs in the submission's temporary folder.
+TEST(GradeSandbox, KitGradeKeepsMesasShaderCachePrivate) {
+  fs::path dir = kit::test::temp_dir("sandbox-shader-cache");
+  const std::string env = "env -u MESA_SHADER_CACHE_DIR -u MESA_SHADER_CACHE_DISABLE -u MESA_GLSL_CACHE_DISABLE ";
+  std::string output;
+  // Witness: kit-render (no sandbox) fills the user's cache.
+  ASSERT_EQ(kit::test::run(env + "XDG_CACHE_HOME=" + quoted(dir / "render-cache") + " " + kit::test::tool("kit-render") +
+                               " --shaders " + quoted(kit::kit_root() / "labs" / "01-gbuffer") + " --out " +
+                               quoted(dir / "render.png"),
+                           &output),
+            0)
+      << output;
+  ASSERT_TRUE(fs::exists(dir / "render-cache" / "mesa_shader_cache")) << "Mesa's default this test relies on";
+  fs::create_directories(dir / "tmp");
+  copy_starters(dir / "alice");
+  const std::string grade = env + "TMPDIR=" + quoted(dir / "tmp") + " " +
+                            kit_grade(quoted(dir / "alice") + " --labs 1 --keep-temp --out " + quoted(dir / "out"));
+  ASSERT_EQ(kit::test::run("XDG_CACHE_HOME=" + quoted(dir / "grade-cache") + " " + grade, &output), 0) << output;
+  EXPECT_EQ(read_json(dir / "out" / "summary.json")["labs"]["1"]["status"], "graded");
+  EXPECT_FALSE(fs::exists(dir / "grade-cache")) << "nothing in the user's cache";
+  // The cache was used, privately: in the kept temporary folder of the submission.
+  auto private_cache_files = [&] {
+    std::vector<std::string> files;
+    for (const auto& entry : fs::recursive_directory_iterator(dir / "tmp"))
+      if (entry.is_regular_file() && contains(entry.path().string(), "/mesa-shader-cache/"))
+        files.push_back(entry.path().filename().string());
+    return files;
+  };
+  EXPECT_FALSE(private_cache_files().empty());
+
+  // With a seed (what --check-references writes from the solutions), the private
+  // cache starts as a copy of it, and grading writes nothing into the seed.
+  fs::remove_all(dir / "tmp");
+  fs::create_directories(dir / "tmp");
+  fs::path seed = dir / "seeded-cache" / "kit-grade" / "mesa-shader-cache";
+  write_file(seed / "seed-marker", "from the kit's own renders\n");
+  ASSERT_EQ(kit::test::run("XDG_CACHE_HOME=" + quoted(dir / "seeded-cache") + " " + grade, &output), 0) << output;
+  std::vector<std::string> copied = private_cache_files();
+  EXPECT_NE(std::find(copied.begin(), copied.end(), "seed-marker"), copied.end());
+  EXPECT_GT(copied.size(), 1u);
+  size_t seed_files = 0;
+  for (const auto& entry : fs::recursive_directory_iterator(dir / "seeded-cache"))
+    if (entry.is_regular_file()) ++seed_files;
+  EXPECT_EQ(seed_files, 1u) << "a student's programs never reach the seed";
+}
+
+// A student folder named gradebook.csv grades fine and the gradebook stays a
+// file. An output folder an older kit-grade left with such a result folder in
+// the gradebook's place (every later batch failed: "Is a directory") recovers.
+TEST(GradeSandbox, BatchSubmissionNamedLikeTheGradebook) {
+  fs::path dir = kit::test::temp_dir("sandbox-batch-names");
+  fs::path in = dir / "in", out = dir / "out";
+  copy_starters(in / "gradebook.csv");
+  copy_starters(in / "alice");
+  const std::string command = kit_grade("--batch " + quoted(in) + " --out " + quoted(out) + " --labs 1");
+  std::string output;
+  ASSERT_EQ(kit::test::run(command, &output), 0) << output;
+  EXPECT_TRUE(contains(output, "gradebook.csv -> gradebook.csv.submission/")) << output;
+  ASSERT_TRUE(fs::is_regular_file(out / "gradebook.csv")) << output;
+  std::string csv = read_file(out / "gradebook.csv");
+  EXPECT_EQ(csv.rfind("submission,lab1,total,max_total,problems\n", 0), 0u) << csv;
+  EXPECT_TRUE(contains(csv, "\nalice,0,0,10,\n")) << csv;
+  EXPECT_TRUE(contains(csv, "\ngradebook.csv,0,0,10,\n")) << csv;
+  EXPECT_EQ(read_json(out / "gradebook.csv.submission" / "summary.json")["labs"]["1"]["status"], "graded");
+
+  // Witness: the layout an older kit-grade left (the submission's result folder
+  // in the gradebook's place). The next run moves it and writes the gradebook.
+  fs::remove(out / "gradebook.csv");
+  fs::rename(out / "gradebook.csv.submission", out / "gradebook.csv");
+  ASSERT_EQ(kit::test::run(command, &output), 0) << output;
+  EXPECT_TRUE(contains(output, "moved " + (out / "gradebook.csv").string())) << output;
+  EXPECT_TRUE(contains(output, "0 to grade, 2 already graded")) << output;
+  ASSERT_TRUE(fs::is_regular_file(out / "gradebook.csv"));
+  EXPECT_TRUE(contains(read_file(out / "gradebook.csv"), "\ngradebook.csv,0,0,10,\n"));
+}
+
+// One batch at a time per output folder: a second is refused naming the
+// process that holds the lock (here this test holds it, as a running batch does).
+TEST(GradeSandbox, SecondBatchOnOneOutputFolderIsRefused) {
+  fs::path dir = kit::test::temp_dir("sandbox-batch-lock");
+  fs::path in = dir / "in", out = dir / "out";
+  copy_starters(in / "alice");
+  fs::create_directories(out);
+  int fd = open((out / ".kit-grade.lock").c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+  ASSERT_GE(fd, 0);
+  ASSERT_EQ(flock(fd, LOCK_EX | LOCK_NB), 0);
+  std::string pid = std::to_string(getpid());
+  ASSERT_EQ(write(fd, (pid + "\n").data(), pid.size() + 1), static_cast<ssize_t>(pid.size() + 1));
+  const std::string command = kit_grade("--batch " + quoted(in) + " --out " + quoted(out) + " --labs 1");
+  std::string output;
+  EXPECT_EQ(kit::test::run(command, &output), 2) << output;
+  EXPECT_TRUE(contains(output, "another kit-grade batch (pid " + pid + ") is grading into this folder")) << output;
+  EXPECT_FALSE(fs::exists(out / "gradebook.csv"));
+  EXPECT_FALSE(fs::exists(out / "alice"));
+  close(fd);
+  // Once the lock is free, the same command grades.
+  ASSERT_EQ(kit::test::run(command, &output), 0) << output;
+  EXPECT_TRUE(fs::exists(out / "alice" / "results.json"));
+}
+
+// kill -9 leaves a run's temporary folder behind; the next run removes it (and
+// only folders whose process is gone), saying so.
+TEST(GradeSandbox, TemporaryFoldersOfKilledRunsAreRemoved) {
+  fs::path dir = kit::test::temp_dir("sandbox-killed-run");
+  fs::path tmp = dir / "tmp";
+  fs::create_directories(tmp);
+  copy_endless_starters(dir / "endless");
+  std::string grader = kit::test::tool("kit-grade"), submission = (dir / "endless").string(), out = (dir / "out").string();
+  pid_t run = fork();
+  ASSERT_GE(run, 0);
+  if (run == 0) {
+    setenv("TMPDIR", tmp.c_str(), 1);
+    int null = open("/dev/null", O_WRONLY);
+    dup2(null, STDOUT_FILENO);
+    dup2(null, STDERR_FILENO);
+    execl(grader.c_str(), grader.c_str(), submission.c_str(), "--labs", "1", "--cpu-limit", "120", "--timeout", "120",
+          "--out", out.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  // Wait until it renders (its submission's folder exists), then kill -9 it.
+  const std::string prefix = "kit-grade-" + std::to_string(run) + "-";
+  fs::path left;
+  for (int i = 0; i < 6000 && left.empty(); ++i) {
+    for (const auto& entry : fs::directory_iterator(tmp)) {
+      if (entry.path().filename().string().rfind(prefix, 0) != 0) continue;
+      for (const auto& inner : fs::directory_iterator(entry.path()))
+        if (fs::exists(inner.path() / "lab1")) left = entry.path();
+    }
+    if (left.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  kill(run, SIGKILL);
+  int status = 0;
+  waitpid(run, &status, 0);
+  ASSERT_FALSE(left.empty()) << "the run never started rendering";
+  // Witness: the killed run's folder is still there.
+  ASSERT_TRUE(fs::exists(left));
+  fs::path alive = tmp / ("kit-grade-" + std::to_string(getpid()) + "-living");
+  fs::create_directories(alive);
+
+  copy_starters(dir / "alice");
+  std::string output;
+  ASSERT_EQ(kit::test::run("TMPDIR=" + quoted(tmp) + " " + kit_grade(quoted(dir / "alice") + " --labs 1 --out " + quoted(dir / "out2")),
+                           &output),
+            0)
+      << output;
+  EXPECT_TRUE(contains(output, "kit-grade: removed 1 temporary folder left by kit-grade runs that ended without removing "
+                               "them: " + left.string() + " (pid " + std::to_string(run) + ")"))
+      << output;
+  EXPECT_FALSE(fs::exists(left));
+  EXPECT_TRUE(fs::exists(alive)) << "a folder whose process lives is kept";
+}
