@@ -6,11 +6,18 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <set>
+#include <vector>
 
+#include "checks.h"
+#include "compare.h"
+#include "config.h"
+#include "grader.h"
 #include "kit_test.h"
+#include "report.h"
 #include "stages.h"
 
 namespace fs = std::filesystem;
@@ -89,7 +96,7 @@ void expect_gradescope_schema(const json& r) {
   EXPECT_TRUE(r["output"].is_string());
   ASSERT_TRUE(r["tests"].is_array());
   EXPECT_FALSE(r["tests"].empty());
-  double sum = 0.0, max_sum = 0.0;
+  long long sum = 0, max_sum = 0;  // thousandths: scores are exact thousandths of a point
   for (const json& t : r["tests"]) {
     ASSERT_TRUE(t.is_object());
     EXPECT_TRUE(t["name"].is_string());
@@ -100,13 +107,13 @@ void expect_gradescope_schema(const json& r) {
     EXPECT_EQ(t["output_format"], "md");
     EXPECT_EQ(t["visibility"], "visible");
     EXPECT_LE(t["score"].get<double>(), t["max_score"].get<double>() + 1e-9);
-    sum += t["score"].get<double>();
-    max_sum += t["max_score"].get<double>();
+    sum += std::llround(t["score"].get<double>() * 1000.0);
+    max_sum += std::llround(t["max_score"].get<double>() * 1000.0);
   }
-  // Shares are apportioned in thousandths (Config::max_score), so the sums are exact
-  // up to double rounding: 7 checks of a 10-point lab do not add up to 10.003.
-  EXPECT_NEAR(sum, r["score"].get<double>(), 1e-9) << "the tests' scores add up to the total";
-  EXPECT_NEAR(std::fmod(max_sum, 10.0), 0.0, 1e-9) << "grading.json's labs are worth 10 points each: " << max_sum;
+  // Shares are apportioned in thousandths (Config::max_score), so the sums are exact:
+  // 7 checks of a 10-point lab add up to 10, not 10.003 (nor 9.999999999999998).
+  EXPECT_EQ(sum, std::llround(r["score"].get<double>() * 1000.0)) << "the tests' scores add up to the total";
+  EXPECT_EQ(max_sum % 10000, 0) << "grading.json's labs are worth 10 points each: " << max_sum;
   ASSERT_TRUE(r["leaderboard"].is_array());
   ASSERT_EQ(r["leaderboard"].size(), 1u);
   EXPECT_EQ(r["leaderboard"][0]["name"], "render time (ms)");
@@ -378,3 +385,116 @@ TEST(Grader, BadArgumentsFailWithAMessage) {
   EXPECT_NE(output.find("cannot"), std::string::npos) << output;
 }
 
+
+// ---------------------------------------------------------------------------
+// The grader's verdicts and scores, called directly (kit_grade_core): synthetic
+// image pairs for the criteria, and every subset of failing checks for the sums.
+
+namespace {
+
+using kit::grade::Metric;
+using kit::grade::Thousandths;
+
+const kit::grade::Config& grading_config() {
+  static const kit::grade::Config config = kit::grade::load_config(kit::grade::default_config_path());
+  return config;
+}
+
+}  // namespace
+
+namespace {
+
+// "6.667" -> 6667, exactly (no floating point).
+Thousandths parse_points(const std::string& text) {
+  size_t dot = text.find('.');
+  Thousandths whole = std::stoll(text.substr(0, dot));
+  if (dot == std::string::npos) return whole * 1000;
+  std::string fraction = text.substr(dot + 1);
+  fraction.resize(3, '0');
+  return whole * 1000 + std::stoll(fraction);
+}
+
+// Every subset of failing checks for a lab of `points`: the lab's printed total is
+// the exact sum of the checks' printed scores and one of the values the shares allow.
+void expect_exact_scores(const std::vector<double>& points) {
+  const size_t n = points.size();
+  const std::vector<Thousandths> shares = kit::grade::apportion(10000, points);
+  ASSERT_EQ(shares.size(), n);
+  Thousandths sum = 0;
+  for (Thousandths s : shares) sum += s;
+  ASSERT_EQ(sum, 10000) << "the shares add up to the weight";
+  std::vector<kit::grade::Check> checks;
+  for (size_t i = 0; i < n; ++i)
+    checks.push_back({3, "check-" + std::to_string(i), "check " + std::to_string(i), Metric::Ldr, "", ""});
+  for (unsigned mask = 0; mask < (1u << n); ++mask) {
+    kit::grade::SubmissionOutcome s;
+    kit::grade::LabOutcome& lab = s.labs[3];
+    lab.lab = 3;
+    lab.status = kit::grade::kGraded;
+    Thousandths expected = 0;
+    for (size_t i = 0; i < n; ++i) {
+      kit::grade::CheckOutcome c;
+      c.check = &checks[i];
+      c.compared = true;
+      c.passed = (mask >> i) & 1u;
+      c.max_score = shares[i];
+      c.score = c.passed ? shares[i] : 0;
+      expected += c.score;
+      lab.checks.push_back(c);
+    }
+    ASSERT_EQ(lab.score(), expected);
+    ASSERT_EQ(lab.max_score(), 10000);
+    // The console line prints the total; results.json prints each check's score.
+    const std::string line = kit::grade::lab_line(lab);
+    const size_t colon = line.find(": "), slash = line.find('/');
+    const Thousandths printed_total = parse_points(line.substr(colon + 2, slash - colon - 2));
+    const json results = kit::grade::results_json(s);
+    Thousandths printed_sum = 0;
+    for (const json& t : results["tests"]) printed_sum += parse_points(t["score"].dump());
+    EXPECT_EQ(printed_total, expected) << line;
+    EXPECT_EQ(printed_sum, expected) << "mask " << mask;
+    EXPECT_EQ(parse_points(results["score"].dump()), expected);
+    EXPECT_EQ(parse_points(kit::grade::summary_json(s)["labs"]["3"]["score"].dump()), expected);
+    EXPECT_EQ(line.substr(slash, 4), "/10 ") << line;
+    // Equal points: k passing checks score k shares, each the exact share rounded down or up.
+    if (std::all_of(points.begin(), points.end(), [&](double p) { return p == points[0]; })) {
+      const Thousandths q = 10000 / static_cast<Thousandths>(n), r = 10000 % static_cast<Thousandths>(n);
+      const Thousandths k = static_cast<Thousandths>(__builtin_popcount(mask));
+      const Thousandths lo = k * q + std::max<Thousandths>(0, k - (static_cast<Thousandths>(n) - r));
+      const Thousandths hi = k * q + std::min(k, r);
+      EXPECT_GE(expected, lo);
+      EXPECT_LE(expected, hi);
+    }
+  }
+}
+
+}  // namespace
+
+// Scores are integer thousandths apportioned once per lab: whichever checks fail,
+// the total printed is the exact sum of the scores printed, 3.333 + 3.333 is 6.666
+// and never 6.666000000000001 or a console "6.67" beside a results.json 6.666.
+TEST(GraderScores, TotalsAreExactForEverySubsetOfFailingChecks) {
+  EXPECT_EQ(kit::grade::format_points(6667), "6.667");
+  EXPECT_EQ(kit::grade::format_points(10000), "10");
+  EXPECT_EQ(kit::grade::format_points(3500), "3.5");
+  EXPECT_EQ(kit::grade::format_points(5), "0.005");
+  EXPECT_EQ(kit::grade::format_points(0), "0");
+  EXPECT_EQ(kit::grade::apportion(10000, {1, 1, 1}), (std::vector<Thousandths>{3334, 3333, 3333}));
+  EXPECT_EQ(kit::grade::apportion(10000, {1, 1, 1, 1, 1, 1}),
+            (std::vector<Thousandths>{1667, 1667, 1667, 1667, 1666, 1666}));
+  EXPECT_EQ(kit::grade::apportion(10000, {2, 2, 2, 2, 2, 1, 1, 1}),
+            (std::vector<Thousandths>{1539, 1539, 1539, 1538, 1538, 769, 769, 769}));
+  expect_exact_scores({1, 1, 1});
+  expect_exact_scores({1, 1, 1, 1, 1, 1});
+  expect_exact_scores({1, 1, 1, 1, 1, 1, 1});
+  // grading.json's own labs, as kit-grade apportions them.
+  const kit::grade::Config& config = grading_config();
+  for (const auto& [number, lab_points] : config.points) {
+    std::vector<double> p;
+    for (const auto& [key, value] : lab_points) p.push_back(value);
+    expect_exact_scores(p);
+    Thousandths sum = 0;
+    for (const kit::grade::Check* c : kit::grade::lab_checks(number)) sum += config.max_score(*c);
+    EXPECT_EQ(sum, static_cast<Thousandths>(std::llround(config.weight.at(number) * 1000))) << "lab " << number;
+  }
+}
