@@ -400,7 +400,131 @@ const kit::grade::Config& grading_config() {
   return config;
 }
 
+constexpr int kW = kit::grade::kGradeWidth, kH = kit::grade::kGradeHeight;
+constexpr size_t kPixels = static_cast<size_t>(kW) * kH;
+
+// A display image like the grader's: a background colour on the top third, a smooth
+// gradient (the "scene") below it.
+kit::Image synthetic_ldr() {
+  kit::Image image(kW, kH, 4);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      bool covered = y >= kH / 3;
+      for (int c = 0; c < 3; ++c)
+        image.at(x, y, c) = covered ? 0.2f + 0.5f * static_cast<float>(x) / kW + 0.1f * static_cast<float>(c) : 0.05f;
+      image.at(x, y, 3) = 1.0f;
+    }
+  return image;
+}
+
+// `image` with `offset` added to the RGB of `count` covered pixels, spread evenly over them.
+kit::Image with_offset(kit::Image image, float offset, size_t count) {
+  const size_t covered = static_cast<size_t>(kW) * static_cast<size_t>(kH - kH / 3);
+  const size_t stride = std::max<size_t>(1, covered / std::max<size_t>(1, count));
+  size_t done = 0;
+  for (size_t i = 0; i < covered && done < count; i += stride, ++done) {
+    int x = static_cast<int>(i % kW), y = kH / 3 + static_cast<int>(i / kW);
+    for (int c = 0; c < 3; ++c) image.at(x, y, c) += offset;
+  }
+  return image;
+}
+
 }  // namespace
+
+// A fifth of the pixels off by 3/255 stays under the per-pixel threshold (0.02, about
+// 5/255) everywhere, so the failing share and hard_fail pass it; the mean error over
+// the covered pixels fails it. The same offset on a few pixels passes, and so does a
+// larger one on fewer pixels than the failing share allows.
+TEST(GraderVerdicts, WideFaintOffsetFailsTheMeanErrorAndAFewPixelsPass) {
+  const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Ldr);
+  ASSERT_GT(tol.max_mean_error, 0.0);
+  const kit::Image reference = synthetic_ldr();
+  const kit::Image wide = with_offset(reference, 3.0f / 255.0f, kPixels / 5);
+
+  kit::grade::Comparison c = kit::grade::compare_images(Metric::Ldr, tol, wide, reference);
+  EXPECT_FALSE(c.passed) << c.summary;
+  EXPECT_EQ(c.failing_pixels, 0u) << "every pixel is under the per-pixel threshold";
+  EXPECT_LE(c.max_error, tol.fail_threshold);
+  EXPECT_GT(c.covered_mean_error, tol.max_mean_error);
+  EXPECT_NE(c.summary.find("Over the limit: the mean error over the "), std::string::npos) << c.summary;
+  EXPECT_NE(c.summary.find("a faint difference spread over many pixels"), std::string::npos) << c.summary;
+  // Witness: the criteria kit-grade had before the mean error pass it.
+  kit::grade::Tolerance old = tol;
+  old.max_mean_error = 1e30;
+  EXPECT_TRUE(kit::grade::compare_images(Metric::Ldr, old, wide, reference).passed);
+
+  // The same offset on a few pixels: far under the mean error's limit.
+  kit::grade::Comparison few = kit::grade::compare_images(Metric::Ldr, tol, with_offset(reference, 3.0f / 255.0f, 20), reference);
+  EXPECT_TRUE(few.passed) << few.summary;
+  EXPECT_LT(few.covered_mean_error, tol.max_mean_error / 10.0);
+  // Over the per-pixel threshold on as many pixels as the failing share allows: passes
+  // (each pixel counts at most fail_threshold towards the mean); one more fails.
+  const size_t allowed = kit::grade::allowed_failing_pixels(tol, kPixels);
+  EXPECT_EQ(allowed, 24u) << "0.05 % of 256 x 192, rounded down";
+  kit::grade::Comparison at_allowance =
+      kit::grade::compare_images(Metric::Ldr, tol, with_offset(reference, 0.2f, allowed), reference);
+  EXPECT_TRUE(at_allowance.passed) << at_allowance.summary;
+  EXPECT_EQ(at_allowance.failing_pixels, allowed);
+  kit::grade::Comparison over =
+      kit::grade::compare_images(Metric::Ldr, tol, with_offset(reference, 0.2f, allowed + 1), reference);
+  EXPECT_FALSE(over.passed);
+  EXPECT_LE(over.covered_mean_error, tol.max_mean_error) << "only the failing share fails it";
+
+  // HDR: the same story after c / (1 + |c|).
+  const kit::grade::Tolerance& hdr = grading_config().tolerance(Metric::Hdr);
+  kit::Image hdr_reference = synthetic_ldr();
+  for (float& v : hdr_reference.pixels) v *= 2.0f;
+  kit::Image hdr_wide = hdr_reference;
+  for (int y = kH / 3; y < kH; ++y)  // a fifth of the image: the covered rows' first 30 %
+    for (int x = 0; x < kW * 3 / 10; ++x)
+      for (int c = 0; c < 3; ++c) hdr_wide.at(x, y, c) *= 1.012f;
+  kit::grade::Comparison h = kit::grade::compare_images(Metric::Hdr, hdr, hdr_wide, hdr_reference);
+  EXPECT_EQ(h.failing_pixels, 0u) << h.summary;
+  EXPECT_FALSE(h.passed) << h.summary;
+}
+
+// The HDR hard_fail is not "off": compressed values lie in (-1, 1), so a pixel
+// whose sign differs from the reference's can differ by more than 1. The message
+// says which criterion failed, with pixel counts, never a passing share alone.
+TEST(GraderVerdicts, MessagesNameTheCriterionThatFailed) {
+  const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Hdr);
+  ASSERT_LT(tol.hard_fail, kit::grade::largest_possible_difference(Metric::Hdr));
+  kit::Image reference = synthetic_ldr();
+  for (int c = 0; c < 3; ++c) reference.at(10, 100, c) = 3.0f;
+  kit::Image flipped = reference;
+  for (int c = 0; c < 3; ++c) flipped.at(10, 100, c) = -3.0f;  // 0.75 vs -0.75 compressed
+  kit::grade::Comparison c = kit::grade::compare_images(Metric::Hdr, tol, flipped, reference);
+  EXPECT_FALSE(c.passed);
+  EXPECT_EQ(c.failing_pixels, 1u);
+  EXPECT_NEAR(c.max_error, 1.5, 1e-6);
+  EXPECT_LE(c.covered_mean_error, tol.max_mean_error);
+  EXPECT_EQ(c.summary.rfind("Over the limit: the largest difference is 1.5 at (10, 100), over the limit of 1", 0), 0u)
+      << c.summary;
+  EXPECT_NE(c.summary.find("sign differs"), std::string::npos) << c.summary;
+  EXPECT_EQ(c.summary.find("more than the 24"), std::string::npos) << "the share passed: " << c.summary;
+  EXPECT_NE(c.summary.find("1 of 49152 pixels (0.002%) differ by more than 0.01 (at most 24 (0.05%) may)"),
+            std::string::npos)
+      << c.summary;
+
+  // 25 failing pixels are 0.0509 %, which "%.2f" would print as the limit itself.
+  kit::Image wrong = reference;
+  for (int i = 0; i < 25; ++i)
+    for (int ch = 0; ch < 3; ++ch) wrong.at(20 + i * 7, 120, ch) += 0.1f;
+  kit::grade::Comparison share = kit::grade::compare_images(Metric::Hdr, tol, wrong, reference);
+  EXPECT_FALSE(share.passed);
+  EXPECT_NE(share.summary.find("Over the limit: 25 of 49152 pixels (0.051%) differ by more than 0.01, more than the "
+                               "24 (0.05%) allowed"),
+            std::string::npos)
+      << share.summary;
+  // A display image cannot differ by more than 1: there hard_fail 1.0 never fires,
+  // and the message shows no limit for it.
+  const kit::grade::Tolerance& ldr = grading_config().tolerance(Metric::Ldr);
+  EXPECT_GE(ldr.hard_fail, kit::grade::largest_possible_difference(Metric::Ldr));
+  kit::grade::Comparison l = kit::grade::compare_images(Metric::Ldr, ldr, synthetic_ldr(), synthetic_ldr());
+  EXPECT_TRUE(l.passed);
+  EXPECT_EQ(l.summary.find("Over the limit"), std::string::npos);
+  EXPECT_NE(l.summary.find("the largest difference is 0 at (0, 0);"), std::string::npos) << l.summary;
+}
 
 namespace {
 

@@ -22,12 +22,12 @@ struct RequiredFields {
   std::vector<const char*> fields;
 };
 const RequiredFields kRequired[] = {
-    {Metric::Ldr, {"fail_threshold", "fail_percent", "hard_fail"}},
-    {Metric::Hdr, {"fail_threshold", "fail_percent", "hard_fail"}},
-    {Metric::Position, {"fail_threshold", "fail_percent", "hard_fail"}},
-    {Metric::Normal, {"fail_threshold", "fail_percent", "hard_fail", "length_tolerance"}},
-    {Metric::Albedo, {"fail_threshold", "fail_percent", "hard_fail"}},
-    {Metric::Material, {"fail_threshold", "fail_percent", "hard_fail"}},
+    {Metric::Ldr, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
+    {Metric::Hdr, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
+    {Metric::Position, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
+    {Metric::Normal, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error", "length_tolerance"}},
+    {Metric::Albedo, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
+    {Metric::Material, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
     {Metric::Changes, {"fail_threshold", "min_changed_percent"}},
 };
 
@@ -143,6 +143,7 @@ Config load_config(const fs::path& path) {
       if (f == "fail_threshold") tol.fail_threshold = v;
       else if (f == "fail_percent") tol.fail_percent = v;
       else if (f == "hard_fail") tol.hard_fail = v;
+      else if (f == "max_mean_error") tol.max_mean_error = v;
       else if (f == "length_tolerance") tol.length_tolerance = v;
       else if (f == "min_changed_percent") tol.min_changed_percent = v;
     }

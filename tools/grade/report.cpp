@@ -210,6 +210,10 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
         entry["diff"] = c.diff;
         entry["max_error"] = c.comparison.max_error;
         entry["failing_percent"] = c.comparison.failing_percent;
+        entry["failing_pixels"] = c.comparison.failing_pixels;
+        entry["allowed_failing_pixels"] = c.comparison.allowed_failing_pixels;
+        entry["covered_pixels"] = c.comparison.covered_pixels;
+        entry["covered_mean_error"] = c.comparison.covered_mean_error;
         entry["psnr"] = std::isfinite(c.comparison.psnr) ? nlohmann::json(c.comparison.psnr) : nlohmann::json(nullptr);
         entry["non_finite"] = c.comparison.non_finite;
       }
