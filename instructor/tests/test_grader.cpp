@@ -194,7 +194,7 @@ TEST(Grader, SolutionsScoreFullMarksThreeRunsOnOsmesa) {
     for (int n = 1; n <= kLabCount; ++n) expect_full_marks(r, n);
     EXPECT_DOUBLE_EQ(r.summary["total"].get<double>(), r.summary["max_total"].get<double>());
     for (const json& t : r.results["tests"]) EXPECT_EQ(t["status"], "passed") << t["name"];
-    EXPECT_NE(r.output.find("lab 2 lighting: 10/10  (4 of 4 checks passed)"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("lab 2 lighting: 10/10  (5 of 5 checks passed)"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("total: 50/50"), std::string::npos) << r.output;
   }
 }
@@ -212,7 +212,7 @@ TEST(Grader, StartersScoreTheDocumentedMinimum) {
   GradeRun r = grade(kit::kit_root() / "labs", "starters");
   expect_ran(r);
   const std::map<int, std::set<std::string>> documented = {
-      {1, {}}, {2, {}}, {3, {}}, {4, {}}, {5, {"default-off", "custom-off"}}};
+      {1, {}}, {2, {}}, {3, {}}, {4, {}}, {5, {"default-off", "custom-off", "custom-on-postprocess-off"}}};
   for (const auto& [number, passing] : documented) {
     EXPECT_EQ(lab(r, number)["status"], "graded");
     for (const auto& [key, check] : lab(r, number)["checks"].items())
