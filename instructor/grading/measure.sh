@@ -75,7 +75,7 @@ EOF
 }
 
 echo
-echo "1. one full submission (solutions/, 5 labs, 27 checks)"
+echo "1. one full submission (solutions/, 5 labs, 31 checks)"
 for cache in cold warm; do
   export MESA_SHADER_CACHE_DIR="$WORK/mesa-cache"
   [ "$cache" = cold ] && rm -rf "$MESA_SHADER_CACHE_DIR"

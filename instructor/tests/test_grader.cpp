@@ -526,6 +526,43 @@ TEST(GraderVerdicts, MessagesNameTheCriterionThatFailed) {
   EXPECT_NE(l.summary.find("the largest difference is 0 at (0, 0);"), std::string::npos) << l.summary;
 }
 
+// handouts/instructors.md's tolerance table says what grading.json holds, and calls
+// a hard_fail "never fires" exactly when it is at or above the largest difference
+// the metric can measure.
+TEST(GraderVerdicts, InstructorsTableAgreesWithGradingJson) {
+  const std::string doc = read_file(kit::kit_root() / "handouts" / "instructors.md");
+  const std::map<std::string, Metric> metrics = {{"ldr", Metric::Ldr},           {"hdr", Metric::Hdr},
+                                                 {"position", Metric::Position}, {"normal", Metric::Normal},
+                                                 {"albedo", Metric::Albedo},     {"material", Metric::Material}};
+  const size_t header = doc.find("| metric | fail_threshold | fail_percent | hard_fail | max_mean_error |");
+  ASSERT_NE(header, std::string::npos) << "instructors.md has no tolerance table with these columns";
+  auto first_number = [](const std::string& cell) {
+    size_t at = cell.find_first_of("0123456789");
+    return at == std::string::npos ? -1.0 : std::stod(cell.substr(at));
+  };
+  for (const auto& [name, metric] : metrics) {
+    const size_t row = doc.find("\n| " + name + " |", header);
+    ASSERT_NE(row, std::string::npos) << name;
+    std::string line = doc.substr(row + 1, doc.find('\n', row + 1) - row - 1);
+    std::vector<std::string> cells;
+    for (size_t at = 1; at < line.size();) {
+      size_t end = line.find('|', at);
+      if (end == std::string::npos) break;
+      cells.push_back(line.substr(at, end - at));
+      at = end + 1;
+    }
+    ASSERT_GE(cells.size(), 5u) << line;
+    const kit::grade::Tolerance& tol = grading_config().tolerance(metric);
+    EXPECT_DOUBLE_EQ(first_number(cells[1]), tol.fail_threshold) << line;
+    EXPECT_DOUBLE_EQ(first_number(cells[2]), tol.fail_percent) << line;
+    EXPECT_DOUBLE_EQ(first_number(cells[3]), tol.hard_fail) << line;
+    EXPECT_DOUBLE_EQ(first_number(cells[4]), tol.max_mean_error) << line;
+    const bool never = tol.hard_fail >= kit::grade::largest_possible_difference(metric);
+    EXPECT_EQ(cells[3].find("never fires") != std::string::npos, never) << line;
+    EXPECT_EQ(cells[3].find("off"), std::string::npos) << "say when it fires: " << line;
+  }
+}
+
 namespace {
 
 // "6.667" -> 6667, exactly (no floating point).
