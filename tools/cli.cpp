@@ -14,7 +14,7 @@ const char* common_options_help() {
          "  --solution            the reference solutions (solutions/) instead of your labs\n"
          "  --timeout S           seconds the shaders may take to compile and draw before the run stops\n"
          "                        with a message (default 30, as the grader's; 0: no limit)\n"
-         "  --scene NAME|FILE     kit scene name (default, sphere, grazing, normalmap) or a .gltf/.glb\n"
+         "  --scene NAME|FILE     kit scene name (default, sphere, grazing, normalmap, spot, highlight) or a .gltf/.glb\n"
          "  --backend NAME        osmesa (default) | egl\n"
          "  --size WxH            image size (default 640x480)\n"
          "  --gamma G             display gamma (default 2.2)\n"

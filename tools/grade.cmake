@@ -9,8 +9,13 @@ add_library(kit_grade_submission STATIC ${kit_grade_submission_sources})
 target_include_directories(kit_grade_submission PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
 target_link_libraries(kit_grade_submission PUBLIC kitcore PkgConfig::OIIO)
 file(GLOB kit_grade_sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/grade/*.cpp)
-list(REMOVE_ITEM kit_grade_sources ${kit_grade_submission_sources})
-add_executable(kit-grade ${kit_grade_sources})
-target_link_libraries(kit-grade PRIVATE kit_grade_submission kitcore PkgConfig::OIIO nlohmann_json::nlohmann_json)
+list(REMOVE_ITEM kit_grade_sources ${kit_grade_submission_sources} ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
+# Everything but main(): the checks, comparisons, scoring and reports, so
+# instructor/tests/test_grader calls the very code kit-grade runs.
+add_library(kit_grade_core STATIC ${kit_grade_sources})
+target_include_directories(kit_grade_core PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
+target_link_libraries(kit_grade_core PUBLIC kit_grade_submission kitcore PkgConfig::OIIO nlohmann_json::nlohmann_json)
+add_executable(kit-grade ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
+target_link_libraries(kit-grade PRIVATE kit_grade_core)
 # The grader renders the generated scenes: building it builds them.
 add_dependencies(kit-grade kit_scene_files)

@@ -657,6 +657,48 @@ SceneBuilder build_grazing_scene() {
   return b;
 }
 
+// A spot light with a wide penumbra (inner cone 10 degrees, outer 45) over a plain
+// floor, seen from above: the falloff between the cones covers much of the image,
+// so interpolating over the angle instead of its cosine, or a linear ramp instead
+// of the smoothstep, changes thousands of pixels (the default scene's spot has a
+// penumbra of 14 to 26 degrees, too narrow to tell them apart). kit-grade's lab 3.
+SceneBuilder build_spot_scene() {
+  SceneBuilder b("spot");
+  MaterialDesc mat;
+  mat.name = "grey_floor";
+  mat.base_color = glm::dvec4(0.6, 0.6, 0.6, 1.0);
+  mat.roughness = 0.7;
+  const Geometry floor =
+      b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {12, 12}, {1, 1}, false));
+  b.add_node(mesh_node("floor", {0, 0, 0}, b.add_mesh("floor", floor, b.add_material(mat))));
+  // Aimed almost straight down (tilted 5.7 degrees: a look-at along -Y has no up).
+  b.add_spot_light("spot", {0.0, 3.0, 0.3}, {0.0, 0.0, 0.0}, kWhite, 30.0, glm::radians(10.0),
+                   glm::radians(45.0));
+  b.add_camera({0.0, 5.0, 6.0}, {0.0, 0.0, 1.0}, 0.8);
+  return b;
+}
+
+// A close-up of one glossy highlight on a dark dielectric sphere (roughness 0.2):
+// the highlight fills much of the view, so a mistake that changes only the
+// specular peak (its height, width or clamping) changes thousands of pixels, where
+// on the other scenes it covers a handful. kit-grade's lab 2.
+SceneBuilder build_highlight_scene() {
+  SceneBuilder b("highlight");
+  MaterialDesc mat;
+  mat.name = "glossy_red";
+  mat.base_color = glm::dvec4(0.5, 0.1, 0.1, 1.0);
+  mat.metallic = 0.0;
+  mat.roughness = 0.2;
+  const Geometry sphere = b.add_geometry(make_sphere(1.0f, 128, 64, {2, 1}, true));
+  b.add_node(mesh_node("sphere", {0, 0, 0}, b.add_mesh("sphere", sphere, b.add_material(mat))));
+  const glm::dvec3 light(2.0, 2.0, 4.0), eye(0.0, 0.0, 3.5);
+  b.add_point_light("light", light, kWhite, 1.5);  // lab 2 has no falloff: a peak of about 3
+  // Aimed at the mirror point: where the normal halves the directions to the light and the eye.
+  const glm::dvec3 mirror = glm::normalize(glm::normalize(light) + glm::normalize(eye));
+  b.add_camera(eye, mirror, 0.2);
+  return b;
+}
+
 SceneBuilder build_normal_map_scene(const Textures& tex) {
   SceneBuilder b("normalmap");
   const glm::vec3 x(1, 0, 0), y(0, 1, 0);
@@ -702,6 +744,8 @@ int main(int argc, char** argv) {
     build_sphere_scene().write(out_dir);
     build_grazing_scene().write(out_dir);
     build_normal_map_scene(textures).write(out_dir);
+    build_spot_scene().write(out_dir);
+    build_highlight_scene().write(out_dir);
   } catch (const std::exception& e) {
     std::cerr << "kit-scenes: " << e.what() << "\n";
     return 1;

@@ -196,7 +196,8 @@ def student_name(given):
 
 
 def format_score(value):
-    return ("%.2f" % value).rstrip("0").rstrip(".")
+    # kit-grade's scores are exact thousandths (6.667): printed as kit-grade prints them.
+    return ("%.3f" % value).rstrip("0").rstrip(".")
 
 
 def format_ms(value):
@@ -504,7 +505,7 @@ def lab_page(pdf, lab, entry, results, grade_dir, timing):
             pdf.text(x + 5.0, y, f"{format_score(c['score'])} / {format_score(c['max_score'])}", size=9)
             y += 0.22
         return
-    # Rows share the page below the header: up to 1.42 in each (7 checks in lab 1 fit).
+    # Rows share the page below the header: up to 1.42 in each, less when a lab has more checks (lab 5 has 9).
     row_h = min(1.42, (A4[1] - MARGIN - 0.25 - y) / max(1, len(checks)))
     gap = 0.1
     img_w = min((row_h - 0.18) * 4 / 3, (A4[0] - 2 * MARGIN - 2.35 - 2 * gap) / 3)  # text column >= 2.3 in

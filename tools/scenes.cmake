@@ -6,13 +6,15 @@ add_executable(kit-scenes ${CMAKE_CURRENT_LIST_DIR}/kit_scenes.cpp)
 target_link_libraries(kit-scenes PRIVATE kit_warnings TinyGLTF::TinyGLTF PkgConfig::OIIO glm::glm)
 
 # The scenes are build outputs in ${CMAKE_BINARY_DIR}/scenes/<name>/, regenerated whenever
-# kit-scenes changes. One command writes all four; the .gltf files stand for the rest.
+# kit-scenes changes. One command writes all six; the .gltf files stand for the rest.
 set(KIT_SCENES_DIR ${CMAKE_BINARY_DIR}/scenes)
 set(KIT_SCENE_FILES
   ${KIT_SCENES_DIR}/default/default.gltf
   ${KIT_SCENES_DIR}/sphere/sphere.gltf
   ${KIT_SCENES_DIR}/grazing/grazing.gltf
-  ${KIT_SCENES_DIR}/normalmap/normalmap.gltf)
+  ${KIT_SCENES_DIR}/normalmap/normalmap.gltf
+  ${KIT_SCENES_DIR}/spot/spot.gltf
+  ${KIT_SCENES_DIR}/highlight/highlight.gltf)
 set(KIT_SCENE_BYPRODUCTS
   ${KIT_SCENES_DIR}/default/default.bin
   ${KIT_SCENES_DIR}/default/checker.png
@@ -21,7 +23,9 @@ set(KIT_SCENE_BYPRODUCTS
   ${KIT_SCENES_DIR}/sphere/sphere.bin
   ${KIT_SCENES_DIR}/grazing/grazing.bin
   ${KIT_SCENES_DIR}/normalmap/normalmap.bin
-  ${KIT_SCENES_DIR}/normalmap/brick_normal.png)
+  ${KIT_SCENES_DIR}/normalmap/brick_normal.png
+  ${KIT_SCENES_DIR}/spot/spot.bin
+  ${KIT_SCENES_DIR}/highlight/highlight.bin)
 add_custom_command(
   OUTPUT ${KIT_SCENE_FILES}
   BYPRODUCTS ${KIT_SCENE_BYPRODUCTS}

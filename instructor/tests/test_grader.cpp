@@ -6,11 +6,18 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <fstream>
 #include <map>
 #include <set>
+#include <vector>
 
+#include "checks.h"
+#include "compare.h"
+#include "config.h"
+#include "grader.h"
 #include "kit_test.h"
+#include "report.h"
 #include "stages.h"
 
 namespace fs = std::filesystem;
@@ -89,7 +96,7 @@ void expect_gradescope_schema(const json& r) {
   EXPECT_TRUE(r["output"].is_string());
   ASSERT_TRUE(r["tests"].is_array());
   EXPECT_FALSE(r["tests"].empty());
-  double sum = 0.0, max_sum = 0.0;
+  long long sum = 0, max_sum = 0;  // thousandths: scores are exact thousandths of a point
   for (const json& t : r["tests"]) {
     ASSERT_TRUE(t.is_object());
     EXPECT_TRUE(t["name"].is_string());
@@ -100,13 +107,13 @@ void expect_gradescope_schema(const json& r) {
     EXPECT_EQ(t["output_format"], "md");
     EXPECT_EQ(t["visibility"], "visible");
     EXPECT_LE(t["score"].get<double>(), t["max_score"].get<double>() + 1e-9);
-    sum += t["score"].get<double>();
-    max_sum += t["max_score"].get<double>();
+    sum += std::llround(t["score"].get<double>() * 1000.0);
+    max_sum += std::llround(t["max_score"].get<double>() * 1000.0);
   }
-  // Shares are apportioned in thousandths (Config::max_score), so the sums are exact
-  // up to double rounding: 7 checks of a 10-point lab do not add up to 10.003.
-  EXPECT_NEAR(sum, r["score"].get<double>(), 1e-9) << "the tests' scores add up to the total";
-  EXPECT_NEAR(std::fmod(max_sum, 10.0), 0.0, 1e-9) << "grading.json's labs are worth 10 points each: " << max_sum;
+  // Shares are apportioned in thousandths (Config::max_score), so the sums are exact:
+  // 7 checks of a 10-point lab add up to 10, not 10.003 (nor 9.999999999999998).
+  EXPECT_EQ(sum, std::llround(r["score"].get<double>() * 1000.0)) << "the tests' scores add up to the total";
+  EXPECT_EQ(max_sum % 10000, 0) << "grading.json's labs are worth 10 points each: " << max_sum;
   ASSERT_TRUE(r["leaderboard"].is_array());
   ASSERT_EQ(r["leaderboard"].size(), 1u);
   EXPECT_EQ(r["leaderboard"][0]["name"], "render time (ms)");
@@ -187,7 +194,7 @@ TEST(Grader, SolutionsScoreFullMarksThreeRunsOnOsmesa) {
     for (int n = 1; n <= kLabCount; ++n) expect_full_marks(r, n);
     EXPECT_DOUBLE_EQ(r.summary["total"].get<double>(), r.summary["max_total"].get<double>());
     for (const json& t : r.results["tests"]) EXPECT_EQ(t["status"], "passed") << t["name"];
-    EXPECT_NE(r.output.find("lab 2 lighting: 10/10  (4 of 4 checks passed)"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("lab 2 lighting: 10/10  (5 of 5 checks passed)"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("total: 50/50"), std::string::npos) << r.output;
   }
 }
@@ -205,7 +212,7 @@ TEST(Grader, StartersScoreTheDocumentedMinimum) {
   GradeRun r = grade(kit::kit_root() / "labs", "starters");
   expect_ran(r);
   const std::map<int, std::set<std::string>> documented = {
-      {1, {}}, {2, {}}, {3, {}}, {4, {}}, {5, {"default-off", "custom-off"}}};
+      {1, {}}, {2, {}}, {3, {}}, {4, {}}, {5, {"default-off", "custom-off", "custom-on-postprocess-off"}}};
   for (const auto& [number, passing] : documented) {
     EXPECT_EQ(lab(r, number)["status"], "graded");
     for (const auto& [key, check] : lab(r, number)["checks"].items())
@@ -378,3 +385,277 @@ TEST(Grader, BadArgumentsFailWithAMessage) {
   EXPECT_NE(output.find("cannot"), std::string::npos) << output;
 }
 
+
+// ---------------------------------------------------------------------------
+// The grader's verdicts and scores, called directly (kit_grade_core): synthetic
+// image pairs for the criteria, and every subset of failing checks for the sums.
+
+namespace {
+
+using kit::grade::Metric;
+using kit::grade::Thousandths;
+
+const kit::grade::Config& grading_config() {
+  static const kit::grade::Config config = kit::grade::load_config(kit::grade::default_config_path());
+  return config;
+}
+
+constexpr int kW = kit::grade::kGradeWidth, kH = kit::grade::kGradeHeight;
+constexpr size_t kPixels = static_cast<size_t>(kW) * kH;
+
+// A display image like the grader's: a background colour on the top third, a smooth
+// gradient (the "scene") below it.
+kit::Image synthetic_ldr() {
+  kit::Image image(kW, kH, 4);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      bool covered = y >= kH / 3;
+      for (int c = 0; c < 3; ++c)
+        image.at(x, y, c) = covered ? 0.2f + 0.5f * static_cast<float>(x) / kW + 0.1f * static_cast<float>(c) : 0.05f;
+      image.at(x, y, 3) = 1.0f;
+    }
+  return image;
+}
+
+// `image` with `offset` added to the RGB of `count` covered pixels, spread evenly over them.
+kit::Image with_offset(kit::Image image, float offset, size_t count) {
+  const size_t covered = static_cast<size_t>(kW) * static_cast<size_t>(kH - kH / 3);
+  const size_t stride = std::max<size_t>(1, covered / std::max<size_t>(1, count));
+  size_t done = 0;
+  for (size_t i = 0; i < covered && done < count; i += stride, ++done) {
+    int x = static_cast<int>(i % kW), y = kH / 3 + static_cast<int>(i / kW);
+    for (int c = 0; c < 3; ++c) image.at(x, y, c) += offset;
+  }
+  return image;
+}
+
+}  // namespace
+
+// A fifth of the pixels off by 3/255 stays under the per-pixel threshold (0.02, about
+// 5/255) everywhere, so the failing share and hard_fail pass it; the mean error over
+// the covered pixels fails it. The same offset on a few pixels passes, and so does a
+// larger one on fewer pixels than the failing share allows.
+TEST(GraderVerdicts, WideFaintOffsetFailsTheMeanErrorAndAFewPixelsPass) {
+  const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Ldr);
+  ASSERT_GT(tol.max_mean_error, 0.0);
+  const kit::Image reference = synthetic_ldr();
+  const kit::Image wide = with_offset(reference, 3.0f / 255.0f, kPixels / 5);
+
+  kit::grade::Comparison c = kit::grade::compare_images(Metric::Ldr, tol, wide, reference);
+  EXPECT_FALSE(c.passed) << c.summary;
+  EXPECT_EQ(c.failing_pixels, 0u) << "every pixel is under the per-pixel threshold";
+  EXPECT_LE(c.max_error, tol.fail_threshold);
+  EXPECT_GT(c.covered_mean_error, tol.max_mean_error);
+  EXPECT_NE(c.summary.find("Over the limit: the mean error over the "), std::string::npos) << c.summary;
+  EXPECT_NE(c.summary.find("a faint difference spread over many pixels"), std::string::npos) << c.summary;
+  // Witness: the criteria kit-grade had before the mean error pass it.
+  kit::grade::Tolerance old = tol;
+  old.max_mean_error = 1e30;
+  EXPECT_TRUE(kit::grade::compare_images(Metric::Ldr, old, wide, reference).passed);
+
+  // The same offset on a few pixels: far under the mean error's limit.
+  kit::grade::Comparison few = kit::grade::compare_images(Metric::Ldr, tol, with_offset(reference, 3.0f / 255.0f, 20), reference);
+  EXPECT_TRUE(few.passed) << few.summary;
+  EXPECT_LT(few.covered_mean_error, tol.max_mean_error / 10.0);
+  // Over the per-pixel threshold on as many pixels as the failing share allows: passes
+  // (each pixel counts at most fail_threshold towards the mean); one more fails.
+  const size_t allowed = kit::grade::allowed_failing_pixels(tol, kPixels);
+  EXPECT_EQ(allowed, 24u) << "0.05 % of 256 x 192, rounded down";
+  kit::grade::Comparison at_allowance =
+      kit::grade::compare_images(Metric::Ldr, tol, with_offset(reference, 0.2f, allowed), reference);
+  EXPECT_TRUE(at_allowance.passed) << at_allowance.summary;
+  EXPECT_EQ(at_allowance.failing_pixels, allowed);
+  kit::grade::Comparison over =
+      kit::grade::compare_images(Metric::Ldr, tol, with_offset(reference, 0.2f, allowed + 1), reference);
+  EXPECT_FALSE(over.passed);
+  EXPECT_LE(over.covered_mean_error, tol.max_mean_error) << "only the failing share fails it";
+
+  // HDR: the same story after c / (1 + |c|).
+  const kit::grade::Tolerance& hdr = grading_config().tolerance(Metric::Hdr);
+  kit::Image hdr_reference = synthetic_ldr();
+  for (float& v : hdr_reference.pixels) v *= 2.0f;
+  kit::Image hdr_wide = hdr_reference;
+  for (int y = kH / 3; y < kH; ++y)  // a fifth of the image: the covered rows' first 30 %
+    for (int x = 0; x < kW * 3 / 10; ++x)
+      for (int c = 0; c < 3; ++c) hdr_wide.at(x, y, c) *= 1.012f;
+  kit::grade::Comparison h = kit::grade::compare_images(Metric::Hdr, hdr, hdr_wide, hdr_reference);
+  EXPECT_EQ(h.failing_pixels, 0u) << h.summary;
+  EXPECT_FALSE(h.passed) << h.summary;
+}
+
+// The HDR hard_fail is not "off": compressed values lie in (-1, 1), so a pixel
+// whose sign differs from the reference's can differ by more than 1. The message
+// says which criterion failed, with pixel counts, never a passing share alone.
+TEST(GraderVerdicts, MessagesNameTheCriterionThatFailed) {
+  const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Hdr);
+  ASSERT_LT(tol.hard_fail, kit::grade::largest_possible_difference(Metric::Hdr));
+  kit::Image reference = synthetic_ldr();
+  for (int c = 0; c < 3; ++c) reference.at(10, 100, c) = 3.0f;
+  kit::Image flipped = reference;
+  for (int c = 0; c < 3; ++c) flipped.at(10, 100, c) = -3.0f;  // 0.75 vs -0.75 compressed
+  kit::grade::Comparison c = kit::grade::compare_images(Metric::Hdr, tol, flipped, reference);
+  EXPECT_FALSE(c.passed);
+  EXPECT_EQ(c.failing_pixels, 1u);
+  EXPECT_NEAR(c.max_error, 1.5, 1e-6);
+  EXPECT_LE(c.covered_mean_error, tol.max_mean_error);
+  EXPECT_EQ(c.summary.rfind("Over the limit: the largest difference is 1.5 at (10, 100), over the limit of 1", 0), 0u)
+      << c.summary;
+  EXPECT_NE(c.summary.find("sign differs"), std::string::npos) << c.summary;
+  EXPECT_EQ(c.summary.find("more than the 24"), std::string::npos) << "the share passed: " << c.summary;
+  EXPECT_NE(c.summary.find("1 of 49152 pixels (0.002%) differ by more than 0.01 (at most 24 (0.05%) may)"),
+            std::string::npos)
+      << c.summary;
+
+  // 25 failing pixels are 0.0509 %, which "%.2f" would print as the limit itself.
+  kit::Image wrong = reference;
+  for (int i = 0; i < 25; ++i)
+    for (int ch = 0; ch < 3; ++ch) wrong.at(20 + i * 7, 120, ch) += 0.1f;
+  kit::grade::Comparison share = kit::grade::compare_images(Metric::Hdr, tol, wrong, reference);
+  EXPECT_FALSE(share.passed);
+  EXPECT_NE(share.summary.find("Over the limit: 25 of 49152 pixels (0.051%) differ by more than 0.01, more than the "
+                               "24 (0.05%) allowed"),
+            std::string::npos)
+      << share.summary;
+  // A display image cannot differ by more than 1: there hard_fail 1.0 never fires,
+  // and the message shows no limit for it.
+  const kit::grade::Tolerance& ldr = grading_config().tolerance(Metric::Ldr);
+  EXPECT_GE(ldr.hard_fail, kit::grade::largest_possible_difference(Metric::Ldr));
+  kit::grade::Comparison l = kit::grade::compare_images(Metric::Ldr, ldr, synthetic_ldr(), synthetic_ldr());
+  EXPECT_TRUE(l.passed);
+  EXPECT_EQ(l.summary.find("Over the limit"), std::string::npos);
+  EXPECT_NE(l.summary.find("the largest difference is 0 at (0, 0);"), std::string::npos) << l.summary;
+}
+
+// handouts/instructors.md's tolerance table says what grading.json holds, and calls
+// a hard_fail "never fires" exactly when it is at or above the largest difference
+// the metric can measure.
+TEST(GraderVerdicts, InstructorsTableAgreesWithGradingJson) {
+  const std::string doc = read_file(kit::kit_root() / "handouts" / "instructors.md");
+  const std::map<std::string, Metric> metrics = {{"ldr", Metric::Ldr},           {"hdr", Metric::Hdr},
+                                                 {"position", Metric::Position}, {"normal", Metric::Normal},
+                                                 {"albedo", Metric::Albedo},     {"material", Metric::Material}};
+  const size_t header = doc.find("| metric | fail_threshold | fail_percent | hard_fail | max_mean_error |");
+  ASSERT_NE(header, std::string::npos) << "instructors.md has no tolerance table with these columns";
+  auto first_number = [](const std::string& cell) {
+    size_t at = cell.find_first_of("0123456789");
+    return at == std::string::npos ? -1.0 : std::stod(cell.substr(at));
+  };
+  for (const auto& [name, metric] : metrics) {
+    const size_t row = doc.find("\n| " + name + " |", header);
+    ASSERT_NE(row, std::string::npos) << name;
+    std::string line = doc.substr(row + 1, doc.find('\n', row + 1) - row - 1);
+    std::vector<std::string> cells;
+    for (size_t at = 1; at < line.size();) {
+      size_t end = line.find('|', at);
+      if (end == std::string::npos) break;
+      cells.push_back(line.substr(at, end - at));
+      at = end + 1;
+    }
+    ASSERT_GE(cells.size(), 5u) << line;
+    const kit::grade::Tolerance& tol = grading_config().tolerance(metric);
+    EXPECT_DOUBLE_EQ(first_number(cells[1]), tol.fail_threshold) << line;
+    EXPECT_DOUBLE_EQ(first_number(cells[2]), tol.fail_percent) << line;
+    EXPECT_DOUBLE_EQ(first_number(cells[3]), tol.hard_fail) << line;
+    EXPECT_DOUBLE_EQ(first_number(cells[4]), tol.max_mean_error) << line;
+    const bool never = tol.hard_fail >= kit::grade::largest_possible_difference(metric);
+    EXPECT_EQ(cells[3].find("never fires") != std::string::npos, never) << line;
+    EXPECT_EQ(cells[3].find("off"), std::string::npos) << "say when it fires: " << line;
+  }
+}
+
+namespace {
+
+// "6.667" -> 6667, exactly (no floating point).
+Thousandths parse_points(const std::string& text) {
+  size_t dot = text.find('.');
+  Thousandths whole = std::stoll(text.substr(0, dot));
+  if (dot == std::string::npos) return whole * 1000;
+  std::string fraction = text.substr(dot + 1);
+  fraction.resize(3, '0');
+  return whole * 1000 + std::stoll(fraction);
+}
+
+// Every subset of failing checks for a lab of `points`: the lab's printed total is
+// the exact sum of the checks' printed scores and one of the values the shares allow.
+void expect_exact_scores(const std::vector<double>& points) {
+  const size_t n = points.size();
+  const std::vector<Thousandths> shares = kit::grade::apportion(10000, points);
+  ASSERT_EQ(shares.size(), n);
+  Thousandths sum = 0;
+  for (Thousandths s : shares) sum += s;
+  ASSERT_EQ(sum, 10000) << "the shares add up to the weight";
+  std::vector<kit::grade::Check> checks;
+  for (size_t i = 0; i < n; ++i)
+    checks.push_back({3, "check-" + std::to_string(i), "check " + std::to_string(i), Metric::Ldr, "", ""});
+  for (unsigned mask = 0; mask < (1u << n); ++mask) {
+    kit::grade::SubmissionOutcome s;
+    kit::grade::LabOutcome& lab = s.labs[3];
+    lab.lab = 3;
+    lab.status = kit::grade::kGraded;
+    Thousandths expected = 0;
+    for (size_t i = 0; i < n; ++i) {
+      kit::grade::CheckOutcome c;
+      c.check = &checks[i];
+      c.compared = true;
+      c.passed = (mask >> i) & 1u;
+      c.max_score = shares[i];
+      c.score = c.passed ? shares[i] : 0;
+      expected += c.score;
+      lab.checks.push_back(c);
+    }
+    ASSERT_EQ(lab.score(), expected);
+    ASSERT_EQ(lab.max_score(), 10000);
+    // The console line prints the total; results.json prints each check's score.
+    const std::string line = kit::grade::lab_line(lab);
+    const size_t colon = line.find(": "), slash = line.find('/');
+    const Thousandths printed_total = parse_points(line.substr(colon + 2, slash - colon - 2));
+    const json results = kit::grade::results_json(s);
+    Thousandths printed_sum = 0;
+    for (const json& t : results["tests"]) printed_sum += parse_points(t["score"].dump());
+    EXPECT_EQ(printed_total, expected) << line;
+    EXPECT_EQ(printed_sum, expected) << "mask " << mask;
+    EXPECT_EQ(parse_points(results["score"].dump()), expected);
+    EXPECT_EQ(parse_points(kit::grade::summary_json(s)["labs"]["3"]["score"].dump()), expected);
+    EXPECT_EQ(line.substr(slash, 4), "/10 ") << line;
+    // Equal points: k passing checks score k shares, each the exact share rounded down or up.
+    if (std::all_of(points.begin(), points.end(), [&](double p) { return p == points[0]; })) {
+      const Thousandths q = 10000 / static_cast<Thousandths>(n), r = 10000 % static_cast<Thousandths>(n);
+      const Thousandths k = static_cast<Thousandths>(__builtin_popcount(mask));
+      const Thousandths lo = k * q + std::max<Thousandths>(0, k - (static_cast<Thousandths>(n) - r));
+      const Thousandths hi = k * q + std::min(k, r);
+      EXPECT_GE(expected, lo);
+      EXPECT_LE(expected, hi);
+    }
+  }
+}
+
+}  // namespace
+
+// Scores are integer thousandths apportioned once per lab: whichever checks fail,
+// the total printed is the exact sum of the scores printed, 3.333 + 3.333 is 6.666
+// and never 6.666000000000001 or a console "6.67" beside a results.json 6.666.
+TEST(GraderScores, TotalsAreExactForEverySubsetOfFailingChecks) {
+  EXPECT_EQ(kit::grade::format_points(6667), "6.667");
+  EXPECT_EQ(kit::grade::format_points(10000), "10");
+  EXPECT_EQ(kit::grade::format_points(3500), "3.5");
+  EXPECT_EQ(kit::grade::format_points(5), "0.005");
+  EXPECT_EQ(kit::grade::format_points(0), "0");
+  EXPECT_EQ(kit::grade::apportion(10000, {1, 1, 1}), (std::vector<Thousandths>{3334, 3333, 3333}));
+  EXPECT_EQ(kit::grade::apportion(10000, {1, 1, 1, 1, 1, 1}),
+            (std::vector<Thousandths>{1667, 1667, 1667, 1667, 1666, 1666}));
+  EXPECT_EQ(kit::grade::apportion(10000, {2, 2, 2, 2, 2, 1, 1, 1}),
+            (std::vector<Thousandths>{1539, 1539, 1539, 1538, 1538, 769, 769, 769}));
+  expect_exact_scores({1, 1, 1});
+  expect_exact_scores({1, 1, 1, 1, 1, 1});
+  expect_exact_scores({1, 1, 1, 1, 1, 1, 1});
+  // grading.json's own labs, as kit-grade apportions them.
+  const kit::grade::Config& config = grading_config();
+  for (const auto& [number, lab_points] : config.points) {
+    std::vector<double> p;
+    for (const auto& [key, value] : lab_points) p.push_back(value);
+    expect_exact_scores(p);
+    Thousandths sum = 0;
+    for (const kit::grade::Check* c : kit::grade::lab_checks(number)) sum += config.max_score(*c);
+    EXPECT_EQ(sum, static_cast<Thousandths>(std::llround(config.weight.at(number) * 1000))) << "lab " << number;
+  }
+}

@@ -60,6 +60,10 @@ const std::vector<RenderSpec>& renders() {
       r.push_back(final_image("lab2-" + s + "-final", 2, s));
       r.push_back(hdr("lab2-" + s + "-hdr", 2, s));
     }
+    // A close-up of one glossy highlight: a mistake in the specular peak alone covers
+    // thousands of pixels here, a handful elsewhere. HDR only: the clamped display
+    // image of lab 2 saturates the peak.
+    r.push_back(hdr("lab2-highlight-hdr", 2, "highlight"));
     // Lab 3: the HDR buffer isolates attenuation.glsl; the display images add tonemap.glsl.
     auto simple = [](RenderSpec& s) { s.attenuation_model = 1; };
     auto gamma1 = [](RenderSpec& s) { s.gamma = 1.0f; };
@@ -69,6 +73,9 @@ const std::vector<RenderSpec>& renders() {
     r.push_back(final_image("lab3-default-physical-gamma22", 3, "default"));
     r.push_back(with(final_image("lab3-default-physical-gamma10", 3, "default"), gamma1));
     r.push_back(with(with(final_image("lab3-sphere-simple-gamma10", 3, "sphere"), simple), gamma1));
+    // A wide penumbra (cones of 10 and 45 degrees): the smoothstep over the cosine and
+    // one over the angle differ here by far more than the tolerance.
+    r.push_back(hdr("lab3-spot-physical-hdr", 3, "spot"));
     // Lab 4: the lit image and the mapped normal itself.
     r.push_back(final_image("lab4-normalmap-final", 4, "normalmap"));
     r.push_back(final_image("lab4-default-final", 4, "default"));
@@ -86,6 +93,12 @@ const std::vector<RenderSpec>& renders() {
     r.push_back(with(final_image("lab5-default-off", 5, "default"), off));
     r.push_back(with(final_image("lab5-default-custom-off", 5, "default"), isolated));
     r.push_back(with(with(final_image("lab5-default-custom-on", 5, "default"), isolated), custom_on));
+    // The handout's other settings: bloom at a second display gamma (a composite that
+    // hard-codes 2.2 instead of calling tonemap() shows here), and the custom effect
+    // switched on while postprocessing is off, when it must still pass the image through.
+    auto gamma10 = [](RenderSpec& s) { s.gamma = 1.0f; };
+    r.push_back(with(final_image("lab5-default-bloom-gamma10", 5, "default"), gamma10));
+    r.push_back(with(with(with(final_image("lab5-default-custom-on-off", 5, "default"), isolated), custom_on), off));
     return r;
   }();
   return kRenders;
@@ -106,6 +119,7 @@ const std::vector<Check>& checks() {
       {2, "default-hdr", "default scene, HDR", Metric::Hdr, "lab2-default-hdr", "lab2-default-hdr"},
       {2, "sphere-final", "sphere scene, final image", Metric::Ldr, "lab2-sphere-final", "lab2-sphere-final"},
       {2, "sphere-hdr", "sphere scene, HDR", Metric::Hdr, "lab2-sphere-hdr", "lab2-sphere-hdr"},
+      {2, "highlight-hdr", "highlight close-up, HDR", Metric::Hdr, "lab2-highlight-hdr", "lab2-highlight-hdr"},
 
       {3, "default-physical-hdr", "default scene, physical falloff, HDR", Metric::Hdr, "lab3-default-physical-hdr", "lab3-default-physical-hdr"},
       {3, "default-simple-hdr", "default scene, simple falloff, HDR", Metric::Hdr, "lab3-default-simple-hdr", "lab3-default-simple-hdr"},
@@ -113,6 +127,7 @@ const std::vector<Check>& checks() {
       {3, "default-physical-gamma22", "default scene, physical falloff, gamma 2.2", Metric::Ldr, "lab3-default-physical-gamma22", "lab3-default-physical-gamma22"},
       {3, "default-physical-gamma10", "default scene, physical falloff, gamma 1.0", Metric::Ldr, "lab3-default-physical-gamma10", "lab3-default-physical-gamma10"},
       {3, "sphere-simple-gamma10", "sphere scene, simple falloff, gamma 1.0", Metric::Ldr, "lab3-sphere-simple-gamma10", "lab3-sphere-simple-gamma10"},
+      {3, "spot-physical-hdr", "spot scene (wide penumbra), physical falloff, HDR", Metric::Hdr, "lab3-spot-physical-hdr", "lab3-spot-physical-hdr"},
 
       {4, "normalmap-final", "normalmap scene, final image", Metric::Ldr, "lab4-normalmap-final", "lab4-normalmap-final"},
       {4, "default-final", "default scene, final image", Metric::Ldr, "lab4-default-final", "lab4-default-final"},
@@ -128,6 +143,10 @@ const std::vector<Check>& checks() {
       // through unchanged); on must change the image. What it does is not graded.
       {5, "custom-off", "custom effect off passes the image through", Metric::Ldr, "lab5-default-custom-off", "lab5-default-bloom"},
       {5, "custom-on", "custom effect on changes the image", Metric::Changes, "lab5-default-custom-on", "lab5-default-custom-off"},
+      {5, "default-bloom-gamma10", "default scene, bloom on, gamma 1.0", Metric::Ldr, "lab5-default-bloom-gamma10", "lab5-default-bloom-gamma10"},
+      // Postprocessing off gates the custom effect too: with its own toggle on, the
+      // image must still be stage 4's.
+      {5, "custom-on-postprocess-off", "custom effect on, postprocess off, equals stage 4", Metric::Ldr, "lab5-default-custom-on-off", "lab4-default-final"},
   };
   return kChecks;
 }

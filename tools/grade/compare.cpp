@@ -4,8 +4,11 @@
 #include <OpenImageIO/imagebufalgo.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <vector>
 
 #include "renderer.h"
 
@@ -78,11 +81,13 @@ struct NormalStats {
   size_t failing = 0, covered = 0;
   size_t not_unit = 0;  // failing because |n| differs from the reference's length, not the angle
   Image error;  // per-pixel max |a - b| over xyz, for the diff image
+  Image angle;  // per-pixel angle in degrees (180 where only one image has a normal)
 };
 
 NormalStats compare_normals(const Image& a, const Image& b, const Tolerance& tol) {
   NormalStats s;
   s.error = Image(a.width, a.height, 1);
+  s.angle = Image(a.width, a.height, 1);
   for (int y = 0; y < a.height; ++y) {
     for (int x = 0; x < a.width; ++x) {
       float la = 0.0f, lb = 0.0f, dot = 0.0f, diff = 0.0f;
@@ -109,6 +114,7 @@ NormalStats compare_normals(const Image& a, const Image& b, const Tolerance& tol
         fails = angle > tol.fail_threshold || length_off;
         if (length_off) ++s.not_unit;
       }
+      s.angle.at(x, y, 0) = static_cast<float>(angle);
       ++s.covered;
       s.sum_angle += angle;
       if (fails) ++s.failing;
@@ -122,6 +128,32 @@ NormalStats compare_normals(const Image& a, const Image& b, const Tolerance& tol
   return s;
 }
 
+// The reference's background: its most common pixel value (the clear colour of a
+// display image, zeros in a G-buffer attachment).
+std::array<float, 4> most_common_pixel(const Image& image) {
+  std::map<std::array<float, 4>, size_t> counts;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      std::array<float, 4> v{0.0f, 0.0f, 0.0f, 0.0f};
+      for (int c = 0; c < std::min(image.channels, 4); ++c) v[static_cast<size_t>(c)] = image.at(x, y, c);
+      ++counts[v];
+    }
+  std::array<float, 4> best{0.0f, 0.0f, 0.0f, 0.0f};
+  size_t most = 0;
+  for (const auto& [v, n] : counts)
+    if (n > most) {
+      most = n;
+      best = v;
+    }
+  return best;
+}
+
+bool shows(const Image& image, int x, int y, const std::array<float, 4>& background) {
+  for (int c = 0; c < std::min(image.channels, 4); ++c)
+    if (image.at(x, y, c) != background[static_cast<size_t>(c)]) return true;
+  return false;
+}
+
 std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
   char buf[200];
   std::snprintf(buf, sizeof buf, fmt, a, b, c);
@@ -131,6 +163,23 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
 std::string psnr_text(double psnr) { return std::isfinite(psnr) ? format("%.1f dB", psnr) : "inf (identical)"; }
 
 }  // namespace
+
+double largest_possible_difference(Metric metric) {
+  switch (metric) {
+    case Metric::Ldr:
+    case Metric::Albedo:
+    case Metric::Changes: return 1.0;  // RGBA8: values in [0, 1]
+    case Metric::Hdr: return 2.0;      // c / (1 + |c|) lies in (-1, 1)
+    case Metric::Normal: return 180.0;
+    case Metric::Position:
+    case Metric::Material: return 2.0 * 65504.0;  // RGBA16F
+  }
+  return 0.0;
+}
+
+size_t allowed_failing_pixels(const Tolerance& tolerance, size_t pixels) {
+  return static_cast<size_t>(std::floor(tolerance.fail_percent / 100.0 * static_cast<double>(pixels) + 1e-9));
+}
 
 Comparison compare_images(Metric metric, const Tolerance& tol, const Image& image, const Image& reference) {
   Comparison r;
@@ -149,7 +198,8 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
   }
   const double pixels = static_cast<double>(image.width) * image.height;
   OIIO::ImageBuf wa = wrap(a), wb = wrap(b);
-  Image error(a.width, a.height, 1);
+  Image error(a.width, a.height, 1);        // for the diff image
+  Image pixel_error(a.width, a.height, 1);  // what the mean over covered pixels averages
   if (metric == Metric::Normal) {
     NormalStats s = compare_normals(a, b, tol);
     OIIO::ImageBufAlgo::CompareResults cr =
@@ -158,9 +208,10 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
     r.max_x = s.max_x;
     r.max_y = s.max_y;
     r.mean_error = s.covered ? s.sum_angle / static_cast<double>(s.covered) : 0.0;
-    r.failing_percent = 100.0 * static_cast<double>(s.failing) / pixels;
+    r.failing_pixels = s.failing;
     r.psnr = cr.PSNR;
     error = s.error;
+    pixel_error = s.angle;
     // A normal can point the right way and still be wrong (not unit length): say so.
     if (s.not_unit > 0)
       r.note = format("%.2f%% of the normals differ in length from the reference's by more than %.3g "
@@ -172,7 +223,7 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
     r.max_x = cr.maxx;
     r.max_y = cr.maxy;
     r.mean_error = cr.meanerror;
-    r.failing_percent = 100.0 * static_cast<double>(cr.nfail) / pixels;
+    r.failing_pixels = static_cast<size_t>(cr.nfail);
     r.psnr = cr.PSNR;
     for (int y = 0; y < a.height; ++y)
       for (int x = 0; x < a.width; ++x) {
@@ -180,6 +231,26 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
         for (int c = 0; c < a.channels; ++c) d = std::max(d, std::fabs(a.at(x, y, c) - b.at(x, y, c)));
         error.at(x, y, 0) = d;
       }
+    pixel_error = error;
+  }
+  r.failing_percent = 100.0 * static_cast<double>(r.failing_pixels) / pixels;
+  // The mean of each pixel's error (its largest channel difference; for normals the
+  // angle) over the covered pixels: those where the reference or the submission shows
+  // something other than the reference's background. A faint difference spread over
+  // many pixels raises it while staying under every per-pixel threshold. Each pixel
+  // counts at most fail_threshold: pixels over it are the failing share's business, so
+  // the few it allows (a flipped silhouette pixel) cannot fail this criterion instead.
+  if (metric != Metric::Changes) {
+    const std::array<float, 4> background = most_common_pixel(b);
+    const double cap = tol.fail_threshold;
+    double sum = 0.0;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x)
+        if (shows(a, x, y, background) || shows(b, x, y, background)) {
+          ++r.covered_pixels;
+          sum += std::min(static_cast<double>(pixel_error.at(x, y, 0)), cap);
+        }
+    r.covered_mean_error = r.covered_pixels ? sum / static_cast<double>(r.covered_pixels) : 0.0;
   }
   // NaN/Inf pixels show at full scale in the diff (their copies above were zeroed).
   for (int y = 0; y < image.height; ++y)
@@ -195,15 +266,48 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
     if (!r.passed) r.note = "turning the effect on leaves the image (almost) as it was";
     return r;
   }
-  const char* unit = metric == Metric::Normal ? " degrees" : metric == Metric::Position ? " m" : "";
-  r.passed = r.non_finite == 0 && r.failing_percent <= tol.fail_percent && r.max_error <= tol.hard_fail;
-  r.summary = format("%.2f%% of the pixels differ by more than ", r.failing_percent) +
-              format("%.3g", tol.fail_threshold) + unit + (metric == Metric::Normal ? " or in length" : "") +
-              format(" (at most %.2f%% may)", tol.fail_percent) +
-              "; max error " + format("%.3g", r.max_error) + unit +
-              format(" at (%.0f, %.0f)", r.max_x, r.max_y) + (r.max_error > tol.hard_fail ? format(" (limit %.3g)", tol.hard_fail) : "") +
-              (metric == Metric::Normal ? format("; mean angle %.3g degrees", r.mean_error) : format("; mean error %.3g", r.mean_error)) +
-              "; PSNR " + psnr_text(r.psnr);
+  const std::string unit = metric == Metric::Normal ? " degrees" : metric == Metric::Position ? " m" : "";
+  const size_t total = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
+  r.allowed_failing_pixels = allowed_failing_pixels(tol, total);
+  const bool share_ok = r.failing_pixels <= r.allowed_failing_pixels;
+  const bool hard_ok = r.max_error <= tol.hard_fail;
+  const bool mean_ok = r.covered_mean_error <= tol.max_mean_error;
+  r.passed = r.non_finite == 0 && share_ok && hard_ok && mean_ok;
+  // Every criterion with its number and its limit, pixel counts as integers, so the
+  // words never show a passing share beside a failing limit.
+  const std::string share = std::to_string(r.failing_pixels) + " of " + std::to_string(total) +
+                            format(" pixels (%.3f%%) differ by more than ", r.failing_percent) +
+                            format("%.3g", tol.fail_threshold) + unit +
+                            (metric == Metric::Normal ? " or in length" : "");
+  const std::string allowed = std::to_string(r.allowed_failing_pixels) + format(" (%.2f%%)", tol.fail_percent);
+  const std::string mean = format("the mean error over the %.0f covered pixels is %.3g", static_cast<double>(r.covered_pixels),
+                                  r.covered_mean_error) + unit;
+  const std::string largest = format("the largest difference is %.3g", r.max_error) + unit +
+                              format(" at (%.0f, %.0f)", r.max_x, r.max_y);
+  const bool hard_applies = tol.hard_fail < largest_possible_difference(metric);
+  std::vector<std::string> over;
+  if (!share_ok) over.push_back(share + ", more than the " + allowed + " allowed");
+  if (!mean_ok)
+    over.push_back(mean + format(", over the limit of %.3g", tol.max_mean_error) + unit +
+                   (share_ok ? " (a faint difference spread over many pixels)" : ""));
+  if (!hard_ok)
+    over.push_back(largest + format(", over the limit of %.3g", tol.hard_fail) + unit +
+                   (metric == Metric::Hdr ? " (compressed values lie in (-1, 1): only a pixel whose sign differs from "
+                                            "the reference's gets there; negative radiance?)"
+                                          : ""));
+  std::string numbers = share + " (at most " + allowed + " may); " + mean +
+                        format(" (at most %.3g)", tol.max_mean_error) + "; " + largest +
+                        (hard_applies ? format(" (at most %.3g)", tol.hard_fail) : std::string()) +
+                        (metric == Metric::Normal ? format("; mean angle %.3g degrees", r.mean_error)
+                                                  : format("; mean error over all pixels %.3g", r.mean_error)) +
+                        "; PSNR " + psnr_text(r.psnr);
+  if (over.empty()) {
+    r.summary = numbers;
+  } else {
+    r.summary = "Over the limit: ";
+    for (size_t i = 0; i < over.size(); ++i) r.summary += (i ? "; " : "") + over[i];
+    r.summary += ". All numbers: " + numbers;
+  }
   if (r.non_finite > 0) {
     r.note = std::to_string(r.non_finite) + format(" pixels (%.1f%%) are NaN or Inf: ", 100.0 * static_cast<double>(r.non_finite) / pixels) +
              kNonFiniteAdvice;

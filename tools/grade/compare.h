@@ -16,6 +16,11 @@ struct Comparison {
   int max_x = 0, max_y = 0;      // where it is
   double mean_error = 0.0;
   double failing_percent = 0.0;  // pixels over the per-pixel threshold (Changes: pixels changed)
+  size_t failing_pixels = 0;     // the same as a count
+  size_t allowed_failing_pixels = 0;  // the most that may fail (fail_percent of the image, rounded down)
+  size_t covered_pixels = 0;     // pixels where the reference or the submission shows more than the background
+  double covered_mean_error = 0.0;  // mean per-pixel error over them (largest channel difference; Normal: degrees),
+                                    // each pixel's capped at fail_threshold
   double psnr = 0.0;             // dB, of the compared values (inf when identical)
   size_t non_finite = 0;         // pixels of the submission holding NaN or Inf
   std::string summary;           // the numbers in one line of words
@@ -23,7 +28,18 @@ struct Comparison {
   Image diff;                    // |submission - reference| x 16 through a colour map (RGB)
 };
 
-// Compares `image` (the submission's) with `reference` under `metric`.
+// The largest difference a metric can measure between two pixels (a hard_fail at
+// or above it never fires): 1 for RGBA8 images, 2 for compressed HDR (c / (1 + |c|)
+// lies in (-1, 1), so only a sign flip differs by more than 1), 180 degrees for
+// normals, twice RGBA16F's largest value for positions and materials.
+double largest_possible_difference(Metric metric);
+// The most pixels of `pixels` that may fail the per-pixel threshold: fail_percent of them, rounded down.
+size_t allowed_failing_pixels(const Tolerance& tolerance, size_t pixels);
+
+// Compares `image` (the submission's) with `reference` under `metric`: it fails when
+// more than allowed_failing_pixels() pixels are over fail_threshold, when one pixel
+// differs by more than hard_fail, when the mean error over the covered pixels is over
+// max_mean_error, or when the image holds NaN/Inf.
 Comparison compare_images(Metric metric, const Tolerance& tolerance, const Image& image, const Image& reference);
 
 // The image as the report shows it (RGB, [0,1]): G-buffer vectors as (v+1)/2,

@@ -22,12 +22,12 @@ struct RequiredFields {
   std::vector<const char*> fields;
 };
 const RequiredFields kRequired[] = {
-    {Metric::Ldr, {"fail_threshold", "fail_percent", "hard_fail"}},
-    {Metric::Hdr, {"fail_threshold", "fail_percent", "hard_fail"}},
-    {Metric::Position, {"fail_threshold", "fail_percent", "hard_fail"}},
-    {Metric::Normal, {"fail_threshold", "fail_percent", "hard_fail", "length_tolerance"}},
-    {Metric::Albedo, {"fail_threshold", "fail_percent", "hard_fail"}},
-    {Metric::Material, {"fail_threshold", "fail_percent", "hard_fail"}},
+    {Metric::Ldr, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
+    {Metric::Hdr, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
+    {Metric::Position, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
+    {Metric::Normal, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error", "length_tolerance"}},
+    {Metric::Albedo, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
+    {Metric::Material, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
     {Metric::Changes, {"fail_threshold", "min_changed_percent"}},
 };
 
@@ -55,28 +55,39 @@ double Config::lab_points(int lab) const {
   return sum;
 }
 
-double Config::max_score(const Check& check) const {
-  const double total = lab_points(check.lab);
-  if (total <= 0.0) return 0.0;
-  // Exact shares in thousandths, floored; the thousandths the floors leave over go
-  // one each to the checks with the largest remainders (ties: the key's order).
-  const std::map<std::string, double>& lab = points.at(check.lab);
-  const double thousandths = std::round(weight.at(check.lab) * 1000.0);
-  std::vector<std::pair<double, std::string>> remainders;
-  double given = 0.0, mine = 0.0;
-  for (const auto& [key, p] : lab) {
-    const double exact = thousandths * p / total;
-    const double floored = std::floor(exact);
-    given += floored;
-    if (key == check.key) mine = floored;
-    remainders.push_back({exact - floored, key});
+std::vector<Thousandths> apportion(Thousandths total, const std::vector<double>& points) {
+  std::vector<Thousandths> shares(points.size(), 0);
+  double sum = 0.0;
+  for (double p : points) sum += p;
+  if (sum <= 0.0 || total <= 0) return shares;
+  // Exact shares floored; the thousandths the floors leave over go one each to the
+  // entries with the largest remainders (ties: the earlier entry).
+  std::vector<std::pair<double, size_t>> remainders;
+  Thousandths given = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const double exact = static_cast<double>(total) * points[i] / sum;
+    shares[i] = static_cast<Thousandths>(std::floor(exact + 1e-9));  // 2000 - 1 ulp is 2000
+    given += shares[i];
+    remainders.push_back({exact - static_cast<double>(shares[i]), i});
   }
   std::stable_sort(remainders.begin(), remainders.end(),
                    [](const auto& a, const auto& b) { return a.first > b.first; });
-  const size_t left = static_cast<size_t>(thousandths - given);
-  for (size_t i = 0; i < left && i < remainders.size(); ++i)
-    if (remainders[i].second == check.key) mine += 1.0;
-  return mine / 1000.0;
+  for (size_t i = 0; given < total && i < remainders.size(); ++i, ++given) shares[remainders[i].second] += 1;
+  return shares;
+}
+
+Thousandths Config::max_score(const Check& check) const {
+  auto lab = points.find(check.lab);
+  if (lab == points.end()) return 0;
+  std::vector<double> p;
+  size_t mine = 0;
+  for (const auto& [key, value] : lab->second) {  // the keys' order, as results.json lists them
+    if (key == check.key) mine = p.size();
+    p.push_back(value);
+  }
+  if (!lab->second.count(check.key)) return 0;
+  const Thousandths total = static_cast<Thousandths>(std::llround(weight.at(check.lab) * 1000.0));
+  return apportion(total, p)[mine];
 }
 
 fs::path default_config_path() { return kit_root() / "tools" / "grade" / "grading.json"; }
@@ -132,6 +143,7 @@ Config load_config(const fs::path& path) {
       if (f == "fail_threshold") tol.fail_threshold = v;
       else if (f == "fail_percent") tol.fail_percent = v;
       else if (f == "hard_fail") tol.hard_fail = v;
+      else if (f == "max_mean_error") tol.max_mean_error = v;
       else if (f == "length_tolerance") tol.length_tolerance = v;
       else if (f == "min_changed_percent") tol.min_changed_percent = v;
     }

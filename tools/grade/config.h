@@ -4,19 +4,27 @@
 // overridable with --config), so instructors change weights without rebuilding.
 #include <filesystem>
 #include <map>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include "checks.h"
 
 namespace kit::grade {
 
+// Scores are integer thousandths of a point, so a lab's total is the exact sum of
+// its checks' shares whichever checks fail (no 4.999 from adding 1.667s).
+using Thousandths = std::int64_t;
+
 // One metric's tolerance, idiff-style: a pixel fails when any channel differs by
 // more than fail_threshold; the check fails when more than fail_percent of the
-// pixels fail or any pixel differs by more than hard_fail.
+// pixels fail, any pixel differs by more than hard_fail, or the mean error over
+// the covered pixels is over max_mean_error (wide, faint differences).
 struct Tolerance {
   double fail_threshold = 0.0;       // Normal: degrees
   double fail_percent = 0.0;         // percent of the image's pixels
   double hard_fail = 0.0;            // Normal: degrees
+  double max_mean_error = 0.0;       // mean per-pixel error over the covered pixels (Normal: degrees)
   double length_tolerance = 0.0;     // Normal only: | |n| - 1 | above this fails the pixel
   double min_changed_percent = 0.0;  // Changes only: at least this share of pixels must differ
 };
@@ -30,10 +38,16 @@ struct Config {
   const Tolerance& tolerance(Metric metric) const;
   double lab_points(int lab) const;  // sum of the lab's check points
   // The share of the lab's weight one check is worth: weight * points / lab_points,
-  // in thousandths of a point (the precision results.json carries), apportioned so
-  // that the lab's checks add up to exactly its weight (largest remainder).
-  double max_score(const Check& check) const;
+  // in integer thousandths of a point (the precision results.json carries),
+  // apportioned once per lab so that its checks add up to exactly its weight
+  // (largest remainder). Every score kit-grade adds or prints is a sum of these.
+  Thousandths max_score(const Check& check) const;
 };
+
+// Largest-remainder apportionment: `total` thousandths split in proportion to
+// `points`; each share is the exact share rounded down or up, and the shares add
+// up to `total` exactly. Ties in the remainders go to the earlier entry.
+std::vector<Thousandths> apportion(Thousandths total, const std::vector<double>& points);
 
 // The default config: <kit root>/tools/grade/grading.json.
 std::filesystem::path default_config_path();

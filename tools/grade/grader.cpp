@@ -130,7 +130,6 @@ LabOutcome empty_lab(const Run& run, int lab) {
     CheckOutcome c;
     c.check = check;
     c.max_score = run.config.max_score(*check);
-    out.max_score += c.max_score;
     out.checks.push_back(c);
   }
   return out;
@@ -263,8 +262,7 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
     }
     c.compared = true;
     c.passed = c.comparison.passed;
-    c.score = c.passed ? c.max_score : 0.0;
-    lab.score += c.score;
+    c.score = c.passed ? c.max_score : 0;
     write_report_images(run, result_dir, check, image, reference, c);
     c.comparison.diff = Image();  // written: a batch keeps no images in memory
   }
@@ -467,7 +465,7 @@ void remove_run_temp(const Run& run) {
 void print_submission(const SubmissionOutcome& s) {
   if (!s.problem.empty()) std::printf("%s: %s\n", s.name.c_str(), s.problem.c_str());
   for (const auto& [number, lab] : s.labs) std::printf("%s\n", lab_line(lab).c_str());
-  std::printf("total: %s/%s\n", format_score(s.total()).c_str(), format_score(s.max_total()).c_str());
+  std::printf("total: %s/%s\n", format_points(s.total()).c_str(), format_points(s.max_total()).c_str());
   std::fflush(stdout);
 }
 
@@ -590,15 +588,27 @@ int LabOutcome::passed_checks() const {
   return static_cast<int>(std::count_if(checks.begin(), checks.end(), [](const CheckOutcome& c) { return c.passed; }));
 }
 
-double SubmissionOutcome::total() const {
-  double sum = 0.0;
-  for (const auto& [n, lab] : labs) sum += lab.score;
+Thousandths LabOutcome::score() const {
+  Thousandths sum = 0;
+  for (const CheckOutcome& c : checks) sum += c.score;
   return sum;
 }
 
-double SubmissionOutcome::max_total() const {
-  double sum = 0.0;
-  for (const auto& [n, lab] : labs) sum += lab.max_score;
+Thousandths LabOutcome::max_score() const {
+  Thousandths sum = 0;
+  for (const CheckOutcome& c : checks) sum += c.max_score;
+  return sum;
+}
+
+Thousandths SubmissionOutcome::total() const {
+  Thousandths sum = 0;
+  for (const auto& [n, lab] : labs) sum += lab.score();
+  return sum;
+}
+
+Thousandths SubmissionOutcome::max_total() const {
+  Thousandths sum = 0;
+  for (const auto& [n, lab] : labs) sum += lab.max_score();
   return sum;
 }
 
@@ -721,7 +731,7 @@ int grade_batch(const fs::path& folder, const Options& options) {
     for (const auto& [n, lab] : e.outcome.labs)
       if (lab.status != kGraded) problems += " lab" + std::to_string(n) + ":" + lab.status;
     std::printf("[%zu/%zu] %s: %s/%s  (%.1f s)%s%s\n", ++done, entries.size(), e.outcome.name.c_str(),
-                format_score(e.outcome.total()).c_str(), format_score(e.outcome.max_total()).c_str(), e.outcome.seconds,
+                format_points(e.outcome.total()).c_str(), format_points(e.outcome.max_total()).c_str(), e.outcome.seconds,
                 problems.c_str(), changed_set.count(e.outcome.name) ? "  [regraded: changed]" : "");
     std::fflush(stdout);
   });

@@ -39,7 +39,7 @@ constexpr const char* kGraderError = "error";  // the grader could not render (n
 struct CheckOutcome {
   const Check* check = nullptr;
   bool passed = false;
-  double score = 0.0, max_score = 0.0;
+  Thousandths score = 0, max_score = 0;  // thousandths of a point (Config::max_score)
   bool compared = false;      // false when the lab was not rendered
   Comparison comparison;
   std::string image, reference, diff;  // report images, relative to the result folder ("" when none)
@@ -51,13 +51,15 @@ struct LabOutcome {
   std::string message;        // the problem in plain text (compiler log, missing files, ...)
   std::string folder;         // where its files were taken from, relative to the submission ("" when not found)
   std::vector<CheckOutcome> checks;
-  double score = 0.0, max_score = 0.0;
   double render_ms = 0.0;     // GPU work of the lab's frames (child.json)
   double child_seconds = 0.0, child_cpu_seconds = 0.0, compare_seconds = 0.0;
   long child_max_rss_kib = 0;   // from wait4
   long child_vm_peak_kib = 0;   // the child's peak address space (RLIMIT_AS applies to it)
   std::map<std::string, double> child_timings;  // context, compile, render, readback
   int passed_checks() const;
+  // The sums of the checks' integer thousandths: exact, and the very numbers printed.
+  Thousandths score() const;
+  Thousandths max_score() const;
 };
 
 struct SubmissionOutcome {
@@ -69,8 +71,8 @@ struct SubmissionOutcome {
   std::map<int, LabOutcome> labs;
   std::string renderer;             // GL_RENDERER of the children
   double seconds = 0.0;
-  double total() const;
-  double max_total() const;
+  Thousandths total() const;
+  Thousandths max_total() const;
   bool grader_error() const;        // a lab could not be rendered for the grader's own reasons
 };
 

@@ -106,6 +106,26 @@ std::string lab_title(int lab) {
   return "lab " + std::to_string(s.number) + " " + s.name;
 }
 
+std::string format_points(Thousandths points) {
+  // Exact: the integer and its thousandths, trailing zeros dropped (6.667, 6.5, 10).
+  const bool negative = points < 0;
+  const Thousandths magnitude = negative ? -points : points;
+  std::string s = std::to_string(magnitude / 1000);
+  Thousandths fraction = magnitude % 1000;
+  if (fraction != 0) {
+    char buf[8];
+    std::snprintf(buf, sizeof buf, ".%03lld", static_cast<long long>(fraction));
+    std::string f = buf;
+    while (f.back() == '0') f.pop_back();
+    s += f;
+  }
+  return negative ? "-" + s : s;
+}
+
+double points_value(Thousandths points) { return static_cast<double>(points) / 1000.0; }
+
+Thousandths points_from_value(double value) { return static_cast<Thousandths>(std::llround(value * 1000.0)); }
+
 std::string format_score(double score) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.2f", score);
@@ -116,7 +136,7 @@ std::string format_score(double score) {
 }
 
 std::string lab_line(const LabOutcome& lab) {
-  std::string line = lab_title(lab.lab) + ": " + format_score(lab.score) + "/" + format_score(lab.max_score) + "  (";
+  std::string line = lab_title(lab.lab) + ": " + format_points(lab.score()) + "/" + format_points(lab.max_score()) + "  (";
   if (lab.status == kGraded)
     return line + std::to_string(lab.passed_checks()) + " of " + std::to_string(lab.checks.size()) + " checks passed)";
   return line + status_words(lab.status) + ": " + headline(lab.message) + ")";
@@ -145,8 +165,8 @@ nlohmann::json results_json(const SubmissionOutcome& s) {
     bool first = true;
     for (const CheckOutcome& c : lab.checks) {
       tests.push_back({{"name", check_name(c)},
-                       {"score", rounded(c.score)},
-                       {"max_score", rounded(c.max_score)},
+                       {"score", points_value(c.score)},
+                       {"max_score", points_value(c.max_score)},
                        {"status", c.passed ? "passed" : "failed"},
                        {"output", check_markdown(lab, c, first)},
                        {"output_format", "md"},
@@ -154,18 +174,18 @@ nlohmann::json results_json(const SubmissionOutcome& s) {
       first = false;
     }
   }
-  std::string output = "**Total: " + format_score(s.total()) + " / " + format_score(s.max_total()) + "**";
+  std::string output = "**Total: " + format_points(s.total()) + " / " + format_points(s.max_total()) + "**";
   if (!s.renderer.empty()) output += " (rendered with " + md_escape(s.renderer) + ")";
   output += "\n\n| Lab | Score | Result |\n|---|---|---|\n";
   for (const auto& [number, lab] : s.labs) {
     std::string result = lab.status == kGraded ? std::to_string(lab.passed_checks()) + " of " +
                                                      std::to_string(lab.checks.size()) + " checks passed"
                                                : status_words(lab.status);
-    output += "| " + lab_title(number) + " | " + format_score(lab.score) + " / " + format_score(lab.max_score) + " | " + result + " |\n";
+    output += "| " + lab_title(number) + " | " + format_points(lab.score()) + " / " + format_points(lab.max_score()) + " | " + result + " |\n";
   }
   if (!s.problem.empty()) output += "\n**The submission could not be graded:**\n\n" + md_code(s.problem);
   for (const std::string& note : s.notes) output += "\n* " + md_escape(note);
-  return {{"score", rounded(s.total())},
+  return {{"score", points_value(s.total())},
           {"execution_time", rounded(s.seconds)},
           {"output", output},
           {"output_format", "md"},
@@ -180,8 +200,8 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
   for (const auto& [number, lab] : s.labs) {
     nlohmann::json checks = nlohmann::json::object();
     for (const CheckOutcome& c : lab.checks) {
-      nlohmann::json entry = {{"title", c.check->title}, {"passed", c.passed}, {"score", rounded(c.score)},
-                              {"max_score", rounded(c.max_score)}};
+      nlohmann::json entry = {{"title", c.check->title}, {"passed", c.passed}, {"score", points_value(c.score)},
+                              {"max_score", points_value(c.max_score)}};
       if (c.compared) {
         entry["summary"] = c.comparison.summary;
         entry["note"] = c.comparison.note;
@@ -190,6 +210,10 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
         entry["diff"] = c.diff;
         entry["max_error"] = c.comparison.max_error;
         entry["failing_percent"] = c.comparison.failing_percent;
+        entry["failing_pixels"] = c.comparison.failing_pixels;
+        entry["allowed_failing_pixels"] = c.comparison.allowed_failing_pixels;
+        entry["covered_pixels"] = c.comparison.covered_pixels;
+        entry["covered_mean_error"] = c.comparison.covered_mean_error;
         entry["psnr"] = std::isfinite(c.comparison.psnr) ? nlohmann::json(c.comparison.psnr) : nlohmann::json(nullptr);
         entry["non_finite"] = c.comparison.non_finite;
       }
@@ -197,8 +221,8 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
     }
     labs[std::to_string(number)] = {
         {"name", find_stage(std::to_string(number)).name},
-        {"score", rounded(lab.score)},
-        {"max_score", rounded(lab.max_score)},
+        {"score", points_value(lab.score())},
+        {"max_score", points_value(lab.max_score())},
         {"status", lab.status},
         {"message", lab.message},
         {"folder", lab.folder},
@@ -213,8 +237,8 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
   }
   return {{"submission", s.name},
           {"labs", labs},
-          {"total", rounded(s.total())},
-          {"max_total", rounded(s.max_total())},
+          {"total", points_value(s.total())},
+          {"max_total", points_value(s.max_total())},
           {"problem", s.problem},
           {"notes", s.notes},
           {"content_hash", s.content_hash},
@@ -234,7 +258,7 @@ std::string report_html(const SubmissionOutcome& s) {
        ".swap{position:relative;width:256px}.swap .ref{position:absolute;left:0;top:0;opacity:0}\n"
        ".swap:hover .ref{opacity:1}.numbers{max-width:28em;font-size:90%}.note{color:#a00}\n"
        "</style></head><body>\n";
-  h += "<h1>" + html_escape(s.name) + ": " + format_score(s.total()) + " / " + format_score(s.max_total()) + "</h1>\n";
+  h += "<h1>" + html_escape(s.name) + ": " + format_points(s.total()) + " / " + format_points(s.max_total()) + "</h1>\n";
   h += "<p>Rendered with " + html_escape(s.renderer.empty() ? std::string("(nothing rendered)") : s.renderer) + " at " +
        std::to_string(kGradeWidth) + "x" + std::to_string(kGradeHeight) + " in " + format_score(s.seconds) +
        " s. Hover a submission image to see the reference; the diff shows |submission - reference| &times; " +
@@ -247,8 +271,8 @@ std::string report_html(const SubmissionOutcome& s) {
   }
   h += "<table><tr><th>Lab</th><th>Score</th><th>Result</th></tr>\n";
   for (const auto& [number, lab] : s.labs)
-    h += "<tr class=\"" + std::string(lab.score >= lab.max_score - 1e-9 ? "passed" : "failed") + "\"><td>" +
-         html_escape(lab_title(number)) + "</td><td>" + format_score(lab.score) + " / " + format_score(lab.max_score) +
+    h += "<tr class=\"" + std::string(lab.score() == lab.max_score() ? "passed" : "failed") + "\"><td>" +
+         html_escape(lab_title(number)) + "</td><td>" + format_points(lab.score()) + " / " + format_points(lab.max_score()) +
          "</td><td>" + html_escape(lab_line(lab)) + "</td></tr>\n";
   h += "</table>\n";
   for (const auto& [number, lab] : s.labs)
@@ -263,7 +287,7 @@ std::string report_html(const SubmissionOutcome& s) {
   h += "<h2>Checks</h2>\n<table><tr><th>Check</th><th>Submission</th><th>Reference</th><th>Diff</th><th>Numbers</th></tr>\n";
   for (const auto& [lab, c] : rows) {
     h += "<tr class=\"" + std::string(c->passed ? "passed" : "failed") + "\"><td>" + html_escape(check_name(*c)) +
-         "<br><b>" + (c->passed ? "passed" : "failed") + "</b> " + format_score(c->score) + " / " + format_score(c->max_score) + "</td>";
+         "<br><b>" + (c->passed ? "passed" : "failed") + "</b> " + format_points(c->score) + " / " + format_points(c->max_score) + "</td>";
     if (!c->compared) {
       h += "<td colspan=\"4\">not rendered: " + std::string(status_words(lab->status)) + "</td></tr>\n";
       continue;
@@ -337,11 +361,12 @@ void write_gradebook(const fs::path& dir, const std::vector<std::pair<std::strin
     std::string row = csv(name), problems;
     for (int lab : labs) {
       const nlohmann::json& entry = summary["labs"][std::to_string(lab)];
-      row += "," + (entry.is_object() ? format_score(entry.value("score", 0.0)) : std::string());
+      row += "," + (entry.is_object() ? format_points(points_from_value(entry.value("score", 0.0))) : std::string());
       std::string status = entry.is_object() ? entry.value("status", "") : "";
       if (!status.empty() && status != kGraded) problems += (problems.empty() ? "" : " ") + ("lab" + std::to_string(lab) + ":" + status);
     }
-    row += "," + format_score(summary.value("total", 0.0)) + "," + format_score(summary.value("max_total", 0.0)) + "," + csv(problems);
+    row += "," + format_points(points_from_value(summary.value("total", 0.0))) + "," +
+           format_points(points_from_value(summary.value("max_total", 0.0))) + "," + csv(problems);
     text += row + "\n";
   }
   write_file_atomic(dir / "gradebook.csv", text);

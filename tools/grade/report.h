@@ -25,10 +25,16 @@ void write_file_atomic(const std::filesystem::path& path, const std::string& tex
 // A JSON document as text; bytes that are not UTF-8 become U+FFFD (never throws on them).
 std::string json_text(const nlohmann::json& doc);
 
-// "lab 2 lighting: 7.5/10  (3 of 4 checks passed)" or "... 0/10  (compile error: first line)".
+// "lab 3 attenuation: 6.667/10  (4 of 6 checks passed)" or "... 0/10  (compile error: first line)".
 std::string lab_line(const LabOutcome& lab);
 // "lab 2 lighting"
 std::string lab_title(int lab);
+// A score in thousandths, exactly: "6.667", "6.5", "10" (every score kit-grade prints).
+std::string format_points(Thousandths points);
+// The same as a JSON number (6.667) and back (summary.json's numbers, rounded to thousandths).
+double points_value(Thousandths points);
+Thousandths points_from_value(double value);
+// Any other number for people (seconds, factors): at most two decimals.
 std::string format_score(double score);
 
 // gradebook.csv from the summary.json of each submission's result folder under
