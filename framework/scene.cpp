@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <sstream>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -393,7 +394,7 @@ class SceneBuilder {
     }
     if (node.camera >= 0 && !scene_.camera) camera(node, world);
     auto ext = node.extensions.find("KHR_lights_punctual");
-    if (ext != node.extensions.end() && ext->second.Has("light")) light(ext->second.Get("light").GetNumberAsInt(), world);
+    if (ext != node.extensions.end() && ext->second.Has("light")) light(light_index(ext->second.Get("light")), world);
     for (int child : node.children) visit(child, world, depth + 1);
   }
 
@@ -409,6 +410,20 @@ class SceneBuilder {
     cam.zfar = c.perspective.zfar > 0 ? static_cast<float>(c.perspective.zfar) : 1000.0f;
     if (!(cam.yfov > 0.0f) || !(cam.znear > 0.0f)) throw Error(path_ + ": camera " + std::to_string(node.camera) + " has an invalid yfov or znear");
     scene_.camera = cam;
+  }
+
+  // A node's KHR_lights_punctual "light": the index of an existing light. Read as a
+  // double and checked before it becomes an int: tinygltf's GetNumberAsInt converts
+  // any double, which is undefined behaviour past int's range (1e300).
+  int light_index(const tinygltf::Value& value) const {
+    double index = value.IsNumber() ? value.GetNumberAsDouble() : -1.0;
+    if (!(index >= 0.0 && index < static_cast<double>(model_.lights.size()) && index == std::floor(index))) {
+      std::ostringstream shown;
+      if (value.IsNumber()) shown << index;
+      else shown << "(not a number)";
+      throw Error(path_ + ": KHR_lights_punctual light index " + shown.str() + " does not exist");
+    }
+    return static_cast<int>(index);
   }
 
   void light(int index, const glm::mat4& world) {

@@ -1,8 +1,8 @@
 #include "shader_source.h"
 
 #include <algorithm>
+#include <climits>
 #include <fstream>
-#include <regex>
 #include <sstream>
 
 #include "error.h"
@@ -46,6 +46,80 @@ std::string trim(const std::string& s) {
   return s.substr(b, e - b + 1);
 }
 
+// Lines are scanned by hand, never with std::regex: libstdc++'s regex matcher
+// recurses once per character, so one long line (a file is up to 256 KiB) would
+// overflow the stack. Whitespace is what \s matched: space, \t, \n, \v, \f, \r.
+bool is_space(char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\v' || c == '\f' || c == '\r'; }
+bool is_word(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+}
+size_t skip_space(const std::string& s, size_t i) {
+  while (i < s.size() && is_space(s[i])) ++i;
+  return i;
+}
+
+// Where the directive's name starts when `line` is "<space>#<space>NAME...", else npos.
+size_t directive_name(const std::string& line) {
+  size_t i = skip_space(line, 0);
+  if (i >= line.size() || line[i] != '#') return std::string::npos;
+  return skip_space(line, i + 1);
+}
+
+// "#version" followed by the end of the line or a character that ends the word.
+bool is_version_line(const std::string& line) {
+  size_t i = directive_name(line);
+  if (i == std::string::npos || line.compare(i, 7, "version") != 0) return false;
+  return i + 7 == line.size() || !is_word(line[i + 7]);
+}
+
+// `#include "name"`, optionally followed by a // comment; sets *name.
+bool is_include_line(const std::string& line, std::string* name) {
+  size_t i = directive_name(line);
+  if (i == std::string::npos || line.compare(i, 7, "include") != 0) return false;
+  i = skip_space(line, i + 7);
+  if (i >= line.size() || line[i] != '"') return false;
+  size_t close = line.find('"', i + 1);
+  if (close == std::string::npos) return false;
+  size_t rest = skip_space(line, close + 1);
+  if (rest < line.size() && (line.compare(rest, 2, "//") != 0 || line.find('\r', rest) != std::string::npos))
+    return false;
+  *name = line.substr(i + 1, close - i - 1);
+  return true;
+}
+
+// The run of decimal digits at `*i` as an int (INT_MAX when it does not fit);
+// false when there is none. Advances *i past it.
+bool read_number(const std::string& s, size_t* i, int* value) {
+  size_t start = *i;
+  long long v = 0;
+  for (; *i < s.size() && s[*i] >= '0' && s[*i] <= '9'; ++*i) v = std::min<long long>(v * 10 + (s[*i] - '0'), INT_MAX);
+  *value = static_cast<int>(v);
+  return *i > start;
+}
+
+// The "0:12(3)" (Mesa) or "0(12)" (NVIDIA) that starts a compiler log line: the
+// assembled line's number, the column's digits (Mesa only, else "") and where it ends.
+bool log_location(const std::string& line, int* number, std::string* column, size_t* end) {
+  size_t i = 0;
+  int source = 0, ignored = 0;
+  if (!read_number(line, &i, &source) || i >= line.size()) return false;
+  if (line[i] == ':') {
+    size_t open = i + 1;
+    if (!read_number(line, &open, number) || open >= line.size() || line[open] != '(') return false;
+    size_t close = open + 1;
+    if (!read_number(line, &close, &ignored) || close >= line.size() || line[close] != ')') return false;
+    *column = line.substr(open + 1, close - open - 1);
+    *end = close + 1;
+    return true;
+  }
+  if (line[i] != '(') return false;
+  size_t close = i + 1;
+  if (!read_number(line, &close, number) || close >= line.size() || line[close] != ')') return false;
+  column->clear();
+  *end = close + 1;
+  return true;
+}
+
 }  // namespace
 
 bool is_plain_shader_name(const std::string& name) {
@@ -77,6 +151,16 @@ std::string read_shader_text(const fs::path& path, const std::string& display) {
   size_t bad = 0;
   if (!valid_utf8(text, &bad))
     throw Error(display + ": file is not UTF-8 text (invalid byte at offset " + std::to_string(bad) + ")");
+  size_t number = 1;
+  for (size_t start = 0; start < text.size(); ++number) {
+    size_t end = std::min(text.find('\n', start), text.size());
+    size_t length = end - start - (end > start && text[end - 1] == '\r' ? 1 : 0);
+    if (length > kMaxShaderLineBytes)
+      throw Error(display + ":" + std::to_string(number) + ": line is " + std::to_string(length) +
+                  " bytes long, over the " + std::to_string(kMaxShaderLineBytes) +
+                  "-byte limit for a line of shader text (kit::kMaxShaderLineBytes)");
+    start = end + 1;
+  }
   return text;
 }
 
@@ -126,8 +210,6 @@ void ShaderLibrary::append(const std::string& name, AssembledShader& out,
   out.files.push_back(display);
   out.paths.push_back(path);
 
-  static const std::regex include_re(R"(^\s*#\s*include\s*\"([^\"]*)\"\s*(//.*)?$)");
-  static const std::regex version_re(R"(^\s*#\s*version\b.*)");
   std::istringstream lines(text);
   std::string line;
   int number = 0;
@@ -135,20 +217,20 @@ void ShaderLibrary::append(const std::string& name, AssembledShader& out,
   while (std::getline(lines, line)) {
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    std::smatch m;
-    if (std::regex_match(line, version_re)) {
+    std::string included_name;
+    if (is_version_line(line)) {
       if (!top_level)
         throw Error(display + ":" + std::to_string(number) + ": an included file must not declare #version");
       if (seen_code || trim(line) != kRequiredVersionLine)
         throw Error(display + ":" + std::to_string(number) + ": the first line must be \"" +
                     kRequiredVersionLine + "\" (found \"" + trim(line) + "\")");
-    } else if ((seen_code || !top_level) && std::regex_match(line, m, include_re)) {
+    } else if ((seen_code || !top_level) && is_include_line(line, &included_name)) {
       // An include ahead of a top-level #version is left to the first-line check
       // below, which refuses it: its text would come before the version line.
       try {
-        append(m[1].str(), out, included, depth + 1, false);
+        append(included_name, out, included, depth + 1, false);
       } catch (const Error& e) {
-        throw Error(display + ":" + std::to_string(number) + ": in #include \"" + m[1].str() + "\": " + e.what());
+        throw Error(display + ":" + std::to_string(number) + ": in #include \"" + included_name + "\": " + e.what());
       }
       continue;
     } else if (top_level && !seen_code && !trim(line).empty()) {
@@ -163,9 +245,7 @@ void ShaderLibrary::append(const std::string& name, AssembledShader& out,
 }
 
 std::string AssembledShader::map_log(const std::string& log) const {
-  // Mesa: "0:12(3): error: ..."; NVIDIA: "0(12) : error ...".
-  static const std::regex mesa_re(R"((\d+):(\d+)\((\d+)\))");
-  static const std::regex nvidia_re(R"(^(\d+)\((\d+)\))");
+  // Mesa: "0:12(3): error: ..."; NVIDIA: "0(12) : error ...". Both at the start of a line.
   std::istringstream in(log);
   std::string line, result;
   auto where = [&](int assembled_line) -> std::string {
@@ -176,12 +256,11 @@ std::string AssembledShader::map_log(const std::string& log) const {
     return files.empty() ? std::string("?") : files[0] + ":?";
   };
   while (std::getline(in, line)) {
-    std::smatch m;
-    if (std::regex_search(line, m, mesa_re) && m.position(0) == 0) {
-      line = where(std::stoi(m[2].str())) + ":" + m[3].str() + line.substr(m.length(0));
-    } else if (std::regex_search(line, m, nvidia_re)) {
-      line = where(std::stoi(m[2].str())) + line.substr(m.length(0));
-    }
+    int number = 0;
+    std::string column;
+    size_t end = 0;
+    if (log_location(line, &number, &column, &end))
+      line = where(number) + (column.empty() ? "" : ":" + column) + line.substr(end);
     result += line + "\n";
   }
   return result;

@@ -7,6 +7,8 @@
 // or "..", and a file whose real path (symlinks followed) leaves its folder is
 // refused, so a submission can never make the kit read anything but shader text
 // from inside the allowed folders.
+#include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -38,6 +40,9 @@ struct AssembledShader {
 
 // Files larger than this are refused before they are read (a shader is text).
 constexpr std::uintmax_t kMaxShaderFileBytes = 256 * 1024;
+// Longest line accepted, in bytes (its line break not counted): the kit's own
+// shaders stay under 130; a longer line is refused naming its file and line.
+constexpr std::size_t kMaxShaderLineBytes = 4096;
 // Every top-level shader must start with this line: the kit targets GL 3.3 core.
 constexpr const char* kRequiredVersionLine = "#version 330 core";
 
@@ -59,7 +64,7 @@ class ShaderLibrary {
 };
 
 // Reads a whole file as shader text: size limit, no NUL bytes, valid UTF-8,
-// not empty. A UTF-8 byte-order mark at the start is dropped. Throws kit::Error
+// not empty, no line longer than kMaxShaderLineBytes. A UTF-8 byte-order mark at the start is dropped. Throws kit::Error
 // naming `display`.
 std::string read_shader_text(const std::filesystem::path& path, const std::string& display);
 

@@ -329,6 +329,32 @@ TEST(scene_loader_gltf, StripsAndFansBecomeTriangleLists) {
   EXPECT_EQ(std::vector<uint32_t>(f.begin(), f.begin() + 6), (std::vector<uint32_t>{in[0], in[1], in[2], in[0], in[2], in[3]}));
 }
 
+// A node's light index is checked before it becomes an int: tinygltf's
+// GetNumberAsInt converted 1e300 to int, undefined behaviour that UBSan reported
+// (instructor/fuzz/regressions/gltf/). Not a whole number naming a light: refused.
+TEST(scene_loader_hostile, LightIndexThatIsNoLightIsRefused) {
+  SceneCopy copy("sphere", "light_index");
+  json* light_node = nullptr;
+  for (json& node : copy.doc["nodes"])
+    if (node.contains("extensions") && node["extensions"].contains("KHR_lights_punctual")) light_node = &node;
+  ASSERT_NE(light_node, nullptr) << "the sphere scene has a light";
+  json& index = (*light_node)["extensions"]["KHR_lights_punctual"]["light"];
+  const std::pair<json, std::string> cases[] = {
+      {1e300, "light index 1e+300 does not exist"}, {-1e300, "light index -1e+300 does not exist"},
+      {4294967296.0, "light index 4.29497e+09 does not exist"}, {0.5, "light index 0.5 does not exist"},
+      {1, "light index 1 does not exist"}, {-1, "light index -1 does not exist"},
+      {"0", "light index (not a number) does not exist"},
+  };
+  for (const auto& [value, phrase] : cases) {
+    index = value;
+    copy.save_json();
+    expect_error(copy.gltf, "KHR_lights_punctual " + phrase);
+  }
+  index = 0.0;  // a whole number written as a real is still light 0
+  copy.save_json();
+  EXPECT_EQ(kit::load_scene(copy.gltf.string()).lights.size(), 1u);
+}
+
 // ---- valid scenes ----
 
 // glTF node local matrix (matrix, or T * R * S) in double.
