@@ -6,9 +6,10 @@
 // test has a witness where one can be had: the attack really works against the
 // behaviour replaced (or Mesa's default), and no longer against kit-grade.
 //
-// Shipped to students: nothing here reads solutions/. Lab 1's starters
-// (labs/01-gbuffer, built on no earlier solution) are what kit-grade renders;
-// the zip tests prepare lab 2's files without rendering them.
+// Shipped to students: what kit-grade renders is the starter of the first lab
+// this kit can grade (lab 1 in the instructor's kit, built on no solution; lab
+// N in a student copy for lab N, built on the solutions it holds); the zip
+// tests prepare lab 2's files without rendering them.
 #include <fcntl.h>
 #include <grp.h>
 #include <gtest/gtest.h>
@@ -23,6 +24,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <regex>
 #include <string>
 #include <system_error>
 #include <thread>
@@ -66,23 +68,46 @@ json read_json(const fs::path& path) {
 
 std::string kit_grade(const std::string& args) { return kit::test::tool("kit-grade") + " " + args; }
 
-// Lab 1's starters in `root`/01-gbuffer.
+// The lab rendered here: the first this kit can grade from labs/ (lab 1 in the
+// instructor's kit, lab N in a student copy for lab N).
+const kit::Stage& starter_stage() { return kit::find_stage(std::to_string(kit::gradable_labs().front())); }
+std::string lab_key() { return std::to_string(starter_stage().number); }
+std::string labs_flag() { return " --labs " + lab_key() + " "; }
+
+// The starters of that lab in `root`/NN-name.
 void copy_starters(const fs::path& root) {
-  fs::path starters = kit::kit_root() / "labs" / "01-gbuffer";
-  fs::create_directories(root / "01-gbuffer");
-  for (const std::string& file : kit::find_stage("1").files)
-    fs::copy_file(starters / file, root / "01-gbuffer" / file, fs::copy_options::overwrite_existing);
+  const kit::Stage& stage = starter_stage();
+  fs::create_directories(root / stage.folder);
+  for (const std::string& file : stage.files)
+    fs::copy_file(kit::kit_root() / "labs" / stage.folder / file, root / stage.folder / file,
+                  fs::copy_options::overwrite_existing);
 }
 
-// Lab 1's starters with a fragment shader that never ends.
+// The starters with a loop that never ends, at the start of the first function of
+// a fragment shader (its main, or a module a fragment shader includes).
 void copy_endless_starters(const fs::path& root) {
   copy_starters(root);
-  fs::path frag = root / "01-gbuffer" / "gbuffer.frag";
-  std::string text = read_file(frag);
-  size_t at = text.find("void main() {");
-  ASSERT_NE(at, std::string::npos);
-  text.insert(at + 13, "\n    float x = 1.0;\n    while (x > 0.0) x += gl_FragCoord.x;  // never ends\n    if (x < 0.0) discard;");
-  write_file(frag, text);
+  const kit::Stage& stage = starter_stage();
+  const std::regex function_start(R"(\n[A-Za-z][A-Za-z0-9_ ]*\([^;{}]*\)\s*\{)");
+  for (const std::string& file : stage.files) {
+    if (file.find(".vert") != std::string::npos) continue;
+    fs::path path = root / stage.folder / file;
+    std::string text = read_file(path);
+    std::smatch found;
+    size_t at = text.find("void main() {");
+    if (at != std::string::npos) {
+      at += 13;
+    } else if (std::regex_search(text, found, function_start)) {
+      at = static_cast<size_t>(found.position(0) + found.length(0));
+    } else {
+      continue;
+    }
+    text.insert(at, "\n    float kit_x = 1.0;\n    while (kit_x > 0.0) kit_x += gl_FragCoord.x;  // never ends\n"
+                    "    if (kit_x < 0.0) discard;\n");
+    write_file(path, text);
+    return;
+  }
+  FAIL() << "no fragment shader function in the starters of " << stage.folder;
 }
 
 // Python lines (inside a `with ZipFile(...) as z:` block) writing lab 2's files
@@ -126,35 +151,45 @@ Outcome run_child(const std::function<int()>& body, const Limits& limits, const 
 // inside, so only the link count (fstat on the opened descriptor) tells.
 TEST(GradeSandbox, HardLinkToAFileOutsideIsRefused) {
   fs::path dir = kit::test::temp_dir("sandbox-hard-link");
+  // The lab's fragment shader, else a module it includes: text that fails to
+  // compile naming the token (Mesa quotes an undeclared name in its log).
+  const kit::Stage& stage = starter_stage();
+  std::string file = stage.files.front();
+  for (const std::string& f : stage.files)
+    if (f.find(".frag") != std::string::npos) file = f;
+  const bool top_level = file.find(".frag") != std::string::npos;
   const std::string token = "SECRET_OUTSIDE_7f3a9c";
-  const std::string secret = "#version 330 core\nout vec4 c;\nvoid main() { c = vec4(" + token + "); }\n";
-  write_file(dir / "outside" / "secret.frag", secret);
+  const std::string secret = top_level ? "#version 330 core\nout vec4 kit_out;\nvoid main() { kit_out = vec4(" + token + "); }\n"
+                                       : "const float kit_leak = " + token + ";\n";
+  write_file(dir / "outside" / "secret.glsl", secret);
   copy_starters(dir / "linked");
-  fs::path link = dir / "linked" / "01-gbuffer" / "gbuffer.frag";
+  fs::path link = dir / "linked" / stage.folder / file;
+  const std::string shown = "labs/" + stage.folder + "/" + file;
   fs::remove(link);
-  fs::create_hard_link(dir / "outside" / "secret.frag", link);
+  fs::create_hard_link(dir / "outside" / "secret.glsl", link);
 
   // Witness: the link reads the outside file, and that text, graded as a file of
   // the submission, reaches results.json through the compiler log.
   ASSERT_EQ(read_file(link), secret);
   copy_starters(dir / "copied");
-  write_file(dir / "copied" / "01-gbuffer" / "gbuffer.frag", secret);
+  write_file(dir / "copied" / stage.folder / file, secret);
   std::string output;
-  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "copied") + " --labs 1 --out " + quoted(dir / "out-copied")), &output), 0)
+  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "copied") + labs_flag() + "--out " + quoted(dir / "out-copied")), &output), 0)
       << output;
-  EXPECT_EQ(read_json(dir / "out-copied" / "summary.json")["labs"]["1"]["status"], "compile_error");
+  EXPECT_EQ(read_json(dir / "out-copied" / "summary.json")["labs"][lab_key()]["status"], "compile_error");
   ASSERT_TRUE(contains(read_file(dir / "out-copied" / "results.json"), token)) << "the leak this test guards against";
 
-  PreparedSubmission p = prepare(dir / "linked", {1});
-  EXPECT_EQ(p.labs.at(1).status, "invalid_files");
-  EXPECT_TRUE(contains(p.labs.at(1).message, "labs/01-gbuffer/gbuffer.frag: is a hard link")) << p.labs.at(1).message;
-  EXPECT_FALSE(fs::exists(p.lab_root / "01-gbuffer" / "gbuffer.frag")) << "nothing of it is copied";
+  PreparedSubmission p = prepare(dir / "linked", {stage.number});
+  const kit::grade::LabFiles& lab = p.labs.at(stage.number);
+  EXPECT_EQ(lab.status, "invalid_files");
+  EXPECT_TRUE(contains(lab.message, shown + ": is a hard link (the file has 2 names")) << lab.message;
+  EXPECT_FALSE(fs::exists(p.lab_root / stage.folder / file)) << "nothing of it is copied";
 
   fs::path out = dir / "out-linked";
-  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "linked") + " --labs 1 --out " + quoted(out)), &output), 0) << output;
+  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "linked") + labs_flag() + "--out " + quoted(out)), &output), 0) << output;
   json summary = read_json(out / "summary.json");
-  EXPECT_EQ(summary["labs"]["1"]["status"], "invalid_files") << summary.dump(1);
-  EXPECT_TRUE(contains(summary["labs"]["1"]["message"].get<std::string>(), "gbuffer.frag: is a hard link"));
+  EXPECT_EQ(summary["labs"][lab_key()]["status"], "invalid_files") << summary.dump(1);
+  EXPECT_TRUE(contains(summary["labs"][lab_key()]["message"].get<std::string>(), shown + ": is a hard link"));
   for (const char* file : {"results.json", "summary.json", "report.html"})
     EXPECT_FALSE(contains(read_file(out / file), token)) << file;
   EXPECT_FALSE(contains(output, token)) << output;
@@ -400,19 +435,19 @@ TEST(GradeSandbox, KitGradeReportsOutOfMemory) {
   fs::path dir = kit::test::temp_dir("sandbox-kit-grade-memory");
   copy_starters(dir / "alice");
   std::string output;
-  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "alice") + " --labs 1 --memory-limit 256 --out " + quoted(dir / "out")),
+  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "alice") + labs_flag() + "--memory-limit 256 --out " + quoted(dir / "out")),
                            &output),
             0)
       << output;
-  json lab = read_json(dir / "out" / "summary.json")["labs"]["1"];
+  json lab = read_json(dir / "out" / "summary.json")["labs"][lab_key()];
   EXPECT_EQ(lab["status"], "crash") << lab.dump(1);
   EXPECT_EQ(lab["message"].get<std::string>().rfind("out of memory (limit 256 MiB)", 0), 0u) << lab.dump(1);
   EXPECT_TRUE(contains(output, "out of memory (limit 256 MiB)")) << output;
   EXPECT_FALSE(contains(lab["message"].get<std::string>(), "signal 11 (Segmentation fault))")) << lab.dump(1);
   // Witness: under the default limit the same lab renders.
-  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "alice") + " --labs 1 --out " + quoted(dir / "out-default")), &output), 0)
+  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "alice") + labs_flag() + "--out " + quoted(dir / "out-default")), &output), 0)
       << output;
-  EXPECT_EQ(read_json(dir / "out-default" / "summary.json")["labs"]["1"]["status"], "graded");
+  EXPECT_EQ(read_json(dir / "out-default" / "summary.json")["labs"][lab_key()]["status"], "graded");
 }
 
 // kit-grade end to end: a shader that never ends is stopped by the CPU limit,
@@ -422,13 +457,13 @@ TEST(GradeSandbox, KitGradeStopsAnEndlessLoopByCpuTime) {
   copy_endless_starters(dir / "alice");
   std::string output;
   auto t0 = std::chrono::steady_clock::now();
-  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "alice") + " --labs 1 --cpu-limit 2 --timeout 300 --out " +
+  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "alice") + labs_flag() + "--cpu-limit 2 --timeout 300 --out " +
                                      quoted(dir / "out")),
                            &output),
             0)
       << output;
   double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  json lab = read_json(dir / "out" / "summary.json")["labs"]["1"];
+  json lab = read_json(dir / "out" / "summary.json")["labs"][lab_key()];
   EXPECT_EQ(lab["status"], "timeout") << lab.dump(1);
   EXPECT_TRUE(contains(lab["message"].get<std::string>(), "more than 2 s of CPU time (--cpu-limit)")) << lab.dump(1);
   EXPECT_LT(seconds, 300.0);
@@ -442,7 +477,7 @@ TEST(GradeSandbox, KitGradeKeepsMesasShaderCachePrivate) {
   std::string output;
   // Witness: kit-render (no sandbox) fills the user's cache.
   ASSERT_EQ(kit::test::run(env + "XDG_CACHE_HOME=" + quoted(dir / "render-cache") + " " + kit::test::tool("kit-render") +
-                               " --shaders " + quoted(kit::kit_root() / "labs" / "01-gbuffer") + " --out " +
+                               " --shaders " + quoted(kit::kit_root() / "labs" / starter_stage().folder) + " --out " +
                                quoted(dir / "render.png"),
                            &output),
             0)
@@ -451,9 +486,9 @@ TEST(GradeSandbox, KitGradeKeepsMesasShaderCachePrivate) {
   fs::create_directories(dir / "tmp");
   copy_starters(dir / "alice");
   const std::string grade = env + "TMPDIR=" + quoted(dir / "tmp") + " " +
-                            kit_grade(quoted(dir / "alice") + " --labs 1 --keep-temp --out " + quoted(dir / "out"));
+                            kit_grade(quoted(dir / "alice") + labs_flag() + "--keep-temp --out " + quoted(dir / "out"));
   ASSERT_EQ(kit::test::run("XDG_CACHE_HOME=" + quoted(dir / "grade-cache") + " " + grade, &output), 0) << output;
-  EXPECT_EQ(read_json(dir / "out" / "summary.json")["labs"]["1"]["status"], "graded");
+  EXPECT_EQ(read_json(dir / "out" / "summary.json")["labs"][lab_key()]["status"], "graded");
   EXPECT_FALSE(fs::exists(dir / "grade-cache")) << "nothing in the user's cache";
   // The cache was used, privately: in the kept temporary folder of the submission.
   auto private_cache_files = [&] {
@@ -489,16 +524,16 @@ TEST(GradeSandbox, BatchSubmissionNamedLikeTheGradebook) {
   fs::path in = dir / "in", out = dir / "out";
   copy_starters(in / "gradebook.csv");
   copy_starters(in / "alice");
-  const std::string command = kit_grade("--batch " + quoted(in) + " --out " + quoted(out) + " --labs 1");
+  const std::string command = kit_grade("--batch " + quoted(in) + " --out " + quoted(out) + labs_flag());
   std::string output;
   ASSERT_EQ(kit::test::run(command, &output), 0) << output;
   EXPECT_TRUE(contains(output, "gradebook.csv -> gradebook.csv.submission/")) << output;
   ASSERT_TRUE(fs::is_regular_file(out / "gradebook.csv")) << output;
   std::string csv = read_file(out / "gradebook.csv");
-  EXPECT_EQ(csv.rfind("submission,lab1,total,max_total,problems\n", 0), 0u) << csv;
-  EXPECT_TRUE(contains(csv, "\nalice,0,0,10,\n")) << csv;
-  EXPECT_TRUE(contains(csv, "\ngradebook.csv,0,0,10,\n")) << csv;
-  EXPECT_EQ(read_json(out / "gradebook.csv.submission" / "summary.json")["labs"]["1"]["status"], "graded");
+  EXPECT_EQ(csv.rfind("submission,lab" + lab_key() + ",total,max_total,problems\n", 0), 0u) << csv;
+  EXPECT_TRUE(contains(csv, "\nalice,")) << csv;
+  EXPECT_TRUE(contains(csv, "\ngradebook.csv,")) << csv;
+  EXPECT_EQ(read_json(out / "gradebook.csv.submission" / "summary.json")["labs"][lab_key()]["status"], "graded");
 
   // Witness: the layout an older kit-grade left (the submission's result folder
   // in the gradebook's place). The next run moves it and writes the gradebook.
@@ -508,7 +543,7 @@ TEST(GradeSandbox, BatchSubmissionNamedLikeTheGradebook) {
   EXPECT_TRUE(contains(output, "moved " + (out / "gradebook.csv").string())) << output;
   EXPECT_TRUE(contains(output, "0 to grade, 2 already graded")) << output;
   ASSERT_TRUE(fs::is_regular_file(out / "gradebook.csv"));
-  EXPECT_TRUE(contains(read_file(out / "gradebook.csv"), "\ngradebook.csv,0,0,10,\n"));
+  EXPECT_TRUE(contains(read_file(out / "gradebook.csv"), "\ngradebook.csv,"));
 }
 
 // One batch at a time per output folder: a second is refused naming the
@@ -523,7 +558,7 @@ TEST(GradeSandbox, SecondBatchOnOneOutputFolderIsRefused) {
   ASSERT_EQ(flock(fd, LOCK_EX | LOCK_NB), 0);
   std::string pid = std::to_string(getpid());
   ASSERT_EQ(write(fd, (pid + "\n").data(), pid.size() + 1), static_cast<ssize_t>(pid.size() + 1));
-  const std::string command = kit_grade("--batch " + quoted(in) + " --out " + quoted(out) + " --labs 1");
+  const std::string command = kit_grade("--batch " + quoted(in) + " --out " + quoted(out) + labs_flag());
   std::string output;
   EXPECT_EQ(kit::test::run(command, &output), 2) << output;
   EXPECT_TRUE(contains(output, "another kit-grade batch (pid " + pid + ") is grading into this folder")) << output;
@@ -542,7 +577,7 @@ TEST(GradeSandbox, TemporaryFoldersOfKilledRunsAreRemoved) {
   fs::path tmp = dir / "tmp";
   fs::create_directories(tmp);
   copy_endless_starters(dir / "endless");
-  std::string grader = kit::test::tool("kit-grade"), submission = (dir / "endless").string(), out = (dir / "out").string();
+  std::string lab = lab_key(), grader = kit::test::tool("kit-grade"), submission = (dir / "endless").string(), out = (dir / "out").string();
   pid_t run = fork();
   ASSERT_GE(run, 0);
   if (run == 0) {
@@ -550,7 +585,7 @@ TEST(GradeSandbox, TemporaryFoldersOfKilledRunsAreRemoved) {
     int null = open("/dev/null", O_WRONLY);
     dup2(null, STDOUT_FILENO);
     dup2(null, STDERR_FILENO);
-    execl(grader.c_str(), grader.c_str(), submission.c_str(), "--labs", "1", "--cpu-limit", "120", "--timeout", "120",
+    execl(grader.c_str(), grader.c_str(), submission.c_str(), "--labs", lab.c_str(), "--cpu-limit", "120", "--timeout", "120",
           "--out", out.c_str(), static_cast<char*>(nullptr));
     _exit(127);
   }
@@ -561,7 +596,7 @@ TEST(GradeSandbox, TemporaryFoldersOfKilledRunsAreRemoved) {
     for (const auto& entry : fs::directory_iterator(tmp)) {
       if (entry.path().filename().string().rfind(prefix, 0) != 0) continue;
       for (const auto& inner : fs::directory_iterator(entry.path()))
-        if (fs::exists(inner.path() / "lab1")) left = entry.path();
+        if (fs::exists(inner.path() / ("lab" + lab))) left = entry.path();
     }
     if (left.empty()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
@@ -576,7 +611,7 @@ TEST(GradeSandbox, TemporaryFoldersOfKilledRunsAreRemoved) {
 
   copy_starters(dir / "alice");
   std::string output;
-  ASSERT_EQ(kit::test::run("TMPDIR=" + quoted(tmp) + " " + kit_grade(quoted(dir / "alice") + " --labs 1 --out " + quoted(dir / "out2")),
+  ASSERT_EQ(kit::test::run("TMPDIR=" + quoted(tmp) + " " + kit_grade(quoted(dir / "alice") + labs_flag() + "--out " + quoted(dir / "out2")),
                            &output),
             0)
       << output;
