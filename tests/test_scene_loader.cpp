@@ -331,7 +331,7 @@ TEST(scene_loader_gltf, StripsAndFansBecomeTriangleLists) {
 
 // A node's light index is checked before it becomes an int: tinygltf's
 // GetNumberAsInt converted 1e300 to int, undefined behaviour that UBSan reported
-// (found by fuzzing). Not a whole number naming a light: refused.
+// (an input written for the fuzz harnesses). Not a whole number naming a light: refused.
 TEST(scene_loader_hostile, LightIndexThatIsNoLightIsRefused) {
   SceneCopy copy("sphere", "light_index");
   json* light_node = nullptr;

@@ -247,7 +247,7 @@ TEST_F(shader_source, ByteOrderMarkIsDropped) {
 
 // One very long line used to overflow the stack: the #version and #include
 // lines were matched with std::regex, which recurses once per character (a line
-// of 200,000 spaces took ~131,000 frames; found by fuzzing).
+// of 200,000 spaces took ~131,000 frames; an input written for the fuzz harnesses).
 // A line longer than kMaxShaderLineBytes is now refused naming its file and line,
 // in the file's own checks, so the grader refuses it the same way.
 TEST_F(shader_source, LongLinesAreRefusedWithTheirFileAndLine) {
@@ -310,7 +310,7 @@ TEST_F(shader_source, DirectiveSpellings) {
 // The varying check (kit::check_stage_interfaces, run before every compile)
 // rescanned the statement so far at each character: a file of 65,000 newlines,
 // or of lines of text then lines of '}', took 10 to 30 s in the fuzz build and
-// grew with the square of the size (found by fuzzing). Now one
+// grew with the square of the size (an input written for the fuzz harnesses). Now one
 // pass: these files, four times larger, are checked at once, and the mismatched
 // input behind them is still found on its own line.
 TEST_F(shader_source, VaryingCheckIsLinearInTheFileSize) {
@@ -360,7 +360,7 @@ TEST(shader_source_log, MesaAndNvidiaLinesMapToFiles) {
 
 // The log parser used to be std::regex too: a long run of digits overflowed the
 // stack, and a line number past INT_MAX threw std::out_of_range out of std::stoi
-// (found by fuzzing). Both now map like any line past the end.
+// (an input written for the fuzz harnesses). Both now map like any line past the end.
 TEST(shader_source_log, HostileLogLinesMapWithoutThrowing) {
   kit::AssembledShader s;
   s.files = {"lab/main.frag"};
