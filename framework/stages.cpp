@@ -44,25 +44,26 @@ std::string resolve_scene(const std::string& name_or_path) {
   return (dir / name_or_path / (name_or_path + ".gltf")).string();
 }
 
-void require_earlier_solutions(const Stage& stage) {
+namespace {
+// The first earlier lab whose solution folder is missing, or nullptr: the one
+// test behind require_earlier_solutions, gradable_labs and labs_with_solutions.
+const Stage* first_missing_solution(const Stage& stage) {
   for (const Stage& earlier : stages()) {
     if (earlier.number >= stage.number) break;
-    fs::path folder = kit_root() / "solutions" / earlier.folder;
-    if (!fs::is_directory(folder))
-      throw Error("stage " + std::to_string(stage.number) + " (" + stage.name + ") is built on the solution of lab " +
-                  std::to_string(earlier.number) + ", and " + folder.string() +
-                  " is missing (a student copy gets it with the release after lab " +
-                  std::to_string(earlier.number) + ")");
+    if (!fs::is_directory(kit_root() / "solutions" / earlier.folder)) return &earlier;
   }
+  return nullptr;
 }
-
-namespace {
-bool has_earlier_solutions(const Stage& stage) {
-  for (const Stage& earlier : stages())
-    if (earlier.number < stage.number && !fs::is_directory(kit_root() / "solutions" / earlier.folder)) return false;
-  return true;
-}
+bool has_earlier_solutions(const Stage& stage) { return first_missing_solution(stage) == nullptr; }
 }  // namespace
+
+void require_earlier_solutions(const Stage& stage) {
+  if (const Stage* missing = first_missing_solution(stage))
+    throw Error("stage " + std::to_string(stage.number) + " (" + stage.name + ") is built on the solution of lab " +
+                std::to_string(missing->number) + ", and " + (kit_root() / "solutions" / missing->folder).string() +
+                " is missing (a student copy gets it with the release after lab " + std::to_string(missing->number) +
+                ")");
+}
 
 std::vector<int> gradable_labs() {
   std::vector<int> labs;
