@@ -8,6 +8,9 @@ set(kit_grade_submission_sources ${CMAKE_CURRENT_LIST_DIR}/grade/submission.cpp 
 add_library(kit_grade_submission STATIC ${kit_grade_submission_sources})
 target_include_directories(kit_grade_submission PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
 target_link_libraries(kit_grade_submission PUBLIC kitcore PkgConfig::OIIO)
+if(KIT_FUZZ)
+  return()  # the fuzz build fuzzes the library (instructor/fuzz/fuzz_zip_listing.cpp), not kit-grade
+endif()
 file(GLOB kit_grade_sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/grade/*.cpp)
 list(REMOVE_ITEM kit_grade_sources ${kit_grade_submission_sources} ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
 # Everything but main(): the checks, comparisons, scoring and reports, so

@@ -1,6 +1,10 @@
 # kit-scenes: generates the kit's glTF test scenes. Included from tools/CMakeLists.txt;
 # needs kit_warnings, TinyGLTF::TinyGLTF, PkgConfig::OIIO and glm::glm from the
-# top-level CMakeLists.txt.
+# top-level CMakeLists.txt. The fuzz build leaves it out: its harnesses read the
+# scenes of the default build (instructor/fuzz/run_fuzz.sh --scenes).
+if(KIT_FUZZ)
+  return()
+endif()
 add_executable(kit-scenes ${CMAKE_CURRENT_LIST_DIR}/kit_scenes.cpp)
 # PkgConfig::OIIO: the top level finds OpenImageIO through pkg-config (see CMakeLists.txt).
 target_link_libraries(kit-scenes PRIVATE kit_warnings TinyGLTF::TinyGLTF PkgConfig::OIIO glm::glm)

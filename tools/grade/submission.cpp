@@ -117,14 +117,18 @@ std::vector<std::string> split_path(const std::string& entry) {
   return parts;
 }
 
-// Calls `use` with each non-empty line of a file (a log of ours), however long the file is.
-void for_each_line(const fs::path& path, const std::function<void(const std::string&)>& use) {
-  std::ifstream in(path, std::ios::binary);
+// Calls `use` with each non-empty line of a stream, however long it is.
+void for_each_line(std::istream& in, const std::function<void(const std::string&)>& use) {
   std::string line;
   while (std::getline(in, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     if (!line.empty()) use(line);
   }
+}
+// The same for a file (a log of ours).
+void for_each_line(const fs::path& path, const std::function<void(const std::string&)>& use) {
+  std::ifstream in(path, std::ios::binary);
+  for_each_line(in, use);
 }
 
 // unzip's wildcard characters matched literally ("[" becomes "[[]").
@@ -388,19 +392,14 @@ bool unsafe_entry(const std::string& e) {
   return absolute || std::find(parts.begin(), parts.end(), "..") != parts.end();
 }
 
-// Lists a zip into `tree` after its safety checks. Returns "" or a problem with the whole archive.
-// Every line of the listing is read and every entry checked, whatever the listing's length.
-std::string list_zip(const fs::path& zip, const fs::path& temp, const Limits& limits, Tree& tree) {
-  const std::string name = zip.filename().string();
-  const fs::path log = temp / "unzip-list.log";
-  Limits listing = limits;
-  listing.file_size_mib = kMaxZipListingMiB;
-  Outcome o = run_unzip({"unzip", "-Z1", fs::absolute(zip).string()}, listing, log);
-  if (!unzip_succeeded(o)) return unzip_failed(name, o, log);
+// Reads a zip's listing (`unzip -Z1`: one entry name per line) into `tree` after
+// its safety checks. Returns "" or a problem with the whole archive (`name` names it).
+// Every line is read and every entry checked, whatever the listing's length.
+std::string tree_from_listing(std::istream& listing, const std::string& name, Tree& tree) {
   size_t count = 0, unsafe_count = 0;
   std::vector<std::string> unsafe, entries;
   std::set<std::string> names;
-  for_each_line(log, [&](const std::string& e) {
+  for_each_line(listing, [&](const std::string& e) {
     ++count;
     // The same name twice (say a link, then a file) could make unzip write through the first.
     bool bad = unsafe_entry(e) || (count <= kMaxZipEntries && !names.insert(e).second);
@@ -424,10 +423,39 @@ std::string list_zip(const fs::path& zip, const fs::path& temp, const Limits& li
   return "";
 }
 
-// One entry to extract: its name in the archive, and "NN-name/file" it is graded as.
-struct ZipPick {
-  std::string entry, key;
-};
+// Lists a zip with unzip into `tree` (tree_from_listing). Returns "" or a problem with the whole archive.
+std::string list_zip(const fs::path& zip, const fs::path& temp, const Limits& limits, Tree& tree) {
+  const std::string name = zip.filename().string();
+  const fs::path log = temp / "unzip-list.log";
+  Limits listing = limits;
+  listing.file_size_mib = kMaxZipListingMiB;
+  Outcome o = run_unzip({"unzip", "-Z1", fs::absolute(zip).string()}, listing, log);
+  if (!unzip_succeeded(o)) return unzip_failed(name, o, log);
+  std::ifstream in(log, std::ios::binary);
+  return tree_from_listing(in, name, tree);
+}
+
+// Where each graded lab's files come from, decided on the tree.
+std::map<int, LabSource> lab_sources(const Tree& tree, const std::vector<int>& labs) {
+  std::map<int, LabSource> sources;
+  for (int lab : labs) sources[lab] = find_lab_source(tree, find_stage(std::to_string(lab)), labs.size());
+  return sources;
+}
+
+// The zip entries to extract: each expected file of each lab whose source was accepted.
+std::vector<ZipPick> zip_picks(const Tree& tree, const std::map<int, LabSource>& sources) {
+  std::vector<ZipPick> picks;
+  for (const auto& [lab, source] : sources) {
+    if (!source.found || !source.problem.empty()) continue;
+    const Stage& stage = find_stage(std::to_string(lab));
+    for (const std::string& file : stage.files) {
+      auto it = tree.entries.find(join(plus(source.folder, file)));
+      if (it != tree.entries.end() && !it->second.zip_name.empty())
+        picks.push_back({it->second.zip_name, stage.folder + "/" + file});
+    }
+  }
+  return picks;
+}
 
 void refuse_pick(const ZipPick& p, const std::string& why, PreparedSubmission& out) {
   // Reported by its lab as refused rather than missing.
@@ -597,6 +625,16 @@ bool is_zip(const fs::path& path) {
   return ext == ".zip";
 }
 
+ZipListingLayout layout_from_zip_listing(const std::string& listing, const std::string& zip_name,
+                                         const std::vector<int>& labs) {
+  ZipListingLayout out;
+  Tree tree;
+  std::istringstream in(listing);
+  out.problem = tree_from_listing(in, zip_name, tree);
+  if (out.problem.empty()) out.picks = zip_picks(tree, lab_sources(tree, labs));
+  return out;
+}
+
 std::string submission_name(const fs::path& submission) {
   fs::path p = submission;
   if (p.filename().empty()) p = p.parent_path();  // "alice/"
@@ -627,19 +665,9 @@ PreparedSubmission prepare_submission(const fs::path& submission, const std::vec
     out.problem = submission.string() + ": not a folder or a .zip archive";
   }
   std::map<int, LabSource> sources;
-  if (out.problem.empty())
-    for (int lab : labs) sources[lab] = find_lab_source(tree, find_stage(std::to_string(lab)), labs.size());
+  if (out.problem.empty()) sources = lab_sources(tree, labs);
   if (zip && out.problem.empty()) {
-    std::vector<ZipPick> picks;
-    for (const auto& [lab, source] : sources) {
-      if (!source.found || !source.problem.empty()) continue;
-      const Stage& stage = find_stage(std::to_string(lab));
-      for (const std::string& file : stage.files) {
-        auto it = tree.entries.find(join(plus(source.folder, file)));
-        if (it != tree.entries.end() && !it->second.zip_name.empty())
-          picks.push_back({it->second.zip_name, stage.folder + "/" + file});
-      }
-    }
+    std::vector<ZipPick> picks = zip_picks(tree, sources);
     out.problem = extract_zip(submission, top, temp, unzip_limits, picks, out);
   }
   if (out.problem.empty()) {

@@ -60,6 +60,24 @@ struct PreparedSubmission {
 PreparedSubmission prepare_submission(const std::filesystem::path& submission, const std::vector<int>& labs,
                                       const std::filesystem::path& temp, const Limits& unzip_limits);
 
+// One entry of a zip to extract: its name in the archive, and "NN-name/file" it is graded as.
+struct ZipPick {
+  std::string entry, key;
+};
+
+// What the grader decides from a zip's listing alone (`unzip -Z1` output: one
+// entry name per line), before anything is extracted: `problem` when the archive
+// is refused as a whole, else the entries to extract for the graded `labs` (lab
+// numbers). prepare_submission takes the same decisions with the same code; this
+// entry point lets the fuzz harness (instructor/fuzz/fuzz_zip_listing.cpp) check
+// them without unzip. `zip_name` only names the archive in messages.
+struct ZipListingLayout {
+  std::string problem;
+  std::vector<ZipPick> picks;
+};
+ZipListingLayout layout_from_zip_listing(const std::string& listing, const std::string& zip_name,
+                                         const std::vector<int>& labs);
+
 // The name a submission is reported under: the folder's name, or the zip's without ".zip".
 std::string submission_name(const std::filesystem::path& submission);
 bool is_zip(const std::filesystem::path& path);

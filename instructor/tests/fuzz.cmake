@@ -1,0 +1,13 @@
+# The libFuzzer harnesses (instructor/fuzz/run_fuzz.sh): builds the fuzz preset
+# (clang, ASan + UBSan, in build/fuzz), replays every input of
+# instructor/fuzz/regressions/, and fuzzes the glTF loader, the shader assembler
+# and the grader's zip listing parser for 20 s each from seeds made of this
+# build's scenes, the kit's shaders and zips listed by unzip. Without clang it
+# fails and says to run ./kit setup. One process at a time (the build with one
+# job, then each harness), so it shares the cores with the other tests; about
+# 1 min 10 s of CPU, 1.5 to 3 min of wall clock on 2 busy cores (the first build
+# is most of it).
+add_test(NAME fuzz
+  COMMAND bash ${CMAKE_SOURCE_DIR}/instructor/fuzz/run_fuzz.sh --seconds 20
+          --scenes ${CMAKE_BINARY_DIR}/scenes --out ${CMAKE_BINARY_DIR}/test-tmp/fuzz)
+set_tests_properties(fuzz PROPERTIES TIMEOUT 900)
