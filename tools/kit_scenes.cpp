@@ -373,6 +373,15 @@ class SceneBuilder {
     return int(model_.textures.size()) - 1;
   }
 
+  // An image the file lists but no texture uses (a loader should not decode it).
+  void add_unused_image(const std::string& file_name, const Image8& image) {
+    tinygltf::Image img;
+    img.name = fs::path(file_name).stem().string();
+    img.uri = file_name;
+    model_.images.push_back(img);
+    images_.emplace_back(file_name, image);
+  }
+
   int add_material(const MaterialDesc& desc) {
     tinygltf::Material m;
     m.name = desc.name;
@@ -730,15 +739,62 @@ SceneBuilder build_normal_map_scene(const Textures& tex) {
   return b;
 }
 
+// ---------------------------------------------------------------------------
+// The heavy scene: load time and memory of a model as large as students bring
+// (`kit-scenes --heavy OUT_DIR`; not part of the build's scenes, since its PNGs
+// take about 30 MB and several seconds to write).
+constexpr int kHeavySpheresPerSide = 4;     // 16 spheres
+constexpr int kHeavySphereSegments = 256;   // 256 x 128 quads: 65,536 triangles a sphere, 1,048,576 in all
+constexpr int kHeavySphereRings = 128;
+constexpr int kHeavyTextureSize = 2048;     // one base colour texture a sphere
+constexpr int kHeavyUnusedImages = 4;       // listed by the file, used by no material
+
+// Smooth bands of a per-texture hue: distinct textures that PNG compresses well.
+Image8 make_heavy_texture(int index) {
+  Image8 img(kHeavyTextureSize, kHeavyTextureSize, 3);
+  const glm::vec3 hue(0.5f + 0.5f * hash01(std::uint32_t(index) * 3u), 0.5f + 0.5f * hash01(std::uint32_t(index) * 3u + 1u),
+                      0.5f + 0.5f * hash01(std::uint32_t(index) * 3u + 2u));
+  for (int y = 0; y < img.height; ++y) {
+    const float band = 0.75f + 0.25f * float(std::sin(2.0 * kPi * 8.0 * y / img.height));
+    for (int x = 0; x < img.width; ++x) img.set(x, y, hue * band);
+  }
+  return img;
+}
+
+SceneBuilder build_heavy_scene() {
+  SceneBuilder b("heavy");
+  const MeshData sphere_mesh = make_sphere(0.45f, kHeavySphereSegments, kHeavySphereRings, {1, 1}, false);
+  for (int i = 0; i < kHeavySpheresPerSide * kHeavySpheresPerSide; ++i) {
+    const Geometry sphere = b.add_geometry(sphere_mesh);  // a buffer of its own, as separate models have
+    MaterialDesc mat;
+    mat.name = "heavy_" + std::to_string(i);
+    mat.roughness = 0.5;
+    mat.base_color_texture = b.add_texture(mat.name + ".png", make_heavy_texture(i));
+    const glm::dvec3 at(i % kHeavySpheresPerSide - 1.5, i / kHeavySpheresPerSide - 1.5, 0.0);
+    b.add_node(mesh_node(mat.name, at, b.add_mesh(mat.name, sphere, b.add_material(mat))));
+  }
+  for (int i = 0; i < kHeavyUnusedImages; ++i)
+    b.add_unused_image("unused_" + std::to_string(i) + ".png", make_heavy_texture(100 + i));
+  b.add_point_light("light", {0, 0, 4}, kWhite, 60.0);
+  b.add_camera({0, 0, 7}, {0, 0, 0}, 0.8);
+  return b;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::cerr << "usage: kit-scenes OUT_DIR\n";
+  const bool heavy = argc == 3 && std::string(argv[1]) == "--heavy";
+  if (argc != 2 && !heavy) {
+    std::cerr << "usage: kit-scenes OUT_DIR          the kit's test scenes\n"
+                 "       kit-scenes --heavy OUT_DIR  OUT_DIR/heavy: 1,048,576 triangles, 16 textures of 2048x2048\n";
     return 2;
   }
   try {
-    const fs::path out_dir = argv[1];
+    const fs::path out_dir = argv[argc - 1];
+    if (heavy) {
+      build_heavy_scene().write(out_dir);
+      return 0;
+    }
     const Textures textures;
     build_default_scene(textures).write(out_dir);
     build_sphere_scene().write(out_dir);
