@@ -80,64 +80,134 @@ bool decode_image_with_oiio(tinygltf::Image* image, const int index, std::string
 }
 
 // ---- accessors, read with every bound checked ----
+
+// The component types an accessor may have, as bits, so that each attribute can
+// say which it accepts (glTF 2.0 "Meshes" table, widened by KHR_mesh_quantization).
+enum ComponentFormat : unsigned {
+  kFloatComponents = 1u,
+  kUnsignedNormalized = 2u,  // UNSIGNED_BYTE/SHORT, normalized: c / 255, c / 65535
+  kSignedNormalized = 4u,    // BYTE/SHORT, normalized: max(c / 127, -1), max(c / 32767, -1)
+  kPlainIntegers = 8u,       // any 8- or 16-bit integer, not normalized: its value
+};
+constexpr unsigned kAnyInteger = kUnsignedNormalized | kSignedNormalized | kPlainIntegers;
+
+struct AttributeFormats {
+  unsigned core;       // what glTF 2.0 itself allows
+  unsigned quantized;  // what a file using KHR_mesh_quantization may use
+};
+// POSITION (and EXT_mesh_gpu_instancing's TRANSLATION and SCALE)
+constexpr AttributeFormats kPositionFormats{kFloatComponents, kFloatComponents | kAnyInteger};
+// NORMAL and TANGENT
+constexpr AttributeFormats kDirectionFormats{kFloatComponents, kFloatComponents | kSignedNormalized};
+constexpr AttributeFormats kTexcoordFormats{kFloatComponents | kUnsignedNormalized, kFloatComponents | kAnyInteger};
+// EXT_mesh_gpu_instancing's ROTATION (a unit quaternion)
+constexpr AttributeFormats kRotationFormats{kFloatComponents | kSignedNormalized, kFloatComponents | kSignedNormalized};
+
+unsigned component_format(const tinygltf::Accessor& acc) {
+  switch (acc.componentType) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return kFloatComponents;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return acc.normalized ? kUnsignedNormalized : kPlainIntegers;
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_SHORT: return acc.normalized ? kSignedNormalized : kPlainIntegers;
+    default: return 0;  // UNSIGNED_INT is for indices only
+  }
+}
+
+std::string component_type_name(const tinygltf::Accessor& acc) {
+  std::string name;
+  switch (acc.componentType) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return "FLOAT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: name = "UNSIGNED_BYTE"; break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: name = "UNSIGNED_SHORT"; break;
+    case TINYGLTF_COMPONENT_TYPE_BYTE: name = "BYTE"; break;
+    case TINYGLTF_COMPONENT_TYPE_SHORT: name = "SHORT"; break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: name = "UNSIGNED_INT"; break;
+    default: return std::to_string(acc.componentType);
+  }
+  return (acc.normalized ? "normalized " : "") + name;
+}
+
+// One component as glTF 2.0 "Animations" / "Meshes" decode it: a normalized
+// integer maps to [0, 1] or [-1, 1] (the most negative value clamps to -1).
+float decode_component(const unsigned char* bytes, int component_type, bool normalized) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? bytes[0] / 255.0f : bytes[0];
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      int8_t c;
+      std::memcpy(&c, bytes, 1);
+      return normalized ? std::max(c / 127.0f, -1.0f) : c;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t c;
+      std::memcpy(&c, bytes, 2);
+      return normalized ? c / 65535.0f : c;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t c;
+      std::memcpy(&c, bytes, 2);
+      return normalized ? std::max(c / 32767.0f, -1.0f) : c;
+    }
+    default: {  // FLOAT: the only other type component_format lets through
+      float v;
+      std::memcpy(&v, bytes, 4);
+      return v;
+    }
+  }
+}
+
+// A 1-, 2- or 4-byte unsigned integer, little-endian as glTF requires.
+uint32_t read_unsigned(const unsigned char* bytes, size_t size) {
+  uint32_t v = 0;
+  std::memcpy(&v, bytes, size);
+  return v;
+}
+
+// The byte size of an index (indices and sparse indices), 0 for another type.
+size_t index_size(int component_type) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return 4;
+    default: return 0;
+  }
+}
+
 struct AccessorReader {
   const tinygltf::Model& model;
   const std::string& path;
+  bool quantized;  // the file uses KHR_mesh_quantization
 
   [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": " + what); }
 
-  // Reads `components` values per element as floats (normalised integers scaled to [0,1]).
-  std::vector<float> floats(int index, int type, int components, bool allow_normalized, const std::string& what) const {
+  // Reads `components` values per element as floats, decoded from any component
+  // type `formats` allows.
+  std::vector<float> floats(int index, int type, int components, AttributeFormats formats, const std::string& what) const {
     const tinygltf::Accessor& acc = accessor(index, what);
-    if (acc.type != type)
-      fail(what + ": accessor " + std::to_string(index) + " has the wrong type (expected " +
-           std::to_string(components) + " components)");
-    bool is_float = acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
-    bool is_norm = acc.normalized && (acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                      acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
-    if (!is_float && !(allow_normalized && is_norm))
-      fail(what + ": accessor " + std::to_string(index) + " has an unsupported component type " +
-           std::to_string(acc.componentType));
-    int component_size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType));
-    const unsigned char* base = element_base(acc, component_size * components, what);
-    size_t stride = stride_of(acc, component_size * components);
-    std::vector<float> out(acc.count * static_cast<size_t>(components));
-    for (size_t i = 0; i < acc.count; ++i) {
-      const unsigned char* e = base + i * stride;
-      for (int c = 0; c < components; ++c) {
-        float v;
-        if (is_float) std::memcpy(&v, e + c * 4, 4);
-        else if (component_size == 1) v = e[c] / 255.0f;
-        else {
-          uint16_t u;
-          std::memcpy(&u, e + c * 2, 2);
-          v = u / 65535.0f;
-        }
-        out[i * components + c] = v;
-      }
-    }
-    return out;
+    const std::string name = what + ": accessor " + std::to_string(index);
+    if (acc.type != type) fail(name + " has the wrong type (expected " + std::to_string(components) + " components)");
+    const unsigned format = component_format(acc);
+    if (!(format & (quantized ? formats.quantized : formats.core)))
+      fail(name + " has an unsupported component type " + component_type_name(acc) +
+           (format & formats.quantized ? " (allowed only in a file that uses KHR_mesh_quantization)" : ""));
+    const size_t component_size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType));
+    return elements<float>(acc, component_size * static_cast<size_t>(components), static_cast<size_t>(components), name,
+                           [&](const unsigned char* element, float* out) {
+                             for (int c = 0; c < components; ++c)
+                               out[c] = decode_component(element + static_cast<size_t>(c) * component_size,
+                                                         acc.componentType, acc.normalized);
+                           });
   }
 
   std::vector<uint32_t> indices(int index, const std::string& what) const {
     const tinygltf::Accessor& acc = accessor(index, what);
-    if (acc.type != TINYGLTF_TYPE_SCALAR) fail(what + ": index accessor " + std::to_string(index) + " is not SCALAR");
-    int size = 0;
-    switch (acc.componentType) {
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: size = 1; break;
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: size = 2; break;
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: size = 4; break;
-      default: fail(what + ": index accessor " + std::to_string(index) + " has an unsupported component type");
-    }
-    const unsigned char* base = element_base(acc, size, what);
-    size_t stride = stride_of(acc, size);
-    std::vector<uint32_t> out(acc.count);
-    for (size_t i = 0; i < acc.count; ++i) {
-      uint32_t v = 0;
-      std::memcpy(&v, base + i * stride, static_cast<size_t>(size));  // little-endian, as glTF requires
-      out[i] = v;
-    }
-    return out;
+    const std::string name = what + ": index accessor " + std::to_string(index);
+    if (acc.type != TINYGLTF_TYPE_SCALAR) fail(name + " is not SCALAR");
+    const size_t size = index_size(acc.componentType);
+    if (size == 0) fail(name + " has an unsupported component type " + component_type_name(acc));
+    return elements<uint32_t>(acc, size, 1, name, [&](const unsigned char* element, uint32_t* out) {
+      *out = read_unsigned(element, size);
+    });
   }
 
   const tinygltf::Accessor& accessor(int index, const std::string& what) const {
@@ -146,40 +216,91 @@ struct AccessorReader {
     return model.accessors[static_cast<size_t>(index)];
   }
 
-  static size_t stride_of(const tinygltf::Accessor&, int element_size) { return static_cast<size_t>(element_size); }
+  // An accessor's elements, each decoded by `decode` (its bytes -> `components`
+  // values): read from its bufferView, or zeros when it has none, then replaced
+  // where its sparse part says (glTF 2.0 "Sparse Accessors").
+  template <typename T, typename Decode>
+  std::vector<T> elements(const tinygltf::Accessor& acc, size_t element_size, size_t components, const std::string& name,
+                          const Decode& decode) const {
+    size_t stride = 0;
+    const unsigned char* base = nullptr;
+    if (acc.bufferView >= 0)
+      base = view_bytes(acc.bufferView, acc.byteOffset, acc.count, element_size, true, name, "", &stride);
+    else if (acc.count > kMaxSceneFileBytes / element_size)  // zeros, with no file bytes behind them
+      fail(name + " has no bufferView and " + std::to_string(acc.count) + " elements of " + std::to_string(element_size) +
+           " bytes (more than the " + std::to_string(kMaxSceneFileBytes) + " bytes the kit reads of a buffer)");
+    // From here count is bounded by bytes in memory, so count * components (<= 4) cannot wrap.
+    std::vector<T> out(acc.count * components, T(0));
+    for (size_t i = 0; base && i < acc.count; ++i) decode(base + i * stride, &out[i * components]);
+    if (acc.sparse.isSparse) {
+      const auto& sparse = acc.sparse;
+      if (sparse.count < 1 || static_cast<size_t>(sparse.count) > acc.count)
+        fail(name + ": sparse count " + std::to_string(sparse.count) + " is not between 1 and the accessor's count (" +
+             std::to_string(acc.count) + ")");
+      if (sparse.indices.byteOffset < 0 || sparse.values.byteOffset < 0)
+        fail(name + ": sparse indices or values have a negative byteOffset");
+      const size_t count = static_cast<size_t>(sparse.count);
+      const size_t indices_size = index_size(sparse.indices.componentType);
+      if (indices_size == 0)
+        fail(name + ": sparse indices have an unsupported component type " + std::to_string(sparse.indices.componentType));
+      size_t unused_stride = 0;  // sparse indices and values are tightly packed
+      const unsigned char* indices = view_bytes(sparse.indices.bufferView, static_cast<size_t>(sparse.indices.byteOffset),
+                                                count, indices_size, false, name, "sparse indices ", &unused_stride);
+      const unsigned char* values = view_bytes(sparse.values.bufferView, static_cast<size_t>(sparse.values.byteOffset),
+                                               count, element_size, false, name, "sparse values ", &unused_stride);
+      for (size_t i = 0; i < count; ++i) {
+        const uint32_t target = read_unsigned(indices + i * indices_size, indices_size);
+        if (target >= acc.count)
+          fail(name + ": sparse index " + std::to_string(target) + " at position " + std::to_string(i) +
+               " is out of range (the accessor has " + std::to_string(acc.count) + " elements)");
+        decode(values + i * element_size, &out[target * components]);
+      }
+    }
+    return out;
+  }
 
-  const unsigned char* element_base(const tinygltf::Accessor& acc, int element_size, const std::string& what) const {
-    if (acc.sparse.isSparse) fail(what + ": sparse accessors are not supported");
-    if (acc.bufferView < 0 || acc.bufferView >= static_cast<int>(model.bufferViews.size()))
-      fail(what + ": accessor has no valid bufferView");
-    const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(acc.bufferView)];
+  // Where `count` elements of `element_size` bytes start in bufferView `view_index`,
+  // `byte_offset` bytes in; *stride gets the distance between elements (the view's
+  // byteStride when `strided` and it has one, else the element size). `part` names
+  // what is read when it is not the accessor's own data ("sparse indices ").
+  const unsigned char* view_bytes(int view_index, size_t byte_offset, size_t count, size_t element_size, bool strided,
+                                  const std::string& name, const std::string& part, size_t* stride) const {
+    if (view_index < 0 || view_index >= static_cast<int>(model.bufferViews.size()))
+      fail(name + ": " + part + "bufferView " + std::to_string(view_index) + " does not exist");
+    const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(view_index)];
     if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size()))
-      fail(what + ": bufferView " + std::to_string(acc.bufferView) + " names no valid buffer");
+      fail(name + ": bufferView " + std::to_string(view_index) + " names no valid buffer");
     const tinygltf::Buffer& buffer = model.buffers[static_cast<size_t>(view.buffer)];
-    size_t stride = view.byteStride ? view.byteStride : static_cast<size_t>(element_size);
-    if (stride != static_cast<size_t>(element_size))
-      fail(what + ": interleaved buffer views (byteStride " + std::to_string(view.byteStride) + ") are not supported");
+    *stride = strided && view.byteStride ? view.byteStride : element_size;
+    if (*stride < element_size)
+      fail(name + ": bufferView " + std::to_string(view_index) + " has byteStride " + std::to_string(*stride) +
+           ", less than one element (" + std::to_string(element_size) + " bytes)");
     // Every number below comes from the file: each comparison is arranged so that no
     // sum or product can wrap around (a count near 2^64 must fail here, not in a loop).
     const size_t size = buffer.data.size();
     if (view.byteOffset > size || view.byteLength > size - view.byteOffset)
-      fail(what + ": bufferView " + std::to_string(acc.bufferView) + " (offset " + std::to_string(view.byteOffset) +
+      fail(name + ": bufferView " + std::to_string(view_index) + " (offset " + std::to_string(view.byteOffset) +
            ", length " + std::to_string(view.byteLength) + ") lies outside buffer " + std::to_string(view.buffer) +
            " (" + std::to_string(size) + " bytes)");
-    if (acc.byteOffset > view.byteLength)
-      fail(what + ": accessor byteOffset " + std::to_string(acc.byteOffset) + " lies past its bufferView (" +
+    if (byte_offset > view.byteLength)
+      fail(name + ": " + part + "byteOffset " + std::to_string(byte_offset) + " lies past its bufferView (" +
            std::to_string(view.byteLength) + " bytes)");
-    const size_t available = view.byteLength - acc.byteOffset;
-    if (acc.count > 0 && (static_cast<size_t>(element_size) > available ||
-                          acc.count - 1 > (available - static_cast<size_t>(element_size)) / stride))
-      fail(what + ": accessor reads past the end of its buffer (" + std::to_string(acc.count) + " elements of " +
-           std::to_string(element_size) + " bytes from byte " + std::to_string(acc.byteOffset) + " of a " +
-           std::to_string(view.byteLength) + "-byte bufferView; buffer " + std::to_string(view.buffer) + " has " +
-           std::to_string(size) + " bytes)");
-    // From here count <= bytes in memory, so count * components (<= 4) cannot wrap.
-    return buffer.data.data() + view.byteOffset + acc.byteOffset;
+    const size_t available = view.byteLength - byte_offset;
+    if (count > 0 && (element_size > available || count - 1 > (available - element_size) / *stride))
+      fail(name + ": " + part + "reads past the end of its buffer (" + std::to_string(count) + " elements of " +
+           std::to_string(element_size) + " bytes every " + std::to_string(*stride) + " from byte " +
+           std::to_string(byte_offset) + " of a " + std::to_string(view.byteLength) + "-byte bufferView; buffer " +
+           std::to_string(view.buffer) + " has " + std::to_string(size) + " bytes)");
+    return buffer.data.data() + view.byteOffset + byte_offset;
   }
 };
+
+// Whether the file lists `name` among the extensions it uses (or requires).
+bool uses_extension(const tinygltf::Model& model, const std::string& name) {
+  for (const auto* list : {&model.extensionsUsed, &model.extensionsRequired})
+    if (std::find(list->begin(), list->end(), name) != list->end()) return true;
+  return false;
+}
 
 glm::mat4 node_local_matrix(const tinygltf::Node& node) {
   if (node.matrix.size() == 16) {
@@ -211,7 +332,7 @@ int texture_image(const tinygltf::Model& model, int texture, const std::string& 
 
 class SceneBuilder {
  public:
-  SceneBuilder(const tinygltf::Model& model, const std::string& path) : model_(model), path_(path), reader_{model, path} {}
+  SceneBuilder(const tinygltf::Model& model, const std::string& path) : model_(model), path_(path), reader_{model, path, uses_extension(model, "KHR_mesh_quantization")} {}
 
   Scene build() {
     scene_.path = path_;
@@ -284,16 +405,16 @@ class SceneBuilder {
       return it == p.attributes.end() ? -1 : it->second;
     };
     if (attr("POSITION") < 0) throw Error(path_ + ": " + what + ": has no POSITION attribute");
-    std::vector<float> pos = reader_.floats(attr("POSITION"), TINYGLTF_TYPE_VEC3, 3, false, what + " POSITION");
+    std::vector<float> pos = reader_.floats(attr("POSITION"), TINYGLTF_TYPE_VEC3, 3, kPositionFormats, what + " POSITION");
     size_t n = pos.size() / 3;
     // No NORMAL: glTF asks for flat normals, computed below once the triangles are known.
     const bool flat = attr("NORMAL") < 0;
     std::vector<float> nrm = flat ? std::vector<float>(pos.size(), 0.0f)
-                                  : reader_.floats(attr("NORMAL"), TINYGLTF_TYPE_VEC3, 3, false, what + " NORMAL");
+                                  : reader_.floats(attr("NORMAL"), TINYGLTF_TYPE_VEC3, 3, kDirectionFormats, what + " NORMAL");
     if (nrm.size() / 3 != n) throw Error(path_ + ": " + what + ": NORMAL count differs from POSITION count");
     std::vector<float> uv, tan;
-    if (attr("TEXCOORD_0") >= 0) uv = reader_.floats(attr("TEXCOORD_0"), TINYGLTF_TYPE_VEC2, 2, true, what + " TEXCOORD_0");
-    if (attr("TANGENT") >= 0) tan = reader_.floats(attr("TANGENT"), TINYGLTF_TYPE_VEC4, 4, false, what + " TANGENT");
+    if (attr("TEXCOORD_0") >= 0) uv = reader_.floats(attr("TEXCOORD_0"), TINYGLTF_TYPE_VEC2, 2, kTexcoordFormats, what + " TEXCOORD_0");
+    if (attr("TANGENT") >= 0) tan = reader_.floats(attr("TANGENT"), TINYGLTF_TYPE_VEC4, 4, kDirectionFormats, what + " TANGENT");
     if ((!uv.empty() && uv.size() / 2 != n) || (!tan.empty() && tan.size() / 4 != n))
       throw Error(path_ + ": " + what + ": attribute counts differ from POSITION count");
 
@@ -559,14 +680,17 @@ bool refuse_write(std::string* err, const std::string& path, const std::vector<u
 // wrongly or fail later with an unrelated message (a Draco mesh has no
 // bufferView): it is refused up front, by the extension's name.
 void check_required_extensions(const tinygltf::Model& model, const std::string& path) {
-  static const char* const kSupported[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength"};
+  static const char* const kSupported[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                           "KHR_mesh_quantization"};
   for (const std::string& name : model.extensionsRequired) {
     if (std::find(std::begin(kSupported), std::end(kSupported), name) != std::end(kSupported)) continue;
+    std::string supported;
+    for (const char* known : kSupported) supported += (supported.empty() ? "" : ", ") + std::string(known);
     std::string hint = name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression"
                            ? " (its meshes are compressed: save the model uncompressed, e.g. with a glTF tool's --no-compression option)"
                            : "";
     throw Error(path + ": requires the glTF extension " + name + ", which the kit does not support" + hint +
-                "; supported: KHR_lights_punctual, KHR_materials_emissive_strength");
+                "; supported: " + supported);
   }
 }
 

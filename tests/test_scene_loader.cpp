@@ -6,10 +6,12 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
 
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -76,6 +78,40 @@ struct SceneCopy {
     return view.value("byteOffset", size_t{0}) + acc.value("byteOffset", size_t{0}) +
            (element * components + component) * 4;
   }
+  // Appends `bytes` to the .bin (4-byte aligned, as glTF asks of vertex data) and
+  // returns where they start; buffer 0's byteLength follows (save_json() to keep it).
+  size_t append_bin(const std::string& bytes) {
+    std::string data = kit::test::read_file(bin);
+    data.resize((data.size() + 3) / 4 * 4, '\0');
+    const size_t offset = data.size();
+    kit::test::write_file(bin, data + bytes);
+    doc["buffers"][0]["byteLength"] = offset + bytes.size();
+    return offset;
+  }
+  // A new bufferView over `bytes` appended to the .bin; returns its index.
+  int add_view(const std::string& bytes, size_t byte_stride = 0) {
+    json view = {{"buffer", 0}, {"byteOffset", append_bin(bytes)}, {"byteLength", bytes.size()}};
+    if (byte_stride) view["byteStride"] = byte_stride;
+    doc["bufferViews"].push_back(view);
+    return static_cast<int>(doc["bufferViews"].size()) - 1;
+  }
+  int add_accessor(const json& accessor) {
+    doc["accessors"].push_back(accessor);
+    return static_cast<int>(doc["accessors"].size()) - 1;
+  }
+  // Every component of a tightly packed FLOAT accessor, read from the .bin as written.
+  std::vector<float> floats(int accessor_index, size_t components) const {
+    const std::string bytes = kit::test::read_file(bin);
+    const size_t count = doc["accessors"][static_cast<size_t>(accessor_index)]["count"];
+    std::vector<float> out(count * components);
+    std::memcpy(out.data(), &bytes.at(byte_offset(accessor_index, 0, components, 0)), out.size() * 4);
+    return out;
+  }
+  void require_extension(const std::string& name) {
+    doc["extensionsUsed"].push_back(name);
+    doc["extensionsRequired"].push_back(name);
+  }
+
   // Overwrites 4 bytes of the .bin at `offset` with `value`'s bytes.
   template <typename T>
   void patch_bin(size_t offset, T value) const {
@@ -353,6 +389,210 @@ TEST(scene_loader_hostile, LightIndexThatIsNoLightIsRefused) {
   index = 0.0;  // a whole number written as a real is still light 0
   copy.save_json();
   EXPECT_EQ(kit::load_scene(copy.gltf.string()).lights.size(), 1u);
+}
+
+// ---- accessor layouts: strides, sparse accessors, integer components ----
+
+template <typename T>
+std::string bytes_of(const std::vector<T>& values) {
+  return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+const char* vec_type(size_t components) { return components == 2 ? "VEC2" : components == 3 ? "VEC3" : "VEC4"; }
+
+// An accessor of `count` elements of `components` integers of type T (glTF
+// component type `component_type`) in a new bufferView, component k of all of
+// them being values[k % size]; elements padded to 4 bytes as vertex data must be.
+template <typename T>
+int add_integer_accessor(SceneCopy& copy, const std::vector<T>& values, size_t count, size_t components,
+                         int component_type, bool normalized) {
+  const size_t element = components * sizeof(T), stride = (element + 3) / 4 * 4;
+  std::string bytes(count * stride, '\0');
+  for (size_t v = 0; v < count; ++v)
+    for (size_t c = 0; c < components; ++c)
+      std::memcpy(&bytes[v * stride + c * sizeof(T)], &values[(v * components + c) % values.size()], sizeof(T));
+  const int view = copy.add_view(bytes, stride != element ? stride : 0);
+  return copy.add_accessor({{"bufferView", view}, {"componentType", component_type}, {"normalized", normalized},
+                            {"count", count}, {"type", vec_type(components)}});
+}
+
+// glTF 2.0's decoding of a normalized integer component c, in double.
+double normalized_value(double c, int component_type) {
+  switch (component_type) {
+    case 5120: return std::max(c / 127.0, -1.0);    // BYTE
+    case 5121: return c / 255.0;                    // UNSIGNED_BYTE
+    case 5122: return std::max(c / 32767.0, -1.0);  // SHORT
+    default: return c / 65535.0;                    // UNSIGNED_SHORT
+  }
+}
+// A float from float arithmetic on a value in [-1, 1] (one rounding step).
+constexpr double kNormalizedTolerance = 1e-7;
+
+void expect_same_vertices(const kit::Primitive& expected, const kit::Primitive& actual) {
+  ASSERT_EQ(actual.vertices.size(), expected.vertices.size());
+  EXPECT_EQ(actual.indices, expected.indices);
+  for (size_t i = 0; i < actual.vertices.size(); ++i) {
+    const kit::Vertex &a = actual.vertices[i], &e = expected.vertices[i];
+    ASSERT_TRUE(a.position == e.position && a.normal == e.normal && a.texcoord == e.texcoord && a.tangent == e.tangent)
+        << "vertex " << i;
+  }
+}
+
+TEST(scene_loader_accessors, InterleavedViewGivesTheSameVerticesAsSeparateViews) {
+  SceneCopy copy("sphere", "interleaved");
+  const std::pair<std::string, size_t> attributes[] = {{"POSITION", 3}, {"NORMAL", 3}, {"TEXCOORD_0", 2}, {"TANGENT", 4}};
+  const size_t count = copy.doc["accessors"][static_cast<size_t>(copy.accessor("POSITION"))]["count"];
+  const size_t stride = 4 * (3 + 3 + 2 + 4);
+  std::string interleaved(count * stride, '\0');
+  size_t offset = 0;
+  for (const auto& [name, components] : attributes) {
+    const std::vector<float> values = copy.floats(copy.accessor(name), components);
+    for (size_t v = 0; v < count; ++v) std::memcpy(&interleaved[v * stride + offset], &values[v * components], 4 * components);
+    offset += 4 * components;
+  }
+  const int view = copy.add_view(interleaved, stride);
+  offset = 0;
+  for (const auto& [name, components] : attributes) {
+    json& accessor = copy.doc["accessors"][static_cast<size_t>(copy.accessor(name))];
+    accessor["bufferView"] = view;
+    accessor["byteOffset"] = offset;
+    offset += 4 * components;
+  }
+  copy.save_json();
+  const kit::Scene separate = kit::load_scene(kit::resolve_scene("sphere"));
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  expect_same_vertices(separate.primitives.at(0), scene.primitives.at(0));
+}
+
+TEST(scene_loader_accessors, SparseValuesReplaceTheListedVertices) {
+  SceneCopy copy("sphere", "sparse");
+  const std::vector<uint16_t> moved = {3, 17, 1000};
+  const std::vector<float> values = {0.5f, 2.0f, -1.0f, 3.0f, 0.0f, 0.25f, -2.0f, -2.0f, 1.5f};
+  copy.doc["accessors"][static_cast<size_t>(copy.accessor("POSITION"))]["sparse"] = {
+      {"count", moved.size()},
+      {"indices", {{"bufferView", copy.add_view(bytes_of(moved))}, {"componentType", 5123}}},
+      {"values", {{"bufferView", copy.add_view(bytes_of(values))}}}};
+  copy.save_json();
+  const kit::Primitive& dense = kit::test::scene("sphere").primitives.at(0);
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  const kit::Primitive& sparse = scene.primitives.at(0);
+  ASSERT_EQ(sparse.vertices.size(), dense.vertices.size());
+  for (size_t v = 0; v < sparse.vertices.size(); ++v) {
+    auto k = std::find(moved.begin(), moved.end(), v);
+    glm::vec3 expected = dense.vertices[v].position;
+    if (k != moved.end()) expected = glm::make_vec3(&values[3 * static_cast<size_t>(k - moved.begin())]);
+    ASSERT_EQ(sparse.vertices[v].position, expected) << "vertex " << v;
+  }
+  EXPECT_EQ(sparse.bounds_min.x, -2.0f) << "bounds follow the sparse values";
+}
+
+// Without a bufferView a sparse accessor starts from zeros.
+TEST(scene_loader_accessors, SparseAccessorWithoutBufferViewStartsFromZeros) {
+  SceneCopy copy("sphere", "sparse_zeros");
+  const size_t count = copy.doc["accessors"][static_cast<size_t>(copy.accessor("TEXCOORD_0"))]["count"];
+  const std::vector<uint8_t> moved = {5, 9};
+  const std::vector<float> values = {0.25f, 0.75f, 1.0f, 0.5f};
+  const int uv = copy.add_accessor(
+      {{"componentType", 5126}, {"count", count}, {"type", "VEC2"},
+       {"sparse", {{"count", moved.size()},
+                   {"indices", {{"bufferView", copy.add_view(bytes_of(moved))}, {"componentType", 5121}}},
+                   {"values", {{"bufferView", copy.add_view(bytes_of(values))}}}}}});
+  copy.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = uv;
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  const std::vector<kit::Vertex>& vertices = scene.primitives.at(0).vertices;
+  ASSERT_EQ(vertices.size(), count);
+  for (size_t v = 0; v < count; ++v) {
+    glm::vec2 expected(0.0f);
+    if (v == 5) expected = {0.25f, 0.75f};
+    if (v == 9) expected = {1.0f, 0.5f};
+    ASSERT_EQ(vertices[v].texcoord, expected) << "vertex " << v;
+  }
+}
+
+TEST(scene_loader_accessors, SparseIndexPastTheCountIsRefused) {
+  SceneCopy copy("sphere", "sparse_out_of_range");
+  const int position = copy.accessor("POSITION");
+  const uint32_t count = copy.doc["accessors"][static_cast<size_t>(position)]["count"];
+  const std::vector<uint32_t> moved = {3, count};
+  copy.doc["accessors"][static_cast<size_t>(position)]["sparse"] = {
+      {"count", moved.size()},
+      {"indices", {{"bufferView", copy.add_view(bytes_of(moved))}, {"componentType", 5125}}},
+      {"values", {{"bufferView", copy.add_view(std::string(moved.size() * 12, '\0'))}}}};
+  copy.save_json();
+  expect_error(copy.gltf, "POSITION: accessor " + std::to_string(position) + ": sparse index " + std::to_string(count) +
+                              " at position 1 is out of range");
+  // A sparse count beyond the accessor's, whose indices would run past their view.
+  copy.doc["accessors"][static_cast<size_t>(position)]["sparse"]["count"] = count + 1;
+  copy.save_json();
+  expect_error(copy.gltf, "sparse count " + std::to_string(count + 1) + " is not between 1 and");
+}
+
+// Normalized integers decode as glTF 2.0 says (c / 255, max(c / 127, -1), ...),
+// each at its extremes; NORMAL may be normalized BYTE/SHORT only with KHR_mesh_quantization.
+TEST(scene_loader_accessors, NormalizedIntegersDecodeAsTheSpecSays) {
+  const std::vector<int8_t> bytes = {-128, -127, -64, 0, 1, 64, 127};
+  const std::vector<int16_t> shorts = {-32768, -32767, -1, 0, 1, 16384, 32767};
+  const std::vector<uint8_t> unsigned_bytes = {0, 1, 128, 254, 255};
+  const std::vector<uint16_t> unsigned_shorts = {0, 1, 32768, 65534, 65535};
+  for (bool eight_bit : {true, false}) {
+    SceneCopy copy("sphere", eight_bit ? "normalized8" : "normalized16");
+    const size_t count = copy.doc["accessors"][0]["count"];
+    json& attributes = copy.doc["meshes"][0]["primitives"][0]["attributes"];
+    const int normal_type = eight_bit ? 5120 : 5122, uv_type = eight_bit ? 5123 : 5121;  // 16-bit UVs with 8-bit normals
+    attributes["NORMAL"] = eight_bit ? add_integer_accessor(copy, bytes, count, 3, normal_type, true)
+                                     : add_integer_accessor(copy, shorts, count, 3, normal_type, true);
+    attributes["TEXCOORD_0"] = eight_bit ? add_integer_accessor(copy, unsigned_shorts, count, 2, uv_type, true)
+                                         : add_integer_accessor(copy, unsigned_bytes, count, 2, uv_type, true);
+    copy.save_json();
+    expect_error(copy.gltf, "NORMAL: accessor " + std::to_string(attributes["NORMAL"].get<int>()) +
+                                " has an unsupported component type normalized " + (eight_bit ? "BYTE" : "SHORT") +
+                                " (allowed only in a file that uses KHR_mesh_quantization)");
+    copy.require_extension("KHR_mesh_quantization");
+    copy.save_json();
+    const kit::Scene scene = kit::load_scene(copy.gltf.string());
+    const std::vector<kit::Vertex>& vertices = scene.primitives.at(0).vertices;
+    ASSERT_EQ(vertices.size(), count);
+    for (size_t v = 0; v < count; ++v) {
+      for (size_t c = 0; c < 3; ++c) {
+        const size_t k = v * 3 + c;
+        const double raw = eight_bit ? bytes[k % bytes.size()] : shorts[k % shorts.size()];
+        ASSERT_NEAR(vertices[v].normal[static_cast<int>(c)], normalized_value(raw, normal_type), kNormalizedTolerance)
+            << "vertex " << v << " normal " << c << " from " << raw;
+      }
+      for (size_t c = 0; c < 2; ++c) {
+        const size_t k = v * 2 + c;
+        const double raw = eight_bit ? unsigned_shorts[k % unsigned_shorts.size()] : unsigned_bytes[k % unsigned_bytes.size()];
+        ASSERT_NEAR(vertices[v].texcoord[static_cast<int>(c)], normalized_value(raw, uv_type), kNormalizedTolerance)
+            << "vertex " << v << " uv " << c << " from " << raw;
+      }
+    }
+  }
+}
+
+// KHR_mesh_quantization: plain (not normalized) integer positions and UVs are their values.
+TEST(scene_loader_accessors, QuantizedPositionsNeedKhrMeshQuantization) {
+  SceneCopy copy("sphere", "quantized");
+  const size_t count = copy.doc["accessors"][0]["count"];
+  const std::vector<int16_t> positions = {-32768, -300, 0, 7, 32767};
+  const std::vector<uint8_t> uvs = {0, 3, 255};
+  json& attributes = copy.doc["meshes"][0]["primitives"][0]["attributes"];
+  attributes["POSITION"] = add_integer_accessor(copy, positions, count, 3, 5122, false);  // 6 bytes in 8
+  attributes["TEXCOORD_0"] = add_integer_accessor(copy, uvs, count, 2, 5121, false);     // 2 bytes in 4
+  copy.save_json();
+  expect_error(copy.gltf, "POSITION: accessor " + std::to_string(attributes["POSITION"].get<int>()) +
+                              " has an unsupported component type SHORT (allowed only in a file that uses KHR_mesh_quantization)");
+  copy.require_extension("KHR_mesh_quantization");
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  const std::vector<kit::Vertex>& vertices = scene.primitives.at(0).vertices;
+  ASSERT_EQ(vertices.size(), count);
+  for (size_t v = 0; v < count; ++v) {
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(vertices[v].position[c], positions[(v * 3 + static_cast<size_t>(c)) % positions.size()]) << "vertex " << v;
+    for (int c = 0; c < 2; ++c)
+      ASSERT_EQ(vertices[v].texcoord[c], uvs[(v * 2 + static_cast<size_t>(c)) % uvs.size()]) << "vertex " << v;
+  }
 }
 
 // ---- valid scenes ----
