@@ -41,6 +41,10 @@ struct Primitive {
 struct DrawItem {
   int primitive;
   glm::mat4 world;
+  // A world matrix with a negative determinant mirrors the mesh, which turns its
+  // counter-clockwise (front) triangles clockwise: draw_scene draws it with
+  // glFrontFace(GL_CW), or back-face culling would remove its front.
+  bool mirrored() const { return glm::determinant(glm::mat3(world)) < 0.0f; }
 };
 
 struct Light {

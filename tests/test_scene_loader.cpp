@@ -28,6 +28,7 @@
 #include "kit_test_files.h"
 #include "scene.h"
 #include "stages.h"
+#include "tiny_scenes.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -593,6 +594,52 @@ TEST(scene_loader_accessors, QuantizedPositionsNeedKhrMeshQuantization) {
     for (int c = 0; c < 2; ++c)
       ASSERT_EQ(vertices[v].texcoord[c], uvs[(v * 2 + static_cast<size_t>(c)) % uvs.size()]) << "vertex " << v;
   }
+}
+
+// ---- mirrored transforms ----
+
+TEST(scene_loader_mirrored, NegativeDeterminantMarksTheDrawMirrored) {
+  SceneCopy copy("sphere", "mirrored");
+  copy.doc["nodes"][0]["scale"] = {-1.0, 1.0, 1.0};
+  copy.save_json();
+  EXPECT_FALSE(kit::test::scene("sphere").draws.at(0).mirrored());
+  EXPECT_TRUE(kit::load_scene(copy.gltf.string()).draws.at(0).mirrored());
+  // Mirrored twice (a parent mirroring in y over the child mirroring in x): not mirrored.
+  copy.doc["nodes"].push_back({{"name", "mirror_parent"}, {"scale", {1.0, -1.0, 1.0}}, {"children", {0}}});
+  copy.doc["scenes"][0]["nodes"][0] = copy.doc["nodes"].size() - 1;
+  copy.save_json();
+  EXPECT_FALSE(kit::load_scene(copy.gltf.string()).draws.at(0).mirrored());
+}
+
+// Pixels the geometry pass covers (depth below the clear value 1) for a 1 m quad
+// at the origin, seen from +Z (stage 1, the reference solution's shaders).
+size_t covered_pixels(const kit::Primitive& quad, const glm::mat4& world) {
+  kit::test::context();
+  const kit::Scene scene = kit::test::tiny_scene({quad}, {kit::test::plain_material(0.5f)}, {{0, world}}, {});
+  kit::RenderSettings settings;
+  settings.width = settings.height = 32;
+  const kit::Stage& stage = kit::find_stage("gbuffer");
+  kit::Renderer renderer(stage, kit::stage_library(stage, kit::kit_root() / "solutions"), scene, settings);
+  kit::Camera camera;
+  camera.position = {0.0f, 0.0f, 3.0f};
+  camera.view = glm::lookAt(camera.position, glm::vec3(0.0f), glm::vec3(0, 1, 0));
+  renderer.render(kit::frame_camera(camera, 1.0f));
+  GLint front_face = 0;
+  glGetIntegerv(GL_FRONT_FACE, &front_face);
+  EXPECT_EQ(front_face, GL_CCW) << "draw_scene restores GL's default winding";
+  const kit::Image depth = renderer.read_view(kit::View::Depth, true);
+  return static_cast<size_t>(std::count_if(depth.pixels.begin(), depth.pixels.end(), [](float d) { return d < 1.0f; }));
+}
+
+TEST(scene_loader_mirrored, MirroredQuadStillFacesTheCamera) {
+  const kit::Primitive quad = kit::test::quad_primitive({1, 0, 0}, {0, 1, 0}, {1, 1});  // front face looks along +Z
+  const size_t plain = covered_pixels(quad, glm::mat4(1.0f));
+  EXPECT_GT(plain, 0u);
+  // Witness that back faces are culled: the quad turned away covers nothing.
+  EXPECT_EQ(covered_pixels(kit::test::quad_primitive({-1, 0, 0}, {0, 1, 0}, {1, 1}), glm::mat4(1.0f)), 0u);
+  // Mirrored in x it still faces +Z, its triangles now clockwise on screen: drawn, all of it.
+  const glm::mat4 mirror = glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f));
+  EXPECT_EQ(covered_pixels(quad, mirror), plain);
 }
 
 // ---- valid scenes ----
