@@ -511,11 +511,18 @@ class SceneBuilder {
     glm::mat4 world = parent * node_local_matrix(node);
     if (node.mesh >= 0) {
       if (node.mesh >= static_cast<int>(mesh_primitives_.size())) throw Error(path_ + ": node '" + node.name + "' names a mesh that does not exist");
-      for (int prim : mesh_primitives_[static_cast<size_t>(node.mesh)]) scene_.draws.push_back({prim, world});
+      for (const glm::mat4& instance : instance_matrices(node, node_index))
+        for (int prim : mesh_primitives_[static_cast<size_t>(node.mesh)]) {
+          if (scene_.draws.size() >= kMaxSceneDraws)
+            throw Error(path_ + ": node " + std::to_string(node_index) + " ('" + node.name + "'): the scene draws more than " +
+                        std::to_string(kMaxSceneDraws) + " meshes (the kit's limit: each primitive of each node and "
+                        "EXT_mesh_gpu_instancing instance is one draw)");
+          scene_.draws.push_back({prim, world * instance});
+        }
     }
     if (node.camera >= 0 && !scene_.camera) camera(node, world);
     auto ext = node.extensions.find("KHR_lights_punctual");
-    if (ext != node.extensions.end() && ext->second.Has("light")) light(light_index(ext->second.Get("light")), world);
+    if (ext != node.extensions.end() && ext->second.Has("light")) light(index_in(ext->second.Get("light"), model_.lights.size(), "KHR_lights_punctual light index"), world);
     for (int child : node.children) visit(child, world, depth + 1);
   }
 
@@ -533,18 +540,70 @@ class SceneBuilder {
     scene_.camera = cam;
   }
 
-  // A node's KHR_lights_punctual "light": the index of an existing light. Read as a
-  // double and checked before it becomes an int: tinygltf's GetNumberAsInt converts
-  // any double, which is undefined behaviour past int's range (1e300).
-  int light_index(const tinygltf::Value& value) const {
+  // An index an extension gives (a node's KHR_lights_punctual "light", ...): a whole
+  // number below `count`. Read as a double and checked before it becomes an int:
+  // tinygltf's GetNumberAsInt converts any double, which is undefined behaviour past
+  // int's range (1e300). `what` names the index ("KHR_lights_punctual light index").
+  int index_in(const tinygltf::Value& value, size_t count, const std::string& what) const {
     double index = value.IsNumber() ? value.GetNumberAsDouble() : -1.0;
-    if (!(index >= 0.0 && index < static_cast<double>(model_.lights.size()) && index == std::floor(index))) {
+    if (!(index >= 0.0 && index < static_cast<double>(count) && index == std::floor(index))) {
       std::ostringstream shown;
       if (value.IsNumber()) shown << index;
       else shown << "(not a number)";
-      throw Error(path_ + ": KHR_lights_punctual light index " + shown.str() + " does not exist");
+      throw Error(path_ + ": " + what + " " + shown.str() + " does not exist");
     }
     return static_cast<int>(index);
+  }
+
+  // EXT_mesh_gpu_instancing: the node's mesh is drawn once per instance, at the
+  // node's world matrix times the instance's T * R * S (each attribute optional).
+  // A node without the extension has one instance, the identity.
+  std::vector<glm::mat4> instance_matrices(const tinygltf::Node& node, int node_index) const {
+    auto ext = node.extensions.find("EXT_mesh_gpu_instancing");
+    if (ext == node.extensions.end()) return {glm::mat4(1.0f)};
+    const std::string what = "node " + std::to_string(node_index) + " ('" + node.name + "') EXT_mesh_gpu_instancing";
+    const tinygltf::Value& attributes = ext->second.Get("attributes");  // a null Value when absent
+    struct Attribute {
+      const char* name;
+      int type, components;
+      AttributeFormats formats;
+      std::vector<float> values;
+    };
+    Attribute translation{"TRANSLATION", TINYGLTF_TYPE_VEC3, 3, kPositionFormats, {}};
+    Attribute rotation{"ROTATION", TINYGLTF_TYPE_VEC4, 4, kRotationFormats, {}};
+    Attribute scale{"SCALE", TINYGLTF_TYPE_VEC3, 3, kPositionFormats, {}};
+    size_t count = 0;
+    bool any = false;
+    for (Attribute* a : {&translation, &rotation, &scale}) {
+      if (!attributes.IsObject() || !attributes.Has(a->name)) continue;
+      const std::string name = what + " " + a->name;
+      const int accessor = index_in(attributes.Get(a->name), model_.accessors.size(), name + " accessor index");
+      a->values = reader_.floats(accessor, a->type, a->components, a->formats, name);
+      const size_t n = a->values.size() / static_cast<size_t>(a->components);
+      if (any && n != count)
+        throw Error(path_ + ": " + name + " has " + std::to_string(n) + " instances, the other attributes " +
+                    std::to_string(count));
+      count = n;
+      any = true;
+    }
+    if (!any) throw Error(path_ + ": " + what + " has no TRANSLATION, ROTATION or SCALE attribute");
+    if (count > kMaxSceneDraws)
+      throw Error(path_ + ": " + what + " has " + std::to_string(count) + " instances, more than the kit draws (" +
+                  std::to_string(kMaxSceneDraws) + " draws in all)");
+    std::vector<glm::mat4> out(count, glm::mat4(1.0f));
+    for (size_t i = 0; i < count; ++i) {
+      glm::mat4& m = out[i];
+      if (!translation.values.empty()) m = glm::translate(m, glm::make_vec3(&translation.values[3 * i]));
+      if (!rotation.values.empty()) {
+        const float* q = &rotation.values[4 * i];  // x, y, z, w
+        // Normalized integer quaternions are unit only to their precision.
+        const glm::quat unit = glm::normalize(glm::quat(q[3], q[0], q[1], q[2]));
+        if (!std::isfinite(unit.w)) throw Error(path_ + ": " + what + " ROTATION " + std::to_string(i) + " is not a rotation");
+        m *= glm::mat4_cast(unit);
+      }
+      if (!scale.values.empty()) m = glm::scale(m, glm::make_vec3(&scale.values[3 * i]));
+    }
+    return out;
   }
 
   void light(int index, const glm::mat4& world) {
@@ -681,7 +740,7 @@ bool refuse_write(std::string* err, const std::string& path, const std::vector<u
 // bufferView): it is refused up front, by the extension's name.
 void check_required_extensions(const tinygltf::Model& model, const std::string& path) {
   static const char* const kSupported[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
-                                           "KHR_mesh_quantization"};
+                                           "KHR_mesh_quantization", "EXT_mesh_gpu_instancing"};
   for (const std::string& name : model.extensionsRequired) {
     if (std::find(std::begin(kSupported), std::end(kSupported), name) != std::end(kSupported)) continue;
     std::string supported;

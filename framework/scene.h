@@ -79,6 +79,10 @@ struct Scene {
   std::vector<std::string> warnings;
 };
 
+// The most draw items a scene may make (primitives of mesh nodes, times the
+// instances of EXT_mesh_gpu_instancing): the renderer issues one GL draw each.
+constexpr size_t kMaxSceneDraws = size_t{1} << 18;
+
 // Loads and validates a .gltf/.glb file. Any problem throws kit::Error whose
 // message starts with the path and says what is wrong; nothing crashes.
 Scene load_scene(const std::string& path);

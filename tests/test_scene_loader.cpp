@@ -877,4 +877,48 @@ TEST(scene_loader_tangents, PlainAndMirroredQuadsGetTheirHandedness) {
   }
 }
 
+// ---- EXT_mesh_gpu_instancing ----
+
+TEST(scene_loader_instancing, EachInstanceIsADrawAtNodeTimesInstanceTrs) {
+  SceneCopy copy("sphere", "instancing");
+  const std::vector<float> translations = {0, 0, 0, 3, 0, -1, -2.5f, 1, 4};
+  const std::vector<float> rotations = {0, 0, 0, 1, 0, 0.70710678f, 0, 0.70710678f, 0.5f, 0.5f, 0.5f, 0.5f};
+  const std::vector<float> scales = {1, 1, 1, 2, 2, 2, 0.5f, 1, 3};
+  auto accessor = [&](const std::vector<float>& values, const char* type) {
+    const size_t components = std::string(type) == "VEC4" ? 4 : 3;
+    return copy.add_accessor({{"bufferView", copy.add_view(bytes_of(values))}, {"componentType", 5126},
+                              {"count", values.size() / components}, {"type", type}});
+  };
+  json& node = copy.doc["nodes"][0];
+  node["translation"] = {1.0, 2.0, 3.0};
+  node["rotation"] = {0.0, 0.0, 0.38268343, 0.92387953};  // 45 degrees about z
+  node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"] = {
+      {"TRANSLATION", accessor(translations, "VEC3")}, {"ROTATION", accessor(rotations, "VEC4")},
+      {"SCALE", accessor(scales, "VEC3")}};
+  copy.require_extension("EXT_mesh_gpu_instancing");
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  ASSERT_EQ(scene.draws.size(), 3u);
+  const glm::dmat4 node_world = world_matrices(copy.doc).at("sphere");
+  for (size_t i = 0; i < 3; ++i) {
+    const json instance = {{"translation", {translations[3 * i], translations[3 * i + 1], translations[3 * i + 2]}},
+                           {"rotation", {rotations[4 * i], rotations[4 * i + 1], rotations[4 * i + 2], rotations[4 * i + 3]}},
+                           {"scale", {scales[3 * i], scales[3 * i + 1], scales[3 * i + 2]}}};
+    expect_matrix_near(scene.draws[i].world, node_world * local_matrix(instance), "instance " + std::to_string(i));
+  }
+}
+
+TEST(scene_loader_instancing, InstancesBeyondTheDrawLimitAreRefused) {
+  SceneCopy copy("sphere", "instancing_limit");
+  // No bufferView: zeros, so a small file can ask for any count.
+  const int translations = copy.add_accessor({{"componentType", 5126}, {"count", kit::kMaxSceneDraws + 1}, {"type", "VEC3"}});
+  copy.doc["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"] = translations;
+  copy.save_json();
+  expect_error(copy.gltf, "node 0 ('sphere') EXT_mesh_gpu_instancing has " + std::to_string(kit::kMaxSceneDraws + 1) +
+                              " instances, more than the kit draws (" + std::to_string(kit::kMaxSceneDraws) + " draws in all)");
+  copy.doc["accessors"][static_cast<size_t>(translations)]["count"] = kit::kMaxSceneDraws;  // at the limit: loads
+  copy.save_json();
+  EXPECT_EQ(kit::load_scene(copy.gltf.string()).draws.size(), kit::kMaxSceneDraws);
+}
+
 }  // namespace
