@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <sstream>
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -354,6 +355,7 @@ class SceneBuilder {
     if (scene_index >= static_cast<int>(model_.scenes.size())) throw Error(path_ + ": defaultScene does not exist");
     for (int root : model_.scenes[static_cast<size_t>(scene_index)].nodes) visit(root, glm::mat4(1.0f), 0);
     if (scene_.draws.empty()) throw Error(path_ + ": the scene draws no triangles");
+    if (!scene_.cameras.empty()) scene_.camera = scene_.cameras.front();
     bool first = true;
     for (const DrawItem& d : scene_.draws) {
       const Primitive& p = scene_.primitives[static_cast<size_t>(d.primitive)];
@@ -520,7 +522,7 @@ class SceneBuilder {
           scene_.draws.push_back({prim, world * instance});
         }
     }
-    if (node.camera >= 0 && !scene_.camera) camera(node, world);
+    if (node.camera >= 0) camera(node, world);
     auto ext = node.extensions.find("KHR_lights_punctual");
     if (ext != node.extensions.end() && ext->second.Has("light")) light(index_in(ext->second.Get("light"), model_.lights.size(), "KHR_lights_punctual light index"), world);
     for (int child : node.children) visit(child, world, depth + 1);
@@ -529,15 +531,42 @@ class SceneBuilder {
   void camera(const tinygltf::Node& node, const glm::mat4& world) {
     if (node.camera >= static_cast<int>(model_.cameras.size())) throw Error(path_ + ": node '" + node.name + "' names a camera that does not exist");
     const tinygltf::Camera& c = model_.cameras[static_cast<size_t>(node.camera)];
-    if (c.type != "perspective") return;  // orthographic cameras are ignored; the framing camera is used
+    const std::string what = path_ + ": camera " + std::to_string(node.camera) + " ('" + c.name + "')";
+    auto positive = [](double v) { return v > 0.0 && std::isfinite(v); };
     Camera cam;
     cam.view = glm::inverse(world);
     cam.position = glm::vec3(world[3]);
-    cam.yfov = static_cast<float>(c.perspective.yfov);
-    cam.znear = static_cast<float>(c.perspective.znear);
-    cam.zfar = c.perspective.zfar > 0 ? static_cast<float>(c.perspective.zfar) : 1000.0f;
-    if (!(cam.yfov > 0.0f) || !(cam.znear > 0.0f)) throw Error(path_ + ": camera " + std::to_string(node.camera) + " has an invalid yfov or znear");
-    scene_.camera = cam;
+    if (c.type == "perspective") {
+      const tinygltf::PerspectiveCamera& p = c.perspective;
+      if (!positive(p.yfov) || !(p.yfov < glm::pi<double>()))
+        throw Error(what + " has yfov " + std::to_string(p.yfov) + " (must be between 0 and pi radians)");
+      if (!positive(p.znear)) throw Error(what + " has znear " + std::to_string(p.znear) + " (must be > 0)");
+      // Absent (0 in tinygltf): glTF's infinite projection; the kit's depth views need a finite far plane.
+      if (p.zfar != 0.0 && !(positive(p.zfar) && p.zfar > p.znear))
+        throw Error(what + " has zfar " + std::to_string(p.zfar) + " (must be greater than znear)");
+      if (!(p.aspectRatio >= 0.0 && std::isfinite(p.aspectRatio)))
+        throw Error(what + " has aspectRatio " + std::to_string(p.aspectRatio) + " (must be > 0, or left out)");
+      cam.yfov = static_cast<float>(p.yfov);
+      cam.znear = static_cast<float>(p.znear);
+      cam.zfar = p.zfar > 0.0 ? static_cast<float>(p.zfar) : 1000.0f;
+      cam.aspect_ratio = static_cast<float>(p.aspectRatio);
+    } else if (c.type == "orthographic") {
+      const tinygltf::OrthographicCamera& o = c.orthographic;
+      if (o.xmag == 0.0 || o.ymag == 0.0 || !std::isfinite(o.xmag) || !std::isfinite(o.ymag))
+        throw Error(what + " has xmag " + std::to_string(o.xmag) + " and ymag " + std::to_string(o.ymag) +
+                    " (each must be a finite number other than 0)");
+      if (!(o.znear >= 0.0 && positive(o.zfar) && o.zfar > o.znear))
+        throw Error(what + " has znear " + std::to_string(o.znear) + " and zfar " + std::to_string(o.zfar) +
+                    " (must be 0 <= znear < zfar)");
+      cam.orthographic = true;
+      cam.xmag = static_cast<float>(o.xmag);
+      cam.ymag = static_cast<float>(o.ymag);
+      cam.znear = static_cast<float>(o.znear);
+      cam.zfar = static_cast<float>(o.zfar);
+    } else {
+      throw Error(what + " has type '" + c.type + "' (glTF cameras are perspective or orthographic)");
+    }
+    scene_.cameras.push_back(cam);
   }
 
   // An index an extension gives (a node's KHR_lights_punctual "light", ...): a whole
@@ -794,7 +823,10 @@ Scene load_scene_unguarded(const std::string& path) {
 
 }  // namespace
 
-glm::mat4 Camera::projection(float aspect) const { return glm::perspective(yfov, aspect, znear, zfar); }
+glm::mat4 Camera::projection(float window_aspect) const {
+  if (orthographic) return glm::ortho(-xmag, xmag, -ymag, ymag, znear, zfar);
+  return glm::perspective(yfov, aspect_ratio > 0.0f ? aspect_ratio : window_aspect, znear, zfar);
+}
 
 Scene load_scene(const std::string& path) {
   // Whatever the file makes the loader do, the message names the file: a
@@ -857,6 +889,15 @@ Camera framing_camera(const Scene& scene) {
   cam.znear = std::max(distance - radius * 1.5f, distance * 1e-3f);
   cam.zfar = distance + radius * 1.5f;
   return cam;
+}
+
+Camera chosen_camera(const Scene& scene, int index) {
+  if (index < 0) return scene.camera ? *scene.camera : framing_camera(scene);
+  const size_t count = scene.cameras.size();
+  if (static_cast<size_t>(index) >= count)
+    throw Error(scene.path + ": camera " + std::to_string(index) + " does not exist: the file has " +
+                std::to_string(count) + (count == 1 ? " camera (0)" : count == 0 ? " cameras" : " cameras (0 to " + std::to_string(count - 1) + ")"));
+  return scene.cameras[static_cast<size_t>(index)];
 }
 
 SceneGpu::SceneGpu(const Scene& scene) {

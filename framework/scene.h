@@ -58,11 +58,19 @@ struct Light {
   float outer_cone = 0.7853982f; // radians (glTF default pi/4)
 };
 
+// A glTF camera placed by its node: perspective (yfov, aspect_ratio) or
+// orthographic (xmag, ymag), both with znear and zfar.
 struct Camera {
   glm::mat4 view{1.0f};
   glm::vec3 position{0.0f};
+  bool orthographic = false;
   float yfov = 0.8f, znear = 0.1f, zfar = 100.0f;
-  glm::mat4 projection(float aspect) const;
+  float aspect_ratio = 0.0f;       // perspective: width / height the file asks for; 0: the window's
+  float xmag = 1.0f, ymag = 1.0f;  // orthographic: half the view's width and height
+  // glTF 2.0's projection matrices ("Projection Matrices"); `window_aspect` is used
+  // by a perspective camera without aspect_ratio. A perspective camera without zfar
+  // gets a finite one (1000) when loaded, as the kit's depth views need one.
+  glm::mat4 projection(float window_aspect) const;
 };
 
 struct Scene {
@@ -72,6 +80,9 @@ struct Scene {
   std::vector<Primitive> primitives;
   std::vector<DrawItem> draws;
   std::vector<Light> lights;
+  // Every node with a camera, in the order the walk of the scene's node tree
+  // (depth first, from its roots) meets them; `camera` is the first, the default view.
+  std::vector<Camera> cameras;
   std::optional<Camera> camera;
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};  // world space, over all draws
   // What was loaded differently from the file (points and lines left out, ...);
@@ -94,6 +105,11 @@ void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t
 
 // A camera that frames the scene's bounds, for scenes without a camera.
 Camera framing_camera(const Scene& scene);
+
+// The view a program renders: the scene's camera `index` (Scene::cameras), or
+// with index -1 its first camera, else framing_camera. Throws kit::Error naming
+// the file and how many cameras it has when there is no camera `index`.
+Camera chosen_camera(const Scene& scene, int index);
 
 // GL resources of a scene: one Mesh per primitive and the textures materials
 // use (colour data as sRGB, normal and metallic-roughness data as linear).

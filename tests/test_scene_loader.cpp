@@ -921,4 +921,84 @@ TEST(scene_loader_instancing, InstancesBeyondTheDrawLimitAreRefused) {
   EXPECT_EQ(kit::load_scene(copy.gltf.string()).draws.size(), kit::kMaxSceneDraws);
 }
 
+// ---- cameras ----
+
+// glTF 2.0's projection matrices ("Projection Matrices") in double, columns first.
+glm::dmat4 perspective_projection(double aspect, double yfov, double znear, double zfar) {
+  const double t = std::tan(0.5 * yfov);
+  glm::dmat4 p(0.0);
+  p[0][0] = 1.0 / (aspect * t);
+  p[1][1] = 1.0 / t;
+  p[2][2] = (zfar + znear) / (znear - zfar);
+  p[2][3] = -1.0;
+  p[3][2] = 2.0 * zfar * znear / (znear - zfar);
+  return p;
+}
+glm::dmat4 orthographic_projection(double xmag, double ymag, double znear, double zfar) {
+  glm::dmat4 p(0.0);
+  p[0][0] = 1.0 / xmag;
+  p[1][1] = 1.0 / ymag;
+  p[2][2] = 2.0 / (znear - zfar);
+  p[3][2] = (zfar + znear) / (znear - zfar);
+  p[3][3] = 1.0;
+  return p;
+}
+
+TEST(scene_loader_cameras, EveryCameraProjectsAsTheSpecSays) {
+  SceneCopy copy("sphere", "cameras");
+  // The sphere's camera 0 (perspective, no aspectRatio), then one with an aspect
+  // ratio and an orthographic one, on nodes after it in the node tree.
+  json& cameras = copy.doc["cameras"];
+  ASSERT_EQ(cameras.size(), 1u);
+  ASSERT_FALSE(cameras[0]["perspective"].contains("aspectRatio"));
+  cameras.push_back({{"type", "perspective"}, {"perspective", {{"yfov", 0.7}, {"aspectRatio", 2.0}, {"znear", 0.05}, {"zfar", 50.0}}}});
+  cameras.push_back({{"type", "orthographic"}, {"orthographic", {{"xmag", 3.0}, {"ymag", 1.5}, {"znear", 0.0}, {"zfar", 20.0}}}});
+  for (int c : {1, 2}) {
+    copy.doc["nodes"].push_back({{"name", "camera" + std::to_string(c)}, {"camera", c}, {"translation", {0.0, c, 5.0}}});
+    copy.doc["scenes"][0]["nodes"].push_back(copy.doc["nodes"].size() - 1);
+  }
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  ASSERT_EQ(scene.cameras.size(), 3u);
+  ASSERT_TRUE(scene.camera.has_value());
+  EXPECT_EQ(scene.camera->view, scene.cameras[0].view) << "the first camera stays the default";
+
+  const double window_aspect = 1.5;
+  const json& p0 = cameras[0]["perspective"];
+  expect_matrix_near(scene.cameras[0].projection(static_cast<float>(window_aspect)),
+                     perspective_projection(window_aspect, p0["yfov"], p0["znear"], p0["zfar"]), "camera 0 (window's aspect)");
+  expect_matrix_near(scene.cameras[1].projection(static_cast<float>(window_aspect)),
+                     perspective_projection(2.0, 0.7, 0.05, 50.0), "camera 1 (its aspectRatio)");
+  EXPECT_TRUE(scene.cameras[2].orthographic);
+  expect_matrix_near(scene.cameras[2].projection(static_cast<float>(window_aspect)),
+                     orthographic_projection(3.0, 1.5, 0.0, 20.0), "camera 2 (orthographic)");
+  const std::map<std::string, glm::dmat4> worlds = world_matrices(copy.doc);
+  for (int c : {1, 2})
+    expect_matrix_near(scene.cameras[static_cast<size_t>(c)].view, glm::inverse(worlds.at("camera" + std::to_string(c))),
+                       "camera " + std::to_string(c) + " view");
+
+  // chosen_camera: -1 is the default, N the file's camera N, past the last an error naming the count.
+  EXPECT_EQ(kit::chosen_camera(scene, -1).view, scene.cameras[0].view);
+  EXPECT_TRUE(kit::chosen_camera(scene, 2).orthographic);
+  try {
+    kit::chosen_camera(scene, 3);
+    ADD_FAILURE() << "camera 3 was chosen";
+  } catch (const kit::Error& e) {
+    EXPECT_EQ(std::string(e.what()), copy.gltf.string() + ": camera 3 does not exist: the file has 3 cameras (0 to 2)");
+  }
+}
+
+TEST(scene_loader_cameras, InvalidCamerasAreRefusedByIndex) {
+  SceneCopy copy("sphere", "bad_cameras");
+  copy.doc["cameras"][0] = {{"type", "orthographic"}, {"orthographic", {{"xmag", 0.0}, {"ymag", 1.0}, {"znear", 0.1}, {"zfar", 10.0}}}};
+  copy.save_json();
+  expect_error(copy.gltf, "camera 0 ('') has xmag 0");
+  copy.doc["cameras"][0]["orthographic"] = {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 5.0}, {"zfar", 1.0}};
+  copy.save_json();
+  expect_error(copy.gltf, "must be 0 <= znear < zfar");
+  copy.doc["cameras"][0] = {{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.1}, {"zfar", 0.05}}}};
+  copy.save_json();
+  expect_error(copy.gltf, "camera 0 ('') has zfar");
+}
+
 }  // namespace
