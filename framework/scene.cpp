@@ -42,7 +42,14 @@ bool decode_image_with_oiio(tinygltf::Image* image, const int index, std::string
     return false;
   }
   OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes), static_cast<size_t>(size));
-  auto in = OIIO::ImageInput::open(png ? "image.png" : "image.jpg", nullptr, &reader);
+  // A PNG's colour is stored unpremultiplied, as glTF means it; OIIO would multiply
+  // it by alpha on read (RGB 200 at alpha 0.5 would become 100) unless told not to.
+  // With a configuration, the reader takes its memory proxy from it too.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  void* proxy = &reader;
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  auto in = OIIO::ImageInput::open(png ? "image.png" : "image.jpg", &config, &reader);
   if (!in) {
     if (err) *err += "image " + std::to_string(index) + " ('" + image->uri + "') could not be decoded: " + OIIO::geterror();
     return false;
