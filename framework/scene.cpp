@@ -328,14 +328,43 @@ glm::mat4 node_local_matrix(const tinygltf::Node& node) {
   return m;
 }
 
-int texture_image(const tinygltf::Model& model, int texture, const std::string& path) {
-  if (texture < 0) return -1;
+// A material's texture: its image and sampler (-1 each when the material has none;
+// sampler -1 also when the texture names none).
+struct TextureSource {
+  int image = -1, sampler = -1;
+};
+TextureSource texture_source(const tinygltf::Model& model, int texture, const std::string& path) {
+  if (texture < 0) return {};
   if (texture >= static_cast<int>(model.textures.size()))
     throw Error(path + ": texture index " + std::to_string(texture) + " does not exist");
-  int source = model.textures[static_cast<size_t>(texture)].source;
-  if (source < 0 || source >= static_cast<int>(model.images.size()))
+  const tinygltf::Texture& t = model.textures[static_cast<size_t>(texture)];
+  if (t.source < 0 || t.source >= static_cast<int>(model.images.size()))
     throw Error(path + ": texture " + std::to_string(texture) + " has no valid image source");
-  return source;
+  if (t.sampler >= static_cast<int>(model.samplers.size()))
+    throw Error(path + ": texture " + std::to_string(texture) + " names sampler " + std::to_string(t.sampler) +
+                ", which does not exist");
+  return {t.source, std::max(t.sampler, -1)};
+}
+
+// A glTF sampler with its values checked; an undefined filter is the default's.
+TextureSampler texture_sampler(const tinygltf::Sampler& s, size_t index, const std::string& path) {
+  auto check = [&](int value, const char* field, std::initializer_list<int> allowed, const char* names) {
+    if (std::find(allowed.begin(), allowed.end(), value) == allowed.end())
+      throw Error(path + ": sampler " + std::to_string(index) + " has " + field + " " + std::to_string(value) +
+                  " (glTF allows " + names + ")");
+    return static_cast<GLenum>(value);
+  };
+  constexpr const char* kWraps = "33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT, 10497 REPEAT";
+  TextureSampler out;
+  out.wrap_s = check(s.wrapS, "wrapS", {GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT, GL_REPEAT}, kWraps);
+  out.wrap_t = check(s.wrapT, "wrapT", {GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT, GL_REPEAT}, kWraps);
+  if (s.magFilter != -1) out.mag_filter = check(s.magFilter, "magFilter", {GL_NEAREST, GL_LINEAR}, "9728 NEAREST, 9729 LINEAR");
+  if (s.minFilter != -1)
+    out.min_filter = check(s.minFilter, "minFilter",
+                           {GL_NEAREST, GL_LINEAR, GL_NEAREST_MIPMAP_NEAREST, GL_LINEAR_MIPMAP_NEAREST,
+                            GL_NEAREST_MIPMAP_LINEAR, GL_LINEAR_MIPMAP_LINEAR},
+                           "9728 NEAREST, 9729 LINEAR, 9984 to 9987 the mipmapped filters");
+  return out;
 }
 
 class SceneBuilder {
@@ -348,6 +377,7 @@ class SceneBuilder {
       if (img.image.empty() || img.width <= 0 || img.height <= 0) throw Error(path_ + ": image '" + img.uri + "' has no pixels");
       scene_.images.push_back({img.width, img.height, img.image});
     }
+    for (size_t i = 0; i < model_.samplers.size(); ++i) scene_.samplers.push_back(texture_sampler(model_.samplers[i], i, path_));
     for (const auto& m : model_.materials) scene_.materials.push_back(material(m));
     for (size_t mi = 0; mi < model_.meshes.size(); ++mi) {
       std::vector<int> prims;
@@ -392,10 +422,18 @@ class SceneBuilder {
     if (strength != m.extensions.end() && strength->second.Has("emissiveStrength"))
       out.emissive *= static_cast<float>(strength->second.Get("emissiveStrength").GetNumberAsDouble());
     out.normal_scale = static_cast<float>(m.normalTexture.scale);
-    out.base_color_image = texture_image(model_, pbr.baseColorTexture.index, path_);
-    out.metallic_roughness_image = texture_image(model_, pbr.metallicRoughnessTexture.index, path_);
-    out.normal_image = texture_image(model_, m.normalTexture.index, path_);
-    out.emissive_image = texture_image(model_, m.emissiveTexture.index, path_);
+    const TextureSource base_color = texture_source(model_, pbr.baseColorTexture.index, path_);
+    const TextureSource metallic_roughness = texture_source(model_, pbr.metallicRoughnessTexture.index, path_);
+    const TextureSource normal = texture_source(model_, m.normalTexture.index, path_);
+    const TextureSource emissive = texture_source(model_, m.emissiveTexture.index, path_);
+    out.base_color_image = base_color.image;
+    out.base_color_sampler = base_color.sampler;
+    out.metallic_roughness_image = metallic_roughness.image;
+    out.metallic_roughness_sampler = metallic_roughness.sampler;
+    out.normal_image = normal.image;
+    out.normal_sampler = normal.sampler;
+    out.emissive_image = emissive.image;
+    out.emissive_sampler = emissive.sampler;
     return out;
   }
 
@@ -915,13 +953,19 @@ SceneGpu::SceneGpu(const Scene& scene) {
     srgb_.emplace_back(img.width, img.height, TextureFormat{GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE}, img.pixels.data(), true);
     linear_.emplace_back(img.width, img.height, TextureFormat{GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE}, img.pixels.data(), true);
   }
-  for (auto* list : {&srgb_, &linear_})
-    for (auto& t : *list) t.set_wrap(GL_REPEAT, GL_REPEAT);
+  // How materials sample them is the glTF sampler's, bound per draw (draw_scene).
+  for (const TextureSampler& s : scene.samplers) samplers_.emplace_back(s.min_filter, s.mag_filter, s.wrap_s, s.wrap_t);
+  const TextureSampler gltf_default;
+  default_sampler_ = Sampler(gltf_default.min_filter, gltf_default.mag_filter, gltf_default.wrap_s, gltf_default.wrap_t);
   const unsigned char white[4] = {255, 255, 255, 255};
   const unsigned char flat[4] = {128, 128, 255, 255};
   white_ = Texture2D(1, 1, {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE}, white);
   flat_normal_ = Texture2D(1, 1, {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE}, flat);
   check_gl("SceneGpu upload");
+}
+
+const Sampler& SceneGpu::sampler(int index) const {
+  return index < 0 ? default_sampler_ : samplers_[static_cast<size_t>(index)];
 }
 
 const Texture2D& SceneGpu::texture(int image, bool srgb) const {

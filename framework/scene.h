@@ -16,6 +16,15 @@ struct ImageRgba8 {
   std::vector<unsigned char> pixels;  // RGBA8, top row first
 };
 
+// A glTF sampler with its filters and wrap modes (GL enum values, which glTF
+// uses too); the default is glTF's when a texture names none: repeat, and
+// trilinear filtering for "auto".
+struct TextureSampler {
+  GLenum min_filter = GL_LINEAR_MIPMAP_LINEAR;
+  GLenum mag_filter = GL_LINEAR;
+  GLenum wrap_s = GL_REPEAT, wrap_t = GL_REPEAT;
+};
+
 struct Material {
   glm::vec4 base_color_factor{1.0f};
   float metallic_factor = 1.0f;
@@ -26,6 +35,10 @@ struct Material {
   int metallic_roughness_image = -1;
   int normal_image = -1;
   int emissive_image = -1;
+  int base_color_sampler = -1;  // index into Scene::samplers, -1: the default TextureSampler
+  int metallic_roughness_sampler = -1;
+  int normal_sampler = -1;
+  int emissive_sampler = -1;
   std::string name;
 };
 
@@ -76,6 +89,7 @@ struct Camera {
 struct Scene {
   std::string path;
   std::vector<ImageRgba8> images;
+  std::vector<TextureSampler> samplers;
   std::vector<Material> materials;
   std::vector<Primitive> primitives;
   std::vector<DrawItem> draws;
@@ -121,9 +135,13 @@ class SceneGpu {
   const Texture2D& texture(int image, bool srgb) const;
   const Texture2D& white() const { return white_; }
   const Texture2D& flat_normal() const { return flat_normal_; }
+  // The GL sampler of Scene::samplers[index]; index -1: the default TextureSampler.
+  const Sampler& sampler(int index) const;
 
  private:
   std::vector<Mesh> meshes_;
+  std::vector<Sampler> samplers_;
+  Sampler default_sampler_;
   std::vector<Texture2D> srgb_, linear_;
   Texture2D white_, flat_normal_;
 };

@@ -13,6 +13,7 @@
 #include <sys/stat.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -1031,6 +1032,66 @@ TEST(scene_loader_textures, PngColourIsNotPremultipliedByAlpha) {
   ASSERT_EQ(image.width, 2);
   for (size_t p = 0; p < 4; ++p)
     for (size_t c = 0; c < 4; ++c) EXPECT_EQ(image.pixels[4 * p + c], texel[c]) << "pixel " << p << " channel " << c;
+}
+
+// glTF samplers reach the GL sampler each material texture is drawn with; a
+// texture without one gets glTF's default (repeat, trilinear for "auto").
+TEST(scene_loader_textures, SamplersSetWrapAndFilterOfEachTexture) {
+  SceneCopy copy("default", "samplers");
+  ASSERT_EQ(copy.doc["textures"][0]["sampler"], 0);
+  copy.doc["samplers"][0] = {{"wrapS", 33071}, {"wrapT", 33648}, {"minFilter", 9984}, {"magFilter", 9728}};
+  copy.doc["samplers"].push_back({{"wrapS", 10497}});  // filters left to the implementation
+  copy.doc["textures"][1]["sampler"] = 1;
+  copy.doc["textures"][2].erase("sampler");
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  ASSERT_EQ(scene.samplers.size(), 2u);
+  // Which materials use which texture, from the JSON.
+  std::map<int, int> sampler_of_texture = {{0, 0}, {1, 1}, {2, -1}};
+  bool checked_texture[3] = {false, false, false};
+  for (size_t m = 0; m < scene.materials.size(); ++m) {
+    const json& base_color = copy.doc["materials"][m]["pbrMetallicRoughness"];
+    if (!base_color.contains("baseColorTexture")) continue;
+    const int texture = base_color["baseColorTexture"]["index"];
+    EXPECT_EQ(scene.materials[m].base_color_sampler, sampler_of_texture.at(texture)) << "material " << m;
+    checked_texture[texture] = true;
+  }
+  EXPECT_TRUE(checked_texture[0]) << "some material samples texture 0";
+
+  kit::test::context();
+  const kit::SceneGpu gpu(scene);
+  auto parameter = [](const kit::Sampler& sampler, GLenum name) {
+    GLint value = 0;
+    glGetSamplerParameteriv(sampler.id(), name, &value);
+    return value;
+  };
+  const std::pair<int, std::array<GLint, 4>> expected[] = {
+      {0, {GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT, GL_NEAREST_MIPMAP_NEAREST, GL_NEAREST}},
+      {1, {GL_REPEAT, GL_REPEAT, GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR}},
+      {-1, {GL_REPEAT, GL_REPEAT, GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR}}};
+  for (const auto& [index, values] : expected) {
+    const kit::Sampler& sampler = gpu.sampler(index);
+    EXPECT_EQ(parameter(sampler, GL_TEXTURE_WRAP_S), values[0]) << "sampler " << index;
+    EXPECT_EQ(parameter(sampler, GL_TEXTURE_WRAP_T), values[1]) << "sampler " << index;
+    EXPECT_EQ(parameter(sampler, GL_TEXTURE_MIN_FILTER), values[2]) << "sampler " << index;
+    EXPECT_EQ(parameter(sampler, GL_TEXTURE_MAG_FILTER), values[3]) << "sampler " << index;
+  }
+
+  copy.doc["samplers"][1]["wrapT"] = 1234;
+  copy.save_json();
+  expect_error(copy.gltf, "sampler 1 has wrapT 1234 (glTF allows");
+}
+
+// Drawing binds each material texture's sampler and unbinds it after, so that
+// later passes sample their targets with the targets' own settings.
+TEST(scene_loader_textures, GeometryPassLeavesNoSamplerBound) {
+  const std::unique_ptr<kit::Renderer> renderer = kit::test::render_stage("gbuffer", "default");
+  for (int unit : {KIT_UNIT_BASE_COLOR, KIT_UNIT_METALLIC_ROUGHNESS, KIT_UNIT_NORMAL_MAP, KIT_UNIT_EMISSIVE}) {
+    glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
+    GLint bound = -1;
+    glGetIntegerv(GL_SAMPLER_BINDING, &bound);
+    EXPECT_EQ(bound, 0) << "unit " << unit;
+  }
 }
 
 }  // namespace
