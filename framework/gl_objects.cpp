@@ -15,6 +15,7 @@ void delete_framebuffer(GLuint id) { glDeleteFramebuffers(1, &id); }
 void delete_buffer(GLuint id) { glDeleteBuffers(1, &id); }
 void delete_vertex_array(GLuint id) { glDeleteVertexArrays(1, &id); }
 void delete_program(GLuint id) { glDeleteProgram(id); }
+void delete_sampler(GLuint id) { glDeleteSamplers(1, &id); }
 
 void check_gl(const char* where) {
   std::string errors;
@@ -266,6 +267,16 @@ void Texture2D::set_wrap(GLenum wrap_s, GLenum wrap_t) const {
   glBindTexture(GL_TEXTURE_2D, texture_.get());
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, static_cast<GLint>(wrap_s));
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, static_cast<GLint>(wrap_t));
+}
+
+Sampler::Sampler(GLenum min_filter, GLenum mag_filter, GLenum wrap_s, GLenum wrap_t) {
+  GLuint id = 0;
+  glGenSamplers(1, &id);
+  sampler_ = GlName<delete_sampler>(id);
+  glSamplerParameteri(id, GL_TEXTURE_MIN_FILTER, static_cast<GLint>(min_filter));
+  glSamplerParameteri(id, GL_TEXTURE_MAG_FILTER, static_cast<GLint>(mag_filter));
+  glSamplerParameteri(id, GL_TEXTURE_WRAP_S, static_cast<GLint>(wrap_s));
+  glSamplerParameteri(id, GL_TEXTURE_WRAP_T, static_cast<GLint>(wrap_t));
 }
 
 Framebuffer::Framebuffer() {

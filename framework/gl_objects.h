@@ -45,6 +45,7 @@ void delete_framebuffer(GLuint id);
 void delete_buffer(GLuint id);
 void delete_vertex_array(GLuint id);
 void delete_program(GLuint id);
+void delete_sampler(GLuint id);
 
 // A linked program from a vertex and a fragment shader found through a
 // ShaderLibrary. Compile and link errors throw kit::Error with the log mapped
@@ -122,6 +123,21 @@ class Texture2D {
   GlName<delete_texture> texture_;
   int width_ = 0, height_ = 0;
   TextureFormat format_{};
+};
+
+// A sampler object: how a texture unit filters and wraps whatever texture it
+// holds, overriding the texture's own settings while bound.
+class Sampler {
+ public:
+  Sampler() = default;
+  Sampler(GLenum min_filter, GLenum mag_filter, GLenum wrap_s, GLenum wrap_t);
+  GLuint id() const { return sampler_.get(); }
+  void bind(int unit) const { glBindSampler(static_cast<GLuint>(unit), sampler_.get()); }
+  // The unit goes back to its texture's own settings.
+  static void unbind(int unit) { glBindSampler(static_cast<GLuint>(unit), 0); }
+
+ private:
+  GlName<delete_sampler> sampler_;
 };
 
 class Framebuffer {

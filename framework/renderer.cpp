@@ -156,8 +156,17 @@ void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu
     gpu.texture(m.metallic_roughness_image, false).bind(KIT_UNIT_METALLIC_ROUGHNESS);
     (m.normal_image >= 0 ? gpu.texture(m.normal_image, false) : gpu.flat_normal()).bind(KIT_UNIT_NORMAL_MAP);
     gpu.texture(m.emissive_image, true).bind(KIT_UNIT_EMISSIVE);
+    gpu.sampler(m.base_color_sampler).bind(KIT_UNIT_BASE_COLOR);
+    gpu.sampler(m.metallic_roughness_sampler).bind(KIT_UNIT_METALLIC_ROUGHNESS);
+    gpu.sampler(m.normal_sampler).bind(KIT_UNIT_NORMAL_MAP);
+    gpu.sampler(m.emissive_sampler).bind(KIT_UNIT_EMISSIVE);
+    glFrontFace(d.mirrored() ? GL_CW : GL_CCW);
     gpu.mesh(d.primitive).draw();
   }
+  glFrontFace(GL_CCW);  // GL's default, which every other pass expects
+  // Units other passes may reuse sample with their textures' own settings again.
+  for (int unit : {KIT_UNIT_BASE_COLOR, KIT_UNIT_METALLIC_ROUGHNESS, KIT_UNIT_NORMAL_MAP, KIT_UNIT_EMISSIVE})
+    Sampler::unbind(unit);
 }
 
 Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene, RenderSettings settings)

@@ -63,9 +63,12 @@ std::vector<Light> spawned_lights(const Scene& scene, int count);
 Texture2D light_texture(const std::vector<Light>& lights);
 
 // The geometry pass's draw loop: per draw item the model/normal matrices and
-// material uniforms of geometry_uniforms.glsl, the material textures, then the
-// mesh. `geometry` must be in use with its frame uniforms set. With
-// `frustum_culling`, draws wholly outside `view_projection` are skipped.
+// material uniforms of geometry_uniforms.glsl, the material textures with their
+// glTF samplers, then the mesh, wound clockwise where the draw is mirrored
+// (DrawItem::mirrored). After the loop the samplers are unbound and GL's
+// counter-clockwise front faces restored. `geometry` must be in use with its
+// frame uniforms set. With `frustum_culling`, draws wholly outside
+// `view_projection` are skipped.
 void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
                 const glm::mat4& view_projection, bool frustum_culling);
 

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <filesystem>
 #include <sstream>
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
@@ -41,7 +42,14 @@ bool decode_image_with_oiio(tinygltf::Image* image, const int index, std::string
     return false;
   }
   OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes), static_cast<size_t>(size));
-  auto in = OIIO::ImageInput::open(png ? "image.png" : "image.jpg", nullptr, &reader);
+  // A PNG's colour is stored unpremultiplied, as glTF means it; OIIO would multiply
+  // it by alpha on read (RGB 200 at alpha 0.5 would become 100) unless told not to.
+  // With a configuration, the reader takes its memory proxy from it too.
+  OIIO::ImageSpec config;
+  config.attribute("oiio:UnassociatedAlpha", 1);
+  void* proxy = &reader;
+  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
+  auto in = OIIO::ImageInput::open(png ? "image.png" : "image.jpg", &config, &reader);
   if (!in) {
     if (err) *err += "image " + std::to_string(index) + " ('" + image->uri + "') could not be decoded: " + OIIO::geterror();
     return false;
@@ -80,64 +88,134 @@ bool decode_image_with_oiio(tinygltf::Image* image, const int index, std::string
 }
 
 // ---- accessors, read with every bound checked ----
+
+// The component types an accessor may have, as bits, so that each attribute can
+// say which it accepts (glTF 2.0 "Meshes" table, widened by KHR_mesh_quantization).
+enum ComponentFormat : unsigned {
+  kFloatComponents = 1u,
+  kUnsignedNormalized = 2u,  // UNSIGNED_BYTE/SHORT, normalized: c / 255, c / 65535
+  kSignedNormalized = 4u,    // BYTE/SHORT, normalized: max(c / 127, -1), max(c / 32767, -1)
+  kPlainIntegers = 8u,       // any 8- or 16-bit integer, not normalized: its value
+};
+constexpr unsigned kAnyInteger = kUnsignedNormalized | kSignedNormalized | kPlainIntegers;
+
+struct AttributeFormats {
+  unsigned core;       // what glTF 2.0 itself allows
+  unsigned quantized;  // what a file using KHR_mesh_quantization may use
+};
+// POSITION (and EXT_mesh_gpu_instancing's TRANSLATION and SCALE)
+constexpr AttributeFormats kPositionFormats{kFloatComponents, kFloatComponents | kAnyInteger};
+// NORMAL and TANGENT
+constexpr AttributeFormats kDirectionFormats{kFloatComponents, kFloatComponents | kSignedNormalized};
+constexpr AttributeFormats kTexcoordFormats{kFloatComponents | kUnsignedNormalized, kFloatComponents | kAnyInteger};
+// EXT_mesh_gpu_instancing's ROTATION (a unit quaternion)
+constexpr AttributeFormats kRotationFormats{kFloatComponents | kSignedNormalized, kFloatComponents | kSignedNormalized};
+
+unsigned component_format(const tinygltf::Accessor& acc) {
+  switch (acc.componentType) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return kFloatComponents;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return acc.normalized ? kUnsignedNormalized : kPlainIntegers;
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_SHORT: return acc.normalized ? kSignedNormalized : kPlainIntegers;
+    default: return 0;  // UNSIGNED_INT is for indices only
+  }
+}
+
+std::string component_type_name(const tinygltf::Accessor& acc) {
+  std::string name;
+  switch (acc.componentType) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return "FLOAT";
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: name = "UNSIGNED_BYTE"; break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: name = "UNSIGNED_SHORT"; break;
+    case TINYGLTF_COMPONENT_TYPE_BYTE: name = "BYTE"; break;
+    case TINYGLTF_COMPONENT_TYPE_SHORT: name = "SHORT"; break;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: name = "UNSIGNED_INT"; break;
+    default: return std::to_string(acc.componentType);
+  }
+  return (acc.normalized ? "normalized " : "") + name;
+}
+
+// One component as glTF 2.0 "Animations" / "Meshes" decode it: a normalized
+// integer maps to [0, 1] or [-1, 1] (the most negative value clamps to -1).
+float decode_component(const unsigned char* bytes, int component_type, bool normalized) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? bytes[0] / 255.0f : bytes[0];
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      int8_t c;
+      std::memcpy(&c, bytes, 1);
+      return normalized ? std::max(c / 127.0f, -1.0f) : c;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t c;
+      std::memcpy(&c, bytes, 2);
+      return normalized ? c / 65535.0f : c;
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t c;
+      std::memcpy(&c, bytes, 2);
+      return normalized ? std::max(c / 32767.0f, -1.0f) : c;
+    }
+    default: {  // FLOAT: the only other type component_format lets through
+      float v;
+      std::memcpy(&v, bytes, 4);
+      return v;
+    }
+  }
+}
+
+// A 1-, 2- or 4-byte unsigned integer, little-endian as glTF requires.
+uint32_t read_unsigned(const unsigned char* bytes, size_t size) {
+  uint32_t v = 0;
+  std::memcpy(&v, bytes, size);
+  return v;
+}
+
+// The byte size of an index (indices and sparse indices), 0 for another type.
+size_t index_size(int component_type) {
+  switch (component_type) {
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: return 4;
+    default: return 0;
+  }
+}
+
 struct AccessorReader {
   const tinygltf::Model& model;
   const std::string& path;
+  bool quantized;  // the file uses KHR_mesh_quantization
 
   [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": " + what); }
 
-  // Reads `components` values per element as floats (normalised integers scaled to [0,1]).
-  std::vector<float> floats(int index, int type, int components, bool allow_normalized, const std::string& what) const {
+  // Reads `components` values per element as floats, decoded from any component
+  // type `formats` allows.
+  std::vector<float> floats(int index, int type, int components, AttributeFormats formats, const std::string& what) const {
     const tinygltf::Accessor& acc = accessor(index, what);
-    if (acc.type != type)
-      fail(what + ": accessor " + std::to_string(index) + " has the wrong type (expected " +
-           std::to_string(components) + " components)");
-    bool is_float = acc.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT;
-    bool is_norm = acc.normalized && (acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
-                                      acc.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT);
-    if (!is_float && !(allow_normalized && is_norm))
-      fail(what + ": accessor " + std::to_string(index) + " has an unsupported component type " +
-           std::to_string(acc.componentType));
-    int component_size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType));
-    const unsigned char* base = element_base(acc, component_size * components, what);
-    size_t stride = stride_of(acc, component_size * components);
-    std::vector<float> out(acc.count * static_cast<size_t>(components));
-    for (size_t i = 0; i < acc.count; ++i) {
-      const unsigned char* e = base + i * stride;
-      for (int c = 0; c < components; ++c) {
-        float v;
-        if (is_float) std::memcpy(&v, e + c * 4, 4);
-        else if (component_size == 1) v = e[c] / 255.0f;
-        else {
-          uint16_t u;
-          std::memcpy(&u, e + c * 2, 2);
-          v = u / 65535.0f;
-        }
-        out[i * components + c] = v;
-      }
-    }
-    return out;
+    const std::string name = what + ": accessor " + std::to_string(index);
+    if (acc.type != type) fail(name + " has the wrong type (expected " + std::to_string(components) + " components)");
+    const unsigned format = component_format(acc);
+    if (!(format & (quantized ? formats.quantized : formats.core)))
+      fail(name + " has an unsupported component type " + component_type_name(acc) +
+           (format & formats.quantized ? " (allowed only in a file that uses KHR_mesh_quantization)" : ""));
+    const size_t component_size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType));
+    return elements<float>(acc, component_size * static_cast<size_t>(components), static_cast<size_t>(components), name,
+                           [&](const unsigned char* element, float* out) {
+                             for (int c = 0; c < components; ++c)
+                               out[c] = decode_component(element + static_cast<size_t>(c) * component_size,
+                                                         acc.componentType, acc.normalized);
+                           });
   }
 
   std::vector<uint32_t> indices(int index, const std::string& what) const {
     const tinygltf::Accessor& acc = accessor(index, what);
-    if (acc.type != TINYGLTF_TYPE_SCALAR) fail(what + ": index accessor " + std::to_string(index) + " is not SCALAR");
-    int size = 0;
-    switch (acc.componentType) {
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: size = 1; break;
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: size = 2; break;
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: size = 4; break;
-      default: fail(what + ": index accessor " + std::to_string(index) + " has an unsupported component type");
-    }
-    const unsigned char* base = element_base(acc, size, what);
-    size_t stride = stride_of(acc, size);
-    std::vector<uint32_t> out(acc.count);
-    for (size_t i = 0; i < acc.count; ++i) {
-      uint32_t v = 0;
-      std::memcpy(&v, base + i * stride, static_cast<size_t>(size));  // little-endian, as glTF requires
-      out[i] = v;
-    }
-    return out;
+    const std::string name = what + ": index accessor " + std::to_string(index);
+    if (acc.type != TINYGLTF_TYPE_SCALAR) fail(name + " is not SCALAR");
+    const size_t size = index_size(acc.componentType);
+    if (size == 0) fail(name + " has an unsupported component type " + component_type_name(acc));
+    return elements<uint32_t>(acc, size, 1, name, [&](const unsigned char* element, uint32_t* out) {
+      *out = read_unsigned(element, size);
+    });
   }
 
   const tinygltf::Accessor& accessor(int index, const std::string& what) const {
@@ -146,40 +224,91 @@ struct AccessorReader {
     return model.accessors[static_cast<size_t>(index)];
   }
 
-  static size_t stride_of(const tinygltf::Accessor&, int element_size) { return static_cast<size_t>(element_size); }
+  // An accessor's elements, each decoded by `decode` (its bytes -> `components`
+  // values): read from its bufferView, or zeros when it has none, then replaced
+  // where its sparse part says (glTF 2.0 "Sparse Accessors").
+  template <typename T, typename Decode>
+  std::vector<T> elements(const tinygltf::Accessor& acc, size_t element_size, size_t components, const std::string& name,
+                          const Decode& decode) const {
+    size_t stride = 0;
+    const unsigned char* base = nullptr;
+    if (acc.bufferView >= 0)
+      base = view_bytes(acc.bufferView, acc.byteOffset, acc.count, element_size, true, name, "", &stride);
+    else if (acc.count > kMaxSceneFileBytes / element_size)  // zeros, with no file bytes behind them
+      fail(name + " has no bufferView and " + std::to_string(acc.count) + " elements of " + std::to_string(element_size) +
+           " bytes (more than the " + std::to_string(kMaxSceneFileBytes) + " bytes the kit reads of a buffer)");
+    // From here count is bounded by bytes in memory, so count * components (<= 4) cannot wrap.
+    std::vector<T> out(acc.count * components, T(0));
+    for (size_t i = 0; base && i < acc.count; ++i) decode(base + i * stride, &out[i * components]);
+    if (acc.sparse.isSparse) {
+      const auto& sparse = acc.sparse;
+      if (sparse.count < 1 || static_cast<size_t>(sparse.count) > acc.count)
+        fail(name + ": sparse count " + std::to_string(sparse.count) + " is not between 1 and the accessor's count (" +
+             std::to_string(acc.count) + ")");
+      if (sparse.indices.byteOffset < 0 || sparse.values.byteOffset < 0)
+        fail(name + ": sparse indices or values have a negative byteOffset");
+      const size_t count = static_cast<size_t>(sparse.count);
+      const size_t indices_size = index_size(sparse.indices.componentType);
+      if (indices_size == 0)
+        fail(name + ": sparse indices have an unsupported component type " + std::to_string(sparse.indices.componentType));
+      size_t unused_stride = 0;  // sparse indices and values are tightly packed
+      const unsigned char* indices = view_bytes(sparse.indices.bufferView, static_cast<size_t>(sparse.indices.byteOffset),
+                                                count, indices_size, false, name, "sparse indices ", &unused_stride);
+      const unsigned char* values = view_bytes(sparse.values.bufferView, static_cast<size_t>(sparse.values.byteOffset),
+                                               count, element_size, false, name, "sparse values ", &unused_stride);
+      for (size_t i = 0; i < count; ++i) {
+        const uint32_t target = read_unsigned(indices + i * indices_size, indices_size);
+        if (target >= acc.count)
+          fail(name + ": sparse index " + std::to_string(target) + " at position " + std::to_string(i) +
+               " is out of range (the accessor has " + std::to_string(acc.count) + " elements)");
+        decode(values + i * element_size, &out[target * components]);
+      }
+    }
+    return out;
+  }
 
-  const unsigned char* element_base(const tinygltf::Accessor& acc, int element_size, const std::string& what) const {
-    if (acc.sparse.isSparse) fail(what + ": sparse accessors are not supported");
-    if (acc.bufferView < 0 || acc.bufferView >= static_cast<int>(model.bufferViews.size()))
-      fail(what + ": accessor has no valid bufferView");
-    const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(acc.bufferView)];
+  // Where `count` elements of `element_size` bytes start in bufferView `view_index`,
+  // `byte_offset` bytes in; *stride gets the distance between elements (the view's
+  // byteStride when `strided` and it has one, else the element size). `part` names
+  // what is read when it is not the accessor's own data ("sparse indices ").
+  const unsigned char* view_bytes(int view_index, size_t byte_offset, size_t count, size_t element_size, bool strided,
+                                  const std::string& name, const std::string& part, size_t* stride) const {
+    if (view_index < 0 || view_index >= static_cast<int>(model.bufferViews.size()))
+      fail(name + ": " + part + "bufferView " + std::to_string(view_index) + " does not exist");
+    const tinygltf::BufferView& view = model.bufferViews[static_cast<size_t>(view_index)];
     if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size()))
-      fail(what + ": bufferView " + std::to_string(acc.bufferView) + " names no valid buffer");
+      fail(name + ": bufferView " + std::to_string(view_index) + " names no valid buffer");
     const tinygltf::Buffer& buffer = model.buffers[static_cast<size_t>(view.buffer)];
-    size_t stride = view.byteStride ? view.byteStride : static_cast<size_t>(element_size);
-    if (stride != static_cast<size_t>(element_size))
-      fail(what + ": interleaved buffer views (byteStride " + std::to_string(view.byteStride) + ") are not supported");
+    *stride = strided && view.byteStride ? view.byteStride : element_size;
+    if (*stride < element_size)
+      fail(name + ": bufferView " + std::to_string(view_index) + " has byteStride " + std::to_string(*stride) +
+           ", less than one element (" + std::to_string(element_size) + " bytes)");
     // Every number below comes from the file: each comparison is arranged so that no
     // sum or product can wrap around (a count near 2^64 must fail here, not in a loop).
     const size_t size = buffer.data.size();
     if (view.byteOffset > size || view.byteLength > size - view.byteOffset)
-      fail(what + ": bufferView " + std::to_string(acc.bufferView) + " (offset " + std::to_string(view.byteOffset) +
+      fail(name + ": bufferView " + std::to_string(view_index) + " (offset " + std::to_string(view.byteOffset) +
            ", length " + std::to_string(view.byteLength) + ") lies outside buffer " + std::to_string(view.buffer) +
            " (" + std::to_string(size) + " bytes)");
-    if (acc.byteOffset > view.byteLength)
-      fail(what + ": accessor byteOffset " + std::to_string(acc.byteOffset) + " lies past its bufferView (" +
+    if (byte_offset > view.byteLength)
+      fail(name + ": " + part + "byteOffset " + std::to_string(byte_offset) + " lies past its bufferView (" +
            std::to_string(view.byteLength) + " bytes)");
-    const size_t available = view.byteLength - acc.byteOffset;
-    if (acc.count > 0 && (static_cast<size_t>(element_size) > available ||
-                          acc.count - 1 > (available - static_cast<size_t>(element_size)) / stride))
-      fail(what + ": accessor reads past the end of its buffer (" + std::to_string(acc.count) + " elements of " +
-           std::to_string(element_size) + " bytes from byte " + std::to_string(acc.byteOffset) + " of a " +
-           std::to_string(view.byteLength) + "-byte bufferView; buffer " + std::to_string(view.buffer) + " has " +
-           std::to_string(size) + " bytes)");
-    // From here count <= bytes in memory, so count * components (<= 4) cannot wrap.
-    return buffer.data.data() + view.byteOffset + acc.byteOffset;
+    const size_t available = view.byteLength - byte_offset;
+    if (count > 0 && (element_size > available || count - 1 > (available - element_size) / *stride))
+      fail(name + ": " + part + "reads past the end of its buffer (" + std::to_string(count) + " elements of " +
+           std::to_string(element_size) + " bytes every " + std::to_string(*stride) + " from byte " +
+           std::to_string(byte_offset) + " of a " + std::to_string(view.byteLength) + "-byte bufferView; buffer " +
+           std::to_string(view.buffer) + " has " + std::to_string(size) + " bytes)");
+    return buffer.data.data() + view.byteOffset + byte_offset;
   }
 };
+
+// Whether the file lists `name` among the extensions it uses (or requires).
+bool uses_extension(const tinygltf::Model& model, const std::string& name) {
+  for (const auto* list : {&model.extensionsUsed, &model.extensionsRequired})
+    if (std::find(list->begin(), list->end(), name) != list->end()) return true;
+  return false;
+}
 
 glm::mat4 node_local_matrix(const tinygltf::Node& node) {
   if (node.matrix.size() == 16) {
@@ -199,19 +328,48 @@ glm::mat4 node_local_matrix(const tinygltf::Node& node) {
   return m;
 }
 
-int texture_image(const tinygltf::Model& model, int texture, const std::string& path) {
-  if (texture < 0) return -1;
+// A material's texture: its image and sampler (-1 each when the material has none;
+// sampler -1 also when the texture names none).
+struct TextureSource {
+  int image = -1, sampler = -1;
+};
+TextureSource texture_source(const tinygltf::Model& model, int texture, const std::string& path) {
+  if (texture < 0) return {};
   if (texture >= static_cast<int>(model.textures.size()))
     throw Error(path + ": texture index " + std::to_string(texture) + " does not exist");
-  int source = model.textures[static_cast<size_t>(texture)].source;
-  if (source < 0 || source >= static_cast<int>(model.images.size()))
+  const tinygltf::Texture& t = model.textures[static_cast<size_t>(texture)];
+  if (t.source < 0 || t.source >= static_cast<int>(model.images.size()))
     throw Error(path + ": texture " + std::to_string(texture) + " has no valid image source");
-  return source;
+  if (t.sampler >= static_cast<int>(model.samplers.size()))
+    throw Error(path + ": texture " + std::to_string(texture) + " names sampler " + std::to_string(t.sampler) +
+                ", which does not exist");
+  return {t.source, std::max(t.sampler, -1)};
+}
+
+// A glTF sampler with its values checked; an undefined filter is the default's.
+TextureSampler texture_sampler(const tinygltf::Sampler& s, size_t index, const std::string& path) {
+  auto check = [&](int value, const char* field, std::initializer_list<int> allowed, const char* names) {
+    if (std::find(allowed.begin(), allowed.end(), value) == allowed.end())
+      throw Error(path + ": sampler " + std::to_string(index) + " has " + field + " " + std::to_string(value) +
+                  " (glTF allows " + names + ")");
+    return static_cast<GLenum>(value);
+  };
+  constexpr const char* kWraps = "33071 CLAMP_TO_EDGE, 33648 MIRRORED_REPEAT, 10497 REPEAT";
+  TextureSampler out;
+  out.wrap_s = check(s.wrapS, "wrapS", {GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT, GL_REPEAT}, kWraps);
+  out.wrap_t = check(s.wrapT, "wrapT", {GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT, GL_REPEAT}, kWraps);
+  if (s.magFilter != -1) out.mag_filter = check(s.magFilter, "magFilter", {GL_NEAREST, GL_LINEAR}, "9728 NEAREST, 9729 LINEAR");
+  if (s.minFilter != -1)
+    out.min_filter = check(s.minFilter, "minFilter",
+                           {GL_NEAREST, GL_LINEAR, GL_NEAREST_MIPMAP_NEAREST, GL_LINEAR_MIPMAP_NEAREST,
+                            GL_NEAREST_MIPMAP_LINEAR, GL_LINEAR_MIPMAP_LINEAR},
+                           "9728 NEAREST, 9729 LINEAR, 9984 to 9987 the mipmapped filters");
+  return out;
 }
 
 class SceneBuilder {
  public:
-  SceneBuilder(const tinygltf::Model& model, const std::string& path) : model_(model), path_(path), reader_{model, path} {}
+  SceneBuilder(const tinygltf::Model& model, const std::string& path) : model_(model), path_(path), reader_{model, path, uses_extension(model, "KHR_mesh_quantization")} {}
 
   Scene build() {
     scene_.path = path_;
@@ -219,6 +377,7 @@ class SceneBuilder {
       if (img.image.empty() || img.width <= 0 || img.height <= 0) throw Error(path_ + ": image '" + img.uri + "' has no pixels");
       scene_.images.push_back({img.width, img.height, img.image});
     }
+    for (size_t i = 0; i < model_.samplers.size(); ++i) scene_.samplers.push_back(texture_sampler(model_.samplers[i], i, path_));
     for (const auto& m : model_.materials) scene_.materials.push_back(material(m));
     for (size_t mi = 0; mi < model_.meshes.size(); ++mi) {
       std::vector<int> prims;
@@ -233,6 +392,7 @@ class SceneBuilder {
     if (scene_index >= static_cast<int>(model_.scenes.size())) throw Error(path_ + ": defaultScene does not exist");
     for (int root : model_.scenes[static_cast<size_t>(scene_index)].nodes) visit(root, glm::mat4(1.0f), 0);
     if (scene_.draws.empty()) throw Error(path_ + ": the scene draws no triangles");
+    if (!scene_.cameras.empty()) scene_.camera = scene_.cameras.front();
     bool first = true;
     for (const DrawItem& d : scene_.draws) {
       const Primitive& p = scene_.primitives[static_cast<size_t>(d.primitive)];
@@ -262,10 +422,18 @@ class SceneBuilder {
     if (strength != m.extensions.end() && strength->second.Has("emissiveStrength"))
       out.emissive *= static_cast<float>(strength->second.Get("emissiveStrength").GetNumberAsDouble());
     out.normal_scale = static_cast<float>(m.normalTexture.scale);
-    out.base_color_image = texture_image(model_, pbr.baseColorTexture.index, path_);
-    out.metallic_roughness_image = texture_image(model_, pbr.metallicRoughnessTexture.index, path_);
-    out.normal_image = texture_image(model_, m.normalTexture.index, path_);
-    out.emissive_image = texture_image(model_, m.emissiveTexture.index, path_);
+    const TextureSource base_color = texture_source(model_, pbr.baseColorTexture.index, path_);
+    const TextureSource metallic_roughness = texture_source(model_, pbr.metallicRoughnessTexture.index, path_);
+    const TextureSource normal = texture_source(model_, m.normalTexture.index, path_);
+    const TextureSource emissive = texture_source(model_, m.emissiveTexture.index, path_);
+    out.base_color_image = base_color.image;
+    out.base_color_sampler = base_color.sampler;
+    out.metallic_roughness_image = metallic_roughness.image;
+    out.metallic_roughness_sampler = metallic_roughness.sampler;
+    out.normal_image = normal.image;
+    out.normal_sampler = normal.sampler;
+    out.emissive_image = emissive.image;
+    out.emissive_sampler = emissive.sampler;
     return out;
   }
 
@@ -284,16 +452,16 @@ class SceneBuilder {
       return it == p.attributes.end() ? -1 : it->second;
     };
     if (attr("POSITION") < 0) throw Error(path_ + ": " + what + ": has no POSITION attribute");
-    std::vector<float> pos = reader_.floats(attr("POSITION"), TINYGLTF_TYPE_VEC3, 3, false, what + " POSITION");
+    std::vector<float> pos = reader_.floats(attr("POSITION"), TINYGLTF_TYPE_VEC3, 3, kPositionFormats, what + " POSITION");
     size_t n = pos.size() / 3;
     // No NORMAL: glTF asks for flat normals, computed below once the triangles are known.
     const bool flat = attr("NORMAL") < 0;
     std::vector<float> nrm = flat ? std::vector<float>(pos.size(), 0.0f)
-                                  : reader_.floats(attr("NORMAL"), TINYGLTF_TYPE_VEC3, 3, false, what + " NORMAL");
+                                  : reader_.floats(attr("NORMAL"), TINYGLTF_TYPE_VEC3, 3, kDirectionFormats, what + " NORMAL");
     if (nrm.size() / 3 != n) throw Error(path_ + ": " + what + ": NORMAL count differs from POSITION count");
     std::vector<float> uv, tan;
-    if (attr("TEXCOORD_0") >= 0) uv = reader_.floats(attr("TEXCOORD_0"), TINYGLTF_TYPE_VEC2, 2, true, what + " TEXCOORD_0");
-    if (attr("TANGENT") >= 0) tan = reader_.floats(attr("TANGENT"), TINYGLTF_TYPE_VEC4, 4, false, what + " TANGENT");
+    if (attr("TEXCOORD_0") >= 0) uv = reader_.floats(attr("TEXCOORD_0"), TINYGLTF_TYPE_VEC2, 2, kTexcoordFormats, what + " TEXCOORD_0");
+    if (attr("TANGENT") >= 0) tan = reader_.floats(attr("TANGENT"), TINYGLTF_TYPE_VEC4, 4, kDirectionFormats, what + " TANGENT");
     if ((!uv.empty() && uv.size() / 2 != n) || (!tan.empty() && tan.size() / 4 != n))
       throw Error(path_ + ": " + what + ": attribute counts differ from POSITION count");
 
@@ -390,40 +558,126 @@ class SceneBuilder {
     glm::mat4 world = parent * node_local_matrix(node);
     if (node.mesh >= 0) {
       if (node.mesh >= static_cast<int>(mesh_primitives_.size())) throw Error(path_ + ": node '" + node.name + "' names a mesh that does not exist");
-      for (int prim : mesh_primitives_[static_cast<size_t>(node.mesh)]) scene_.draws.push_back({prim, world});
+      for (const glm::mat4& instance : instance_matrices(node, node_index))
+        for (int prim : mesh_primitives_[static_cast<size_t>(node.mesh)]) {
+          if (scene_.draws.size() >= kMaxSceneDraws)
+            throw Error(path_ + ": node " + std::to_string(node_index) + " ('" + node.name + "'): the scene draws more than " +
+                        std::to_string(kMaxSceneDraws) + " meshes (the kit's limit: each primitive of each node and "
+                        "EXT_mesh_gpu_instancing instance is one draw)");
+          scene_.draws.push_back({prim, world * instance});
+        }
     }
-    if (node.camera >= 0 && !scene_.camera) camera(node, world);
+    if (node.camera >= 0) camera(node, world);
     auto ext = node.extensions.find("KHR_lights_punctual");
-    if (ext != node.extensions.end() && ext->second.Has("light")) light(light_index(ext->second.Get("light")), world);
+    if (ext != node.extensions.end() && ext->second.Has("light")) light(index_in(ext->second.Get("light"), model_.lights.size(), "KHR_lights_punctual light index"), world);
     for (int child : node.children) visit(child, world, depth + 1);
   }
 
   void camera(const tinygltf::Node& node, const glm::mat4& world) {
     if (node.camera >= static_cast<int>(model_.cameras.size())) throw Error(path_ + ": node '" + node.name + "' names a camera that does not exist");
     const tinygltf::Camera& c = model_.cameras[static_cast<size_t>(node.camera)];
-    if (c.type != "perspective") return;  // orthographic cameras are ignored; the framing camera is used
+    const std::string what = path_ + ": camera " + std::to_string(node.camera) + " ('" + c.name + "')";
+    auto positive = [](double v) { return v > 0.0 && std::isfinite(v); };
     Camera cam;
     cam.view = glm::inverse(world);
     cam.position = glm::vec3(world[3]);
-    cam.yfov = static_cast<float>(c.perspective.yfov);
-    cam.znear = static_cast<float>(c.perspective.znear);
-    cam.zfar = c.perspective.zfar > 0 ? static_cast<float>(c.perspective.zfar) : 1000.0f;
-    if (!(cam.yfov > 0.0f) || !(cam.znear > 0.0f)) throw Error(path_ + ": camera " + std::to_string(node.camera) + " has an invalid yfov or znear");
-    scene_.camera = cam;
+    if (c.type == "perspective") {
+      const tinygltf::PerspectiveCamera& p = c.perspective;
+      if (!positive(p.yfov) || !(p.yfov < glm::pi<double>()))
+        throw Error(what + " has yfov " + std::to_string(p.yfov) + " (must be between 0 and pi radians)");
+      if (!positive(p.znear)) throw Error(what + " has znear " + std::to_string(p.znear) + " (must be > 0)");
+      // Absent (0 in tinygltf): glTF's infinite projection; the kit's depth views need a finite far plane.
+      if (p.zfar != 0.0 && !(positive(p.zfar) && p.zfar > p.znear))
+        throw Error(what + " has zfar " + std::to_string(p.zfar) + " (must be greater than znear)");
+      if (!(p.aspectRatio >= 0.0 && std::isfinite(p.aspectRatio)))
+        throw Error(what + " has aspectRatio " + std::to_string(p.aspectRatio) + " (must be > 0, or left out)");
+      cam.yfov = static_cast<float>(p.yfov);
+      cam.znear = static_cast<float>(p.znear);
+      cam.zfar = p.zfar > 0.0 ? static_cast<float>(p.zfar) : 1000.0f;
+      cam.aspect_ratio = static_cast<float>(p.aspectRatio);
+    } else if (c.type == "orthographic") {
+      const tinygltf::OrthographicCamera& o = c.orthographic;
+      if (o.xmag == 0.0 || o.ymag == 0.0 || !std::isfinite(o.xmag) || !std::isfinite(o.ymag))
+        throw Error(what + " has xmag " + std::to_string(o.xmag) + " and ymag " + std::to_string(o.ymag) +
+                    " (each must be a finite number other than 0)");
+      if (!(o.znear >= 0.0 && positive(o.zfar) && o.zfar > o.znear))
+        throw Error(what + " has znear " + std::to_string(o.znear) + " and zfar " + std::to_string(o.zfar) +
+                    " (must be 0 <= znear < zfar)");
+      cam.orthographic = true;
+      cam.xmag = static_cast<float>(o.xmag);
+      cam.ymag = static_cast<float>(o.ymag);
+      cam.znear = static_cast<float>(o.znear);
+      cam.zfar = static_cast<float>(o.zfar);
+    } else {
+      throw Error(what + " has type '" + c.type + "' (glTF cameras are perspective or orthographic)");
+    }
+    scene_.cameras.push_back(cam);
   }
 
-  // A node's KHR_lights_punctual "light": the index of an existing light. Read as a
-  // double and checked before it becomes an int: tinygltf's GetNumberAsInt converts
-  // any double, which is undefined behaviour past int's range (1e300).
-  int light_index(const tinygltf::Value& value) const {
+  // An index an extension gives (a node's KHR_lights_punctual "light", ...): a whole
+  // number below `count`. Read as a double and checked before it becomes an int:
+  // tinygltf's GetNumberAsInt converts any double, which is undefined behaviour past
+  // int's range (1e300). `what` names the index ("KHR_lights_punctual light index").
+  int index_in(const tinygltf::Value& value, size_t count, const std::string& what) const {
     double index = value.IsNumber() ? value.GetNumberAsDouble() : -1.0;
-    if (!(index >= 0.0 && index < static_cast<double>(model_.lights.size()) && index == std::floor(index))) {
+    if (!(index >= 0.0 && index < static_cast<double>(count) && index == std::floor(index))) {
       std::ostringstream shown;
       if (value.IsNumber()) shown << index;
       else shown << "(not a number)";
-      throw Error(path_ + ": KHR_lights_punctual light index " + shown.str() + " does not exist");
+      throw Error(path_ + ": " + what + " " + shown.str() + " does not exist");
     }
     return static_cast<int>(index);
+  }
+
+  // EXT_mesh_gpu_instancing: the node's mesh is drawn once per instance, at the
+  // node's world matrix times the instance's T * R * S (each attribute optional).
+  // A node without the extension has one instance, the identity.
+  std::vector<glm::mat4> instance_matrices(const tinygltf::Node& node, int node_index) const {
+    auto ext = node.extensions.find("EXT_mesh_gpu_instancing");
+    if (ext == node.extensions.end()) return {glm::mat4(1.0f)};
+    const std::string what = "node " + std::to_string(node_index) + " ('" + node.name + "') EXT_mesh_gpu_instancing";
+    const tinygltf::Value& attributes = ext->second.Get("attributes");  // a null Value when absent
+    struct Attribute {
+      const char* name;
+      int type, components;
+      AttributeFormats formats;
+      std::vector<float> values;
+    };
+    Attribute translation{"TRANSLATION", TINYGLTF_TYPE_VEC3, 3, kPositionFormats, {}};
+    Attribute rotation{"ROTATION", TINYGLTF_TYPE_VEC4, 4, kRotationFormats, {}};
+    Attribute scale{"SCALE", TINYGLTF_TYPE_VEC3, 3, kPositionFormats, {}};
+    size_t count = 0;
+    bool any = false;
+    for (Attribute* a : {&translation, &rotation, &scale}) {
+      if (!attributes.IsObject() || !attributes.Has(a->name)) continue;
+      const std::string name = what + " " + a->name;
+      const int accessor = index_in(attributes.Get(a->name), model_.accessors.size(), name + " accessor index");
+      a->values = reader_.floats(accessor, a->type, a->components, a->formats, name);
+      const size_t n = a->values.size() / static_cast<size_t>(a->components);
+      if (any && n != count)
+        throw Error(path_ + ": " + name + " has " + std::to_string(n) + " instances, the other attributes " +
+                    std::to_string(count));
+      count = n;
+      any = true;
+    }
+    if (!any) throw Error(path_ + ": " + what + " has no TRANSLATION, ROTATION or SCALE attribute");
+    if (count > kMaxSceneDraws)
+      throw Error(path_ + ": " + what + " has " + std::to_string(count) + " instances, more than the kit draws (" +
+                  std::to_string(kMaxSceneDraws) + " draws in all)");
+    std::vector<glm::mat4> out(count, glm::mat4(1.0f));
+    for (size_t i = 0; i < count; ++i) {
+      glm::mat4& m = out[i];
+      if (!translation.values.empty()) m = glm::translate(m, glm::make_vec3(&translation.values[3 * i]));
+      if (!rotation.values.empty()) {
+        const float* q = &rotation.values[4 * i];  // x, y, z, w
+        // Normalized integer quaternions are unit only to their precision.
+        const glm::quat unit = glm::normalize(glm::quat(q[3], q[0], q[1], q[2]));
+        if (!std::isfinite(unit.w)) throw Error(path_ + ": " + what + " ROTATION " + std::to_string(i) + " is not a rotation");
+        m *= glm::mat4_cast(unit);
+      }
+      if (!scale.values.empty()) m = glm::scale(m, glm::make_vec3(&scale.values[3 * i]));
+    }
+    return out;
   }
 
   void light(int index, const glm::mat4& world) {
@@ -559,14 +813,17 @@ bool refuse_write(std::string* err, const std::string& path, const std::vector<u
 // wrongly or fail later with an unrelated message (a Draco mesh has no
 // bufferView): it is refused up front, by the extension's name.
 void check_required_extensions(const tinygltf::Model& model, const std::string& path) {
-  static const char* const kSupported[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength"};
+  static const char* const kSupported[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                           "KHR_mesh_quantization", "EXT_mesh_gpu_instancing"};
   for (const std::string& name : model.extensionsRequired) {
     if (std::find(std::begin(kSupported), std::end(kSupported), name) != std::end(kSupported)) continue;
+    std::string supported;
+    for (const char* known : kSupported) supported += (supported.empty() ? "" : ", ") + std::string(known);
     std::string hint = name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression"
                            ? " (its meshes are compressed: save the model uncompressed, e.g. with a glTF tool's --no-compression option)"
                            : "";
     throw Error(path + ": requires the glTF extension " + name + ", which the kit does not support" + hint +
-                "; supported: KHR_lights_punctual, KHR_materials_emissive_strength");
+                "; supported: " + supported);
   }
 }
 
@@ -611,7 +868,10 @@ Scene load_scene_unguarded(const std::string& path) {
 
 }  // namespace
 
-glm::mat4 Camera::projection(float aspect) const { return glm::perspective(yfov, aspect, znear, zfar); }
+glm::mat4 Camera::projection(float window_aspect) const {
+  if (orthographic) return glm::ortho(-xmag, xmag, -ymag, ymag, znear, zfar);
+  return glm::perspective(yfov, aspect_ratio > 0.0f ? aspect_ratio : window_aspect, znear, zfar);
+}
 
 Scene load_scene(const std::string& path) {
   // Whatever the file makes the loader do, the message names the file: a
@@ -676,6 +936,15 @@ Camera framing_camera(const Scene& scene) {
   return cam;
 }
 
+Camera chosen_camera(const Scene& scene, int index) {
+  if (index < 0) return scene.camera ? *scene.camera : framing_camera(scene);
+  const size_t count = scene.cameras.size();
+  if (static_cast<size_t>(index) >= count)
+    throw Error(scene.path + ": camera " + std::to_string(index) + " does not exist: the file has " +
+                std::to_string(count) + (count == 1 ? " camera (0)" : count == 0 ? " cameras" : " cameras (0 to " + std::to_string(count - 1) + ")"));
+  return scene.cameras[static_cast<size_t>(index)];
+}
+
 SceneGpu::SceneGpu(const Scene& scene) {
   for (const Primitive& p : scene.primitives) meshes_.emplace_back(p.vertices, p.indices);
   for (const ImageRgba8& img : scene.images) {
@@ -684,13 +953,19 @@ SceneGpu::SceneGpu(const Scene& scene) {
     srgb_.emplace_back(img.width, img.height, TextureFormat{GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE}, img.pixels.data(), true);
     linear_.emplace_back(img.width, img.height, TextureFormat{GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE}, img.pixels.data(), true);
   }
-  for (auto* list : {&srgb_, &linear_})
-    for (auto& t : *list) t.set_wrap(GL_REPEAT, GL_REPEAT);
+  // How materials sample them is the glTF sampler's, bound per draw (draw_scene).
+  for (const TextureSampler& s : scene.samplers) samplers_.emplace_back(s.min_filter, s.mag_filter, s.wrap_s, s.wrap_t);
+  const TextureSampler gltf_default;
+  default_sampler_ = Sampler(gltf_default.min_filter, gltf_default.mag_filter, gltf_default.wrap_s, gltf_default.wrap_t);
   const unsigned char white[4] = {255, 255, 255, 255};
   const unsigned char flat[4] = {128, 128, 255, 255};
   white_ = Texture2D(1, 1, {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE}, white);
   flat_normal_ = Texture2D(1, 1, {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE}, flat);
   check_gl("SceneGpu upload");
+}
+
+const Sampler& SceneGpu::sampler(int index) const {
+  return index < 0 ? default_sampler_ : samplers_[static_cast<size_t>(index)];
 }
 
 const Texture2D& SceneGpu::texture(int image, bool srgb) const {

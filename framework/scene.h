@@ -16,6 +16,15 @@ struct ImageRgba8 {
   std::vector<unsigned char> pixels;  // RGBA8, top row first
 };
 
+// A glTF sampler with its filters and wrap modes (GL enum values, which glTF
+// uses too); the default is glTF's when a texture names none: repeat, and
+// trilinear filtering for "auto".
+struct TextureSampler {
+  GLenum min_filter = GL_LINEAR_MIPMAP_LINEAR;
+  GLenum mag_filter = GL_LINEAR;
+  GLenum wrap_s = GL_REPEAT, wrap_t = GL_REPEAT;
+};
+
 struct Material {
   glm::vec4 base_color_factor{1.0f};
   float metallic_factor = 1.0f;
@@ -26,6 +35,10 @@ struct Material {
   int metallic_roughness_image = -1;
   int normal_image = -1;
   int emissive_image = -1;
+  int base_color_sampler = -1;  // index into Scene::samplers, -1: the default TextureSampler
+  int metallic_roughness_sampler = -1;
+  int normal_sampler = -1;
+  int emissive_sampler = -1;
   std::string name;
 };
 
@@ -41,6 +54,10 @@ struct Primitive {
 struct DrawItem {
   int primitive;
   glm::mat4 world;
+  // A world matrix with a negative determinant mirrors the mesh, which turns its
+  // counter-clockwise (front) triangles clockwise: draw_scene draws it with
+  // glFrontFace(GL_CW), or back-face culling would remove its front.
+  bool mirrored() const { return glm::determinant(glm::mat3(world)) < 0.0f; }
 };
 
 struct Light {
@@ -54,26 +71,42 @@ struct Light {
   float outer_cone = 0.7853982f; // radians (glTF default pi/4)
 };
 
+// A glTF camera placed by its node: perspective (yfov, aspect_ratio) or
+// orthographic (xmag, ymag), both with znear and zfar.
 struct Camera {
   glm::mat4 view{1.0f};
   glm::vec3 position{0.0f};
+  bool orthographic = false;
   float yfov = 0.8f, znear = 0.1f, zfar = 100.0f;
-  glm::mat4 projection(float aspect) const;
+  float aspect_ratio = 0.0f;       // perspective: width / height the file asks for; 0: the window's
+  float xmag = 1.0f, ymag = 1.0f;  // orthographic: half the view's width and height
+  // glTF 2.0's projection matrices ("Projection Matrices"); `window_aspect` is used
+  // by a perspective camera without aspect_ratio. A perspective camera without zfar
+  // gets a finite one (1000) when loaded, as the kit's depth views need one.
+  glm::mat4 projection(float window_aspect) const;
 };
 
 struct Scene {
   std::string path;
   std::vector<ImageRgba8> images;
+  std::vector<TextureSampler> samplers;
   std::vector<Material> materials;
   std::vector<Primitive> primitives;
   std::vector<DrawItem> draws;
   std::vector<Light> lights;
+  // Every node with a camera, in the order the walk of the scene's node tree
+  // (depth first, from its roots) meets them; `camera` is the first, the default view.
+  std::vector<Camera> cameras;
   std::optional<Camera> camera;
   glm::vec3 bounds_min{0.0f}, bounds_max{0.0f};  // world space, over all draws
   // What was loaded differently from the file (points and lines left out, ...);
   // the programs print each once.
   std::vector<std::string> warnings;
 };
+
+// The most draw items a scene may make (primitives of mesh nodes, times the
+// instances of EXT_mesh_gpu_instancing): the renderer issues one GL draw each.
+constexpr size_t kMaxSceneDraws = size_t{1} << 18;
 
 // Loads and validates a .gltf/.glb file. Any problem throws kit::Error whose
 // message starts with the path and says what is wrong; nothing crashes.
@@ -87,6 +120,11 @@ void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t
 // A camera that frames the scene's bounds, for scenes without a camera.
 Camera framing_camera(const Scene& scene);
 
+// The view a program renders: the scene's camera `index` (Scene::cameras), or
+// with index -1 its first camera, else framing_camera. Throws kit::Error naming
+// the file and how many cameras it has when there is no camera `index`.
+Camera chosen_camera(const Scene& scene, int index);
+
 // GL resources of a scene: one Mesh per primitive and the textures materials
 // use (colour data as sRGB, normal and metallic-roughness data as linear).
 class SceneGpu {
@@ -97,9 +135,13 @@ class SceneGpu {
   const Texture2D& texture(int image, bool srgb) const;
   const Texture2D& white() const { return white_; }
   const Texture2D& flat_normal() const { return flat_normal_; }
+  // The GL sampler of Scene::samplers[index]; index -1: the default TextureSampler.
+  const Sampler& sampler(int index) const;
 
  private:
   std::vector<Mesh> meshes_;
+  std::vector<Sampler> samplers_;
+  Sampler default_sampler_;
   std::vector<Texture2D> srgb_, linear_;
   Texture2D white_, flat_normal_;
 };

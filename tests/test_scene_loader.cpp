@@ -6,10 +6,14 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
+#include <OpenImageIO/imageio.h>
 
 #include <sys/stat.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -26,6 +30,7 @@
 #include "kit_test_files.h"
 #include "scene.h"
 #include "stages.h"
+#include "tiny_scenes.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -76,6 +81,40 @@ struct SceneCopy {
     return view.value("byteOffset", size_t{0}) + acc.value("byteOffset", size_t{0}) +
            (element * components + component) * 4;
   }
+  // Appends `bytes` to the .bin (4-byte aligned, as glTF asks of vertex data) and
+  // returns where they start; buffer 0's byteLength follows (save_json() to keep it).
+  size_t append_bin(const std::string& bytes) {
+    std::string data = kit::test::read_file(bin);
+    data.resize((data.size() + 3) / 4 * 4, '\0');
+    const size_t offset = data.size();
+    kit::test::write_file(bin, data + bytes);
+    doc["buffers"][0]["byteLength"] = offset + bytes.size();
+    return offset;
+  }
+  // A new bufferView over `bytes` appended to the .bin; returns its index.
+  int add_view(const std::string& bytes, size_t byte_stride = 0) {
+    json view = {{"buffer", 0}, {"byteOffset", append_bin(bytes)}, {"byteLength", bytes.size()}};
+    if (byte_stride) view["byteStride"] = byte_stride;
+    doc["bufferViews"].push_back(view);
+    return static_cast<int>(doc["bufferViews"].size()) - 1;
+  }
+  int add_accessor(const json& accessor) {
+    doc["accessors"].push_back(accessor);
+    return static_cast<int>(doc["accessors"].size()) - 1;
+  }
+  // Every component of a tightly packed FLOAT accessor, read from the .bin as written.
+  std::vector<float> floats(int accessor_index, size_t components) const {
+    const std::string bytes = kit::test::read_file(bin);
+    const size_t count = doc["accessors"][static_cast<size_t>(accessor_index)]["count"];
+    std::vector<float> out(count * components);
+    std::memcpy(out.data(), &bytes.at(byte_offset(accessor_index, 0, components, 0)), out.size() * 4);
+    return out;
+  }
+  void require_extension(const std::string& name) {
+    doc["extensionsUsed"].push_back(name);
+    doc["extensionsRequired"].push_back(name);
+  }
+
   // Overwrites 4 bytes of the .bin at `offset` with `value`'s bytes.
   template <typename T>
   void patch_bin(size_t offset, T value) const {
@@ -355,6 +394,256 @@ TEST(scene_loader_hostile, LightIndexThatIsNoLightIsRefused) {
   EXPECT_EQ(kit::load_scene(copy.gltf.string()).lights.size(), 1u);
 }
 
+// ---- accessor layouts: strides, sparse accessors, integer components ----
+
+template <typename T>
+std::string bytes_of(const std::vector<T>& values) {
+  return std::string(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
+}
+
+const char* vec_type(size_t components) { return components == 2 ? "VEC2" : components == 3 ? "VEC3" : "VEC4"; }
+
+// An accessor of `count` elements of `components` integers of type T (glTF
+// component type `component_type`) in a new bufferView, component k of all of
+// them being values[k % size]; elements padded to 4 bytes as vertex data must be.
+template <typename T>
+int add_integer_accessor(SceneCopy& copy, const std::vector<T>& values, size_t count, size_t components,
+                         int component_type, bool normalized) {
+  const size_t element = components * sizeof(T), stride = (element + 3) / 4 * 4;
+  std::string bytes(count * stride, '\0');
+  for (size_t v = 0; v < count; ++v)
+    for (size_t c = 0; c < components; ++c)
+      std::memcpy(&bytes[v * stride + c * sizeof(T)], &values[(v * components + c) % values.size()], sizeof(T));
+  const int view = copy.add_view(bytes, stride != element ? stride : 0);
+  return copy.add_accessor({{"bufferView", view}, {"componentType", component_type}, {"normalized", normalized},
+                            {"count", count}, {"type", vec_type(components)}});
+}
+
+// glTF 2.0's decoding of a normalized integer component c, in double.
+double normalized_value(double c, int component_type) {
+  switch (component_type) {
+    case 5120: return std::max(c / 127.0, -1.0);    // BYTE
+    case 5121: return c / 255.0;                    // UNSIGNED_BYTE
+    case 5122: return std::max(c / 32767.0, -1.0);  // SHORT
+    default: return c / 65535.0;                    // UNSIGNED_SHORT
+  }
+}
+// A float from float arithmetic on a value in [-1, 1] (one rounding step).
+constexpr double kNormalizedTolerance = 1e-7;
+
+void expect_same_vertices(const kit::Primitive& expected, const kit::Primitive& actual) {
+  ASSERT_EQ(actual.vertices.size(), expected.vertices.size());
+  EXPECT_EQ(actual.indices, expected.indices);
+  for (size_t i = 0; i < actual.vertices.size(); ++i) {
+    const kit::Vertex &a = actual.vertices[i], &e = expected.vertices[i];
+    ASSERT_TRUE(a.position == e.position && a.normal == e.normal && a.texcoord == e.texcoord && a.tangent == e.tangent)
+        << "vertex " << i;
+  }
+}
+
+TEST(scene_loader_accessors, InterleavedViewGivesTheSameVerticesAsSeparateViews) {
+  SceneCopy copy("sphere", "interleaved");
+  const std::pair<std::string, size_t> attributes[] = {{"POSITION", 3}, {"NORMAL", 3}, {"TEXCOORD_0", 2}, {"TANGENT", 4}};
+  const size_t count = copy.doc["accessors"][static_cast<size_t>(copy.accessor("POSITION"))]["count"];
+  const size_t stride = 4 * (3 + 3 + 2 + 4);
+  std::string interleaved(count * stride, '\0');
+  size_t offset = 0;
+  for (const auto& [name, components] : attributes) {
+    const std::vector<float> values = copy.floats(copy.accessor(name), components);
+    for (size_t v = 0; v < count; ++v) std::memcpy(&interleaved[v * stride + offset], &values[v * components], 4 * components);
+    offset += 4 * components;
+  }
+  const int view = copy.add_view(interleaved, stride);
+  offset = 0;
+  for (const auto& [name, components] : attributes) {
+    json& accessor = copy.doc["accessors"][static_cast<size_t>(copy.accessor(name))];
+    accessor["bufferView"] = view;
+    accessor["byteOffset"] = offset;
+    offset += 4 * components;
+  }
+  copy.save_json();
+  const kit::Scene separate = kit::load_scene(kit::resolve_scene("sphere"));
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  expect_same_vertices(separate.primitives.at(0), scene.primitives.at(0));
+}
+
+TEST(scene_loader_accessors, SparseValuesReplaceTheListedVertices) {
+  SceneCopy copy("sphere", "sparse");
+  const std::vector<uint16_t> moved = {3, 17, 1000};
+  const std::vector<float> values = {0.5f, 2.0f, -1.0f, 3.0f, 0.0f, 0.25f, -2.0f, -2.0f, 1.5f};
+  copy.doc["accessors"][static_cast<size_t>(copy.accessor("POSITION"))]["sparse"] = {
+      {"count", moved.size()},
+      {"indices", {{"bufferView", copy.add_view(bytes_of(moved))}, {"componentType", 5123}}},
+      {"values", {{"bufferView", copy.add_view(bytes_of(values))}}}};
+  copy.save_json();
+  const kit::Primitive& dense = kit::test::scene("sphere").primitives.at(0);
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  const kit::Primitive& sparse = scene.primitives.at(0);
+  ASSERT_EQ(sparse.vertices.size(), dense.vertices.size());
+  for (size_t v = 0; v < sparse.vertices.size(); ++v) {
+    auto k = std::find(moved.begin(), moved.end(), v);
+    glm::vec3 expected = dense.vertices[v].position;
+    if (k != moved.end()) expected = glm::make_vec3(&values[3 * static_cast<size_t>(k - moved.begin())]);
+    ASSERT_EQ(sparse.vertices[v].position, expected) << "vertex " << v;
+  }
+  EXPECT_EQ(sparse.bounds_min.x, -2.0f) << "bounds follow the sparse values";
+}
+
+// Without a bufferView a sparse accessor starts from zeros.
+TEST(scene_loader_accessors, SparseAccessorWithoutBufferViewStartsFromZeros) {
+  SceneCopy copy("sphere", "sparse_zeros");
+  const size_t count = copy.doc["accessors"][static_cast<size_t>(copy.accessor("TEXCOORD_0"))]["count"];
+  const std::vector<uint8_t> moved = {5, 9};
+  const std::vector<float> values = {0.25f, 0.75f, 1.0f, 0.5f};
+  const int uv = copy.add_accessor(
+      {{"componentType", 5126}, {"count", count}, {"type", "VEC2"},
+       {"sparse", {{"count", moved.size()},
+                   {"indices", {{"bufferView", copy.add_view(bytes_of(moved))}, {"componentType", 5121}}},
+                   {"values", {{"bufferView", copy.add_view(bytes_of(values))}}}}}});
+  copy.doc["meshes"][0]["primitives"][0]["attributes"]["TEXCOORD_0"] = uv;
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  const std::vector<kit::Vertex>& vertices = scene.primitives.at(0).vertices;
+  ASSERT_EQ(vertices.size(), count);
+  for (size_t v = 0; v < count; ++v) {
+    glm::vec2 expected(0.0f);
+    if (v == 5) expected = {0.25f, 0.75f};
+    if (v == 9) expected = {1.0f, 0.5f};
+    ASSERT_EQ(vertices[v].texcoord, expected) << "vertex " << v;
+  }
+}
+
+TEST(scene_loader_accessors, SparseIndexPastTheCountIsRefused) {
+  SceneCopy copy("sphere", "sparse_out_of_range");
+  const int position = copy.accessor("POSITION");
+  const uint32_t count = copy.doc["accessors"][static_cast<size_t>(position)]["count"];
+  const std::vector<uint32_t> moved = {3, count};
+  copy.doc["accessors"][static_cast<size_t>(position)]["sparse"] = {
+      {"count", moved.size()},
+      {"indices", {{"bufferView", copy.add_view(bytes_of(moved))}, {"componentType", 5125}}},
+      {"values", {{"bufferView", copy.add_view(std::string(moved.size() * 12, '\0'))}}}};
+  copy.save_json();
+  expect_error(copy.gltf, "POSITION: accessor " + std::to_string(position) + ": sparse index " + std::to_string(count) +
+                              " at position 1 is out of range");
+  // A sparse count beyond the accessor's, whose indices would run past their view.
+  copy.doc["accessors"][static_cast<size_t>(position)]["sparse"]["count"] = count + 1;
+  copy.save_json();
+  expect_error(copy.gltf, "sparse count " + std::to_string(count + 1) + " is not between 1 and");
+}
+
+// Normalized integers decode as glTF 2.0 says (c / 255, max(c / 127, -1), ...),
+// each at its extremes; NORMAL may be normalized BYTE/SHORT only with KHR_mesh_quantization.
+TEST(scene_loader_accessors, NormalizedIntegersDecodeAsTheSpecSays) {
+  const std::vector<int8_t> bytes = {-128, -127, -64, 0, 1, 64, 127};
+  const std::vector<int16_t> shorts = {-32768, -32767, -1, 0, 1, 16384, 32767};
+  const std::vector<uint8_t> unsigned_bytes = {0, 1, 128, 254, 255};
+  const std::vector<uint16_t> unsigned_shorts = {0, 1, 32768, 65534, 65535};
+  for (bool eight_bit : {true, false}) {
+    SceneCopy copy("sphere", eight_bit ? "normalized8" : "normalized16");
+    const size_t count = copy.doc["accessors"][0]["count"];
+    json& attributes = copy.doc["meshes"][0]["primitives"][0]["attributes"];
+    const int normal_type = eight_bit ? 5120 : 5122, uv_type = eight_bit ? 5123 : 5121;  // 16-bit UVs with 8-bit normals
+    attributes["NORMAL"] = eight_bit ? add_integer_accessor(copy, bytes, count, 3, normal_type, true)
+                                     : add_integer_accessor(copy, shorts, count, 3, normal_type, true);
+    attributes["TEXCOORD_0"] = eight_bit ? add_integer_accessor(copy, unsigned_shorts, count, 2, uv_type, true)
+                                         : add_integer_accessor(copy, unsigned_bytes, count, 2, uv_type, true);
+    copy.save_json();
+    expect_error(copy.gltf, "NORMAL: accessor " + std::to_string(attributes["NORMAL"].get<int>()) +
+                                " has an unsupported component type normalized " + (eight_bit ? "BYTE" : "SHORT") +
+                                " (allowed only in a file that uses KHR_mesh_quantization)");
+    copy.require_extension("KHR_mesh_quantization");
+    copy.save_json();
+    const kit::Scene scene = kit::load_scene(copy.gltf.string());
+    const std::vector<kit::Vertex>& vertices = scene.primitives.at(0).vertices;
+    ASSERT_EQ(vertices.size(), count);
+    for (size_t v = 0; v < count; ++v) {
+      for (size_t c = 0; c < 3; ++c) {
+        const size_t k = v * 3 + c;
+        const double raw = eight_bit ? bytes[k % bytes.size()] : shorts[k % shorts.size()];
+        ASSERT_NEAR(vertices[v].normal[static_cast<int>(c)], normalized_value(raw, normal_type), kNormalizedTolerance)
+            << "vertex " << v << " normal " << c << " from " << raw;
+      }
+      for (size_t c = 0; c < 2; ++c) {
+        const size_t k = v * 2 + c;
+        const double raw = eight_bit ? unsigned_shorts[k % unsigned_shorts.size()] : unsigned_bytes[k % unsigned_bytes.size()];
+        ASSERT_NEAR(vertices[v].texcoord[static_cast<int>(c)], normalized_value(raw, uv_type), kNormalizedTolerance)
+            << "vertex " << v << " uv " << c << " from " << raw;
+      }
+    }
+  }
+}
+
+// KHR_mesh_quantization: plain (not normalized) integer positions and UVs are their values.
+TEST(scene_loader_accessors, QuantizedPositionsNeedKhrMeshQuantization) {
+  SceneCopy copy("sphere", "quantized");
+  const size_t count = copy.doc["accessors"][0]["count"];
+  const std::vector<int16_t> positions = {-32768, -300, 0, 7, 32767};
+  const std::vector<uint8_t> uvs = {0, 3, 255};
+  json& attributes = copy.doc["meshes"][0]["primitives"][0]["attributes"];
+  attributes["POSITION"] = add_integer_accessor(copy, positions, count, 3, 5122, false);  // 6 bytes in 8
+  attributes["TEXCOORD_0"] = add_integer_accessor(copy, uvs, count, 2, 5121, false);     // 2 bytes in 4
+  copy.save_json();
+  expect_error(copy.gltf, "POSITION: accessor " + std::to_string(attributes["POSITION"].get<int>()) +
+                              " has an unsupported component type SHORT (allowed only in a file that uses KHR_mesh_quantization)");
+  copy.require_extension("KHR_mesh_quantization");
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  const std::vector<kit::Vertex>& vertices = scene.primitives.at(0).vertices;
+  ASSERT_EQ(vertices.size(), count);
+  for (size_t v = 0; v < count; ++v) {
+    for (int c = 0; c < 3; ++c)
+      ASSERT_EQ(vertices[v].position[c], positions[(v * 3 + static_cast<size_t>(c)) % positions.size()]) << "vertex " << v;
+    for (int c = 0; c < 2; ++c)
+      ASSERT_EQ(vertices[v].texcoord[c], uvs[(v * 2 + static_cast<size_t>(c)) % uvs.size()]) << "vertex " << v;
+  }
+}
+
+// ---- mirrored transforms ----
+
+TEST(scene_loader_mirrored, NegativeDeterminantMarksTheDrawMirrored) {
+  SceneCopy copy("sphere", "mirrored");
+  copy.doc["nodes"][0]["scale"] = {-1.0, 1.0, 1.0};
+  copy.save_json();
+  EXPECT_FALSE(kit::test::scene("sphere").draws.at(0).mirrored());
+  EXPECT_TRUE(kit::load_scene(copy.gltf.string()).draws.at(0).mirrored());
+  // Mirrored twice (a parent mirroring in y over the child mirroring in x): not mirrored.
+  copy.doc["nodes"].push_back({{"name", "mirror_parent"}, {"scale", {1.0, -1.0, 1.0}}, {"children", {0}}});
+  copy.doc["scenes"][0]["nodes"][0] = copy.doc["nodes"].size() - 1;
+  copy.save_json();
+  EXPECT_FALSE(kit::load_scene(copy.gltf.string()).draws.at(0).mirrored());
+}
+
+// Pixels the geometry pass covers (depth below the clear value 1) for a 1 m quad
+// at the origin, seen from +Z (stage 1, the reference solution's shaders).
+size_t covered_pixels(const kit::Primitive& quad, const glm::mat4& world) {
+  kit::test::context();
+  const kit::Scene scene = kit::test::tiny_scene({quad}, {kit::test::plain_material(0.5f)}, {{0, world}}, {});
+  kit::RenderSettings settings;
+  settings.width = settings.height = 32;
+  const kit::Stage& stage = kit::find_stage("gbuffer");
+  kit::Renderer renderer(stage, kit::stage_library(stage, kit::kit_root() / "solutions"), scene, settings);
+  kit::Camera camera;
+  camera.position = {0.0f, 0.0f, 3.0f};
+  camera.view = glm::lookAt(camera.position, glm::vec3(0.0f), glm::vec3(0, 1, 0));
+  renderer.render(kit::frame_camera(camera, 1.0f));
+  GLint front_face = 0;
+  glGetIntegerv(GL_FRONT_FACE, &front_face);
+  EXPECT_EQ(front_face, GL_CCW) << "draw_scene restores GL's default winding";
+  const kit::Image depth = renderer.read_view(kit::View::Depth, true);
+  return static_cast<size_t>(std::count_if(depth.pixels.begin(), depth.pixels.end(), [](float d) { return d < 1.0f; }));
+}
+
+TEST(scene_loader_mirrored, MirroredQuadStillFacesTheCamera) {
+  const kit::Primitive quad = kit::test::quad_primitive({1, 0, 0}, {0, 1, 0}, {1, 1});  // front face looks along +Z
+  const size_t plain = covered_pixels(quad, glm::mat4(1.0f));
+  EXPECT_GT(plain, 0u);
+  // Witness that back faces are culled: the quad turned away covers nothing.
+  EXPECT_EQ(covered_pixels(kit::test::quad_primitive({-1, 0, 0}, {0, 1, 0}, {1, 1}), glm::mat4(1.0f)), 0u);
+  // Mirrored in x it still faces +Z, its triangles now clockwise on screen: drawn, all of it.
+  const glm::mat4 mirror = glm::scale(glm::mat4(1.0f), glm::vec3(-1.0f, 1.0f, 1.0f));
+  EXPECT_EQ(covered_pixels(quad, mirror), plain);
+}
+
 // ---- valid scenes ----
 
 // glTF node local matrix (matrix, or T * R * S) in double.
@@ -587,6 +876,221 @@ TEST(scene_loader_tangents, PlainAndMirroredQuadsGetTheirHandedness) {
       EXPECT_NEAR(vert.tangent.x, mirrored ? -1.0 : 1.0, kUnitTolerance);
       EXPECT_EQ(vert.tangent.w, mirrored ? -1.0f : 1.0f);
     }
+  }
+}
+
+// ---- EXT_mesh_gpu_instancing ----
+
+TEST(scene_loader_instancing, EachInstanceIsADrawAtNodeTimesInstanceTrs) {
+  SceneCopy copy("sphere", "instancing");
+  const std::vector<float> translations = {0, 0, 0, 3, 0, -1, -2.5f, 1, 4};
+  const std::vector<float> rotations = {0, 0, 0, 1, 0, 0.70710678f, 0, 0.70710678f, 0.5f, 0.5f, 0.5f, 0.5f};
+  const std::vector<float> scales = {1, 1, 1, 2, 2, 2, 0.5f, 1, 3};
+  auto accessor = [&](const std::vector<float>& values, const char* type) {
+    const size_t components = std::string(type) == "VEC4" ? 4 : 3;
+    return copy.add_accessor({{"bufferView", copy.add_view(bytes_of(values))}, {"componentType", 5126},
+                              {"count", values.size() / components}, {"type", type}});
+  };
+  json& node = copy.doc["nodes"][0];
+  node["translation"] = {1.0, 2.0, 3.0};
+  node["rotation"] = {0.0, 0.0, 0.38268343, 0.92387953};  // 45 degrees about z
+  node["extensions"]["EXT_mesh_gpu_instancing"]["attributes"] = {
+      {"TRANSLATION", accessor(translations, "VEC3")}, {"ROTATION", accessor(rotations, "VEC4")},
+      {"SCALE", accessor(scales, "VEC3")}};
+  copy.require_extension("EXT_mesh_gpu_instancing");
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  ASSERT_EQ(scene.draws.size(), 3u);
+  const glm::dmat4 node_world = world_matrices(copy.doc).at("sphere");
+  for (size_t i = 0; i < 3; ++i) {
+    const json instance = {{"translation", {translations[3 * i], translations[3 * i + 1], translations[3 * i + 2]}},
+                           {"rotation", {rotations[4 * i], rotations[4 * i + 1], rotations[4 * i + 2], rotations[4 * i + 3]}},
+                           {"scale", {scales[3 * i], scales[3 * i + 1], scales[3 * i + 2]}}};
+    expect_matrix_near(scene.draws[i].world, node_world * local_matrix(instance), "instance " + std::to_string(i));
+  }
+}
+
+TEST(scene_loader_instancing, InstancesBeyondTheDrawLimitAreRefused) {
+  SceneCopy copy("sphere", "instancing_limit");
+  // No bufferView: zeros, so a small file can ask for any count.
+  const int translations = copy.add_accessor({{"componentType", 5126}, {"count", kit::kMaxSceneDraws + 1}, {"type", "VEC3"}});
+  copy.doc["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"] = translations;
+  copy.save_json();
+  expect_error(copy.gltf, "node 0 ('sphere') EXT_mesh_gpu_instancing has " + std::to_string(kit::kMaxSceneDraws + 1) +
+                              " instances, more than the kit draws (" + std::to_string(kit::kMaxSceneDraws) + " draws in all)");
+  copy.doc["accessors"][static_cast<size_t>(translations)]["count"] = kit::kMaxSceneDraws;  // at the limit: loads
+  copy.save_json();
+  EXPECT_EQ(kit::load_scene(copy.gltf.string()).draws.size(), kit::kMaxSceneDraws);
+}
+
+// ---- cameras ----
+
+// glTF 2.0's projection matrices ("Projection Matrices") in double, columns first.
+glm::dmat4 perspective_projection(double aspect, double yfov, double znear, double zfar) {
+  const double t = std::tan(0.5 * yfov);
+  glm::dmat4 p(0.0);
+  p[0][0] = 1.0 / (aspect * t);
+  p[1][1] = 1.0 / t;
+  p[2][2] = (zfar + znear) / (znear - zfar);
+  p[2][3] = -1.0;
+  p[3][2] = 2.0 * zfar * znear / (znear - zfar);
+  return p;
+}
+glm::dmat4 orthographic_projection(double xmag, double ymag, double znear, double zfar) {
+  glm::dmat4 p(0.0);
+  p[0][0] = 1.0 / xmag;
+  p[1][1] = 1.0 / ymag;
+  p[2][2] = 2.0 / (znear - zfar);
+  p[3][2] = (zfar + znear) / (znear - zfar);
+  p[3][3] = 1.0;
+  return p;
+}
+
+TEST(scene_loader_cameras, EveryCameraProjectsAsTheSpecSays) {
+  SceneCopy copy("sphere", "cameras");
+  // The sphere's camera 0 (perspective, no aspectRatio), then one with an aspect
+  // ratio and an orthographic one, on nodes after it in the node tree.
+  json& cameras = copy.doc["cameras"];
+  ASSERT_EQ(cameras.size(), 1u);
+  ASSERT_FALSE(cameras[0]["perspective"].contains("aspectRatio"));
+  cameras.push_back({{"type", "perspective"}, {"perspective", {{"yfov", 0.7}, {"aspectRatio", 2.0}, {"znear", 0.05}, {"zfar", 50.0}}}});
+  cameras.push_back({{"type", "orthographic"}, {"orthographic", {{"xmag", 3.0}, {"ymag", 1.5}, {"znear", 0.0}, {"zfar", 20.0}}}});
+  for (int c : {1, 2}) {
+    copy.doc["nodes"].push_back({{"name", "camera" + std::to_string(c)}, {"camera", c}, {"translation", {0.0, c, 5.0}}});
+    copy.doc["scenes"][0]["nodes"].push_back(copy.doc["nodes"].size() - 1);
+  }
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  ASSERT_EQ(scene.cameras.size(), 3u);
+  ASSERT_TRUE(scene.camera.has_value());
+  EXPECT_EQ(scene.camera->view, scene.cameras[0].view) << "the first camera stays the default";
+
+  const double window_aspect = 1.5;
+  const json& p0 = cameras[0]["perspective"];
+  expect_matrix_near(scene.cameras[0].projection(static_cast<float>(window_aspect)),
+                     perspective_projection(window_aspect, p0["yfov"], p0["znear"], p0["zfar"]), "camera 0 (window's aspect)");
+  expect_matrix_near(scene.cameras[1].projection(static_cast<float>(window_aspect)),
+                     perspective_projection(2.0, 0.7, 0.05, 50.0), "camera 1 (its aspectRatio)");
+  EXPECT_TRUE(scene.cameras[2].orthographic);
+  expect_matrix_near(scene.cameras[2].projection(static_cast<float>(window_aspect)),
+                     orthographic_projection(3.0, 1.5, 0.0, 20.0), "camera 2 (orthographic)");
+  const std::map<std::string, glm::dmat4> worlds = world_matrices(copy.doc);
+  for (int c : {1, 2})
+    expect_matrix_near(scene.cameras[static_cast<size_t>(c)].view, glm::inverse(worlds.at("camera" + std::to_string(c))),
+                       "camera " + std::to_string(c) + " view");
+
+  // chosen_camera: -1 is the default, N the file's camera N, past the last an error naming the count.
+  EXPECT_EQ(kit::chosen_camera(scene, -1).view, scene.cameras[0].view);
+  EXPECT_TRUE(kit::chosen_camera(scene, 2).orthographic);
+  try {
+    kit::chosen_camera(scene, 3);
+    ADD_FAILURE() << "camera 3 was chosen";
+  } catch (const kit::Error& e) {
+    EXPECT_EQ(std::string(e.what()), copy.gltf.string() + ": camera 3 does not exist: the file has 3 cameras (0 to 2)");
+  }
+}
+
+TEST(scene_loader_cameras, InvalidCamerasAreRefusedByIndex) {
+  SceneCopy copy("sphere", "bad_cameras");
+  copy.doc["cameras"][0] = {{"type", "orthographic"}, {"orthographic", {{"xmag", 0.0}, {"ymag", 1.0}, {"znear", 0.1}, {"zfar", 10.0}}}};
+  copy.save_json();
+  expect_error(copy.gltf, "camera 0 ('') has xmag 0");
+  copy.doc["cameras"][0]["orthographic"] = {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 5.0}, {"zfar", 1.0}};
+  copy.save_json();
+  expect_error(copy.gltf, "must be 0 <= znear < zfar");
+  copy.doc["cameras"][0] = {{"type", "perspective"}, {"perspective", {{"yfov", 0.8}, {"znear", 0.1}, {"zfar", 0.05}}}};
+  copy.save_json();
+  expect_error(copy.gltf, "camera 0 ('') has zfar");
+}
+
+// ---- textures ----
+
+// A PNG's colour is stored without alpha premultiplied: a texel of RGB (200, 50, 10)
+// at alpha 128 (0.5) decodes to (200, 50, 10), not the premultiplied (100, 25, 5).
+TEST(scene_loader_textures, PngColourIsNotPremultipliedByAlpha) {
+  SceneCopy copy("default", "unassociated_alpha");
+  const unsigned char texel[4] = {200, 50, 10, 128};
+  const fs::path png = copy.dir / "checker.png";  // image 0 of the default scene
+  ASSERT_EQ(copy.doc["images"][0]["uri"], "checker.png");
+  {
+    std::vector<unsigned char> pixels;
+    for (int i = 0; i < 4; ++i) pixels.insert(pixels.end(), texel, texel + 4);
+    OIIO::ImageSpec spec(2, 2, 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:UnassociatedAlpha", 1);  // write the bytes as they are
+    auto out = OIIO::ImageOutput::create(png.string());
+    ASSERT_TRUE(out && out->open(png.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && out->close());
+  }
+  {  // Witness: OpenImageIO's default read premultiplies.
+    auto in = OIIO::ImageInput::open(png.string());
+    ASSERT_TRUE(in);
+    unsigned char read[16];
+    ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, read));
+    EXPECT_NEAR(read[0], 200.0 * 128.0 / 255.0, 1.0);
+  }
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  const kit::ImageRgba8& image = scene.images.at(0);
+  ASSERT_EQ(image.width, 2);
+  for (size_t p = 0; p < 4; ++p)
+    for (size_t c = 0; c < 4; ++c) EXPECT_EQ(image.pixels[4 * p + c], texel[c]) << "pixel " << p << " channel " << c;
+}
+
+// glTF samplers reach the GL sampler each material texture is drawn with; a
+// texture without one gets glTF's default (repeat, trilinear for "auto").
+TEST(scene_loader_textures, SamplersSetWrapAndFilterOfEachTexture) {
+  SceneCopy copy("default", "samplers");
+  ASSERT_EQ(copy.doc["textures"][0]["sampler"], 0);
+  copy.doc["samplers"][0] = {{"wrapS", 33071}, {"wrapT", 33648}, {"minFilter", 9984}, {"magFilter", 9728}};
+  copy.doc["samplers"].push_back({{"wrapS", 10497}});  // filters left to the implementation
+  copy.doc["textures"][1]["sampler"] = 1;
+  copy.doc["textures"][2].erase("sampler");
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  ASSERT_EQ(scene.samplers.size(), 2u);
+  // Which materials use which texture, from the JSON.
+  std::map<int, int> sampler_of_texture = {{0, 0}, {1, 1}, {2, -1}};
+  bool checked_texture[3] = {false, false, false};
+  for (size_t m = 0; m < scene.materials.size(); ++m) {
+    const json& base_color = copy.doc["materials"][m]["pbrMetallicRoughness"];
+    if (!base_color.contains("baseColorTexture")) continue;
+    const int texture = base_color["baseColorTexture"]["index"];
+    EXPECT_EQ(scene.materials[m].base_color_sampler, sampler_of_texture.at(texture)) << "material " << m;
+    checked_texture[texture] = true;
+  }
+  EXPECT_TRUE(checked_texture[0]) << "some material samples texture 0";
+
+  kit::test::context();
+  const kit::SceneGpu gpu(scene);
+  auto parameter = [](const kit::Sampler& sampler, GLenum name) {
+    GLint value = 0;
+    glGetSamplerParameteriv(sampler.id(), name, &value);
+    return value;
+  };
+  const std::pair<int, std::array<GLint, 4>> expected[] = {
+      {0, {GL_CLAMP_TO_EDGE, GL_MIRRORED_REPEAT, GL_NEAREST_MIPMAP_NEAREST, GL_NEAREST}},
+      {1, {GL_REPEAT, GL_REPEAT, GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR}},
+      {-1, {GL_REPEAT, GL_REPEAT, GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR}}};
+  for (const auto& [index, values] : expected) {
+    const kit::Sampler& sampler = gpu.sampler(index);
+    EXPECT_EQ(parameter(sampler, GL_TEXTURE_WRAP_S), values[0]) << "sampler " << index;
+    EXPECT_EQ(parameter(sampler, GL_TEXTURE_WRAP_T), values[1]) << "sampler " << index;
+    EXPECT_EQ(parameter(sampler, GL_TEXTURE_MIN_FILTER), values[2]) << "sampler " << index;
+    EXPECT_EQ(parameter(sampler, GL_TEXTURE_MAG_FILTER), values[3]) << "sampler " << index;
+  }
+
+  copy.doc["samplers"][1]["wrapT"] = 1234;
+  copy.save_json();
+  expect_error(copy.gltf, "sampler 1 has wrapT 1234 (glTF allows");
+}
+
+// Drawing binds each material texture's sampler and unbinds it after, so that
+// later passes sample their targets with the targets' own settings.
+TEST(scene_loader_textures, GeometryPassLeavesNoSamplerBound) {
+  const std::unique_ptr<kit::Renderer> renderer = kit::test::render_stage("gbuffer", "default");
+  for (int unit : {KIT_UNIT_BASE_COLOR, KIT_UNIT_METALLIC_ROUGHNESS, KIT_UNIT_NORMAL_MAP, KIT_UNIT_EMISSIVE}) {
+    glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
+    GLint bound = -1;
+    glGetIntegerv(GL_SAMPLER_BINDING, &bound);
+    EXPECT_EQ(bound, 0) << "unit " << unit;
   }
 }
 

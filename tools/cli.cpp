@@ -1,5 +1,7 @@
 #include "cli.h"
 
+#include <cerrno>
+#include <cstdlib>
 #include <system_error>
 
 #include "error.h"
@@ -15,6 +17,8 @@ const char* common_options_help() {
          "  --timeout S           seconds the shaders may take to compile and draw before the run stops\n"
          "                        with a message (default 30, as the grader's; 0: no limit)\n"
          "  --scene NAME|FILE     kit scene name (default, sphere, grazing, normalmap, spot, highlight) or a .gltf/.glb\n"
+         "  --camera N            the scene file's camera N, counted from 0 in the order of its node tree\n"
+         "                        (default: its first camera, else one that frames the scene)\n"
          "  --backend NAME        osmesa (default) | egl\n"
          "  --size WxH            image size (default 640x480)\n"
          "  --gamma G             display gamma (default 2.2)\n"
@@ -43,6 +47,14 @@ bool parse_on_off(const std::string& text, const std::string& flag) {
   if (text == "on" || text == "1" || text == "true") return true;
   if (text == "off" || text == "0" || text == "false") return false;
   throw Error(flag + " expects on or off (got '" + text + "')");
+}
+
+std::optional<long> parse_whole_number(const std::string& text, long min, long max) {
+  char* end = nullptr;
+  errno = 0;
+  const long n = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || *end != '\0' || errno == ERANGE || n < min || n > max) return std::nullopt;
+  return n;
 }
 
 static float parse_float(const std::string& text, const std::string& flag) {
@@ -78,6 +90,12 @@ void parse_options(int argc, char** argv, CommonOptions& o,
       if (!(o.timeout >= 0.0 && o.timeout <= 86400.0)) throw Error("--timeout expects seconds from 0 (no limit) to 86400");
     }
     else if (flag == "--scene") o.scene = value();
+    else if (flag == "--camera") {
+      const std::string text = value();
+      const std::optional<long> n = parse_whole_number(text, 0, 1000000);
+      if (!n) throw Error("--camera expects a camera number from 0 (got '" + text + "')");
+      o.camera = static_cast<int>(*n);
+    }
     else if (flag == "--backend") o.backend = value();
     else if (flag == "--size" || flag == "-s") parse_size(value(), &s.width, &s.height);
     else if (flag == "--gamma") s.gamma = parse_float(value(), flag);

@@ -2,6 +2,7 @@
 // Flags shared by every kit program (kit-render, kit-view, ...), so each one
 // takes the same --stage/--shaders/--scene/--size/... spelling.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -15,6 +16,7 @@ struct CommonOptions {
   std::string shaders;           // --shaders: a folder of NN-name/ lab folders, or one of them; empty: labs/
   bool solution = false;         // --solution: the reference solutions (solutions/) instead of labs/
   std::string scene = "default"; // scene name or .gltf path
+  int camera = -1;               // --camera N: the scene file's camera N (kit::chosen_camera); -1: its first
   std::string backend = "osmesa";
   double timeout = kDefaultTimeoutSeconds;  // --timeout: seconds of GL work before the watchdog ends the run; 0: none
   RenderSettings settings;
@@ -34,6 +36,9 @@ void parse_options(int argc, char** argv, CommonOptions& options,
 // "640x480" -> width, height.
 void parse_size(const std::string& text, int* width, int* height);
 bool parse_on_off(const std::string& text, const std::string& flag);
+// The whole number `text` spells (decimal digits, nothing after them) when it lies
+// in [min, max]; nothing otherwise. Callers say which flag expected what.
+std::optional<long> parse_whole_number(const std::string& text, long min, long max);
 
 // Which lab files a run renders: the stage and the folder holding the NN-name
 // lab folders (the root stage_library takes).

@@ -56,11 +56,9 @@ int main(int argc, char** argv) {
       if (flag == "--timings") return timings = true, 1;
       if (flag == "--frames") {
         std::string text = value();
-        char* end = nullptr;
-        long n = std::strtol(text.c_str(), &end, 10);
-        if (text.empty() || *end != '\0' || n < 1 || n > 1000)
-          throw kit::Error("--frames expects a count from 1 to 1000 (got '" + text + "')");
-        return frames = static_cast<int>(n), 2;
+        const std::optional<long> n = kit::parse_whole_number(text, 1, 1000);
+        if (!n) throw kit::Error("--frames expects a count from 1 to 1000 (got '" + text + "')");
+        return frames = static_cast<int>(*n), 2;
       }
       if (flag == "--view") return pending = kit::parse_view(value()), 2;
       if (flag == "--out") return outputs.push_back({pending, value()}), 2;
@@ -72,6 +70,7 @@ int main(int argc, char** argv) {
     const kit::Stage& stage = *lab.stage;
     kit::Scene scene = kit::load_scene(kit::resolve_scene(options.scene));
     for (const std::string& warning : scene.warnings) std::fprintf(stderr, "kit-render: warning: %s\n", warning.c_str());
+    const kit::Camera camera = kit::chosen_camera(scene, options.camera);
     auto t_scene = seconds_since(t0);
     auto context = kit::create_headless_context(kit::parse_backend(options.backend));
     auto t_context = seconds_since(t0);
@@ -82,7 +81,6 @@ int main(int argc, char** argv) {
     auto t_compile = seconds_since(t0);
     watchdog.relabel("rendering stage " + stage.name);
     const auto& s = options.settings;
-    kit::Camera camera = scene.camera ? *scene.camera : kit::framing_camera(scene);
     std::vector<double> frame_ms;
     for (int f = 0; f < frames; ++f) {
       auto t_frame = std::chrono::steady_clock::now();

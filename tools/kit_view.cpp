@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <cstring>
 #include <iterator>
+#include <limits>
 #include <map>
 #include <memory>
 #include <string>
@@ -97,12 +98,8 @@ void usage() {
 }
 
 int parse_frame_count(const std::string& text) {
-  try {
-    size_t used = 0;
-    int n = std::stoi(text, &used);
-    if (used == text.size() && n >= 1) return n;
-  } catch (const std::exception&) {
-  }
+  if (const std::optional<long> n = kit::parse_whole_number(text, 1, std::numeric_limits<int>::max()))
+    return static_cast<int>(*n);
   throw kit::Error("--frames expects a whole number of at least 1 (got '" + text + "')");
 }
 
@@ -112,7 +109,7 @@ int parse_frame_count(const std::string& text) {
 // unchanged, so the first frame is the same image kit-render makes.
 class CameraRig {
  public:
-  explicit CameraRig(const kit::Scene& scene) : camera_(scene.camera ? *scene.camera : kit::framing_camera(scene)) {
+  CameraRig(const kit::Scene& scene, const kit::Camera& start) : camera_(start) {
     glm::mat4 inverse_view = glm::inverse(camera_.view);
     glm::vec3 eye(inverse_view[3]);
     glm::vec3 forward = -glm::normalize(glm::vec3(inverse_view[2]));
@@ -249,7 +246,7 @@ class Viewer {
                   "The window cannot show this while the GL call runs: fix the shader, then open the viewer again."),
         scene_(kit::load_scene(kit::resolve_scene(options_.common.scene))),
         window_(settings_.width, settings_.height, title_prefix(), !options_.hidden),
-        rig_(scene_),
+        rig_(scene_, kit::chosen_camera(scene_, options_.common.camera)),
         view_(options_.view) {
     for (const std::string& warning : scene_.warnings) std::fprintf(stderr, "kit-view: warning: %s\n", warning.c_str());
     if (settings_.extra_lights > kMaxViewerLights) {
