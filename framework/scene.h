@@ -84,6 +84,11 @@ Scene load_scene(const std::string& path);
 // unit tangent perpendicular to the normal.
 void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t>& indices);
 
+// Flat normals for a primitive whose file gives none (glTF requires them; OBJ
+// faces without vn get the same): every triangle gets its own three vertices
+// carrying its plane's normal. Call before generate_tangents.
+void use_flat_normals(Primitive& primitive);
+
 // A camera that frames the scene's bounds, for scenes without a camera.
 Camera framing_camera(const Scene& scene);
 
