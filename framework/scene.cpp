@@ -16,6 +16,7 @@
 
 #include "error.h"
 #include "gbuffer_layout.h"
+#include "obj_scene.h"
 #include "safe_file.h"
 #include "texture_decode.h"
 
@@ -561,6 +562,7 @@ Scene load_scene(const std::string& path) {
   // Whatever the file makes the loader do, the message names the file: a
   // bad_alloc or length_error from a size the file asked for becomes a kit::Error.
   try {
+    if (is_obj_path(path)) return load_obj_scene(path);
     return load_scene_unguarded(path);
   } catch (const Error&) {
     throw;

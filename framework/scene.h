@@ -75,7 +75,7 @@ struct Scene {
   std::vector<std::string> warnings;
 };
 
-// Loads and validates a .gltf/.glb file. Any problem throws kit::Error whose
+// Loads and validates a .gltf/.glb file (an .obj goes to load_obj_scene, obj_scene.h). Any problem throws kit::Error whose
 // message starts with the path and says what is wrong; nothing crashes.
 Scene load_scene(const std::string& path);
 
