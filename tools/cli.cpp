@@ -1,5 +1,6 @@
 #include "cli.h"
 
+#include <cstdio>
 #include <system_error>
 
 #include "error.h"
@@ -23,7 +24,9 @@ const char* common_options_help() {
          "  --custom on|off       stage 5 free-choice effect toggle (default off)\n"
          "  --threshold T         bloom bright-pass threshold (default 1.0)\n"
          "  --blur-passes N       separable blur passes (default 6)\n"
-         "  --lights N            add N small point lights (default 0)\n";
+         "  --lights N            add N small point lights (default 0)\n"
+         "  --no-default-lights   leave a scene without lights unlit (default: lit stages light it with\n"
+         "                        the default rig: key, fill and rim point lights scaled to its bounds)\n";
 }
 
 void parse_size(const std::string& text, int* width, int* height) {
@@ -91,6 +94,7 @@ void parse_options(int argc, char** argv, CommonOptions& o,
     else if (flag == "--threshold") s.bloom_threshold = parse_float(value(), flag);
     else if (flag == "--blur-passes") s.blur_passes = static_cast<int>(parse_float(value(), flag));
     else if (flag == "--lights") s.extra_lights = static_cast<int>(parse_float(value(), flag));
+    else if (flag == "--no-default-lights") s.default_light_rig = false;
     else {
       int used = extra ? extra(flag, next_value) : 0;
       if (used == 0) throw Error("unknown option '" + flag + "' (see --help)");
@@ -99,6 +103,14 @@ void parse_options(int argc, char** argv, CommonOptions& o,
   }
   if (o.settings.blur_passes < 0 || o.settings.blur_passes > 64) throw Error("--blur-passes must be 0..64");
   if (o.settings.extra_lights < 0 || o.settings.extra_lights > 65536) throw Error("--lights must be 0..65536");
+}
+
+void note_default_light_rig(const char* tool, const Scene& scene, const Stage& stage, const RenderSettings& settings) {
+  if (stage.lighting && uses_default_light_rig(scene, settings))
+    std::fprintf(stderr,
+                 "%s: note: scene has no lights: using the default rig (3 point lights: key, fill and rim around "
+                 "its bounds); --no-default-lights turns it off\n",
+                 tool);
 }
 
 namespace {

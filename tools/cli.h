@@ -17,7 +17,9 @@ struct CommonOptions {
   std::string scene = "default"; // scene name or .gltf path
   std::string backend = "osmesa";
   double timeout = kDefaultTimeoutSeconds;  // --timeout: seconds of GL work before the watchdog ends the run; 0: none
-  RenderSettings settings;
+  RenderSettings settings;        // default_light_rig on; --no-default-lights turns it off
+
+  CommonOptions() { settings.default_light_rig = true; }
 };
 
 // Help text for the shared flags.
@@ -30,6 +32,10 @@ const char* common_options_help();
 using OptionValue = std::function<std::string()>;
 void parse_options(int argc, char** argv, CommonOptions& options,
                    const std::function<int(const std::string&, const OptionValue&)>& extra);
+
+// Says on stderr, as "TOOL: note: ...", when a lit stage shows the scene through the
+// default light rig (renderer.h) because it has no lights of its own.
+void note_default_light_rig(const char* tool, const Scene& scene, const Stage& stage, const RenderSettings& settings);
 
 // "640x480" -> width, height.
 void parse_size(const std::string& text, int* width, int* height);

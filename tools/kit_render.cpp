@@ -79,6 +79,7 @@ int main(int argc, char** argv) {
     kit::Watchdog watchdog("kit-render", options.timeout);
     watchdog.arm("compiling the shaders of stage " + stage.name);
     kit::Renderer renderer(stage, kit::stage_library(stage, lab.root), scene, options.settings);
+    kit::note_default_light_rig("kit-render", scene, stage, options.settings);
     auto t_compile = seconds_since(t0);
     watchdog.relabel("rendering stage " + stage.name);
     const auto& s = options.settings;

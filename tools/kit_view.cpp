@@ -252,6 +252,7 @@ class Viewer {
         rig_(scene_),
         view_(options_.view) {
     for (const std::string& warning : scene_.warnings) std::fprintf(stderr, "kit-view: warning: %s\n", warning.c_str());
+    kit::note_default_light_rig("kit-view", scene_, *stage_, settings_);
     if (settings_.extra_lights > kMaxViewerLights) {
       std::fprintf(stderr, "kit-view: note: --lights %d is more than the viewer's slider holds; using %d\n",
                    settings_.extra_lights, kMaxViewerLights);
