@@ -26,7 +26,11 @@ const char* common_options_help() {
          "  --blur-passes N       separable blur passes (default 6)\n"
          "  --lights N            add N small point lights (default 0)\n"
          "  --no-default-lights   leave a scene without lights unlit (default: lit stages light it with\n"
-         "                        the default rig: key, fill and rim point lights scaled to its bounds)\n";
+         "                        the default rig: key, fill and rim point lights scaled to its bounds)\n"
+         "  --look-at EX,EY,EZ,TX,TY,TZ[,FOV]\n"
+         "                        camera at EYE looking at TARGET, +Y up, vertical FOV in degrees\n"
+         "                        (default: the scene's camera, else one framing its bounds; kit-view's\n"
+         "                        L key prints the current view in this form)\n";
 }
 
 void parse_size(const std::string& text, int* width, int* height) {
@@ -95,6 +99,7 @@ void parse_options(int argc, char** argv, CommonOptions& o,
     else if (flag == "--blur-passes") s.blur_passes = static_cast<int>(parse_float(value(), flag));
     else if (flag == "--lights") s.extra_lights = static_cast<int>(parse_float(value(), flag));
     else if (flag == "--no-default-lights") s.default_light_rig = false;
+    else if (flag == "--look-at") o.look_at = parse_look_at(value(), flag);
     else {
       int used = extra ? extra(flag, next_value) : 0;
       if (used == 0) throw Error("unknown option '" + flag + "' (see --help)");
@@ -103,6 +108,11 @@ void parse_options(int argc, char** argv, CommonOptions& o,
   }
   if (o.settings.blur_passes < 0 || o.settings.blur_passes > 64) throw Error("--blur-passes must be 0..64");
   if (o.settings.extra_lights < 0 || o.settings.extra_lights > 65536) throw Error("--lights must be 0..65536");
+}
+
+Camera initial_camera(const Scene& scene, const CommonOptions& o) {
+  if (o.look_at) return look_at_camera(*o.look_at, scene);
+  return scene.camera ? *scene.camera : framing_camera(scene);
 }
 
 void note_default_light_rig(const char* tool, const Scene& scene, const Stage& stage, const RenderSettings& settings) {

@@ -2,9 +2,11 @@
 // Flags shared by every kit program (kit-render, kit-view, ...), so each one
 // takes the same --stage/--shaders/--scene/--size/... spelling.
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "look_at.h"
 #include "renderer.h"
 #include "watchdog.h"
 
@@ -17,6 +19,7 @@ struct CommonOptions {
   std::string scene = "default"; // scene name or .gltf path
   std::string backend = "osmesa";
   double timeout = kDefaultTimeoutSeconds;  // --timeout: seconds of GL work before the watchdog ends the run; 0: none
+  std::optional<LookAt> look_at;  // --look-at: the camera; absent: the scene's, else one framing the bounds
   RenderSettings settings;        // default_light_rig on; --no-default-lights turns it off
 
   CommonOptions() { settings.default_light_rig = true; }
@@ -32,6 +35,9 @@ const char* common_options_help();
 using OptionValue = std::function<std::string()>;
 void parse_options(int argc, char** argv, CommonOptions& options,
                    const std::function<int(const std::string&, const OptionValue&)>& extra);
+
+// The camera a run starts from: --look-at's, else the scene's, else framing_camera's.
+Camera initial_camera(const Scene& scene, const CommonOptions& options);
 
 // Says on stderr, as "TOOL: note: ...", when a lit stage shows the scene through the
 // default light rig (renderer.h) because it has no lights of its own.

@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
     auto t_compile = seconds_since(t0);
     watchdog.relabel("rendering stage " + stage.name);
     const auto& s = options.settings;
-    kit::Camera camera = scene.camera ? *scene.camera : kit::framing_camera(scene);
+    const kit::Camera camera = kit::initial_camera(scene, options);
     std::vector<double> frame_ms;
     for (int f = 0; f < frames; ++f) {
       auto t_frame = std::chrono::steady_clock::now();
