@@ -286,3 +286,25 @@ TEST(ObjScene, RendersItsKdIntoTheGBuffer) {
     EXPECT_NEAR(albedo.at(32, 24, c), kd[c], 1.0 / 255.0) << "channel " << c;
   EXPECT_GT(albedo.at(32, 24, 0) + albedo.at(32, 24, 1) + albedo.at(32, 24, 2), 0.0f);
 }
+
+// kit-render with an OBJ that brings no lights: the default rig lights it and says
+// so; --no-default-lights leaves it dark; --look-at places the camera.
+TEST(ObjScene, KitRenderLightsItWithTheDefaultRig) {
+  REQUIRE_OBJ_SUPPORT();
+  fs::path dir = kit::test::temp_dir("obj_scene/kit_render");
+  kit::test::write_file(dir / "quad.obj", kQuadObj);
+  kit::test::write_file(dir / "quad.mtl", "newmtl paint\nKd 0.8 0.8 0.8\nKs 0.04 0.04 0.04\nNs 20\n");
+  const std::string base = "'" + kit::test::tool("kit-render") + "' --solution --stage attenuation --size 64x48 --scene '" +
+                           (dir / "quad.obj").string() + "' --look-at 0,0,3,0,0,0,30 --out ";
+  std::string output;
+  ASSERT_EQ(kit::test::run(base + "'" + (dir / "lit.png").string() + "'", &output), 0) << output;
+  EXPECT_NE(output.find("kit-render: note: scene has no lights: using the default rig (3 point lights"), std::string::npos)
+      << output;
+  const kit::Image lit = kit::read_image((dir / "lit.png").string());
+  EXPECT_GT(lit.at(32, 24, 0), 0.1f) << "the quad fills the centre and the rig lights it";
+
+  ASSERT_EQ(kit::test::run(base + "'" + (dir / "dark.png").string() + "' --no-default-lights", &output), 0) << output;
+  EXPECT_EQ(output.find("default rig"), std::string::npos) << output;
+  const kit::Image dark = kit::read_image((dir / "dark.png").string());
+  EXPECT_EQ(dark.at(32, 24, 0) + dark.at(32, 24, 1) + dark.at(32, 24, 2), 0.0f);
+}
