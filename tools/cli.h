@@ -16,7 +16,7 @@ struct CommonOptions {
   std::string stage;             // --stage; empty: from a lab folder given to --shaders, else gbuffer
   std::string shaders;           // --shaders: a folder of NN-name/ lab folders, or one of them; empty: labs/
   bool solution = false;         // --solution: the reference solutions (solutions/) instead of labs/
-  std::string scene = "default"; // scene name or .gltf path
+  std::string scene = "default"; // scene name or .gltf/.glb/.obj path
   std::string backend = "osmesa";
   double timeout = kDefaultTimeoutSeconds;  // --timeout: seconds of GL work before the watchdog ends the run; 0: none
   std::optional<LookAt> look_at;  // --look-at: the camera; absent: the scene's, else one framing the bounds
