@@ -120,6 +120,47 @@ std::vector<Light> spawned_lights(const Scene& scene, int count) {
   return out;
 }
 
+std::vector<Light> default_light_rig(const Scene& scene, const Stage& stage, int attenuation_model) {
+  struct RigLight {
+    glm::vec3 direction;  // from the centre, before normalising
+    glm::vec3 color;
+    float irradiance;     // at the centre, in the units the lights' colour times intensity give
+  };
+  static const RigLight kRig[] = {
+      {{-1.0f, 1.0f, 1.0f}, {1.0f, 0.95f, 0.88f}, 3.0f},   // key: warm, upper left, in front
+      {{1.2f, 0.3f, 0.8f}, {0.85f, 0.9f, 1.0f}, 1.0f},     // fill: cool, right, lower
+      {{0.2f, 1.0f, -1.5f}, {1.0f, 1.0f, 1.0f}, 1.5f},     // rim: above and behind
+  };
+  const glm::vec3 center = 0.5f * (scene.bounds_min + scene.bounds_max);
+  const float radius = std::max(0.5f * glm::length(scene.bounds_max - scene.bounds_min), 1e-6f);
+  const float distance = 3.0f * radius;
+  // The falloff the stage's light_radiance applies at `distance` (attenuation.glsl).
+  const bool falls_off = stage.number >= find_stage("attenuation").number;
+  const float falloff = !falls_off ? 1.0f : attenuation_model == 1 ? 1.0f + distance * distance : distance * distance;
+  std::vector<Light> out;
+  for (const RigLight& r : kRig) {
+    Light l;
+    l.type = KIT_LIGHT_POINT;
+    l.position = center + glm::normalize(r.direction) * distance;
+    l.color = r.color;
+    l.intensity = r.irradiance * falloff;
+    out.push_back(l);
+  }
+  return out;
+}
+
+bool uses_default_light_rig(const Scene& scene, const RenderSettings& settings) {
+  return settings.default_light_rig && scene.lights.empty();
+}
+
+std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings) {
+  std::vector<Light> lights =
+      uses_default_light_rig(scene, settings) ? default_light_rig(scene, stage, settings.attenuation_model) : scene.lights;
+  std::vector<Light> extra = spawned_lights(scene, settings.extra_lights);
+  lights.insert(lights.end(), extra.begin(), extra.end());
+  return lights;
+}
+
 Texture2D light_texture(const std::vector<Light>& lights) {
   const int light_count = static_cast<int>(lights.size());
   std::vector<float> texels(static_cast<size_t>(std::max(light_count, 1)) * KIT_LIGHT_TEXELS * 4, 0.0f);
@@ -245,11 +286,12 @@ void Renderer::resize(int width, int height) {
 }
 
 void Renderer::upload_lights() {
-  std::vector<Light> lights = scene_.lights;
-  std::vector<Light> extra = spawned_lights(scene_, settings_.extra_lights);
-  lights.insert(lights.end(), extra.begin(), extra.end());
+  std::vector<Light> lights = frame_lights(scene_, stage_, settings_);
   light_count_ = static_cast<int>(lights.size());
   lights_ = light_texture(lights);
+  lights_extra_ = settings_.extra_lights;
+  lights_default_rig_ = settings_.default_light_rig;
+  lights_attenuation_model_ = settings_.attenuation_model;
 }
 
 void set_frame_uniforms(const Program& p, const FrameCamera& camera, const RenderSettings& settings, int light_count) {
@@ -308,7 +350,9 @@ void Renderer::render(const FrameCamera& camera) {
 }
 
 void Renderer::render_passes(const FrameCamera& camera) {
-  if (settings_.extra_lights + static_cast<int>(scene_.lights.size()) != light_count_) upload_lights();
+  if (settings_.extra_lights != lights_extra_ || settings_.default_light_rig != lights_default_rig_ ||
+      settings_.attenuation_model != lights_attenuation_model_)
+    upload_lights();
   camera_ = camera;
   const Programs& p = *programs_;
   for (const Program* program : {&p.geometry, &p.lighting, &p.display, &p.bright, &p.blur, &p.composite, &p.custom}) {

@@ -26,6 +26,10 @@ struct RenderSettings {
   glm::vec3 clear_color{0.02f, 0.02f, 0.025f};  // u_clear_color, linear HDR
   int extra_lights = 0;             // small point lights added around the scene (viewer slider, bench)
   bool frustum_culling = false;     // skip draws wholly outside the view (mesh_optimize.h); off by default
+  // A scene without lights gets default_light_rig's lights. The tools turn this on
+  // (cli.h; --no-default-lights turns it off); the grader and the tests render
+  // scenes as they are.
+  bool default_light_rig = false;
 };
 
 enum class View { Final, Position, Normal, Albedo, Material, Depth, Hdr };
@@ -57,6 +61,22 @@ Program make_program(const ShaderLibrary& library, const std::string& vertex, co
 // RenderSettings::extra_lights' placement: `count` deterministic small point lights
 // spread over the scene's bounds (golden-angle spiral), 0.5 cd each.
 std::vector<Light> spawned_lights(const Scene& scene, int count);
+
+// Three point lights for a scene that has none, so a model brought without lights
+// still shows its shape: a key light (upper left front), a fill light (right, lower,
+// weaker) and a rim light (above and behind), each at 3 bounding-sphere radii from
+// the bounds' centre. Each light's intensity is chosen so the illuminance it gives
+// at the centre is the same for a 1 cm and a 100 m model: its irradiance constant
+// (3, 1 and 1.5) times the falloff the stage applies at that distance d (d^2 with
+// the physical model from stage 3 on, 1 + d^2 with the simple one, 1 in stage 2,
+// which has no falloff).
+std::vector<Light> default_light_rig(const Scene& scene, const Stage& stage, int attenuation_model);
+// Whether the lights of a frame include the default rig: the scene has no lights and
+// `settings` ask for it.
+bool uses_default_light_rig(const Scene& scene, const RenderSettings& settings);
+// The lights a frame uploads: the scene's (or the default rig), then
+// RenderSettings::extra_lights spawned ones.
+std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings);
 
 // The light texture every lighting shader reads (lights.glsl): RGBA32F,
 // KIT_LIGHT_TEXELS texels per light, light i in row i (one row when empty).
@@ -146,6 +166,9 @@ class Renderer {
   std::unique_ptr<Programs> programs_;
   Texture2D lights_;
   int light_count_ = 0;
+  // The settings the uploaded lights were made for: a change re-uploads them.
+  int lights_extra_ = -1, lights_attenuation_model_ = -1;
+  bool lights_default_rig_ = false;
   Texture2D hdr_, bloom_[2], composite_, final_;
   Framebuffer hdr_fbo_, bloom_fbo_[2], composite_fbo_, final_fbo_, debug_fbo_;
   Texture2D debug_target_;

@@ -99,4 +99,11 @@ void stream_regular_file(const fs::path& path, const std::function<void(const un
   }
 }
 
+bool names_file_inside_folder(const fs::path& relative) {
+  if (relative.is_absolute() || relative.has_root_name() || relative.has_root_directory()) return false;
+  for (const auto& part : relative)
+    if (part == "..") return false;
+  return true;
+}
+
 }  // namespace kit

@@ -35,6 +35,12 @@ std::vector<unsigned char> read_regular_file(const std::filesystem::path& path, 
 std::vector<unsigned char> read_file_inside(const std::filesystem::path& path, const std::filesystem::path& folder,
                                             std::uintmax_t max_bytes);
 
+// Whether a path a scene file names (a glTF URI, an OBJ's mtllib or texture) stays
+// in the scene's folder by its spelling: relative and without a ".." part. Loaders
+// refuse the others with the element's name; read_file_inside checks the file itself
+// again, links included.
+bool names_file_inside_folder(const std::filesystem::path& relative);
+
 // Opens the file under the same rules and hands its bytes to `sink` in chunks,
 // however large it is (hashing). Throws kit::Error as read_regular_file does.
 void stream_regular_file(const std::filesystem::path& path,

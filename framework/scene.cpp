@@ -1,7 +1,5 @@
 #include "scene.h"
 
-#include <OpenImageIO/filesystem.h>
-#include <OpenImageIO/imageio.h>
 #include <tiny_gltf.h>
 
 #include <nlohmann/json.hpp>
@@ -19,7 +17,9 @@
 
 #include "error.h"
 #include "gbuffer_layout.h"
+#include "obj_scene.h"
 #include "safe_file.h"
+#include "texture_decode.h"
 
 namespace kit {
 
@@ -29,62 +29,24 @@ namespace {
 constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t(1) << 30;  // a .gltf/.glb, a buffer or an image file
 constexpr int kMaxJsonDepth = 64;       // glTF itself nests 7 deep; tinygltf's JSON parser recurses per level
 constexpr int kMaxNodeDepth = 256;      // the node hierarchy is walked recursively
-constexpr int kMaxImageSide = 16384;    // pixels per side of a decoded texture
 
-// ---- image decoding: tinygltf hands us the bytes, OpenImageIO decodes them ----
+// ---- image decoding: tinygltf hands us the bytes, texture_decode.h decodes them ----
 bool decode_image_with_oiio(tinygltf::Image* image, const int index, std::string* err, std::string*, int, int,
                             const unsigned char* bytes, int size, void*) {
-  // glTF allows PNG and JPEG; the format is told by the magic bytes, not the URI.
-  bool png = size >= 8 && bytes[0] == 0x89 && bytes[1] == 'P' && bytes[2] == 'N' && bytes[3] == 'G';
-  bool jpeg = size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
-  if (!png && !jpeg) {
-    if (err) *err += "image " + std::to_string(index) + " ('" + image->uri + "') is neither PNG nor JPEG";
+  try {
+    ImageRgba8 decoded = decode_texture_image(bytes, size > 0 ? static_cast<size_t>(size) : 0,
+                                              "image " + std::to_string(index) + " ('" + image->uri + "')");
+    image->width = decoded.width;
+    image->height = decoded.height;
+    image->component = 4;
+    image->bits = 8;
+    image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
+    image->image = std::move(decoded.pixels);
+    return true;
+  } catch (const Error& e) {
+    if (err) *err += e.what();
     return false;
   }
-  OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes), static_cast<size_t>(size));
-  // A PNG's colour is stored unpremultiplied, as glTF means it; OIIO would multiply
-  // it by alpha on read (RGB 200 at alpha 0.5 would become 100) unless told not to.
-  // With a configuration, the reader takes its memory proxy from it too.
-  OIIO::ImageSpec config;
-  config.attribute("oiio:UnassociatedAlpha", 1);
-  void* proxy = &reader;
-  config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
-  auto in = OIIO::ImageInput::open(png ? "image.png" : "image.jpg", &config, &reader);
-  if (!in) {
-    if (err) *err += "image " + std::to_string(index) + " ('" + image->uri + "') could not be decoded: " + OIIO::geterror();
-    return false;
-  }
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.width > kMaxImageSide || spec.height > kMaxImageSide ||
-      spec.nchannels < 1 || spec.nchannels > 4) {
-    if (err)
-      *err += "image " + std::to_string(index) + " ('" + image->uri + "') is " + std::to_string(spec.width) + "x" +
-              std::to_string(spec.height) + " with " + std::to_string(spec.nchannels) + " channels (at most " +
-              std::to_string(kMaxImageSide) + " pixels a side and 4 channels)";
-    return false;
-  }
-  std::vector<unsigned char> src(static_cast<size_t>(spec.width) * spec.height * spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::UINT8, src.data())) {
-    if (err) *err += "image " + std::to_string(index) + " ('" + image->uri + "'): " + in->geterror();
-    return false;
-  }
-  // Expand to RGBA8 (grey -> rgb, missing alpha -> 1).
-  image->width = spec.width;
-  image->height = spec.height;
-  image->component = 4;
-  image->bits = 8;
-  image->pixel_type = TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE;
-  image->image.resize(static_cast<size_t>(spec.width) * spec.height * 4);
-  for (size_t p = 0; p < static_cast<size_t>(spec.width) * spec.height; ++p) {
-    const unsigned char* s = &src[p * spec.nchannels];
-    unsigned char* d = &image->image[p * 4];
-    int n = spec.nchannels;
-    d[0] = s[0];
-    d[1] = n >= 3 ? s[1] : s[0];
-    d[2] = n >= 3 ? s[2] : s[0];
-    d[3] = n == 4 ? s[3] : n == 2 ? s[1] : 255;
-  }
-  return true;
 }
 
 // ---- accessors, read with every bound checked ----
@@ -519,27 +481,6 @@ class SceneBuilder {
     return out;
   }
 
-  // glTF: "When normals are not specified, client implementations MUST calculate
-  // flat normals": every triangle gets its own three vertices, with the normal of
-  // its plane (a degenerate triangle gets +z, which keeps the frame finite).
-  static void use_flat_normals(Primitive& prim) {
-    std::vector<Vertex> vertices;
-    vertices.reserve(prim.indices.size());
-    for (size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
-      Vertex a = prim.vertices[prim.indices[t]], b = prim.vertices[prim.indices[t + 1]], c = prim.vertices[prim.indices[t + 2]];
-      glm::vec3 normal = glm::cross(b.position - a.position, c.position - a.position);
-      float length = glm::length(normal);
-      normal = length > 0.0f && std::isfinite(length) ? normal / length : glm::vec3(0.0f, 0.0f, 1.0f);
-      for (Vertex* v : {&a, &b, &c}) {
-        v->normal = normal;
-        vertices.push_back(*v);
-      }
-    }
-    prim.vertices = std::move(vertices);
-    prim.indices.resize(prim.vertices.size());
-    for (size_t i = 0; i < prim.indices.size(); ++i) prim.indices[i] = static_cast<uint32_t>(i);
-  }
-
   // glTF's nodes form trees (a node has one parent at most), so each node is
   // visited once: a node reached twice is refused, which bounds the walk by the
   // node count (a graph listing each child twice would otherwise take 2^depth
@@ -771,10 +712,7 @@ void check_uris(const unsigned char* json_text, size_t size, const std::string& 
           decoded += uri[k];
         }
       }
-      std::filesystem::path file(decoded);
-      bool escapes = file.is_absolute();
-      for (const auto& part : file) escapes = escapes || part == "..";
-      if (escapes)
+      if (!names_file_inside_folder(decoded))
         throw Error(path + ": " + std::string(kind).substr(0, std::strlen(kind) - 1) + " " + std::to_string(i) +
                     ": uri '" + uri + "' lies outside the scene's folder (a scene may only name files beside it or below it)");
     }
@@ -877,6 +815,7 @@ Scene load_scene(const std::string& path) {
   // Whatever the file makes the loader do, the message names the file: a
   // bad_alloc or length_error from a size the file asked for becomes a kit::Error.
   try {
+    if (is_obj_path(path)) return load_obj_scene(path);
     return load_scene_unguarded(path);
   } catch (const Error&) {
     throw;
@@ -921,6 +860,27 @@ void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t
     float w = glm::dot(glm::cross(n, t), bitan[i]) > 0.0f ? -1.0f : 1.0f;
     vertices[i].tangent = glm::vec4(t, w);
   }
+}
+
+// glTF: "When normals are not specified, client implementations MUST calculate
+// flat normals": every triangle gets its own three vertices, with the normal of
+// its plane (a degenerate triangle gets +z, which keeps the frame finite).
+void use_flat_normals(Primitive& prim) {
+  std::vector<Vertex> vertices;
+  vertices.reserve(prim.indices.size());
+  for (size_t t = 0; t + 2 < prim.indices.size(); t += 3) {
+    Vertex a = prim.vertices[prim.indices[t]], b = prim.vertices[prim.indices[t + 1]], c = prim.vertices[prim.indices[t + 2]];
+    glm::vec3 normal = glm::cross(b.position - a.position, c.position - a.position);
+    float length = glm::length(normal);
+    normal = length > 0.0f && std::isfinite(length) ? normal / length : glm::vec3(0.0f, 0.0f, 1.0f);
+    for (Vertex* v : {&a, &b, &c}) {
+      v->normal = normal;
+      vertices.push_back(*v);
+    }
+  }
+  prim.vertices = std::move(vertices);
+  prim.indices.resize(prim.vertices.size());
+  for (size_t i = 0; i < prim.indices.size(); ++i) prim.indices[i] = static_cast<uint32_t>(i);
 }
 
 Camera framing_camera(const Scene& scene) {

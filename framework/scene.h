@@ -108,7 +108,7 @@ struct Scene {
 // instances of EXT_mesh_gpu_instancing): the renderer issues one GL draw each.
 constexpr size_t kMaxSceneDraws = size_t{1} << 18;
 
-// Loads and validates a .gltf/.glb file. Any problem throws kit::Error whose
+// Loads and validates a .gltf/.glb file (an .obj goes to load_obj_scene, obj_scene.h). Any problem throws kit::Error whose
 // message starts with the path and says what is wrong; nothing crashes.
 Scene load_scene(const std::string& path);
 
@@ -116,6 +116,11 @@ Scene load_scene(const std::string& path);
 // derivatives, Gram-Schmidt, handedness in w). Degenerate UVs still give a
 // unit tangent perpendicular to the normal.
 void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t>& indices);
+
+// Flat normals for a primitive whose file gives none (glTF requires them; OBJ
+// faces without vn get the same): every triangle gets its own three vertices
+// carrying its plane's normal. Call before generate_tangents.
+void use_flat_normals(Primitive& primitive);
 
 // A camera that frames the scene's bounds, for scenes without a camera.
 Camera framing_camera(const Scene& scene);

@@ -1,6 +1,7 @@
 #include "cli.h"
 
 #include <cerrno>
+#include <cstdio>
 #include <cstdlib>
 #include <system_error>
 
@@ -16,7 +17,8 @@ const char* common_options_help() {
          "  --solution            the reference solutions (solutions/) instead of your labs\n"
          "  --timeout S           seconds the shaders may take to compile and draw before the run stops\n"
          "                        with a message (default 30, as the grader's; 0: no limit)\n"
-         "  --scene NAME|FILE     kit scene name (default, sphere, grazing, normalmap, spot, highlight) or a .gltf/.glb\n"
+         "  --scene NAME|FILE     kit scene name (default, sphere, grazing, normalmap, spot, highlight) or a\n"
+         "                        .gltf/.glb/.obj file\n"
          "  --camera N            the scene file's camera N, counted from 0 in the order of its node tree\n"
          "                        (default: its first camera, else one that frames the scene)\n"
          "  --backend NAME        osmesa (default) | egl\n"
@@ -27,7 +29,13 @@ const char* common_options_help() {
          "  --custom on|off       stage 5 free-choice effect toggle (default off)\n"
          "  --threshold T         bloom bright-pass threshold (default 1.0)\n"
          "  --blur-passes N       separable blur passes (default 6)\n"
-         "  --lights N            add N small point lights (default 0)\n";
+         "  --lights N            add N small point lights (default 0)\n"
+         "  --no-default-lights   leave a scene without lights unlit (default: lit stages light it with\n"
+         "                        the default rig: key, fill and rim point lights scaled to its bounds)\n"
+         "  --look-at EX,EY,EZ,TX,TY,TZ[,FOV]\n"
+         "                        camera at EYE looking at TARGET, +Y up, vertical FOV in degrees\n"
+         "                        (default: the scene's camera, else one framing its bounds; kit-view's\n"
+         "                        L key prints the current view in this form)\n";
 }
 
 void parse_size(const std::string& text, int* width, int* height) {
@@ -109,6 +117,8 @@ void parse_options(int argc, char** argv, CommonOptions& o,
     else if (flag == "--threshold") s.bloom_threshold = parse_float(value(), flag);
     else if (flag == "--blur-passes") s.blur_passes = static_cast<int>(parse_float(value(), flag));
     else if (flag == "--lights") s.extra_lights = static_cast<int>(parse_float(value(), flag));
+    else if (flag == "--no-default-lights") s.default_light_rig = false;
+    else if (flag == "--look-at") o.look_at = parse_look_at(value(), flag);
     else {
       int used = extra ? extra(flag, next_value) : 0;
       if (used == 0) throw Error("unknown option '" + flag + "' (see --help)");
@@ -117,6 +127,20 @@ void parse_options(int argc, char** argv, CommonOptions& o,
   }
   if (o.settings.blur_passes < 0 || o.settings.blur_passes > 64) throw Error("--blur-passes must be 0..64");
   if (o.settings.extra_lights < 0 || o.settings.extra_lights > 65536) throw Error("--lights must be 0..65536");
+  if (o.look_at && o.camera >= 0) throw Error("--camera and --look-at both choose the camera: give one of them");
+}
+
+Camera initial_camera(const Scene& scene, const CommonOptions& o) {
+  if (o.look_at) return look_at_camera(*o.look_at, scene);
+  return chosen_camera(scene, o.camera);
+}
+
+void note_default_light_rig(const char* tool, const Scene& scene, const Stage& stage, const RenderSettings& settings) {
+  if (stage.lighting && uses_default_light_rig(scene, settings))
+    std::fprintf(stderr,
+                 "%s: note: scene has no lights: using the default rig (3 point lights: key, fill and rim around "
+                 "its bounds); --no-default-lights turns it off\n",
+                 tool);
 }
 
 namespace {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "look_at.h"
 #include "renderer.h"
 #include "watchdog.h"
 
@@ -15,11 +16,14 @@ struct CommonOptions {
   std::string stage;             // --stage; empty: from a lab folder given to --shaders, else gbuffer
   std::string shaders;           // --shaders: a folder of NN-name/ lab folders, or one of them; empty: labs/
   bool solution = false;         // --solution: the reference solutions (solutions/) instead of labs/
-  std::string scene = "default"; // scene name or .gltf path
+  std::string scene = "default"; // scene name or .gltf/.glb/.obj path
   int camera = -1;               // --camera N: the scene file's camera N (kit::chosen_camera); -1: its first
   std::string backend = "osmesa";
   double timeout = kDefaultTimeoutSeconds;  // --timeout: seconds of GL work before the watchdog ends the run; 0: none
-  RenderSettings settings;
+  std::optional<LookAt> look_at;  // --look-at: the camera; absent: the scene's, else one framing the bounds
+  RenderSettings settings;        // default_light_rig on; --no-default-lights turns it off
+
+  CommonOptions() { settings.default_light_rig = true; }
 };
 
 // Help text for the shared flags.
@@ -32,6 +36,14 @@ const char* common_options_help();
 using OptionValue = std::function<std::string()>;
 void parse_options(int argc, char** argv, CommonOptions& options,
                    const std::function<int(const std::string&, const OptionValue&)>& extra);
+
+// The camera a run starts from: --look-at's, else the file's camera --camera N (chosen_camera), else its
+// first, else framing_camera's. Giving both --look-at and --camera is refused by parse_options.
+Camera initial_camera(const Scene& scene, const CommonOptions& options);
+
+// Says on stderr, as "TOOL: note: ...", when a lit stage shows the scene through the
+// default light rig (renderer.h) because it has no lights of its own.
+void note_default_light_rig(const char* tool, const Scene& scene, const Stage& stage, const RenderSettings& settings);
 
 // "640x480" -> width, height.
 void parse_size(const std::string& text, int* width, int* height);

@@ -70,7 +70,7 @@ int main(int argc, char** argv) {
     const kit::Stage& stage = *lab.stage;
     kit::Scene scene = kit::load_scene(kit::resolve_scene(options.scene));
     for (const std::string& warning : scene.warnings) std::fprintf(stderr, "kit-render: warning: %s\n", warning.c_str());
-    const kit::Camera camera = kit::chosen_camera(scene, options.camera);
+    const kit::Camera camera = kit::initial_camera(scene, options);
     auto t_scene = seconds_since(t0);
     auto context = kit::create_headless_context(kit::parse_backend(options.backend));
     auto t_context = seconds_since(t0);
@@ -78,6 +78,7 @@ int main(int argc, char** argv) {
     kit::Watchdog watchdog("kit-render", options.timeout);
     watchdog.arm("compiling the shaders of stage " + stage.name);
     kit::Renderer renderer(stage, kit::stage_library(stage, lab.root), scene, options.settings);
+    kit::note_default_light_rig("kit-render", scene, stage, options.settings);
     auto t_compile = seconds_since(t0);
     watchdog.relabel("rendering stage " + stage.name);
     const auto& s = options.settings;

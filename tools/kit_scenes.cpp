@@ -23,6 +23,7 @@
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <stdexcept>
 #include <string>
@@ -782,6 +783,43 @@ SceneBuilder build_heavy_scene() {
 
 }  // namespace
 
+// "obj-cube": an OBJ/MTL scene, as students bring them (obj_scene.h): a unit cube
+// whose faces share one brick material, in Phong terms (Kd, Ks, Ns) with colour and
+// normal maps, and no lights, so the tools light it with the default rig.
+//   ./kit render --stage normalmap --scene build/default/scenes/obj-cube/obj-cube.obj --out cube.png
+void write_obj_cube_scene(const fs::path& out_dir, const Textures& tex) {
+  const fs::path dir = out_dir / "obj-cube";
+  std::error_code ec;
+  fs::create_directories(dir, ec);
+  if (ec) throw std::runtime_error("cannot create " + dir.string() + ": " + ec.message());
+  write_png(dir / "brick_color.png", tex.brick_color);
+  write_png(dir / "brick_normal.png", tex.brick_normal);
+  std::string obj = "# kit-scenes: a unit cube for the OBJ loader\nmtllib obj-cube.mtl\no cube\n";
+  for (int corner = 0; corner < 8; ++corner)
+    obj += std::string("v ") + ((corner & 1) ? "0.5" : "-0.5") + ((corner & 2) ? " 0.5" : " -0.5") +
+           ((corner & 4) ? " 0.5" : " -0.5") + "\n";
+  obj += "vt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n";
+  obj += "vn 1 0 0\nvn -1 0 0\nvn 0 1 0\nvn 0 -1 0\nvn 0 0 1\nvn 0 0 -1\n";
+  // Each face: its corners (1 + x + 2y + 4z, 1-based) counter-clockwise seen from
+  // outside from the bottom left (UVs 0,0 1,0 1,1 0,1), then its normal's index.
+  const int faces[6][5] = {{6, 2, 4, 8, 1}, {1, 5, 7, 3, 2}, {7, 8, 4, 3, 3},
+                           {1, 2, 6, 5, 4}, {5, 6, 8, 7, 5}, {2, 1, 3, 4, 6}};
+  obj += "usemtl brick\n";
+  for (const auto& f : faces) {
+    obj += "f";
+    for (int k = 0; k < 4; ++k) obj += " " + std::to_string(f[k]) + "/" + std::to_string(k + 1) + "/" + std::to_string(f[4]);
+    obj += "\n";
+  }
+  const std::string mtl =
+      "# Phong terms: the kit turns Ns into roughness and Ks against Kd into metallic\n"
+      "newmtl brick\nKd 1 1 1\nKs 0.3 0.3 0.3\nNs 40\nmap_Kd brick_color.png\nmap_Bump brick_normal.png\n";
+  for (const auto& [name, text] : {std::pair<const char*, const std::string&>{"obj-cube.obj", obj}, {"obj-cube.mtl", mtl}}) {
+    std::ofstream out(dir / name, std::ios::binary);
+    out << text;
+    if (!out) throw std::runtime_error("cannot write " + (dir / name).string());
+  }
+}
+
 int main(int argc, char** argv) {
   const bool heavy = argc == 3 && std::string(argv[1]) == "--heavy";
   if (argc != 2 && !heavy) {
@@ -802,6 +840,7 @@ int main(int argc, char** argv) {
     build_normal_map_scene(textures).write(out_dir);
     build_spot_scene().write(out_dir);
     build_highlight_scene().write(out_dir);
+    write_obj_cube_scene(out_dir, textures);
   } catch (const std::exception& e) {
     std::cerr << "kit-scenes: " << e.what() << "\n";
     return 1;

@@ -88,7 +88,7 @@ void usage() {
       "  --no-ui               no control panel (errors and warnings still go to stderr)\n"
       "Keys: 1-7 view (final, position, normal, albedo, material, depth, hdr), P postprocess, C custom effect,\n"
       "      G gamma 2.2/1.0/0.5/2.5, A attenuation model (orbit mode), F fly/orbit, F12 or K screenshot,\n"
-      "      R reload shaders, Esc quit.\n"
+      "      R reload shaders, L print the camera as --look-at (stdout), Esc quit.\n"
       "Mouse: orbit: left drag rotates, wheel zooms, right/middle drag pans;\n"
       "       fly: WASD move, Q/E down/up, Shift faster, right drag looks around.\n"
       "A frame (or a shader build) that takes longer than --timeout ends the viewer with a message on stderr:\n"
@@ -109,7 +109,7 @@ int parse_frame_count(const std::string& text) {
 // unchanged, so the first frame is the same image kit-render makes.
 class CameraRig {
  public:
-  CameraRig(const kit::Scene& scene, const kit::Camera& start) : camera_(start) {
+  CameraRig(const kit::Scene& scene, const kit::Camera& initial) : camera_(initial) {
     glm::mat4 inverse_view = glm::inverse(camera_.view);
     glm::vec3 eye(inverse_view[3]);
     glm::vec3 forward = -glm::normalize(glm::vec3(inverse_view[2]));
@@ -123,6 +123,8 @@ class CameraRig {
   }
 
   const kit::Camera& camera() const { return camera_; }
+  // The current view as --look-at's value, to render it headless (the L key).
+  std::string look_at_text() const { return kit::look_at_text(eye(), target_, camera_.yfov); }
   bool flying() const { return flying_; }
   void toggle_fly() { flying_ = !flying_; }
 
@@ -246,9 +248,10 @@ class Viewer {
                   "The window cannot show this while the GL call runs: fix the shader, then open the viewer again."),
         scene_(kit::load_scene(kit::resolve_scene(options_.common.scene))),
         window_(settings_.width, settings_.height, title_prefix(), !options_.hidden),
-        rig_(scene_, kit::chosen_camera(scene_, options_.common.camera)),
+        rig_(scene_, kit::initial_camera(scene_, options_.common)),
         view_(options_.view) {
     for (const std::string& warning : scene_.warnings) std::fprintf(stderr, "kit-view: warning: %s\n", warning.c_str());
+    kit::note_default_light_rig("kit-view", scene_, *stage_, settings_);
     if (settings_.extra_lights > kMaxViewerLights) {
       std::fprintf(stderr, "kit-view: note: --lights %d is more than the viewer's slider holds; using %d\n",
                    settings_.extra_lights, kMaxViewerLights);
@@ -368,6 +371,7 @@ class Viewer {
       case GLFW_KEY_F12:
       case GLFW_KEY_K: screenshot_requested_ = true; break;
       case GLFW_KEY_R: reload_now(); break;
+      case GLFW_KEY_L: set_note("camera: --look-at " + rig_.look_at_text()); break;
       default: break;
     }
   }
