@@ -307,7 +307,8 @@ class ObjSceneBuilder {
         throw Error(what + ": " + e.what());
       }
       try {
-        scene_.images.push_back(decode_texture_image(bytes.data(), bytes.size(), what));
+        const TextureHeader header = read_texture_header(bytes.data(), bytes.size(), what);
+        scene_.images.push_back({what, header.width, header.height, std::move(bytes), {}});
         index = static_cast<int>(scene_.images.size()) - 1;
       } catch (const Error& e) {
         scene_.warnings.push_back(std::string(e.what()) + "; the material is drawn without it");

@@ -4,6 +4,7 @@
 #include <glm/gtc/matrix_inverse.hpp>
 
 #include <algorithm>
+#include <chrono>
 
 #include "error.h"
 #include "gbuffer_layout.h"
@@ -210,12 +211,22 @@ void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu
     Sampler::unbind(unit);
 }
 
+namespace {
+SceneGpu timed_scene_upload(const Scene& scene, double& seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  SceneGpu gpu(scene);
+  glFinish();  // the upload's GL work is done, not only queued
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return gpu;
+}
+}  // namespace
+
 Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene, RenderSettings settings)
     : stage_(stage),
       library_(std::move(library)),
       scene_(scene),
       settings_(settings),
-      scene_gpu_(scene),
+      scene_gpu_(timed_scene_upload(scene, scene_upload_seconds_)),
       gbuffer_(settings.width, settings.height) {
   build_programs();
   allocate_targets();

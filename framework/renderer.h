@@ -123,6 +123,8 @@ class Renderer {
   const Stage& stage() const { return stage_; }
   const Scene& scene() const { return scene_; }
   std::vector<std::filesystem::path> shader_paths() const;  // for hot reload
+  // Seconds the scene's meshes and textures took to decode and upload (SceneGpu).
+  double scene_upload_seconds() const { return scene_upload_seconds_; }
 
   void render(const FrameCamera& camera);
 
@@ -160,6 +162,7 @@ class Renderer {
   ShaderLibrary library_;
   const Scene& scene_;
   RenderSettings settings_;
+  double scene_upload_seconds_ = 0.0;  // declared before scene_gpu_, whose construction sets it
   SceneGpu scene_gpu_;
   GBuffer gbuffer_;
   FullscreenTriangle triangle_;

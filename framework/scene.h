@@ -16,6 +16,17 @@ struct ImageRgba8 {
   std::vector<unsigned char> pixels;  // RGBA8, top row first
 };
 
+// An image of a scene. Loading keeps only its encoded bytes, with the header
+// checked: SceneGpu decodes the images materials use, once each and on worker
+// threads, uploads each in the format its material slots need, and keeps no
+// decoded copy (texture_decode.h decodes one for tests and tools).
+struct SceneImage {
+  std::string what;                    // how messages name it: "scene.gltf: image 3 ('wood.png')"
+  int width = 0, height = 0;
+  std::vector<unsigned char> encoded;  // PNG or JPEG bytes; empty when `decoded` holds the pixels
+  ImageRgba8 decoded;                  // pixels made in memory (tests, generated scenes)
+};
+
 // A glTF sampler with its filters and wrap modes (GL enum values, which glTF
 // uses too); the default is glTF's when a texture names none: repeat, and
 // trilinear filtering for "auto".
@@ -88,7 +99,7 @@ struct Camera {
 
 struct Scene {
   std::string path;
-  std::vector<ImageRgba8> images;
+  std::vector<SceneImage> images;
   std::vector<TextureSampler> samplers;
   std::vector<Material> materials;
   std::vector<Primitive> primitives;

@@ -3,16 +3,21 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <memory>
+
 #include "error.h"
 
 namespace kit {
 
-ImageRgba8 decode_texture_image(const unsigned char* bytes, size_t size, const std::string& what) {
+namespace {
+
+// Opens PNG or JPEG bytes and checks the header; `reader` must outlive the result.
+std::unique_ptr<OIIO::ImageInput> open_texture(OIIO::Filesystem::IOMemReader& reader, const unsigned char* bytes,
+                                               size_t size, const std::string& what) {
   // glTF allows PNG and JPEG; OBJ files are held to the same two.
   const bool png = size >= 8 && bytes[0] == 0x89 && bytes[1] == 'P' && bytes[2] == 'N' && bytes[3] == 'G';
   const bool jpeg = size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
   if (!png && !jpeg) throw Error(what + " is neither PNG nor JPEG");
-  OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes), size);
   // A PNG's colour is stored unpremultiplied, as glTF and MTL mean it; OIIO would
   // multiply it by alpha on read (RGB 200 at alpha 0.5 would become 100) unless told
   // not to. With a configuration, the reader takes its memory proxy from it too.
@@ -28,6 +33,21 @@ ImageRgba8 decode_texture_image(const unsigned char* bytes, size_t size, const s
     throw Error(what + " is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " with " +
                 std::to_string(spec.nchannels) + " channels (at most " + std::to_string(kMaxTextureSide) +
                 " pixels a side and 4 channels)");
+  return in;
+}
+
+}  // namespace
+
+TextureHeader read_texture_header(const unsigned char* bytes, size_t size, const std::string& what) {
+  OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes), size);
+  auto in = open_texture(reader, bytes, size, what);
+  return {in->spec().width, in->spec().height};
+}
+
+ImageRgba8 decode_texture_image(const unsigned char* bytes, size_t size, const std::string& what) {
+  OIIO::Filesystem::IOMemReader reader(const_cast<unsigned char*>(bytes), size);
+  auto in = open_texture(reader, bytes, size, what);
+  const OIIO::ImageSpec& spec = in->spec();
   const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
   const int n = spec.nchannels;
   std::vector<unsigned char> src(pixels * static_cast<size_t>(n));
@@ -45,6 +65,11 @@ ImageRgba8 decode_texture_image(const unsigned char* bytes, size_t size, const s
     d[3] = n == 4 ? s[3] : n == 2 ? s[1] : 255;
   }
   return out;
+}
+
+ImageRgba8 decode_scene_image(const SceneImage& image) {
+  if (image.encoded.empty()) return image.decoded;
+  return decode_texture_image(image.encoded.data(), image.encoded.size(), image.what);
 }
 
 }  // namespace kit

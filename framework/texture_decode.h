@@ -10,10 +10,20 @@ namespace kit {
 
 constexpr int kMaxTextureSide = 16384;  // pixels per side of a decoded texture
 
+struct TextureHeader {
+  int width = 0, height = 0;
+};
+// Checks PNG or JPEG bytes as decode_texture_image does, reading only the header:
+// scenes are checked at load, and decoded later, once, by SceneGpu.
+TextureHeader read_texture_header(const unsigned char* bytes, size_t size, const std::string& what);
+
 // Decodes `bytes`; the format is told by the magic bytes, not by a file name.
 // Grey becomes RGB, a missing alpha 1. Throws kit::Error whose message starts with
 // `what` (the image as the scene names it, e.g. "image 3 ('wood.png')") and says
 // what is wrong: not PNG or JPEG, undecodable, too large, too many channels.
 ImageRgba8 decode_texture_image(const unsigned char* bytes, size_t size, const std::string& what);
+
+// A scene image's pixels: its `decoded` pixels, or its encoded bytes decoded.
+ImageRgba8 decode_scene_image(const SceneImage& image);
 
 }  // namespace kit

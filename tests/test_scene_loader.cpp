@@ -30,6 +30,7 @@
 #include "kit_test_files.h"
 #include "scene.h"
 #include "stages.h"
+#include "texture_decode.h"
 #include "tiny_scenes.h"
 
 namespace fs = std::filesystem;
@@ -1028,10 +1029,61 @@ TEST(scene_loader_textures, PngColourIsNotPremultipliedByAlpha) {
     EXPECT_NEAR(read[0], 200.0 * 128.0 / 255.0, 1.0);
   }
   const kit::Scene scene = kit::load_scene(copy.gltf.string());
-  const kit::ImageRgba8& image = scene.images.at(0);
+  const kit::ImageRgba8 image = kit::decode_scene_image(scene.images.at(0));
   ASSERT_EQ(image.width, 2);
   for (size_t p = 0; p < 4; ++p)
     for (size_t c = 0; c < 4; ++c) EXPECT_EQ(image.pixels[4 * p + c], texel[c]) << "pixel " << p << " channel " << c;
+}
+
+// Images are decoded once, by SceneGpu, and only those a material samples: an
+// image whose pixel data is broken (its header intact) loads and uploads while
+// nothing uses it (witness: decoding it fails), and fails SceneGpu, naming the
+// file and the image, once a material samples it.
+TEST(scene_loader_textures, UnusedImagesAreNeverDecoded) {
+  SceneCopy copy("default", "unused_image");
+  const std::string checker = kit::test::read_file(copy.dir / "checker.png");
+  ASSERT_GT(checker.size(), 200u);
+  kit::test::write_file(copy.dir / "broken.png", checker.substr(0, 100));  // signature and IHDR, no pixel data
+  const size_t broken = copy.doc["images"].size();
+  copy.doc["images"].push_back({{"uri", "broken.png"}});
+  copy.save_json();
+  {
+    const kit::Scene scene = kit::load_scene(copy.gltf.string());
+    ASSERT_EQ(scene.images.size(), broken + 1);
+    EXPECT_THROW(kit::decode_scene_image(scene.images[broken]), kit::Error);  // the witness
+    kit::test::context();
+    EXPECT_NO_THROW(kit::SceneGpu gpu(scene));
+  }
+  copy.doc["textures"].push_back({{"source", broken}});
+  copy.doc["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", copy.doc["textures"].size() - 1}};
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  try {
+    kit::SceneGpu gpu(scene);
+    ADD_FAILURE() << "a broken image a material uses was uploaded";
+  } catch (const kit::Error& e) {
+    EXPECT_NE(std::string(e.what()).find(copy.gltf.string() + ": image " + std::to_string(broken) + " ('broken.png')"),
+              std::string::npos) << e.what();
+  }
+}
+
+// Each image is uploaded in the format its material slots read it in, and only that
+// one: base colour sRGB (decoded to linear by the sampler), normal maps linear.
+TEST(scene_loader_textures, EachImageIsUploadedInTheFormatItsSlotsNeed) {
+  const kit::Scene scene = kit::load_scene(kit::resolve_scene("normalmap"));
+  kit::test::context();
+  const kit::SceneGpu gpu(scene);
+  size_t checked = 0;
+  for (const kit::Material& m : scene.materials) {
+    for (int image : {m.base_color_image, m.normal_image}) {
+      if (image < 0) continue;
+      const bool srgb = image == m.base_color_image;
+      EXPECT_NE(gpu.texture(image, srgb).id(), 0u) << "image " << image;
+      EXPECT_EQ(gpu.texture(image, !srgb).id(), 0u) << "image " << image << " was also uploaded in the other format";
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 0u);
 }
 
 // glTF samplers reach the GL sampler each material texture is drawn with; a

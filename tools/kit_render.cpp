@@ -2,6 +2,8 @@
 //   kit-render --stage gbuffer --view normal --out normal.png [--view depth --out depth.exr ...]
 // It renders the student's labs/ (--solution: the reference solutions; --shaders: any lab folders).
 // Several --view/--out pairs share one context, scene load and shader compile.
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -18,6 +20,13 @@ struct Output {
   kit::View view;
   std::string path;
 };
+
+// The most memory the process has had resident (Linux's ru_maxrss is in KiB).
+double peak_resident_mib() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return static_cast<double>(usage.ru_maxrss) / 1024.0;
+}
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -101,10 +110,15 @@ int main(int argc, char** argv) {
                      kit::view_name(n.view), kit::kNonFiniteAdvice);
     for (const std::string& line : renderer.uniform_warnings()) std::fprintf(stderr, "kit-render: warning: %s\n", line.c_str());
     watchdog.disarm();
-    if (timings)
-      std::fprintf(stderr, "timings: scene %.3fs, context %.3fs, compile %.3fs, render %.3fs, write %.3fs (%s)\n",
-                   t_scene, t_context - t_scene, t_compile - t_context, t_render - t_compile, seconds_since(t0) - t_render,
-                   context->describe().c_str());
+    if (timings) {
+      // The upload (decoding the textures materials use, on worker threads) is part of
+      // the Renderer's construction; "compile" is the rest of it.
+      const double upload = renderer.scene_upload_seconds();
+      std::fprintf(stderr, "timings: scene %.3fs, context %.3fs, upload %.3fs, compile %.3fs, render %.3fs, write %.3fs (%s)\n",
+                   t_scene, t_context - t_scene, upload, t_compile - t_context - upload, t_render - t_compile,
+                   seconds_since(t0) - t_render, context->describe().c_str());
+      std::fprintf(stderr, "memory: peak %.0f MiB resident (the process so far, GL driver included)\n", peak_resident_mib());
+    }
     if (timings && frames > 1) {
       std::string list;
       for (double ms : frame_ms) list += (list.empty() ? "" : " ") + std::to_string(ms);

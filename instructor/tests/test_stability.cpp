@@ -409,7 +409,7 @@ Scene normal_map_scene(std::vector<Primitive> quads) {
   ImageRgba8 map;
   map.width = map.height = 1;
   map.pixels.assign(kTiltedTexel, kTiltedTexel + 4);
-  s.images.push_back(map);
+  s.images.push_back({"tilted normal texel", map.width, map.height, {}, map});
   return s;
 }
 
