@@ -36,6 +36,7 @@ namespace {
 constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t(1) << 30;  // a .gltf/.glb, a buffer or an image file
 constexpr int kMaxJsonDepth = 64;       // glTF itself nests 7 deep; tinygltf's JSON parser recurses per level
 constexpr int kMaxNodeDepth = 256;      // the node hierarchy is walked recursively
+constexpr int kMaxTexcoordSet = 7;      // TEXCOORD_0 to TEXCOORD_7: more than any exporter writes
 
 // ---- images: tinygltf hands us the bytes; only the header is read here ----
 // SceneGpu decodes the images materials use, once each (texture_decode.h).
@@ -404,7 +405,80 @@ class SceneBuilder {
     out.normal_sampler = normal.sampler;
     out.emissive_image = emissive.image;
     out.emissive_sampler = emissive.sampler;
+    uv_mapping(m, out);
     return out;
+  }
+
+  // Material::texcoord_set and texcoord_transform from the material's texture
+  // references: the base colour texture's, else the first present one's.
+  void uv_mapping(const tinygltf::Material& m, Material& out) {
+    struct Slot {
+      const char* name;
+      int index, texcoord;
+      const tinygltf::ExtensionMap& extensions;
+    };
+    const auto& pbr = m.pbrMetallicRoughness;
+    const Slot slots[] = {
+        {"baseColorTexture", pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions},
+        {"metallicRoughnessTexture", pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
+         pbr.metallicRoughnessTexture.extensions},
+        {"normalTexture", m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions},
+        {"emissiveTexture", m.emissiveTexture.index, m.emissiveTexture.texCoord, m.emissiveTexture.extensions}};
+    const std::string what = path_ + ": material '" + m.name + "'";
+    bool chosen = false;
+    const char* chosen_name = "";
+    for (const Slot& slot : slots) {
+      if (slot.index < 0) continue;
+      int set = slot.texcoord;
+      glm::mat3 transform = texture_transform(slot.extensions, what + " " + slot.name, set);
+      if (set < 0 || set > kMaxTexcoordSet)
+        throw Error(what + " " + slot.name + ": texCoord " + std::to_string(set) + " is not a UV set the kit reads (0 to " +
+                    std::to_string(kMaxTexcoordSet) + ")");
+      if (!chosen) {
+        out.texcoord_set = set;
+        out.texcoord_transform = transform;
+        chosen = true;
+        chosen_name = slot.name;
+      } else if (set != out.texcoord_set || transform != out.texcoord_transform) {
+        scene_.warnings.push_back(what + ": " + slot.name + " asks for another UV set or texture transform than " +
+                                  chosen_name + "; the kit reads one UV per vertex, so it samples with " + chosen_name +
+                                  "'s");
+      }
+    }
+  }
+
+  // KHR_texture_transform of a texture reference as the matrix the extension
+  // defines (translation * rotation * scale), and its texCoord override into `set`.
+  static glm::mat3 texture_transform(const tinygltf::ExtensionMap& extensions, const std::string& what, int& set) {
+    auto ext = extensions.find("KHR_texture_transform");
+    if (ext == extensions.end()) return glm::mat3(1.0f);
+    const tinygltf::Value& t = ext->second;
+    auto number = [&](const tinygltf::Value& v, const std::string& field) {
+      if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()))
+        throw Error(what + ": KHR_texture_transform " + field + " is not a finite number");
+      return static_cast<float>(v.GetNumberAsDouble());
+    };
+    auto pair = [&](const char* field, glm::vec2 fallback) {
+      if (!t.Has(field)) return fallback;
+      const tinygltf::Value& v = t.Get(field);
+      if (!v.IsArray() || v.ArrayLen() != 2) throw Error(what + ": KHR_texture_transform " + field + " is not two numbers");
+      return glm::vec2(number(v.Get(0), field), number(v.Get(1), field));
+    };
+    const glm::vec2 offset = pair("offset", glm::vec2(0.0f)), scale = pair("scale", glm::vec2(1.0f));
+    const float rotation = t.Has("rotation") ? number(t.Get("rotation"), "rotation") : 0.0f;
+    if (t.Has("texCoord")) {
+      const double texcoord = t.Get("texCoord").IsNumber() ? t.Get("texCoord").GetNumberAsDouble() : -1.0;
+      if (!(texcoord >= 0.0 && texcoord <= kMaxTexcoordSet && texcoord == std::floor(texcoord)))
+        throw Error(what + ": KHR_texture_transform texCoord is not a UV set the kit reads (0 to " +
+                    std::to_string(kMaxTexcoordSet) + ")");
+      set = static_cast<int>(texcoord);
+    }
+    // Column-major, as the extension writes it in GLSL.
+    const glm::mat3 translation(1, 0, 0, 0, 1, 0, offset.x, offset.y, 1);
+    const glm::mat3 rotation_matrix(std::cos(rotation), std::sin(rotation), 0, -std::sin(rotation), std::cos(rotation), 0,
+                                    0, 0, 1);
+    const glm::mat3 scale_matrix(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
+    return translation * rotation_matrix * scale_matrix;
   }
 
   int primitive(size_t mesh, size_t prim) {
@@ -430,7 +504,21 @@ class SceneBuilder {
                                   : reader_.floats(attr("NORMAL"), TINYGLTF_TYPE_VEC3, 3, kDirectionFormats, what + " NORMAL");
     if (nrm.size() / 3 != n) throw Error(path_ + ": " + what + ": NORMAL count differs from POSITION count");
     std::vector<float> uv, tan;
-    if (attr("TEXCOORD_0") >= 0) uv = reader_.floats(attr("TEXCOORD_0"), TINYGLTF_TYPE_VEC2, 2, kTexcoordFormats, what + " TEXCOORD_0");
+    const Material* material =
+        p.material >= 0 && p.material < static_cast<int>(scene_.materials.size()) ? &scene_.materials[static_cast<size_t>(p.material)] : nullptr;
+    const std::string uv_name = "TEXCOORD_" + std::to_string(material ? material->texcoord_set : 0);
+    if (attr(uv_name.c_str()) >= 0) {
+      uv = reader_.floats(attr(uv_name.c_str()), TINYGLTF_TYPE_VEC2, 2, kTexcoordFormats, what + " " + uv_name);
+    } else if (material && material->texcoord_set != 0) {
+      throw Error(path_ + ": " + what + ": its material's textures read " + uv_name + ", which the primitive does not have");
+    }
+    if (material && material->texcoord_transform != glm::mat3(1.0f)) {
+      for (size_t i = 0; i + 1 < uv.size(); i += 2) {
+        const glm::vec3 t = material->texcoord_transform * glm::vec3(uv[i], uv[i + 1], 1.0f);
+        uv[i] = t.x;
+        uv[i + 1] = t.y;
+      }
+    }
     if (attr("TANGENT") >= 0) tan = reader_.floats(attr("TANGENT"), TINYGLTF_TYPE_VEC4, 4, kDirectionFormats, what + " TANGENT");
     if ((!uv.empty() && uv.size() / 2 != n) || (!tan.empty() && tan.size() / 4 != n))
       throw Error(path_ + ": " + what + ": attribute counts differ from POSITION count");
@@ -760,7 +848,8 @@ bool refuse_write(std::string* err, const std::string& path, const std::vector<u
 // bufferView): it is refused up front, by the extension's name.
 void check_required_extensions(const tinygltf::Model& model, const std::string& path) {
   static const char* const kSupported[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
-                                           "KHR_mesh_quantization", "EXT_mesh_gpu_instancing"};
+                                           "KHR_mesh_quantization", "EXT_mesh_gpu_instancing",
+                                           "KHR_texture_transform"};
   for (const std::string& name : model.extensionsRequired) {
     if (std::find(std::begin(kSupported), std::end(kSupported), name) != std::end(kSupported)) continue;
     std::string supported;

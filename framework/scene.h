@@ -50,6 +50,13 @@ struct Material {
   int metallic_roughness_sampler = -1;
   int normal_sampler = -1;
   int emissive_sampler = -1;
+  // The UV set the material's textures read (TEXCOORD_n) and their
+  // KHR_texture_transform, both taken from its base colour texture (else its first
+  // texture): the loader bakes them into each primitive's UVs, since the G-buffer
+  // pass reads one UV per vertex. A texture that asks for another is named in
+  // Scene::warnings.
+  int texcoord_set = 0;
+  glm::mat3 texcoord_transform{1.0f};
   std::string name;
 };
 

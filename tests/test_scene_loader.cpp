@@ -1146,4 +1146,87 @@ TEST(scene_loader_textures, GeometryPassLeavesNoSamplerBound) {
   }
 }
 
+// ---- UV sets and KHR_texture_transform, baked into the vertices' UVs ----
+
+// The floor of the default scene: its mesh index and its material's JSON.
+struct FloorOfDefaultScene {
+  size_t mesh = 0;
+  size_t material = 0;
+  explicit FloorOfDefaultScene(const json& doc) {
+    for (size_t i = 0; i < doc["meshes"].size(); ++i)
+      if (doc["meshes"][i]["name"] == "floor") mesh = i;
+    material = doc["meshes"][mesh]["primitives"][0]["material"];
+  }
+};
+
+// The extension's matrix, translation * rotation * scale, written out in double.
+glm::dvec2 texture_transformed(glm::dvec2 uv, glm::dvec2 offset, double rotation, glm::dvec2 scale) {
+  const glm::dvec2 s = uv * scale;
+  return {std::cos(rotation) * s.x - std::sin(rotation) * s.y + offset.x,
+          std::sin(rotation) * s.x + std::cos(rotation) * s.y + offset.y};
+}
+
+TEST(scene_loader_uv, TextureTransformIsBakedIntoTheUvs) {
+  SceneCopy copy("default", "texture_transform");
+  const FloorOfDefaultScene floor(copy.doc);
+  const glm::dvec2 offset(0.25, -0.5), scale(2.0, 3.0);
+  const double rotation = 0.3;
+  copy.doc["materials"][floor.material]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
+      {"KHR_texture_transform", {{"offset", {offset.x, offset.y}}, {"rotation", rotation}, {"scale", {scale.x, scale.y}}}}};
+  copy.doc["extensionsUsed"].push_back("KHR_texture_transform");
+  copy.save_json();
+  const kit::Scene plain = kit::load_scene(kit::resolve_scene("default"));
+  const kit::Scene moved = kit::load_scene(copy.gltf.string());
+  const kit::Primitive &before = primitive_named(plain, "floor"), &after = primitive_named(moved, "floor");
+  ASSERT_EQ(before.vertices.size(), after.vertices.size());
+  size_t changed = 0;
+  for (size_t i = 0; i < after.vertices.size(); ++i) {
+    const glm::dvec2 expected = texture_transformed(glm::dvec2(before.vertices[i].texcoord), offset, rotation, scale);
+    EXPECT_NEAR(after.vertices[i].texcoord.x, expected.x, 1e-5) << "vertex " << i;
+    EXPECT_NEAR(after.vertices[i].texcoord.y, expected.y, 1e-5) << "vertex " << i;
+    changed += glm::distance(expected, glm::dvec2(before.vertices[i].texcoord)) > 0.01;  // ignoring it would be wrong here
+  }
+  EXPECT_EQ(changed, after.vertices.size());
+}
+
+TEST(scene_loader_uv, TexCoordOneIsReadWhereTheTexturesAskForIt) {
+  SceneCopy copy("default", "texcoord_1");
+  const FloorOfDefaultScene floor(copy.doc);
+  json& primitive = copy.doc["meshes"][floor.mesh]["primitives"][0];
+  const size_t count = copy.doc["accessors"][primitive["attributes"]["POSITION"].get<size_t>()]["count"];
+  std::vector<float> uv1;
+  for (size_t i = 0; i < count; ++i) {
+    uv1.push_back(0.125f * static_cast<float>(i));
+    uv1.push_back(1.0f - 0.25f * static_cast<float>(i));
+  }
+  const int view = copy.add_view(bytes_of(uv1));
+  primitive["attributes"]["TEXCOORD_1"] =
+      copy.add_accessor({{"bufferView", view}, {"componentType", 5126}, {"count", count}, {"type", "VEC2"}});
+  copy.doc["materials"][floor.material]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1;
+  copy.save_json();
+  const kit::Primitive& p = primitive_named(kit::load_scene(copy.gltf.string()), "floor");
+  ASSERT_EQ(p.vertices.size(), count);
+  for (size_t i = 0; i < count; ++i) {
+    EXPECT_EQ(p.vertices[i].texcoord.x, uv1[2 * i]) << "vertex " << i;
+    EXPECT_EQ(p.vertices[i].texcoord.y, uv1[2 * i + 1]) << "vertex " << i;
+  }
+  // A texture asking for a UV set the primitive lacks is refused by name.
+  primitive["attributes"].erase("TEXCOORD_1");
+  copy.save_json();
+  expect_error(copy.gltf, "its material's textures read TEXCOORD_1, which the primitive does not have");
+}
+
+TEST(scene_loader_uv, TexturesOfOneMaterialAskingForDifferentUvsAreNamed) {
+  SceneCopy copy("default", "mixed_uv_sets");
+  const FloorOfDefaultScene floor(copy.doc);
+  json& material = copy.doc["materials"][floor.material];
+  material["emissiveTexture"] = {{"index", material["pbrMetallicRoughness"]["baseColorTexture"]["index"]}, {"texCoord", 0},
+                                 {"extensions", {{"KHR_texture_transform", {{"scale", {4.0, 4.0}}}}}}};
+  copy.save_json();
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_NE(scene.warnings[0].find("emissiveTexture asks for another UV set or texture transform than baseColorTexture"),
+            std::string::npos) << scene.warnings[0];
+}
+
 }  // namespace
