@@ -1204,7 +1204,8 @@ TEST(scene_loader_uv, TexCoordOneIsReadWhereTheTexturesAskForIt) {
       copy.add_accessor({{"bufferView", view}, {"componentType", 5126}, {"count", count}, {"type", "VEC2"}});
   copy.doc["materials"][floor.material]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1;
   copy.save_json();
-  const kit::Primitive& p = primitive_named(kit::load_scene(copy.gltf.string()), "floor");
+  const kit::Scene scene = kit::load_scene(copy.gltf.string());
+  const kit::Primitive& p = primitive_named(scene, "floor");
   ASSERT_EQ(p.vertices.size(), count);
   for (size_t i = 0; i < count; ++i) {
     EXPECT_EQ(p.vertices[i].texcoord.x, uv1[2 * i]) << "vertex " << i;
