@@ -240,7 +240,7 @@ TEST_F(student_tools, UniformNothingSetsIsAWarningNamingItsLine) {
   frag = replaced(frag, "vec4(u_base_color_factor.rgb, 1.0)", "vec4(u_base_color_factor.rgb * u_exposure, 1.0)");
   lab("labs", "01-gbuffer", kGbufferVert, frag);
   ASSERT_EQ(render("--size 64x48 --out " + out("unset.png"), &output), 0) << output;
-  EXPECT_TRUE(contains(output, "kit-render: warning: labs/01-gbuffer/gbuffer.frag:12: uniform `u_exposure' is never set "
+  EXPECT_TRUE(contains(output, "kit-render: warning: labs/01-gbuffer/gbuffer.frag:13: uniform `u_exposure' is never set "
                                "by the framework"))
       << output;
   EXPECT_TRUE(contains(output, "so it reads 0")) << output;
