@@ -13,6 +13,7 @@ TextureFormat GBuffer::attachment_format(int index) {
     case KIT_GBUF_NORMAL: return {GL_RGBA16F, GL_RGBA, GL_FLOAT};
     case KIT_GBUF_ALBEDO: return {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
     case KIT_GBUF_MATERIAL: return {GL_RGBA16F, GL_RGBA, GL_FLOAT};
+    case KIT_GBUF_EMISSION: return {GL_RGBA16F, GL_RGBA, GL_FLOAT};
   }
   throw Error("no G-buffer attachment " + std::to_string(index));
 }
@@ -20,11 +21,11 @@ TextureFormat GBuffer::attachment_format(int index) {
 TextureFormat GBuffer::depth_format() { return {GL_DEPTH_COMPONENT24, GL_DEPTH_COMPONENT, GL_FLOAT}; }
 
 const char* GBuffer::attachment_name(int index) {
-  static const char* names[] = {"position", "normal", "albedo", "material"};
+  static const char* names[] = {"position", "normal", "albedo", "material", "emission"};
   return index >= 0 && index < KIT_GBUF_COUNT ? names[index] : "?";
 }
 
-int GBuffer::bytes_per_pixel() { return 8 + 8 + 4 + 8 + 4; }  // 3 x RGBA16F, RGBA8, 32-bit depth word
+int GBuffer::bytes_per_pixel() { return 8 + 8 + 4 + 8 + 8 + 4; }  // 4 x RGBA16F, RGBA8, 32-bit depth word
 
 void GBuffer::allocate() {
   for (int i = 0; i < KIT_GBUF_COUNT; ++i) {

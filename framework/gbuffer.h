@@ -1,8 +1,9 @@
 #pragma once
-// The G-buffer: four colour attachments and a depth texture in one FBO. The
+// The G-buffer: KIT_GBUF_COUNT colour attachments and a depth texture in one FBO. The
 // layout (formats, channel meaning, texture units) is in framework/shaders/gbuffer_layout.h.
 #include <array>
 
+#include "gbuffer_layout.h"
 #include "gl_objects.h"
 
 namespace kit {
@@ -40,7 +41,7 @@ class GBuffer {
  private:
   void allocate();
   int width_, height_;
-  std::array<Texture2D, 4> colors_;
+  std::array<Texture2D, KIT_GBUF_COUNT> colors_;
   Texture2D depth_;
   Framebuffer fbo_;
 };

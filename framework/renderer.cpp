@@ -27,6 +27,7 @@ int debug_mode(View view) {
     case View::Albedo: return 2;
     case View::Material: return 3;
     case View::Depth: return 4;
+    case View::Emission: return 5;
     default: return 2;
   }
 }
@@ -35,7 +36,8 @@ int debug_mode(View view) {
 const std::pair<const char*, int> kSamplerUnits[] = {
     {"u_gbuffer_position", KIT_UNIT_GBUF_POSITION}, {"u_gbuffer_normal", KIT_UNIT_GBUF_NORMAL},
     {"u_gbuffer_albedo", KIT_UNIT_GBUF_ALBEDO},     {"u_gbuffer_material", KIT_UNIT_GBUF_MATERIAL},
-    {"u_gbuffer_depth", KIT_UNIT_GBUF_DEPTH},       {"u_light_texture", KIT_UNIT_LIGHTS},
+    {"u_gbuffer_emission", KIT_UNIT_GBUF_EMISSION}, {"u_gbuffer_depth", KIT_UNIT_GBUF_DEPTH},
+    {"u_light_texture", KIT_UNIT_LIGHTS},
     {"u_hdr", KIT_UNIT_HDR},                        {"u_bloom", KIT_UNIT_BLOOM},
     {"u_ldr", KIT_UNIT_LDR},                        {"u_base_color_texture", KIT_UNIT_BASE_COLOR},
     {"u_metallic_roughness_texture", KIT_UNIT_METALLIC_ROUGHNESS},
@@ -63,13 +65,12 @@ struct Renderer::Programs {
 };
 
 View parse_view(const std::string& name) {
-  static const std::pair<const char*, View> names[] = {{"final", View::Final},   {"position", View::Position},
-                                                       {"normal", View::Normal}, {"albedo", View::Albedo},
-                                                       {"material", View::Material}, {"depth", View::Depth},
-                                                       {"hdr", View::Hdr}};
+  static const std::pair<const char*, View> names[] = {
+      {"final", View::Final},       {"position", View::Position}, {"normal", View::Normal}, {"albedo", View::Albedo},
+      {"material", View::Material}, {"emission", View::Emission}, {"depth", View::Depth},   {"hdr", View::Hdr}};
   for (const auto& [n, v] : names)
     if (name == n) return v;
-  throw Error("unknown view '" + name + "' (views: final, position, normal, albedo, material, depth, hdr)");
+  throw Error("unknown view '" + name + "' (views: final, position, normal, albedo, material, emission, depth, hdr)");
 }
 
 const char* view_name(View view) {
@@ -79,6 +80,7 @@ const char* view_name(View view) {
     case View::Normal: return "normal";
     case View::Albedo: return "albedo";
     case View::Material: return "material";
+    case View::Emission: return "emission";
     case View::Depth: return "depth";
     case View::Hdr: return "hdr";
   }
@@ -194,6 +196,9 @@ void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu
     geometry.set("u_emissive_factor", m.emissive);
     geometry.set("u_normal_scale", m.normal_scale);
     geometry.set("u_has_normal_texture", m.normal_image >= 0);
+    geometry.set("u_alpha_mode", m.alpha_mode);
+    geometry.set("u_alpha_cutoff", m.alpha_cutoff);
+    geometry.set("u_double_sided", m.double_sided);
     gpu.texture(m.base_color_image, true).bind(KIT_UNIT_BASE_COLOR);
     gpu.texture(m.metallic_roughness_image, false).bind(KIT_UNIT_METALLIC_ROUGHNESS);
     (m.normal_image >= 0 ? gpu.texture(m.normal_image, false) : gpu.flat_normal()).bind(KIT_UNIT_NORMAL_MAP);
@@ -203,9 +208,12 @@ void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu
     gpu.sampler(m.normal_sampler).bind(KIT_UNIT_NORMAL_MAP);
     gpu.sampler(m.emissive_sampler).bind(KIT_UNIT_EMISSIVE);
     glFrontFace(d.mirrored() ? GL_CW : GL_CCW);
+    // A double-sided material shows its back faces too (material_modes.glsl flips their normal).
+    if (m.double_sided) glDisable(GL_CULL_FACE); else glEnable(GL_CULL_FACE);
     gpu.mesh(d.primitive).draw();
   }
   glFrontFace(GL_CCW);  // GL's default, which every other pass expects
+  glEnable(GL_CULL_FACE);  // as begin_geometry_pass_on left it
   // Units other passes may reuse sample with their textures' own settings again.
   for (int unit : {KIT_UNIT_BASE_COLOR, KIT_UNIT_METALLIC_ROUGHNESS, KIT_UNIT_NORMAL_MAP, KIT_UNIT_EMISSIVE})
     Sampler::unbind(unit);
@@ -417,7 +425,7 @@ size_t Renderer::count_non_finite(View view) {
 std::vector<NonFiniteCount> Renderer::non_finite_pixels() {
   std::vector<NonFiniteCount> out;
   const size_t pixels = static_cast<size_t>(settings_.width) * static_cast<size_t>(settings_.height);
-  for (View view : {View::Position, View::Normal, View::Material, View::Hdr}) {
+  for (View view : {View::Position, View::Normal, View::Material, View::Emission, View::Hdr}) {
     if (view == View::Hdr && !stage_.lighting) continue;
     out.push_back({view, count_non_finite(view), pixels});
   }
@@ -440,7 +448,7 @@ Image Renderer::read_view(View view, bool raw) {
   if (raw && view != View::Final && view != View::Hdr) {
     if (view == View::Depth) return read_texture(gbuffer_.depth(), true);
     int index = view == View::Position ? KIT_GBUF_POSITION : view == View::Normal ? KIT_GBUF_NORMAL
-              : view == View::Albedo ? KIT_GBUF_ALBEDO : KIT_GBUF_MATERIAL;
+              : view == View::Albedo ? KIT_GBUF_ALBEDO : view == View::Emission ? KIT_GBUF_EMISSION : KIT_GBUF_MATERIAL;
     return read_texture(gbuffer_.attachment(index));
   }
   return read_texture(display_texture(view));

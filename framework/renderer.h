@@ -32,8 +32,8 @@ struct RenderSettings {
   bool default_light_rig = false;
 };
 
-enum class View { Final, Position, Normal, Albedo, Material, Depth, Hdr };
-View parse_view(const std::string& name);  // final|position|normal|albedo|material|depth|hdr
+enum class View { Final, Position, Normal, Albedo, Material, Emission, Depth, Hdr };
+View parse_view(const std::string& name);  // final|position|normal|albedo|material|emission|depth|hdr
 const char* view_name(View view);
 
 // Camera matrices for one frame.
@@ -85,8 +85,9 @@ Texture2D light_texture(const std::vector<Light>& lights);
 // The geometry pass's draw loop: per draw item the model/normal matrices and
 // material uniforms of geometry_uniforms.glsl, the material textures with their
 // glTF samplers, then the mesh, wound clockwise where the draw is mirrored
-// (DrawItem::mirrored). After the loop the samplers are unbound and GL's
-// counter-clockwise front faces restored. `geometry` must be in use with its
+// (DrawItem::mirrored) and without back-face culling where the material is
+// double-sided. After the loop the samplers are unbound, GL's counter-clockwise
+// front faces restored and culling enabled again. `geometry` must be in use with its
 // frame uniforms set. With `frustum_culling`, draws wholly outside
 // `view_projection` are skipped.
 void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,

@@ -393,6 +393,9 @@ class SceneBuilder {
     if (strength != m.extensions.end() && strength->second.Has("emissiveStrength"))
       out.emissive *= static_cast<float>(strength->second.Get("emissiveStrength").GetNumberAsDouble());
     out.normal_scale = static_cast<float>(m.normalTexture.scale);
+    out.alpha_mode = alpha_mode(m.alphaMode, m.name);
+    out.alpha_cutoff = static_cast<float>(m.alphaCutoff);
+    out.double_sided = m.doubleSided;
     const TextureSource base_color = texture_source(model_, pbr.baseColorTexture.index, path_);
     const TextureSource metallic_roughness = texture_source(model_, pbr.metallicRoughnessTexture.index, path_);
     const TextureSource normal = texture_source(model_, m.normalTexture.index, path_);
@@ -479,6 +482,15 @@ class SceneBuilder {
                                     0, 0, 1);
     const glm::mat3 scale_matrix(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
     return translation * rotation_matrix * scale_matrix;
+
+  // glTF's alphaMode string; tinygltf fills in "OPAQUE" when it is absent.
+  int alpha_mode(const std::string& mode, const std::string& material_name) {
+    if (mode == "MASK") return KIT_ALPHA_MASK;
+    if (mode == "BLEND") return KIT_ALPHA_BLEND;
+    if (mode != "OPAQUE")
+      scene_.warnings.push_back(path_ + ": material '" + material_name + "': alphaMode '" + mode +
+                                "' is not glTF's (OPAQUE, MASK, BLEND); drawn as OPAQUE");
+    return KIT_ALPHA_OPAQUE;
   }
 
   int primitive(size_t mesh, size_t prim) {

@@ -42,6 +42,9 @@ struct Material {
   float roughness_factor = 1.0f;
   glm::vec3 emissive{0.0f};  // emissiveFactor * KHR_materials_emissive_strength
   float normal_scale = 1.0f;
+  int alpha_mode = 0;          // KIT_ALPHA_OPAQUE, KIT_ALPHA_MASK or KIT_ALPHA_BLEND (gbuffer_layout.h)
+  float alpha_cutoff = 0.5f;   // glTF alphaCutoff (its default), for KIT_ALPHA_MASK
+  bool double_sided = false;   // glTF doubleSided: drawn without back-face culling
   int base_color_image = -1;  // index into Scene::images, -1 when absent
   int metallic_roughness_image = -1;
   int normal_image = -1;

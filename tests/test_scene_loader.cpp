@@ -194,6 +194,32 @@ TEST(scene_loader_valid, LightRangeIsLoaded) {
   EXPECT_EQ(kit::test::scene("sphere").lights[0].range, 0.0f) << "the kit's scenes leave range out";
 }
 
+// glTF's alphaMode, alphaCutoff and doubleSided reach Material; absent, they are
+// glTF's defaults (OPAQUE, 0.5, single-sided). An unknown mode is drawn as OPAQUE, with a warning.
+TEST(scene_loader_valid, AlphaModeCutoffAndDoubleSidedAreLoaded) {
+  const kit::Scene& scene = kit::test::scene("materials");
+  auto material = [&](const std::string& name) -> const kit::Material& {
+    for (const kit::Material& m : scene.materials)
+      if (m.name == name) return m;
+    throw std::runtime_error("no material " + name);
+  };
+  EXPECT_EQ(material("masked_ramp").alpha_mode, KIT_ALPHA_MASK);
+  EXPECT_FLOAT_EQ(material("masked_ramp").alpha_cutoff, 0.3f);
+  EXPECT_FALSE(material("masked_ramp").double_sided);
+  EXPECT_EQ(material("blend_half").alpha_mode, KIT_ALPHA_BLEND);
+  EXPECT_TRUE(material("double_sided_yellow").double_sided);
+  EXPECT_EQ(material("double_sided_yellow").alpha_mode, KIT_ALPHA_OPAQUE);
+  EXPECT_FLOAT_EQ(material("double_sided_yellow").alpha_cutoff, 0.5f);
+
+  SceneCopy copy("sphere", "alpha_mode_unknown");
+  copy.doc["materials"][0]["alphaMode"] = "CUTOUT";
+  copy.save_json();
+  const kit::Scene unknown = kit::load_scene(copy.gltf.string());
+  EXPECT_EQ(unknown.materials.at(0).alpha_mode, KIT_ALPHA_OPAQUE);
+  ASSERT_FALSE(unknown.warnings.empty());
+  EXPECT_NE(unknown.warnings.back().find("alphaMode 'CUTOUT'"), std::string::npos) << unknown.warnings.back();
+}
+
 TEST(scene_loader_errors, AccessorPastTheEndOfItsBuffer) {
   SceneCopy copy("sphere", "short_view");
   size_t position = static_cast<size_t>(copy.accessor("POSITION"));

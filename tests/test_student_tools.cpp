@@ -53,6 +53,7 @@ layout(location = KIT_GBUF_POSITION) out vec4 out_position;
 layout(location = KIT_GBUF_NORMAL) out vec4 out_normal;
 layout(location = KIT_GBUF_ALBEDO) out vec4 out_albedo;
 layout(location = KIT_GBUF_MATERIAL) out vec4 out_material;
+layout(location = KIT_GBUF_EMISSION) out vec4 out_emission;
 
 void main() {
     vec3 n = normalize(v_world_normal);
@@ -60,6 +61,7 @@ void main() {
     out_normal = vec4(n, 0.0);
     out_albedo = vec4(u_base_color_factor.rgb, 1.0);
     out_material = vec4(u_metallic_factor, u_roughness_factor, 0.0, 1.0);
+    out_emission = vec4(u_emissive_factor, 0.0);
 }
 )";
 
@@ -226,6 +228,7 @@ TEST_F(student_tools, NanPixelsAreCountedPerView) {
       << output;
   EXPECT_FALSE(contains(output, "position view")) << output;
   EXPECT_FALSE(contains(output, "material view")) << output;
+  EXPECT_FALSE(contains(output, "emission view")) << output;
 }
 
 TEST_F(student_tools, UniformNothingSetsIsAWarningNamingItsLine) {
@@ -237,7 +240,7 @@ TEST_F(student_tools, UniformNothingSetsIsAWarningNamingItsLine) {
   frag = replaced(frag, "vec4(u_base_color_factor.rgb, 1.0)", "vec4(u_base_color_factor.rgb * u_exposure, 1.0)");
   lab("labs", "01-gbuffer", kGbufferVert, frag);
   ASSERT_EQ(render("--size 64x48 --out " + out("unset.png"), &output), 0) << output;
-  EXPECT_TRUE(contains(output, "kit-render: warning: labs/01-gbuffer/gbuffer.frag:12: uniform `u_exposure' is never set "
+  EXPECT_TRUE(contains(output, "kit-render: warning: labs/01-gbuffer/gbuffer.frag:13: uniform `u_exposure' is never set "
                                "by the framework"))
       << output;
   EXPECT_TRUE(contains(output, "so it reads 0")) << output;

@@ -147,6 +147,20 @@ Image8 make_checker() {
   return img;
 }
 
+// The masked quad's base colour: the checker's greys in RGB and an alpha ramp from 0
+// at the left edge to 1 at the right, so the MASK cutoff decides where the quad ends.
+Image8 make_alpha_ramp_checker() {
+  const Image8 checker = make_checker();
+  Image8 img(kTextureSize, kTextureSize, 4);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      std::uint8_t* p = &img.pixels[(size_t(y) * img.width + x) * 4];
+      std::copy_n(&checker.pixels[(size_t(y) * checker.width + x) * 3], 3, p);
+      p[3] = std::uint8_t(std::lround(255.0 * x / (img.width - 1)));
+    }
+  return img;
+}
+
 void write_png(const fs::path& path, const Image8& img) {
   auto out = OIIO::ImageOutput::create(path.string());
   if (!out)
@@ -284,6 +298,10 @@ struct MaterialDesc {
   double normal_scale = 1.0;
   glm::dvec3 emissive{0.0};
   double emissive_strength = 1.0;  // other than 1: KHR_materials_emissive_strength
+  int emissive_texture = -1;
+  std::string alpha_mode = "OPAQUE";  // glTF alphaMode: OPAQUE, MASK or BLEND
+  double alpha_cutoff = 0.5;          // glTF's default; written only for MASK
+  bool double_sided = false;
 };
 
 struct NodeDesc {
@@ -386,7 +404,10 @@ class SceneBuilder {
   int add_material(const MaterialDesc& desc) {
     tinygltf::Material m;
     m.name = desc.name;
-    m.doubleSided = false;
+    m.doubleSided = desc.double_sided;
+    m.alphaMode = desc.alpha_mode;
+    m.alphaCutoff = desc.alpha_cutoff;
+    m.emissiveTexture.index = desc.emissive_texture;
     m.pbrMetallicRoughness.baseColorFactor = to_vector(desc.base_color);
     m.pbrMetallicRoughness.metallicFactor = desc.metallic;
     m.pbrMetallicRoughness.roughnessFactor = desc.roughness;
@@ -740,6 +761,64 @@ SceneBuilder build_normal_map_scene(const Textures& tex) {
   return b;
 }
 
+// glTF material features beyond the metallic-roughness factors, one object each, for
+// kit-grade's labs 1 and 2 and the G-buffer tests:
+//  * a sphere with a black base colour and a red emissive colour times a checker
+//    emissive texture: its light is the emissive colour alone (an emission
+//    multiplied by the albedo, or reduced to one scalar, or missing the texture, shows);
+//  * a MASK quad whose base colour alpha ramps from 0 (left) to 1 (right), cutoff 0.3:
+//    its left 30 % is no surface at all;
+//  * a double-sided quad turned away from the camera: drawn only without back-face
+//    culling, and lit only with its normal flipped towards the viewer;
+//  * a BLEND strip with base colour alpha 0.5, drawn like OPAQUE (albedo.a keeps the 0.5).
+SceneBuilder build_materials_scene(const Textures& tex) {
+  SceneBuilder b("materials");
+  const glm::vec3 x(1, 0, 0), y(0, 1, 0);
+
+  MaterialDesc glow;
+  glow.name = "red_emitter_black_base";
+  glow.base_color = glm::dvec4(0.0, 0.0, 0.0, 1.0);
+  glow.roughness = 0.5;
+  glow.emissive = glm::dvec3(1.0, 0.15, 0.05);
+  glow.emissive_strength = 3.0;
+  glow.emissive_texture = b.add_texture("checker.png", tex.checker);
+  const Geometry sphere = b.add_geometry(make_sphere(0.6f, 24, 12, {2, 1}, true));
+  b.add_node(mesh_node("emissive_sphere", {-1.6, 0.5, 0.0}, b.add_mesh("emissive_sphere", sphere, b.add_material(glow))));
+
+  MaterialDesc masked;
+  masked.name = "masked_ramp";
+  masked.base_color = glm::dvec4(0.3, 0.7, 1.0, 1.0);
+  masked.roughness = 0.4;
+  masked.base_color_texture = b.add_texture("alpha_ramp.png", make_alpha_ramp_checker());
+  masked.alpha_mode = "MASK";
+  masked.alpha_cutoff = 0.3;
+  const Geometry quad = b.add_geometry(make_quad(x, y, {1.4f, 1.4f}, {1, 1}, false));
+  b.add_node(mesh_node("masked_quad", {0.0, 0.5, 0.0}, b.add_mesh("masked_quad", quad, b.add_material(masked))));
+
+  MaterialDesc two_sided;
+  two_sided.name = "double_sided_yellow";
+  two_sided.base_color = glm::dvec4(0.8, 0.7, 0.2, 1.0);
+  two_sided.roughness = 0.6;
+  two_sided.double_sided = true;
+  // Front face along -z (away from the camera), then turned 25 degrees about y.
+  const Geometry back = b.add_geometry(make_quad(-x, y, {1.2f, 1.4f}, {1, 1}, false));
+  const glm::dquat turn = glm::angleAxis(glm::radians(25.0), glm::dvec3(0, 1, 0));
+  b.add_node({"double_sided_quad", {1.6, 0.5, 0.0}, turn, kUnitScale,
+              b.add_mesh("double_sided_quad", back, b.add_material(two_sided))});
+
+  MaterialDesc blend;
+  blend.name = "blend_half";
+  blend.base_color = glm::dvec4(0.9, 0.4, 0.3, 0.5);
+  blend.roughness = 0.7;
+  blend.alpha_mode = "BLEND";
+  const Geometry strip = b.add_geometry(make_quad(x, y, {4.0f, 0.4f}, {1, 1}, false));
+  b.add_node(mesh_node("blend_strip", {0.0, -0.6, 0.0}, b.add_mesh("blend_strip", strip, b.add_material(blend))));
+
+  b.add_point_light("light", {0.5, 2.0, 4.0}, kWhite, 3.0);  // lab 2 has no falloff
+  b.add_camera({0.0, 0.6, 5.0}, {0.0, 0.3, 0.0}, 0.75);
+  return b;
+}
+
 // ---------------------------------------------------------------------------
 // The heavy scene: load time and memory of a model as large as students bring
 // (`kit-scenes --heavy OUT_DIR`; not part of the build's scenes, since its PNGs
@@ -840,6 +919,7 @@ int main(int argc, char** argv) {
     build_normal_map_scene(textures).write(out_dir);
     build_spot_scene().write(out_dir);
     build_highlight_scene().write(out_dir);
+    build_materials_scene(textures).write(out_dir);
     write_obj_cube_scene(out_dir, textures);
   } catch (const std::exception& e) {
     std::cerr << "kit-scenes: " << e.what() << "\n";

@@ -63,8 +63,9 @@ constexpr int kFirstLitStage = 2;         // extra lights: the lighting pass
 constexpr int kFirstDisplayStage = 3;     // gamma and the attenuation model: lab 3's tonemap.glsl and attenuation.glsl
 constexpr int kFirstPostprocessStage = 5; // bloom, its threshold and the custom effect
 
-constexpr kit::View kViewKeys[] = {kit::View::Final,    kit::View::Position, kit::View::Normal, kit::View::Albedo,
-                                   kit::View::Material, kit::View::Depth,    kit::View::Hdr};
+constexpr kit::View kViewKeys[] = {kit::View::Final,    kit::View::Position, kit::View::Normal,
+                                   kit::View::Albedo,   kit::View::Material, kit::View::Emission,
+                                   kit::View::Depth,    kit::View::Hdr};
 
 struct ViewerOptions {
   kit::CommonOptions common;
@@ -80,13 +81,15 @@ void usage() {
   std::printf(
       "usage: kit-view --stage NAME [--shaders DIR] [options]\n"
       "Opens a window onto one stage; shaders reload when their files change.\n"
-      "  --view VIEW           first view: final (default) | position | normal | albedo | material | depth | hdr\n"
+      "  --view VIEW           first view: final (default) | position | normal | albedo | material | emission |\n"
+      "                        depth | hdr\n"
       "  --frames N            render N frames, then exit (non-zero if a shader error is still shown)\n"
       "  --screenshot FILE     after the last frame, write the stage's final image (PNG or EXR)\n"
       "  --window-screenshot FILE  after the last frame, write the window as shown, panel included\n"
       "  --hidden              invisible window (the image is still rendered)\n"
       "  --no-ui               no control panel (errors and warnings still go to stderr)\n"
-      "Keys: 1-7 view (final, position, normal, albedo, material, depth, hdr), P postprocess, C custom effect,\n"
+      "Keys: 1-8 view (final, position, normal, albedo, material, emission, depth, hdr),\n"
+      "      P postprocess, C custom effect,\n"
       "      G gamma 2.2/1.0/0.5/2.5, A attenuation model (orbit mode), F fly/orbit, F12 or K screenshot,\n"
       "      R reload shaders, L print the camera as --look-at (stdout), Esc quit.\n"
       "Mouse: orbit: left drag rotates, wheel zooms, right/middle drag pans;\n"

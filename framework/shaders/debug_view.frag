@@ -1,9 +1,10 @@
 #version 330 core
 // Maps one G-buffer attachment for display: vectors as (v + 1) / 2, depth
-// linearised, the material as (metallic, roughness, emission/(1+emission)).
+// linearised, the material as (metallic, roughness, 0), the emitted radiance
+// as e/(1+e) per channel (Reinhard: HDR values above 1 stay distinguishable).
 #include "uniforms.glsl"
 
-uniform int u_view_mode;  // 0 position, 1 normal, 2 albedo, 3 material, 4 depth
+uniform int u_view_mode;  // 0 position, 1 normal, 2 albedo, 3 material, 4 depth, 5 emission
 uniform vec3 u_position_center;
 uniform vec3 u_position_half_extent;
 uniform float u_depth_display_far;
@@ -29,7 +30,10 @@ void main() {
         c = texture(u_gbuffer_albedo, v_uv).rgb;
     } else if (u_view_mode == 3) {
         vec3 m = texture(u_gbuffer_material, v_uv).rgb;
-        c = vec3(m.r, m.g, m.b / (1.0 + m.b));
+        c = vec3(m.r, m.g, 0.0);
+    } else if (u_view_mode == 5) {
+        vec3 e = max(texture(u_gbuffer_emission, v_uv).rgb, 0.0);
+        c = e / (1.0 + e);
     } else {
         float z = linear_depth(texture(u_gbuffer_depth, v_uv).r);
         float n = u_camera_near_far.x;

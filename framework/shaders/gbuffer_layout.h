@@ -5,13 +5,24 @@
 // Attachment           Format        .rgb / .r .g .b          .a
 // 0 KIT_GBUF_POSITION  RGBA16F       world-space position     1 where covered
 // 1 KIT_GBUF_NORMAL    RGBA16F       world-space unit normal  0 (unused)
-// 2 KIT_GBUF_ALBEDO    RGBA8         linear base colour       1 (unused)
+//                                    (facing the viewer on a double-sided back face)
+// 2 KIT_GBUF_ALBEDO    RGBA8         linear base colour       base colour alpha
 // 3 KIT_GBUF_MATERIAL  RGBA16F       metallic, roughness,     coverage mask
-//                                    emission strength        (1 = surface, 0 = clear)
+//                                    0 (.b unused)            (1 = surface, 0 = clear)
+// 4 KIT_GBUF_EMISSION  RGBA16F       emitted radiance L_e     0 (unused)
 // depth                DEPTH24 texture (readable by later passes)
 //
-// Emitted radiance is reconstructed as  L_e = emission * albedo : one scalar
-// channel carries glTF's emissiveFactor * emissiveStrength (its max component).
+// Emitted radiance is a colour: L_e = emissiveFactor * emissiveStrength * emissive
+// texel, stored as it is. It needs a float target of its own: it exceeds 1 (the
+// emissive strength), so it cannot share the RGBA8 albedo, and the material
+// attachment has one free channel, not three. (Before, one scalar in material.b
+// was multiplied by the albedo: it lost the emissive colour, and a black base
+// colour never glowed.)
+//
+// Albedo alpha: the base colour alpha (factor * texel). The lighting pass ignores
+// it; it is there for a later forward pass of BLEND materials, which the geometry
+// pass draws like OPAQUE ones for now. MASK fragments below their cutoff are
+// discarded in the geometry pass and leave the attachments as cleared (mask 0).
 #ifndef KIT_GBUFFER_LAYOUT_H
 #define KIT_GBUFFER_LAYOUT_H
 
@@ -19,24 +30,31 @@
 #define KIT_GBUF_NORMAL 1
 #define KIT_GBUF_ALBEDO 2
 #define KIT_GBUF_MATERIAL 3
-#define KIT_GBUF_COUNT 4
+#define KIT_GBUF_EMISSION 4
+#define KIT_GBUF_COUNT 5
 
 // Texture units the framework binds the G-buffer to for full-screen passes.
 #define KIT_UNIT_GBUF_POSITION 0
 #define KIT_UNIT_GBUF_NORMAL 1
 #define KIT_UNIT_GBUF_ALBEDO 2
 #define KIT_UNIT_GBUF_MATERIAL 3
-#define KIT_UNIT_GBUF_DEPTH 4
-#define KIT_UNIT_LIGHTS 5
-#define KIT_UNIT_HDR 6
-#define KIT_UNIT_BLOOM 7
-#define KIT_UNIT_LDR 8
+#define KIT_UNIT_GBUF_EMISSION 4
+#define KIT_UNIT_GBUF_DEPTH 5
+#define KIT_UNIT_LIGHTS 6
+#define KIT_UNIT_HDR 7
+#define KIT_UNIT_BLOOM 8
+#define KIT_UNIT_LDR 9
 
 // Texture units for material textures in the geometry pass.
 #define KIT_UNIT_BASE_COLOR 0
 #define KIT_UNIT_METALLIC_ROUGHNESS 1
 #define KIT_UNIT_NORMAL_MAP 2
 #define KIT_UNIT_EMISSIVE 3
+
+// glTF alphaMode, as the framework sets u_alpha_mode per draw (material_modes.glsl).
+#define KIT_ALPHA_OPAQUE 0
+#define KIT_ALPHA_MASK 1
+#define KIT_ALPHA_BLEND 2
 
 // Vertex attribute locations.
 #define KIT_ATTR_POSITION 0

@@ -5,7 +5,8 @@
 uniform sampler2D u_gbuffer_position;  // KIT_GBUF_POSITION: world position, a = 1 where covered
 uniform sampler2D u_gbuffer_normal;    // KIT_GBUF_NORMAL: world unit normal
 uniform sampler2D u_gbuffer_albedo;    // KIT_GBUF_ALBEDO: linear base colour
-uniform sampler2D u_gbuffer_material;  // KIT_GBUF_MATERIAL: metallic, roughness, emission, mask
+uniform sampler2D u_gbuffer_material;  // KIT_GBUF_MATERIAL: metallic, roughness, 0 (unused), mask
+uniform sampler2D u_gbuffer_emission;  // KIT_GBUF_EMISSION: emitted radiance L_e (linear RGB)
 uniform sampler2D u_gbuffer_depth;     // depth texture, [0,1] window depth
 uniform sampler2D u_hdr;               // linear HDR lighting result (stage 2 on)
 uniform sampler2D u_bloom;             // blurred bright pass (stage 5)

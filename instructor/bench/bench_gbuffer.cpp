@@ -20,13 +20,15 @@ constexpr TextureFormat kRg8{GL_RG8, GL_RG, GL_UNSIGNED_BYTE};
 std::vector<LayoutInfo> make_layouts() {
   auto labs = [](int i) { return GBuffer::attachment_format(i); };
   std::vector<LayoutInfo> out;
-  out.push_back({"reference", false, {kRgba32f, kRgba32f, labs(KIT_GBUF_ALBEDO), labs(KIT_GBUF_MATERIAL)},
+  out.push_back({"reference", false,
+                 {kRgba32f, kRgba32f, labs(KIT_GBUF_ALBEDO), labs(KIT_GBUF_MATERIAL), labs(KIT_GBUF_EMISSION)},
                  GBuffer::depth_format()});
   out.push_back({"seed002", false,
-                 {labs(KIT_GBUF_POSITION), labs(KIT_GBUF_NORMAL), labs(KIT_GBUF_ALBEDO), labs(KIT_GBUF_MATERIAL)},
+                 {labs(KIT_GBUF_POSITION), labs(KIT_GBUF_NORMAL), labs(KIT_GBUF_ALBEDO), labs(KIT_GBUF_MATERIAL),
+                  labs(KIT_GBUF_EMISSION)},
                  GBuffer::depth_format()});
-  out.push_back({"lean16", true, {kRg16, kRgba8, kRgba8}, GBuffer::depth_format()});
-  out.push_back({"lean8", true, {kRg8, kRgba8, kRgba8}, GBuffer::depth_format()});
+  out.push_back({"lean16", true, {kRg16, kRgba8, kRgba8, kRgba8}, GBuffer::depth_format()});
+  out.push_back({"lean8", true, {kRg8, kRgba8, kRgba8, kRgba8}, GBuffer::depth_format()});
   return out;
 }
 
@@ -91,6 +93,7 @@ void LayoutGBuffer::bind_textures() const {
     colors_[KIT_LEAN_NORMAL].bind(KIT_UNIT_GBUF_NORMAL);
     colors_[KIT_LEAN_ALBEDO].bind(KIT_UNIT_GBUF_ALBEDO);
     colors_[KIT_LEAN_MATERIAL].bind(KIT_UNIT_GBUF_MATERIAL);
+    colors_[KIT_LEAN_EMISSION].bind(KIT_UNIT_GBUF_EMISSION);
   } else {
     for (size_t i = 0; i < colors_.size(); ++i) colors_[i].bind(KIT_UNIT_GBUF_POSITION + static_cast<int>(i));
   }

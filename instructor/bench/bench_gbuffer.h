@@ -1,10 +1,11 @@
 #pragma once
 // G-buffer layouts kit-bench compares (formats in instructor/bench/shaders/bench_layout.h):
-//   Reference  RGBA32F position + RGBA32F normal, RGBA8 albedo, RGBA16F material, depth
+//   Reference  RGBA32F position + RGBA32F normal, RGBA8 albedo, RGBA16F material and
+//              emission, depth
 //   Seed002    the labs' GBuffer (gbuffer.h): RGBA16F position + normal, RGBA8 albedo,
-//              RGBA16F material, depth
+//              RGBA16F material and emission, depth
 //   Lean16     depth (position reconstructed), RG16 octahedral normal, RGBA8 albedo,
-//              RGBA8 packed material
+//              RGBA8 packed material, RGBA8 encoded emission
 //   Lean8      as Lean16 with an RG8 normal
 #include <string>
 #include <vector>
@@ -45,8 +46,8 @@ class LayoutGBuffer {
   // clears every attachment to 0 (mask 0) and depth to 1, as GBuffer does.
   void begin_geometry_pass() const;
   // Binds the attachments to the KIT_UNIT_GBUF_* units the shaders read them from:
-  // FAT by attachment index; LEAN normal, albedo and material to the normal, albedo
-  // and material units. Depth to KIT_UNIT_GBUF_DEPTH.
+  // FAT by attachment index; LEAN normal, albedo, material and emission to the
+  // normal, albedo, material and emission units. Depth to KIT_UNIT_GBUF_DEPTH.
   void bind_textures() const;
 
  private:

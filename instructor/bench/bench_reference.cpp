@@ -43,7 +43,8 @@ Reference reference_hdr(BenchRenderer& renderer, const FrameCamera& camera, doub
     workers.emplace_back([&, b] {
       const int begin = s.height * b / bands, end = s.height * (b + 1) / bands;
       reference::GBufferImages band{rows(g[KIT_GBUF_POSITION], begin, end), rows(g[KIT_GBUF_NORMAL], begin, end),
-                                    rows(g[KIT_GBUF_ALBEDO], begin, end), rows(g[KIT_GBUF_MATERIAL], begin, end)};
+                                    rows(g[KIT_GBUF_ALBEDO], begin, end), rows(g[KIT_GBUF_MATERIAL], begin, end),
+                                    rows(g[KIT_GBUF_EMISSION], begin, end)};
       results[static_cast<size_t>(b)] = reference::shade_gbuffer(band, eye, lights, settings);
     });
   }

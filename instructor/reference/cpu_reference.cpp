@@ -265,7 +265,7 @@ dvec3 shade(const SurfaceSample& surface, const dvec3& camera_position, const st
   const dvec3 n = glm::normalize(surface.normal);
   const dvec3 v = glm::normalize(camera_position - p);
 
-  dvec3 radiance = surface.emission * surface.albedo;
+  dvec3 radiance = surface.emission;
   for (const ShadingLight& light : lights) {
     const dvec3 to_light = light.position - p;
     // Shorter than unit within KIT_MIN_DISTANCE_SQUARED of the light, and 0 on it, as in the shader.
@@ -300,7 +300,8 @@ dvec3 display(dvec3 hdr, const ShadingSettings& settings) {
 
 GBufferImages read_gbuffer(Renderer& renderer) {
   return {renderer.read_view(View::Position, true), renderer.read_view(View::Normal, true),
-          renderer.read_view(View::Albedo, true), renderer.read_view(View::Material, true)};
+          renderer.read_view(View::Albedo, true), renderer.read_view(View::Material, true),
+          renderer.read_view(View::Emission, true)};
 }
 
 SurfaceSample gbuffer_sample(const GBufferImages& gbuffer, int x, int y) {
@@ -310,7 +311,7 @@ SurfaceSample gbuffer_sample(const GBufferImages& gbuffer, int x, int y) {
   s.albedo = pixel_rgb(gbuffer.albedo, x, y);
   s.metallic = gbuffer.material.at(x, y, 0);
   s.roughness = gbuffer.material.at(x, y, 1);
-  s.emission = gbuffer.material.at(x, y, 2);
+  s.emission = pixel_rgb(gbuffer.emission, x, y);
   // lighting.frag shades the clear colour where `material.a < 0.5`.
   s.covered = !(gbuffer.material.at(x, y, 3) < 0.5f);
   return s;
@@ -462,7 +463,7 @@ SurfaceSample surface_sample(const Hit& hit, const Material& material) {
   s.albedo = dvec3(material.base_color_factor);
   s.metallic = material.metallic_factor;
   s.roughness = material.roughness_factor;
-  s.emission = std::max(material.emissive.r, std::max(material.emissive.g, material.emissive.b));
+  s.emission = dvec3(material.emissive);
   s.covered = true;
   return s;
 }

@@ -114,7 +114,7 @@ struct SurfaceSample {
   dvec3 albedo{0.0};
   double metallic = 0.0;
   double roughness = 1.0;       // perceptual (glTF) roughness
-  double emission = 0.0;        // L_e = emission * albedo
+  dvec3 emission{0.0};          // emitted radiance L_e (emissive factor x strength x texel)
   bool covered = false;         // coverage mask: false shades as the clear colour
 };
 
@@ -189,7 +189,7 @@ dvec3 display(dvec3 hdr, const ShadingSettings& settings);
 // --- Whole frames -----------------------------------------------------------------------
 // The G-buffer attachments as read back with Renderer::read_view(view, raw = true).
 struct GBufferImages {
-  Image position, normal, albedo, material;
+  Image position, normal, albedo, material, emission;
 };
 GBufferImages read_gbuffer(Renderer& renderer);
 SurfaceSample gbuffer_sample(const GBufferImages& gbuffer, int x, int y);

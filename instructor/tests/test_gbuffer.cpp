@@ -20,6 +20,10 @@
 #include "gbuffer_layout.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
+#include "reference_frames.h"
+#include "shader_variants.h"
+#include "stages.h"
+#include "tiny_scenes.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -51,7 +55,7 @@ const double kInscribedMinRadius =
 constexpr double kMinSphereFacing = 0.3;
 // RGBA8 albedo: rounding of the store plus the sRGB decode table of the driver.
 constexpr double kAlbedoTolerance = 2.0 / 255.0;
-// Metallic, roughness and emission are RGBA16F values in [0, 4].
+// Metallic and roughness are RGBA16F values in [0, 1], emitted radiance in [0, 4].
 constexpr double kMaterialTolerance = 4.0 * kHalfRelative;
 // The debug view's target is RGBA32F: (n + 1) / 2 in float arithmetic.
 constexpr double kDebugViewTolerance = 1e-6;
@@ -442,25 +446,31 @@ TEST(gbuffer_contents, KnownSpheresMaterial) {
   const kit::Scene& scene = renderer->scene();
   CpuCamera camera(*scene.camera);
   kit::Image material = renderer->read_view(kit::View::Material, true);
+  kit::Image emission = renderer->read_view(kit::View::Emission, true);
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
   json doc = scene_json(scene);
-  // Metallic and roughness of a gold and a dielectric sphere, emission of the glowing one,
+  // Metallic and roughness of a gold and a dielectric sphere, the emitted radiance (a
+  // colour: emissiveFactor x emissiveStrength, no emissive texture) of the glowing one,
   // at the pixel their centre projects into.
   for (const std::string node : {"sphere_gold_r50", "sphere_dielectric_r25", "sphere_gold_r100", "emissive_sphere"}) {
     const json& m = material_of_node(doc, node);
     const json& pbr = m["pbrMetallicRoughness"];
     double metallic = pbr.value("metallicFactor", 1.0), roughness = pbr.value("roughnessFactor", 1.0);
-    double emission = 0.0;
-    for (const json& e : m.value("emissiveFactor", json::array({0.0, 0.0, 0.0}))) emission = std::max(emission, e.get<double>());
+    glm::dvec3 emitted(0.0);
+    const json factor = m.value("emissiveFactor", json::array({0.0, 0.0, 0.0}));
+    for (int c = 0; c < 3; ++c) emitted[c] = factor[static_cast<size_t>(c)].get<double>();
     if (m.contains("extensions") && m["extensions"].contains("KHR_materials_emissive_strength"))
-      emission *= m["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"].get<double>();
+      emitted *= m["extensions"]["KHR_materials_emissive_strength"]["emissiveStrength"].get<double>();
     auto [x, y] = camera.pixel_of(glm::dvec3(draw_of(scene, node).world[3]));
     ASSERT_TRUE(x >= 0 && x < kWidth && y >= 0 && y < kHeight) << node;
     glm::dvec4 got = pixel(material, x, y);
     EXPECT_NEAR(got.r, metallic, kMaterialTolerance) << node;
     EXPECT_NEAR(got.g, roughness, kMaterialTolerance) << node;
-    EXPECT_NEAR(got.b, emission, kMaterialTolerance * std::max(1.0, emission)) << node;
+    EXPECT_EQ(got.b, 0.0) << node << ": material.b is unused";
     EXPECT_EQ(got.a, 1.0) << node;
+    glm::dvec4 emitted_got = pixel(emission, x, y);
+    for (int c = 0; c < 3; ++c)
+      EXPECT_NEAR(emitted_got[c], emitted[c], kMaterialTolerance * std::max(1.0, emitted[c])) << node << " channel " << c;
   }
 }
 
@@ -534,6 +544,140 @@ TEST(gbuffer_contents, SphereNormalsMaskAndDebugView) {
   }
   EXPECT_GT(sphere_pixels, static_cast<size_t>(kWidth * kHeight / 10));
   EXPECT_GT(background_pixels, static_cast<size_t>(kWidth * kHeight / 10));
+}
+
+// ---------------------------------------------------------------------------
+// glTF material modes: emissive colour, alphaMode MASK, doubleSided. One 2 m x 2 m
+// quad in the z = 0 plane facing +z, built in code, seen along the z axis.
+
+// The image pixel (x, y) a world point projects into (row 0 at the top), in double.
+std::pair<int, int> pixel_of(const kit::FrameCamera& camera, const glm::dvec3& p) {
+  const glm::dvec4 clip = glm::dmat4(camera.projection) * glm::dmat4(camera.view) * glm::dvec4(p, 1.0);
+  return {static_cast<int>(std::floor((clip.x / clip.w + 1.0) * 0.5 * kWidth)),
+          static_cast<int>(std::floor((1.0 - clip.y / clip.w) * 0.5 * kHeight))};
+}
+
+kit::Scene quad_scene(const kit::Material& material) {
+  kit::Primitive quad = kit::test::quad_primitive({1, 0, 0}, {0, 1, 0}, {2, 2});
+  quad.material = 0;
+  return kit::test::tiny_scene({quad}, {material}, {{0, glm::mat4(1.0f)}}, {});
+}
+
+kit::FrameCamera quad_camera(double eye_z) {
+  return kit::test::look_at_camera({0.0f, 0.0f, static_cast<float>(eye_z)}, {0.0f, 0.0f, 0.0f}, 0.8f, small_settings());
+}
+
+// Renders `scene` at `stage` with the solutions, or with the lab files under `lab_root`
+// (a variant_root) when given. The renderer keeps a reference to `scene`.
+std::unique_ptr<kit::Renderer> render_quad(const std::string& stage, const kit::Scene& scene, const kit::FrameCamera& camera,
+                                           const fs::path& lab_root = {}) {
+  auto renderer = lab_root.empty()
+                      ? kit::test::make_renderer(stage, scene, small_settings())
+                      : kit::test::make_renderer(stage, scene, small_settings(),
+                                                 kit::test::full_root_library(kit::find_stage(stage), lab_root));
+  renderer->render(camera);
+  return renderer;
+}
+
+TEST(gbuffer_material_modes, EmissiveColourOnBlackBaseIsTheEmittedRadiance) {
+  // A red emitter (emissiveFactor (1, 0.1, 0.05), strength 3) on a black base colour,
+  // no lights: the lighting pass's HDR value is L_e alone.
+  const glm::dvec3 factor(1.0, 0.1, 0.05);
+  const double strength = 3.0;
+  const glm::dvec3 expected = factor * strength;
+  kit::Material m = kit::test::plain_material(0.5f);
+  m.base_color_factor = glm::vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  m.emissive = glm::vec3(expected);  // the loader's emissiveFactor * emissiveStrength
+  const kit::FrameCamera camera = quad_camera(3.0);
+  const kit::Scene scene = quad_scene(m);
+  auto renderer = render_quad("lighting", scene, camera);
+  const kit::Image hdr = renderer->read_view(kit::View::Hdr, true);
+  const kit::Image emission = renderer->read_view(kit::View::Emission, true);
+  auto [x, y] = pixel_of(camera, {0.0, 0.0, 0.0});
+  // Two RGBA16F stores (the emission attachment, then the HDR target), each within 2^-11.
+  for (int c = 0; c < 3; ++c) {
+    const double tolerance = 2.0 * kHalfRelative * expected[c];
+    EXPECT_NEAR(emission.at(x, y, c), expected[c], tolerance) << "emission attachment, channel " << c;
+    EXPECT_NEAR(hdr.at(x, y, c), expected[c], tolerance) << "HDR, channel " << c;
+  }
+  // Witness: the old layout's rule, L_e = max(emissive) x albedo, makes this pixel black.
+  const double old_rule = std::max(expected.r, std::max(expected.g, expected.b)) * 0.0;
+  EXPECT_GT(std::fabs(old_rule - expected.r), 2.0 * kHalfRelative * expected.r);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+TEST(gbuffer_material_modes, MaskCutoffDecidesCoverage) {
+  // A 2 x 1 base colour texture, nearest filtered: alpha 64/255 (below the cutoff 0.5)
+  // on the quad's left half, 191/255 (above) on its right half.
+  constexpr unsigned char kLowAlpha = 64, kHighAlpha = 191;
+  constexpr double kCutoff = 0.5;
+  ASSERT_LT(kLowAlpha / 255.0, kCutoff);
+  ASSERT_GT(kHighAlpha / 255.0, kCutoff);
+  kit::Material m = kit::test::plain_material(0.5f);
+  m.base_color_factor = glm::vec4(1.0f);
+  m.alpha_mode = KIT_ALPHA_MASK;
+  m.alpha_cutoff = static_cast<float>(kCutoff);
+  m.base_color_image = 0;
+  m.base_color_sampler = 0;
+  kit::Scene scene = quad_scene(m);
+  scene.images.push_back({2, 1, {200, 200, 200, kLowAlpha, 200, 200, 200, kHighAlpha}});
+  kit::TextureSampler nearest;
+  nearest.min_filter = GL_NEAREST;
+  nearest.mag_filter = GL_NEAREST;
+  nearest.wrap_s = nearest.wrap_t = GL_CLAMP_TO_EDGE;
+  scene.samplers.push_back(nearest);
+  const kit::FrameCamera camera = quad_camera(3.0);
+  const auto below = pixel_of(camera, {-0.5, 0.0, 0.0});  // u = 0.25: texel 0
+  const auto above = pixel_of(camera, {0.5, 0.0, 0.0});   // u = 0.75: texel 1
+
+  auto renderer = render_quad("gbuffer", scene, camera);
+  const kit::Image material = renderer->read_view(kit::View::Material, true);
+  const kit::Image albedo = renderer->read_view(kit::View::Albedo, true);
+  EXPECT_EQ(material.at(below.first, below.second, 3), 0.0f) << "a texel below the cutoff is no surface";
+  EXPECT_EQ(material.at(above.first, above.second, 3), 1.0f) << "a texel above the cutoff is surface";
+  // albedo.a keeps the base colour alpha (RGBA8: one rounding step).
+  EXPECT_NEAR(albedo.at(above.first, above.second, 3), kHighAlpha / 255.0, 1.0 / 255.0);
+
+  // Witness: without the discard, the texel below the cutoff is drawn as surface.
+  const fs::path no_discard = kit::test::variant_root(
+      "gbuffer_mask_no_discard",
+      {{"01-gbuffer/gbuffer.frag", "    kit_alpha_discard(base_color.a);  // MASK: below the cutoff, no surface here\n", ""}});
+  auto naive = render_quad("gbuffer", scene, camera, no_discard);
+  EXPECT_EQ(naive->read_view(kit::View::Material, true).at(below.first, below.second, 3), 1.0f);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+TEST(gbuffer_material_modes, DoubleSidedBackFaceNormalFacesTheViewer) {
+  // The quad faces +z; the camera looks at its back from z = -3.
+  kit::Material m = kit::test::plain_material(0.5f);
+  m.double_sided = true;
+  const kit::FrameCamera camera = quad_camera(-3.0);
+  const auto [x, y] = pixel_of(camera, {0.0, 0.0, 0.0});
+  const glm::dvec3 to_camera(0.0, 0.0, -1.0);  // from the quad's centre towards the eye
+
+  const kit::Scene scene = quad_scene(m);
+  auto renderer = render_quad("gbuffer", scene, camera);
+  const kit::Image normal = renderer->read_view(kit::View::Normal, true);
+  EXPECT_EQ(renderer->read_view(kit::View::Material, true).at(x, y, 3), 1.0f) << "the back face is drawn";
+  const glm::dvec3 n(normal.at(x, y, 0), normal.at(x, y, 1), normal.at(x, y, 2));
+  // The flipped normal is exactly -(0, 0, 1): every component is representable.
+  EXPECT_EQ(n, to_camera) << "back-face normal (" << n.x << ", " << n.y << ", " << n.z << ")";
+
+  // Witness 1: without the flip, the stored normal points away from the camera.
+  const fs::path no_flip = kit::test::variant_root(
+      "gbuffer_double_sided_no_flip",
+      {{"01-gbuffer/gbuffer.frag", "out_normal = vec4(kit_facing_normal(normalize(v_world_normal)), 0.0);",
+        "out_normal = vec4(normalize(v_world_normal), 0.0);"}});
+  auto unflipped = render_quad("gbuffer", scene, camera, no_flip);
+  const kit::Image away = unflipped->read_view(kit::View::Normal, true);
+  EXPECT_LT(glm::dot(glm::dvec3(away.at(x, y, 0), away.at(x, y, 1), away.at(x, y, 2)), to_camera), 0.0);
+
+  // Witness 2: the same material single-sided is culled: nothing is drawn.
+  m.double_sided = false;
+  const kit::Scene single_sided = quad_scene(m);
+  auto culled = render_quad("gbuffer", single_sided, camera);
+  EXPECT_EQ(culled->read_view(kit::View::Material, true).at(x, y, 3), 0.0f);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
 }  // namespace

@@ -194,7 +194,7 @@ TEST(Grader, SolutionsScoreFullMarksThreeRunsOnOsmesa) {
     for (int n = 1; n <= kLabCount; ++n) expect_full_marks(r, n);
     EXPECT_DOUBLE_EQ(r.summary["total"].get<double>(), r.summary["max_total"].get<double>());
     for (const json& t : r.results["tests"]) EXPECT_EQ(t["status"], "passed") << t["name"];
-    EXPECT_NE(r.output.find("lab 2 lighting: 10/10  (5 of 5 checks passed)"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("lab 2 lighting: 10/10  (6 of 6 checks passed)"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("total: 50/50"), std::string::npos) << r.output;
   }
 }

@@ -2,6 +2,7 @@
 // Geometry pass, fragment stage: writes the surface's shading inputs to the
 // G-buffer (layout in gbuffer_layout.h).
 #include "geometry_uniforms.glsl"
+#include "material_modes.glsl"  // kit_alpha_discard, kit_facing_normal
 
 in vec3 v_world_position;
 in vec3 v_world_normal;
@@ -11,10 +12,12 @@ layout(location = KIT_GBUF_POSITION) out vec4 out_position;
 layout(location = KIT_GBUF_NORMAL) out vec4 out_normal;
 layout(location = KIT_GBUF_ALBEDO) out vec4 out_albedo;
 layout(location = KIT_GBUF_MATERIAL) out vec4 out_material;
+layout(location = KIT_GBUF_EMISSION) out vec4 out_emission;
 
 void main() {
     // The sRGB texture format already decoded the texel to linear colour.
     vec4 base_color = u_base_color_factor * texture(u_base_color_texture, v_texcoord);
+    kit_alpha_discard(base_color.a);  // MASK: below the cutoff, no surface here
     vec4 metallic_roughness = texture(u_metallic_roughness_texture, v_texcoord);
     float metallic = u_metallic_factor * metallic_roughness.b;
     float roughness = u_roughness_factor * metallic_roughness.g;
@@ -22,7 +25,8 @@ void main() {
 
     out_position = vec4(v_world_position, 1.0);
     // Interpolation shortens normals between vertices: renormalise per fragment.
-    out_normal = vec4(normalize(v_world_normal), 0.0);
-    out_albedo = vec4(base_color.rgb, 1.0);
-    out_material = vec4(metallic, roughness, max(emissive.r, max(emissive.g, emissive.b)), 1.0);
+    out_normal = vec4(kit_facing_normal(normalize(v_world_normal)), 0.0);
+    out_albedo = base_color;  // .a: the base colour alpha
+    out_material = vec4(metallic, roughness, 0.0, 1.0);  // .b unused, .a = coverage mask
+    out_emission = vec4(emissive, 0.0);
 }

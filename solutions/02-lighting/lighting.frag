@@ -21,10 +21,10 @@ void main() {
     vec3 albedo = texture(u_gbuffer_albedo, v_uv).rgb;
     float metallic = material.r;
     float roughness = material.g;
-    float emission = material.b;
+    vec3 emission = texture(u_gbuffer_emission, v_uv).rgb;
     vec3 v = normalize(u_camera_position - p);
 
-    vec3 radiance = emission * albedo;  // L_e
+    vec3 radiance = emission;  // L_e
     for (int i = 0; i < u_light_count; ++i) {
         Light light = kit_light(i);
         vec3 to_light = light.position - p;

@@ -53,6 +53,15 @@ const std::vector<RenderSpec>& renders() {
       if (s == "default") r.push_back(gbuffer("lab1-" + s + "-albedo", 1, s, View::Albedo));
       r.push_back(gbuffer("lab1-" + s + "-material", 1, s, View::Material));
     }
+    // Emitted radiance as a colour: the default scene's warm emitter, and on the materials
+    // scene a red emitter on a black base colour with an emissive texture. The materials
+    // scene also has a MASK quad (mask), a double-sided quad seen from behind (normal)
+    // and a BLEND strip whose alpha the albedo keeps.
+    r.push_back(gbuffer("lab1-default-emission", 1, "default", View::Emission));
+    r.push_back(gbuffer("lab1-materials-normal", 1, "materials", View::Normal));
+    r.push_back(gbuffer("lab1-materials-albedo", 1, "materials", View::Albedo));
+    r.push_back(gbuffer("lab1-materials-material", 1, "materials", View::Material));
+    r.push_back(gbuffer("lab1-materials-emission", 1, "materials", View::Emission));
     // Lab 2: no falloff and a clamped display yet (framework/shaders/attenuation.glsl, tonemap.glsl),
     // so both the HDR buffer and the display image show the BRDF alone.
     for (const char* scene : {"default", "sphere"}) {
@@ -64,6 +73,9 @@ const std::vector<RenderSpec>& renders() {
     // thousands of pixels here, a handful elsewhere. HDR only: the clamped display
     // image of lab 2 saturates the peak.
     r.push_back(hdr("lab2-highlight-hdr", 2, "highlight"));
+    // L_e is the emission attachment itself: a black base colour still glows, and the
+    // double-sided quad is lit from behind.
+    r.push_back(hdr("lab2-materials-hdr", 2, "materials"));
     // Lab 3: the HDR buffer isolates attenuation.glsl; the display images add tonemap.glsl.
     auto simple = [](RenderSpec& s) { s.attenuation_model = 1; };
     auto gamma1 = [](RenderSpec& s) { s.gamma = 1.0f; };
@@ -114,12 +126,19 @@ const std::vector<Check>& checks() {
       {1, "normalmap-position", "normalmap scene, position", Metric::Position, "lab1-normalmap-position", "lab1-normalmap-position"},
       {1, "normalmap-normal", "normalmap scene, normal", Metric::Normal, "lab1-normalmap-normal", "lab1-normalmap-normal"},
       {1, "normalmap-material", "normalmap scene, material", Metric::Material, "lab1-normalmap-material", "lab1-normalmap-material"},
+      // Emitted radiance is compared like HDR radiance (it is one).
+      {1, "default-emission", "default scene, emission", Metric::Hdr, "lab1-default-emission", "lab1-default-emission"},
+      {1, "materials-normal", "materials scene, normal (double-sided back face)", Metric::Normal, "lab1-materials-normal", "lab1-materials-normal"},
+      {1, "materials-albedo", "materials scene, albedo and alpha", Metric::Albedo, "lab1-materials-albedo", "lab1-materials-albedo"},
+      {1, "materials-material", "materials scene, material (MASK coverage)", Metric::Material, "lab1-materials-material", "lab1-materials-material"},
+      {1, "materials-emission", "materials scene, emission", Metric::Hdr, "lab1-materials-emission", "lab1-materials-emission"},
 
       {2, "default-final", "default scene, final image", Metric::Ldr, "lab2-default-final", "lab2-default-final"},
       {2, "default-hdr", "default scene, HDR", Metric::Hdr, "lab2-default-hdr", "lab2-default-hdr"},
       {2, "sphere-final", "sphere scene, final image", Metric::Ldr, "lab2-sphere-final", "lab2-sphere-final"},
       {2, "sphere-hdr", "sphere scene, HDR", Metric::Hdr, "lab2-sphere-hdr", "lab2-sphere-hdr"},
       {2, "highlight-hdr", "highlight close-up, HDR", Metric::Hdr, "lab2-highlight-hdr", "lab2-highlight-hdr"},
+      {2, "materials-hdr", "materials scene (emitter on black, double-sided), HDR", Metric::Hdr, "lab2-materials-hdr", "lab2-materials-hdr"},
 
       {3, "default-physical-hdr", "default scene, physical falloff, HDR", Metric::Hdr, "lab3-default-physical-hdr", "lab3-default-physical-hdr"},
       {3, "default-simple-hdr", "default scene, simple falloff, HDR", Metric::Hdr, "lab3-default-simple-hdr", "lab3-default-simple-hdr"},

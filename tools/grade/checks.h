@@ -29,7 +29,7 @@ enum class Metric {
   Position,  // G-buffer world position: |a - b| in metres
   Normal,    // G-buffer normal: angle between the vectors in degrees, and unit length
   Albedo,    // G-buffer base colour: |a - b|
-  Material,  // G-buffer metallic, roughness, emission, mask: |a - b|
+  Material,  // G-buffer metallic, roughness, (unused), mask: |a - b|
   Changes,   // must differ from another render of the submission (custom-effect toggle)
 };
 const char* metric_name(Metric metric);  // "ldr", "hdr", ... (the keys in grading.json)

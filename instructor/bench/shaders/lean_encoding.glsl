@@ -1,5 +1,5 @@
 // Encodings of the lean G-buffer (bench_layout.h): unit normals in two unorm
-// channels, a scalar emission strength in one byte.
+// channels, emitted radiance in one byte per channel.
 #include "guards.glsl"
 
 // Octahedral map (Cigolle et al. 2014, "A Survey of Efficient Representations for
@@ -25,16 +25,16 @@ vec3 oct_decode(vec2 stored) {
     return normalize(n);
 }
 
-// Emission strength e >= 0 stored as e / (1 + e) (the same mapping debug_view.frag
-// shows): one byte keeps about 1 % relative precision for e between 0.3 and 3 and
-// never overflows. The decode's denominator is floored at half a code step, so the
-// top code (255) decodes to 510 instead of +Inf.
+// Emitted radiance e >= 0, each channel stored as e / (1 + e) (the same mapping
+// debug_view.frag shows): one byte keeps about 1 % relative precision for e between
+// 0.3 and 3 and never overflows. The decode's denominator is floored at half a code
+// step, so the top code (255) decodes to 510 instead of +Inf.
 const float KIT_LEAN_EMISSION_FLOOR = 0.5 / 255.0;
 
-float emission_encode(float e) {
+vec3 emission_encode(vec3 e) {
     return e / (1.0 + max(e, 0.0));
 }
 
-float emission_decode(float stored) {
+vec3 emission_decode(vec3 stored) {
     return stored / max(1.0 - stored, KIT_LEAN_EMISSION_FLOOR);
 }

@@ -32,7 +32,7 @@ vec3 shade_light(Surface s, vec3 v, Light light) {
 // L_e + the sum over lights [0, count), clamped to what RGBA16F holds: lighting.frag's result.
 vec3 shade_all(Surface s, int count) {
     vec3 v = view_direction(s);
-    vec3 radiance = s.emission * s.albedo;
+    vec3 radiance = s.emission;
     for (int i = 0; i < count; ++i) radiance += shade_light(s, v, kit_light(i));
     return min(radiance, vec3(KIT_HDR_MAX));
 }

@@ -22,7 +22,7 @@ struct Surface {
     vec3 albedo;       // linear base colour
     float metallic;
     float roughness;   // perceptual roughness
-    float emission;    // L_e = emission * albedo
+    vec3 emission;     // emitted radiance L_e
 };
 
 // Coverage and position only (one texel fetch): what a light volume or a tile
@@ -51,10 +51,10 @@ Surface read_surface(ivec2 pixel) {
     s.roughness = material.g;
     if (u_gbuffer_layout == KIT_BENCH_LAYOUT_LEAN) {
         s.normal = oct_decode(texelFetch(u_gbuffer_normal, pixel, 0).rg);
-        s.emission = emission_decode(material.b);
+        s.emission = emission_decode(texelFetch(u_gbuffer_emission, pixel, 0).rgb);
     } else {
         s.normal = normalize(texelFetch(u_gbuffer_normal, pixel, 0).xyz);
-        s.emission = material.b;
+        s.emission = texelFetch(u_gbuffer_emission, pixel, 0).rgb;
     }
     return s;
 }

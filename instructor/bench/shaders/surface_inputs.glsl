@@ -9,6 +9,7 @@
 #include "gbuffer_layout.h"
 
 #include "material_uniforms.glsl"
+#include "material_modes.glsl"
 
 // The varyings of solutions/04-normalmap/gbuffer.vert.
 in vec3 v_world_position;
@@ -20,9 +21,10 @@ in vec2 v_texcoord;
 struct SurfaceInputs {
     vec3 normal;      // unit, world space, normal map applied
     vec3 albedo;
+    float alpha;      // base colour alpha (albedo.a of the labs' G-buffer)
     float metallic;
     float roughness;
-    float emission;   // max component of the emissive colour: L_e = emission * albedo
+    vec3 emission;    // emitted radiance L_e
 };
 
 // Below this squared length a tangent-frame vector is treated as degenerate.
@@ -51,12 +53,14 @@ SurfaceInputs surface_inputs() {
     SurfaceInputs m;
     vec4 base_color = u_base_color_factor * texture(u_base_color_texture, v_texcoord);
     vec4 metallic_roughness = texture(u_metallic_roughness_texture, v_texcoord);
-    vec3 emissive = u_emissive_factor * texture(u_emissive_texture, v_texcoord).rgb;
+    kit_alpha_discard(base_color.a);
     m.albedo = base_color.rgb;
+    m.alpha = base_color.a;
     m.metallic = u_metallic_factor * metallic_roughness.b;
     m.roughness = u_roughness_factor * metallic_roughness.g;
-    m.emission = max(emissive.r, max(emissive.g, emissive.b));
+    m.emission = u_emissive_factor * texture(u_emissive_texture, v_texcoord).rgb;
     m.normal = normalize(v_world_normal);
     if (u_has_normal_texture) m.normal = mapped_normal(m.normal);
+    m.normal = kit_facing_normal(m.normal);
     return m;
 }

@@ -21,7 +21,7 @@ void main() {
         return;
     }
     vec3 v = view_direction(s);
-    vec3 radiance = u_count_lights ? vec3(0.0) : s.emission * s.albedo;
+    vec3 radiance = u_count_lights ? vec3(0.0) : s.emission;
     int base = tile_base(pixel / KIT_TILE_SIZE);
     int count = tile_lights[base];
     for (int k = 1; k <= count; ++k) {
