@@ -482,6 +482,7 @@ class SceneBuilder {
                                     0, 0, 1);
     const glm::mat3 scale_matrix(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
     return translation * rotation_matrix * scale_matrix;
+  }
 
   // glTF's alphaMode string; tinygltf fills in "OPAQUE" when it is absent.
   int alpha_mode(const std::string& mode, const std::string& material_name) {

@@ -620,7 +620,8 @@ TEST(gbuffer_material_modes, MaskCutoffDecidesCoverage) {
   m.base_color_image = 0;
   m.base_color_sampler = 0;
   kit::Scene scene = quad_scene(m);
-  scene.images.push_back({2, 1, {200, 200, 200, kLowAlpha, 200, 200, 200, kHighAlpha}});
+  scene.images.push_back(
+      {"alpha ramp", 2, 1, {}, kit::ImageRgba8{2, 1, {200, 200, 200, kLowAlpha, 200, 200, 200, kHighAlpha}}});
   kit::TextureSampler nearest;
   nearest.min_filter = GL_NEAREST;
   nearest.mag_filter = GL_NEAREST;
