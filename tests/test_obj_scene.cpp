@@ -27,17 +27,6 @@ constexpr double kUnitTolerance = 1e-5;   // a unit vector from float arithmetic
 // The test build requires OBJ support (tests/CMakeLists.txt), so nothing here skips.
 #define REQUIRE_OBJ_SUPPORT() ASSERT_TRUE(kit::obj_scenes_supported()) << "built without libtinyobjloader-dev"
 
-// The kit::Error message loading `path` throws; fails the test when it loads.
-std::string load_error(const fs::path& path) {
-  try {
-    kit::load_scene(path.string());
-  } catch (const kit::Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << path << " loaded, but a kit::Error was expected";
-  return "";
-}
-
 // A square quad in the z = 0 plane facing +Z, corners (+-h, +-h), with UVs and one normal.
 const char* const kQuadObj =
     "mtllib quad.mtl\n"
@@ -214,7 +203,7 @@ TEST(ObjScene, TexturePathOutsideTheFolderIsRefused) {
   kit::write_image((root / "secret.png").string(), kit::Image(1, 1, 3));
   kit::test::write_file(dir / "e.obj", "mtllib e.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl sneaky\nf 1 2 3\n");
   kit::test::write_file(dir / "e.mtl", "newmtl sneaky\nKd 1 1 1\nmap_Kd ../secret.png\n");
-  const std::string message = load_error(dir / "e.obj");
+  const std::string message = kit::test::scene_load_error(dir / "e.obj");
   EXPECT_NE(message.find((dir / "e.obj").string()), std::string::npos) << message;
   EXPECT_NE(message.find("material 'sneaky' (e.mtl:1)"), std::string::npos) << message;
   EXPECT_NE(message.find("map_Kd '../secret.png'"), std::string::npos) << message;
@@ -225,7 +214,7 @@ TEST(ObjScene, MtlOutsideTheFolderIsRefused) {
   REQUIRE_OBJ_SUPPORT();
   fs::path dir = kit::test::temp_dir("obj_scene/mtl_escape") / "scene";
   kit::test::write_file(dir / "e.obj", "mtllib ../elsewhere.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
-  const std::string message = load_error(dir / "e.obj");
+  const std::string message = kit::test::scene_load_error(dir / "e.obj");
   EXPECT_NE(message.find("mtllib '../elsewhere.mtl' lies outside the scene's folder"), std::string::npos) << message;
 }
 
@@ -247,19 +236,19 @@ TEST(ObjScene, BrokenFilesFailWithTheirElement) {
   REQUIRE_OBJ_SUPPORT();
   fs::path dir = kit::test::temp_dir("obj_scene/broken");
   kit::test::write_file(dir / "index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
-  std::string message = load_error(dir / "index.obj");
+  std::string message = kit::test::scene_load_error(dir / "index.obj");
   EXPECT_NE(message.find("face 1"), std::string::npos) << message;
   EXPECT_NE(message.find("position (v) index 9 does not exist"), std::string::npos) << message;
 
   kit::test::write_file(dir / "normal.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//4\n");
-  message = load_error(dir / "normal.obj");
+  message = kit::test::scene_load_error(dir / "normal.obj");
   EXPECT_NE(message.find("normal (vn) index 4 does not exist"), std::string::npos) << message;
 
   kit::test::write_file(dir / "empty.obj", "v 0 0 0\n");
-  message = load_error(dir / "empty.obj");
+  message = kit::test::scene_load_error(dir / "empty.obj");
   EXPECT_NE(message.find("draws no triangles"), std::string::npos) << message;
 
-  message = load_error(dir / "absent.obj");
+  message = kit::test::scene_load_error(dir / "absent.obj");
   EXPECT_NE(message.find("not found"), std::string::npos) << message;
 }
 
@@ -280,24 +269,3 @@ TEST(ObjScene, RendersItsKdIntoTheGBuffer) {
   EXPECT_GT(albedo.at(32, 24, 0) + albedo.at(32, 24, 1) + albedo.at(32, 24, 2), 0.0f);
 }
 
-// kit-render with an OBJ that brings no lights: the default rig lights it and says
-// so; --no-default-lights leaves it dark; --look-at places the camera.
-TEST(ObjScene, KitRenderLightsItWithTheDefaultRig) {
-  REQUIRE_OBJ_SUPPORT();
-  fs::path dir = kit::test::temp_dir("obj_scene/kit_render");
-  kit::test::write_file(dir / "quad.obj", kQuadObj);
-  kit::test::write_file(dir / "quad.mtl", "newmtl paint\nKd 0.8 0.8 0.8\nKs 0.04 0.04 0.04\nNs 20\n");
-  const std::string base = "'" + kit::test::tool("kit-render") + "' --solution --stage attenuation --size 64x48 --scene '" +
-                           (dir / "quad.obj").string() + "' --look-at 0,0,3,0,0,0,30 --out ";
-  std::string output;
-  ASSERT_EQ(kit::test::run(base + "'" + (dir / "lit.png").string() + "'", &output), 0) << output;
-  EXPECT_NE(output.find("kit-render: note: scene has no lights: using the default rig (3 point lights"), std::string::npos)
-      << output;
-  const kit::Image lit = kit::read_image((dir / "lit.png").string());
-  EXPECT_GT(lit.at(32, 24, 0), 0.1f) << "the quad fills the centre and the rig lights it";
-
-  ASSERT_EQ(kit::test::run(base + "'" + (dir / "dark.png").string() + "' --no-default-lights", &output), 0) << output;
-  EXPECT_EQ(output.find("default rig"), std::string::npos) << output;
-  const kit::Image dark = kit::read_image((dir / "dark.png").string());
-  EXPECT_EQ(dark.at(32, 24, 0) + dark.at(32, 24, 1) + dark.at(32, 24, 2), 0.0f);
-}

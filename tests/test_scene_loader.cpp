@@ -43,17 +43,6 @@ constexpr double kMatrixTolerance = 1e-5;
 // A unit vector from float arithmetic (normalize, Gram-Schmidt).
 constexpr double kUnitTolerance = 1e-5;
 
-// The kit::Error message loading `path` throws; fails the test when it loads.
-std::string load_error(const fs::path& path) {
-  try {
-    kit::load_scene(path.string());
-  } catch (const kit::Error& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << path << " loaded, but a kit::Error was expected";
-  return "";
-}
-
 // A generated kit scene copied into a fresh temp folder, to be broken by a test.
 struct SceneCopy {
   fs::path dir, gltf, bin;
@@ -128,7 +117,7 @@ struct SceneCopy {
 };
 
 void expect_error(const fs::path& path, const std::string& phrase) {
-  std::string message = load_error(path);
+  std::string message = kit::test::scene_load_error(path);
   EXPECT_NE(message.find(path.string()), std::string::npos) << "message does not name the file: " << message;
   EXPECT_NE(message.find(phrase), std::string::npos) << "expected \"" << phrase << "\" in: " << message;
 }
@@ -278,7 +267,7 @@ TEST(scene_loader_hostile, BufferThatIsAFifoFailsAtOnce) {
   SceneCopy copy("sphere", "fifo");
   fs::remove(copy.bin);
   ASSERT_EQ(mkfifo(copy.bin.c_str(), 0600), 0);  // opening it for reading would wait for a writer forever
-  std::string message = load_error(copy.gltf);
+  std::string message = kit::test::scene_load_error(copy.gltf);
   EXPECT_NE(message.find("not a regular file"), std::string::npos) << message;
   EXPECT_NE(message.find(copy.gltf.string()), std::string::npos) << message;
 }
@@ -446,6 +435,13 @@ int add_integer_accessor(SceneCopy& copy, const std::vector<T>& values, size_t c
                             {"count", count}, {"type", vec_type(components)}});
 }
 
+// The copy's first primitive's vertices once the file requires KHR_mesh_quantization.
+std::vector<kit::Vertex> first_primitive_with_quantization(SceneCopy& copy) {
+  copy.require_extension("KHR_mesh_quantization");
+  copy.save_json();
+  return kit::load_scene(copy.gltf.string()).primitives.at(0).vertices;
+}
+
 // glTF 2.0's decoding of a normalized integer component c, in double.
 double normalized_value(double c, int component_type) {
   switch (component_type) {
@@ -578,10 +574,7 @@ TEST(scene_loader_accessors, NormalizedIntegersDecodeAsTheSpecSays) {
     expect_error(copy.gltf, "NORMAL: accessor " + std::to_string(attributes["NORMAL"].get<int>()) +
                                 " has an unsupported component type normalized " + (eight_bit ? "BYTE" : "SHORT") +
                                 " (allowed only in a file that uses KHR_mesh_quantization)");
-    copy.require_extension("KHR_mesh_quantization");
-    copy.save_json();
-    const kit::Scene scene = kit::load_scene(copy.gltf.string());
-    const std::vector<kit::Vertex>& vertices = scene.primitives.at(0).vertices;
+    const std::vector<kit::Vertex> vertices = first_primitive_with_quantization(copy);
     ASSERT_EQ(vertices.size(), count);
     for (size_t v = 0; v < count; ++v) {
       for (size_t c = 0; c < 3; ++c) {
@@ -612,10 +605,7 @@ TEST(scene_loader_accessors, QuantizedPositionsNeedKhrMeshQuantization) {
   copy.save_json();
   expect_error(copy.gltf, "POSITION: accessor " + std::to_string(attributes["POSITION"].get<int>()) +
                               " has an unsupported component type SHORT (allowed only in a file that uses KHR_mesh_quantization)");
-  copy.require_extension("KHR_mesh_quantization");
-  copy.save_json();
-  const kit::Scene scene = kit::load_scene(copy.gltf.string());
-  const std::vector<kit::Vertex>& vertices = scene.primitives.at(0).vertices;
+  const std::vector<kit::Vertex> vertices = first_primitive_with_quantization(copy);
   ASSERT_EQ(vertices.size(), count);
   for (size_t v = 0; v < count; ++v) {
     for (int c = 0; c < 3; ++c)

@@ -5,7 +5,19 @@
 #include <cstdio>
 #include <map>
 
+#include "error.h"
+
 namespace kit::test {
+
+std::string scene_load_error(const std::filesystem::path& path) {
+  try {
+    load_scene(path.string());
+  } catch (const Error& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << path << " loaded, but a kit::Error was expected";
+  return "";
+}
 
 GlContext& context() {
   static std::unique_ptr<GlContext> ctx = create_headless_context(Backend::OSMesa);

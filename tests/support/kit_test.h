@@ -19,6 +19,9 @@ GlContext& context();
 // A kit scene by name ("default", "sphere", ...) or a path, loaded once per process.
 const Scene& scene(const std::string& name_or_path);
 
+// The kit::Error message loading the scene file `path` throws; fails the test when it loads.
+std::string scene_load_error(const std::filesystem::path& path);
+
 // Builds a Renderer for `stage` (name or number) with lab files from `lab_root`
 // (solutions/ by default) and renders one frame from the scene's camera.
 std::unique_ptr<Renderer> render_stage(const std::string& stage, const std::string& scene_name,

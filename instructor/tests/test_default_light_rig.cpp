@@ -1,13 +1,16 @@
 // The default light rig (renderer.h): a scene without lights is lit at lit stages
 // when RenderSettings ask for it, and the rig scales with the scene, so a unit
-// box made 1 cm or 100 m wide renders the same centre pixel.
+// box made 1 cm or 100 m wide renders the same centre pixel. These render the
+// solutions of labs 2 and 3, so they are instructors' tests.
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <filesystem>
 #include <string>
 
 #include "kit_test.h"
+#include "kit_test_files.h"
 #include "stages.h"
 #include "tiny_scenes.h"
 
@@ -48,6 +51,29 @@ glm::vec4 centre_pixel(const kit::Scene& scene, const std::string& stage_name, b
   const kit::Image image = renderer.read_view(kit::View::Final, false);
   return {image.at(kWidth / 2, kHeight / 2, 0), image.at(kWidth / 2, kHeight / 2, 1), image.at(kWidth / 2, kHeight / 2, 2),
           image.at(kWidth / 2, kHeight / 2, 3)};
+}
+
+// kit-render with an OBJ that brings no lights: the default rig lights it and says
+// so; --no-default-lights leaves it dark; --look-at places the camera.
+TEST(DefaultLightRig, KitRenderLightsAnObjWithoutLights) {
+  const std::filesystem::path dir = kit::test::temp_dir("default_light_rig/kit_render");
+  // Two triangles facing +Z, without normals (flat ones are made) or a texture.
+  kit::test::write_file(dir / "square.obj", "mtllib square.mtl\nusemtl grey\n"
+                                           "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\nf 1 2 3\nf 1 3 4\n");
+  kit::test::write_file(dir / "square.mtl", "newmtl grey\nKd 0.8 0.8 0.8\nKs 0.04 0.04 0.04\nNs 20\n");
+  const std::string base = "'" + kit::test::tool("kit-render") + "' --solution --stage attenuation --size 64x48 --scene '" +
+                           (dir / "square.obj").string() + "' --look-at 0,0,3,0,0,0,45 --out ";
+  std::string output;
+  ASSERT_EQ(kit::test::run(base + "'" + (dir / "lit.png").string() + "'", &output), 0) << output;
+  EXPECT_NE(output.find("kit-render: note: scene has no lights: using the default rig (3 point lights"), std::string::npos)
+      << output;
+  const kit::Image lit = kit::read_image((dir / "lit.png").string());
+  EXPECT_GT(lit.at(32, 24, 0), 0.1f) << "the square fills the centre and the rig lights it";
+
+  ASSERT_EQ(kit::test::run(base + "'" + (dir / "dark.png").string() + "' --no-default-lights", &output), 0) << output;
+  EXPECT_EQ(output.find("default rig"), std::string::npos) << output;
+  const kit::Image dark = kit::read_image((dir / "dark.png").string());
+  EXPECT_EQ(dark.at(32, 24, 0) + dark.at(32, 24, 1) + dark.at(32, 24, 2), 0.0f);
 }
 
 }  // namespace
