@@ -378,27 +378,23 @@ class SceneBuilder {
     return int(model_.meshes.size()) - 1;
   }
 
-  // write() puts the PNG next to the .gltf; the model references it by uri only.
-  int add_texture(const std::string& file_name, const Image8& image) {
+  // Lists an image; write() puts the PNG next to the .gltf, which references it by uri
+  // only. Called alone, it adds an image no texture uses (a loader should not decode it).
+  int add_image(const std::string& file_name, const Image8& image) {
     tinygltf::Image img;
     img.name = fs::path(file_name).stem().string();
     img.uri = file_name;
     model_.images.push_back(img);
     images_.emplace_back(file_name, image);
-    tinygltf::Texture tex;
-    tex.sampler = 0;
-    tex.source = int(model_.images.size()) - 1;
-    model_.textures.push_back(tex);
-    return int(model_.textures.size()) - 1;
+    return int(model_.images.size()) - 1;
   }
 
-  // An image the file lists but no texture uses (a loader should not decode it).
-  void add_unused_image(const std::string& file_name, const Image8& image) {
-    tinygltf::Image img;
-    img.name = fs::path(file_name).stem().string();
-    img.uri = file_name;
-    model_.images.push_back(img);
-    images_.emplace_back(file_name, image);
+  int add_texture(const std::string& file_name, const Image8& image) {
+    tinygltf::Texture tex;
+    tex.sampler = 0;
+    tex.source = add_image(file_name, image);
+    model_.textures.push_back(tex);
+    return int(model_.textures.size()) - 1;
   }
 
   int add_material(const MaterialDesc& desc) {
@@ -854,7 +850,7 @@ SceneBuilder build_heavy_scene() {
     b.add_node(mesh_node(mat.name, at, b.add_mesh(mat.name, sphere, b.add_material(mat))));
   }
   for (int i = 0; i < kHeavyUnusedImages; ++i)
-    b.add_unused_image("unused_" + std::to_string(i) + ".png", make_heavy_texture(100 + i));
+    b.add_image("unused_" + std::to_string(i) + ".png", make_heavy_texture(100 + i));
   b.add_point_light("light", {0, 0, 4}, kWhite, 60.0);
   b.add_camera({0, 0, 7}, {0, 0, 0}, 0.8);
   return b;
