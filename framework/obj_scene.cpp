@@ -196,12 +196,8 @@ class ObjSceneBuilder {
     for (size_t i = 0; i < materials_.size(); ++i) scene_.materials.push_back(material(i));
     for (size_t s = 0; s < shapes_.size(); ++s) add_shape(s);
     if (scene_.primitives.empty()) throw Error(path_ + ": the scene draws no triangles (no faces with 3 or more corners)");
-    for (size_t p = 0; p < scene_.primitives.size(); ++p) {
-      const Primitive& prim = scene_.primitives[p];
-      scene_.draws.push_back({static_cast<int>(p), glm::mat4(1.0f)});
-      scene_.bounds_min = p == 0 ? prim.bounds_min : glm::min(scene_.bounds_min, prim.bounds_min);
-      scene_.bounds_max = p == 0 ? prim.bounds_max : glm::max(scene_.bounds_max, prim.bounds_max);
-    }
+    for (size_t p = 0; p < scene_.primitives.size(); ++p) scene_.draws.push_back({static_cast<int>(p), glm::mat4(1.0f)});
+    set_bounds_from_draws(scene_);
     return std::move(scene_);
   }
 
@@ -376,10 +372,7 @@ class ObjSceneBuilder {
       }
       generate_tangents(prim.vertices, prim.indices);
       prim.tangents_generated = true;
-      for (size_t i = 0; i < prim.vertices.size(); ++i) {
-        prim.bounds_min = i == 0 ? prim.vertices[i].position : glm::min(prim.bounds_min, prim.vertices[i].position);
-        prim.bounds_max = i == 0 ? prim.vertices[i].position : glm::max(prim.bounds_max, prim.vertices[i].position);
-      }
+      set_bounds_from_vertices(prim);
       scene_.primitives.push_back(std::move(prim));
     }
   }

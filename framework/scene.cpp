@@ -364,18 +364,7 @@ class SceneBuilder {
     for (int root : model_.scenes[static_cast<size_t>(scene_index)].nodes) visit(root, glm::mat4(1.0f), 0);
     if (scene_.draws.empty()) throw Error(path_ + ": the scene draws no triangles");
     if (!scene_.cameras.empty()) scene_.camera = scene_.cameras.front();
-    bool first = true;
-    for (const DrawItem& d : scene_.draws) {
-      const Primitive& p = scene_.primitives[static_cast<size_t>(d.primitive)];
-      for (int corner = 0; corner < 8; ++corner) {
-        glm::vec3 c((corner & 1) ? p.bounds_max.x : p.bounds_min.x, (corner & 2) ? p.bounds_max.y : p.bounds_min.y,
-                    (corner & 4) ? p.bounds_max.z : p.bounds_min.z);
-        glm::vec3 w = glm::vec3(d.world * glm::vec4(c, 1.0f));
-        scene_.bounds_min = first ? w : glm::min(scene_.bounds_min, w);
-        scene_.bounds_max = first ? w : glm::max(scene_.bounds_max, w);
-        first = false;
-      }
-    }
+    set_bounds_from_draws(scene_);
     return std::move(scene_);
   }
 
@@ -551,8 +540,6 @@ class SceneBuilder {
         throw Error(path_ + ": " + what + ": NORMAL " + std::to_string(i) + " is not finite (NaN or Inf)");
       v.texcoord = uv.empty() ? glm::vec2(0.0f) : glm::vec2(uv[2 * i], uv[2 * i + 1]);
       v.tangent = tan.empty() ? glm::vec4(0.0f) : glm::vec4(tan[4 * i], tan[4 * i + 1], tan[4 * i + 2], tan[4 * i + 3]);
-      out.bounds_min = i == 0 ? v.position : glm::min(out.bounds_min, v.position);
-      out.bounds_max = i == 0 ? v.position : glm::max(out.bounds_max, v.position);
     }
     if (p.indices >= 0) {
       out.indices = reader_.indices(p.indices, what + " indices");
@@ -566,6 +553,7 @@ class SceneBuilder {
                     " is out of range (" + std::to_string(n) + " vertices)");
     if (mode != TINYGLTF_MODE_TRIANGLES) out.indices = triangle_list(out.indices, mode);
     if (out.indices.size() % 3 != 0) throw Error(path_ + ": " + what + ": index count is not a multiple of 3");
+    set_bounds_from_vertices(out);
     if (flat) use_flat_normals(out);
     if (tan.empty() && !uv.empty()) {
       generate_tangents(out.vertices, out.indices);
@@ -991,6 +979,29 @@ void use_flat_normals(Primitive& prim) {
   prim.vertices = std::move(vertices);
   prim.indices.resize(prim.vertices.size());
   for (size_t i = 0; i < prim.indices.size(); ++i) prim.indices[i] = static_cast<uint32_t>(i);
+}
+
+void set_bounds_from_vertices(Primitive& primitive) {
+  for (size_t i = 0; i < primitive.vertices.size(); ++i) {
+    const glm::vec3& p = primitive.vertices[i].position;
+    primitive.bounds_min = i == 0 ? p : glm::min(primitive.bounds_min, p);
+    primitive.bounds_max = i == 0 ? p : glm::max(primitive.bounds_max, p);
+  }
+}
+
+void set_bounds_from_draws(Scene& scene) {
+  bool first = true;
+  for (const DrawItem& d : scene.draws) {
+    const Primitive& p = scene.primitives[static_cast<size_t>(d.primitive)];
+    for (int corner = 0; corner < 8; ++corner) {
+      glm::vec3 c((corner & 1) ? p.bounds_max.x : p.bounds_min.x, (corner & 2) ? p.bounds_max.y : p.bounds_min.y,
+                  (corner & 4) ? p.bounds_max.z : p.bounds_min.z);
+      glm::vec3 w = glm::vec3(d.world * glm::vec4(c, 1.0f));
+      scene.bounds_min = first ? w : glm::min(scene.bounds_min, w);
+      scene.bounds_max = first ? w : glm::max(scene.bounds_max, w);
+      first = false;
+    }
+  }
 }
 
 Camera framing_camera(const Scene& scene) {

@@ -143,6 +143,12 @@ void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t
 // carrying its plane's normal. Call before generate_tangents.
 void use_flat_normals(Primitive& primitive);
 
+// Primitive::bounds_min/max from its vertices' positions (every loader's primitives).
+void set_bounds_from_vertices(Primitive& primitive);
+// Scene::bounds_min/max over every draw: the 8 corners of its primitive's bounds,
+// transformed by the draw's world matrix.
+void set_bounds_from_draws(Scene& scene);
+
 // A camera that frames the scene's bounds, for scenes without a camera.
 Camera framing_camera(const Scene& scene);
 
