@@ -378,6 +378,13 @@ class SceneBuilder {
     return int(model_.meshes.size()) - 1;
   }
 
+  // A mesh of one primitive, named `name`, and a node of the same name drawing it at
+  // `translation` under `parent` (a root of the scene when parent < 0).
+  int add_mesh_node(const std::string& name, glm::dvec3 translation, const Geometry& g, int material,
+                    int parent = -1) {
+    return add_node({name, translation, kNoRotation, kUnitScale, add_mesh(name, g, material)}, parent);
+  }
+
   // Lists an image; write() puts the PNG next to the .gltf, which references it by uri
   // only. Called alone, it adds an image no texture uses (a loader should not decode it).
   int add_image(const std::string& file_name, const Image8& image) {
@@ -565,11 +572,6 @@ MaterialDesc normal_mapped_grey(int normal_texture) {
   return m;
 }
 
-// Shorthand for a node that only carries a mesh.
-NodeDesc mesh_node(const std::string& name, glm::dvec3 translation, int mesh) {
-  return {name, translation, kNoRotation, kUnitScale, mesh};
-}
-
 // ---------------------------------------------------------------------------
 // Scenes
 
@@ -583,7 +585,7 @@ SceneBuilder build_default_scene(const Textures& tex) {
   floor_mat.roughness = 0.8;
   floor_mat.base_color_texture = b.add_texture("checker.png", tex.checker);
   const Geometry floor = b.add_geometry(make_quad(x, -z, {10, 10}, {5, 5}, false));
-  b.add_node(mesh_node("floor", {0, 0, 0}, b.add_mesh("floor", floor, b.add_material(floor_mat))));
+  b.add_mesh_node("floor", {0, 0, 0}, floor, b.add_material(floor_mat));
 
   // Back wall: 8 x 4 m at z = -4, one brick texture tile per 2 m.
   const int brick_normal = b.add_texture("brick_normal.png", tex.brick_normal);
@@ -594,8 +596,7 @@ SceneBuilder build_default_scene(const Textures& tex) {
   wall_mat.normal_texture = brick_normal;
   wall_mat.normal_scale = 1.0;
   const Geometry wall = b.add_geometry(make_quad(x, y, {8, 4}, {4, 2}, false));
-  b.add_node(
-      mesh_node("back_wall", {0, 2, -4}, b.add_mesh("back_wall", wall, b.add_material(wall_mat))));
+  b.add_mesh_node("back_wall", {0, 2, -4}, wall, b.add_material(wall_mat));
 
   // Material spheres: parent -> row -> sphere, so the loader has to compose transforms.
   const Geometry sphere = b.add_geometry(make_sphere(0.35f, 32, 16, {2, 1}, true));
@@ -612,28 +613,24 @@ SceneBuilder build_default_scene(const Textures& tex) {
     dielectric.metallic = 0.0;
     dielectric.roughness = roughness[i];
     const std::string d_name = "sphere_dielectric" + suffix;
-    b.add_node(mesh_node(d_name, offset, b.add_mesh(d_name, sphere, b.add_material(dielectric))),
-               row_dielectric);
+    b.add_mesh_node(d_name, offset, sphere, b.add_material(dielectric), row_dielectric);
     MaterialDesc metal;
     metal.name = "gold" + suffix;
     metal.base_color = glm::dvec4(1.0, 0.766, 0.336, 1.0);
     metal.metallic = 1.0;
     metal.roughness = roughness[i];
     const std::string m_name = "sphere_gold" + suffix;
-    b.add_node(mesh_node(m_name, offset, b.add_mesh(m_name, sphere, b.add_material(metal))),
-               row_metal);
+    b.add_mesh_node(m_name, offset, sphere, b.add_material(metal), row_metal);
   }
 
   // Left panel facing +x, image mirrored left-right: its tangent is +z with w = -1.
   const int grey = b.add_material(normal_mapped_grey(brick_normal));
   const Geometry panel = b.add_geometry(make_quad(-z, y, {1.5, 1.5}, {1, 1}, true));
-  b.add_node(
-      mesh_node("mirrored_panel", {-3.5, 1.0, -1.5}, b.add_mesh("mirrored_panel", panel, grey)));
+  b.add_mesh_node("mirrored_panel", {-3.5, 1.0, -1.5}, panel, grey);
 
   // Normal-mapped sphere without TANGENT: the loader must generate them.
   const Geometry bare = b.add_geometry(make_sphere(0.5f, 32, 16, {2, 1}, false));
-  b.add_node(mesh_node("sphere_no_tangents", {3.2, 0.5, -1.0},
-                       b.add_mesh("sphere_no_tangents", bare, grey)));
+  b.add_mesh_node("sphere_no_tangents", {3.2, 0.5, -1.0}, bare, grey);
 
   MaterialDesc glow;
   glow.name = "emissive";
@@ -641,8 +638,7 @@ SceneBuilder build_default_scene(const Textures& tex) {
   glow.emissive = glm::dvec3(1.0, 0.75, 0.5);
   glow.emissive_strength = 4.0;
   const Geometry small = b.add_geometry(make_sphere(0.1f, 16, 8, {2, 1}, true));
-  b.add_node(mesh_node("emissive_sphere", {1.2, 0.1, 0.6},
-                       b.add_mesh("emissive_sphere", small, b.add_material(glow))));
+  b.add_mesh_node("emissive_sphere", {1.2, 0.1, 0.6}, small, b.add_material(glow));
 
   // No glTF range: the seeds' lights fall off by inverse square alone (kit-bench's
   // small lights carry one, bench_renderer.h).
@@ -663,7 +659,7 @@ SceneBuilder build_sphere_scene() {
   mat.metallic = 0.0;
   mat.roughness = 0.4;
   const Geometry sphere = b.add_geometry(make_sphere(1.0f, 64, 32, {2, 1}, true));
-  b.add_node(mesh_node("sphere", {0, 0, 0}, b.add_mesh("sphere", sphere, b.add_material(mat))));
+  b.add_mesh_node("sphere", {0, 0, 0}, sphere, b.add_material(mat));
   b.add_point_light("light", {2, 2, 3}, kWhite, 50.0);
   b.add_camera({0, 0, 4}, {0, 0, 0}, 0.7);
   return b;
@@ -678,7 +674,7 @@ SceneBuilder build_grazing_scene() {
   mat.roughness = 0.3;
   const Geometry plane =
       b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {20, 20}, {10, 10}, false));
-  b.add_node(mesh_node("plane", {0, 0, 0}, b.add_mesh("plane", plane, b.add_material(mat))));
+  b.add_mesh_node("plane", {0, 0, 0}, plane, b.add_material(mat));
   b.add_point_light("light", {0, 0.02, -2}, kWhite, 30.0);
   b.add_camera({0, 0.05, 6}, {0, 0, -10}, 0.8);
   return b;
@@ -697,7 +693,7 @@ SceneBuilder build_spot_scene() {
   mat.roughness = 0.7;
   const Geometry floor =
       b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {12, 12}, {1, 1}, false));
-  b.add_node(mesh_node("floor", {0, 0, 0}, b.add_mesh("floor", floor, b.add_material(mat))));
+  b.add_mesh_node("floor", {0, 0, 0}, floor, b.add_material(mat));
   // Aimed almost straight down (tilted 5.7 degrees: a look-at along -Y has no up).
   b.add_spot_light("spot", {0.0, 3.0, 0.3}, {0.0, 0.0, 0.0}, kWhite, 30.0, glm::radians(10.0),
                    glm::radians(45.0));
@@ -717,7 +713,7 @@ SceneBuilder build_highlight_scene() {
   mat.metallic = 0.0;
   mat.roughness = 0.2;
   const Geometry sphere = b.add_geometry(make_sphere(1.0f, 128, 64, {2, 1}, true));
-  b.add_node(mesh_node("sphere", {0, 0, 0}, b.add_mesh("sphere", sphere, b.add_material(mat))));
+  b.add_mesh_node("sphere", {0, 0, 0}, sphere, b.add_material(mat));
   const glm::dvec3 light(2.0, 2.0, 4.0), eye(0.0, 0.0, 3.5);
   b.add_point_light("light", light, kWhite, 1.5);  // lab 2 has no falloff: a peak of about 3
   // Aimed at the mirror point: where the normal halves the directions to the light and the eye.
@@ -734,14 +730,12 @@ SceneBuilder build_normal_map_scene(const Textures& tex) {
 
   // The quads span y in [-0.8, 1.2], so the sphere below (top at y = -0.8) stays clear.
   const Geometry quad = b.add_geometry(make_quad(x, y, {2, 2}, {1, 1}, false));
-  b.add_node(mesh_node("quad", {-1.1, 0.2, 0}, b.add_mesh("quad", quad, grey)));
+  b.add_mesh_node("quad", {-1.1, 0.2, 0}, quad, grey);
   const Geometry mirrored = b.add_geometry(make_quad(x, y, {2, 2}, {1, 1}, true));
-  b.add_node(
-      mesh_node("quad_mirrored", {1.1, 0.2, 0}, b.add_mesh("quad_mirrored", mirrored, grey)));
+  b.add_mesh_node("quad_mirrored", {1.1, 0.2, 0}, mirrored, grey);
 
   const Geometry sphere = b.add_geometry(make_sphere(0.6f, 32, 16, {2, 1}, false));
-  b.add_node(mesh_node("sphere_no_tangents", {0, -1.4, 0},
-                       b.add_mesh("sphere_no_tangents", sphere, grey)));
+  b.add_mesh_node("sphere_no_tangents", {0, -1.4, 0}, sphere, grey);
 
   // A non-uniform scale only changes normals that are not aligned with its axes, so the
   // child tilts its quad 30 degrees upwards. Correct normal matrix (inverse transpose):
@@ -779,7 +773,7 @@ SceneBuilder build_materials_scene(const Textures& tex) {
   glow.emissive_strength = 3.0;
   glow.emissive_texture = b.add_texture("checker.png", tex.checker);
   const Geometry sphere = b.add_geometry(make_sphere(0.6f, 24, 12, {2, 1}, true));
-  b.add_node(mesh_node("emissive_sphere", {-1.6, 0.5, 0.0}, b.add_mesh("emissive_sphere", sphere, b.add_material(glow))));
+  b.add_mesh_node("emissive_sphere", {-1.6, 0.5, 0.0}, sphere, b.add_material(glow));
 
   MaterialDesc masked;
   masked.name = "masked_ramp";
@@ -789,7 +783,7 @@ SceneBuilder build_materials_scene(const Textures& tex) {
   masked.alpha_mode = "MASK";
   masked.alpha_cutoff = 0.3;
   const Geometry quad = b.add_geometry(make_quad(x, y, {1.4f, 1.4f}, {1, 1}, false));
-  b.add_node(mesh_node("masked_quad", {0.0, 0.5, 0.0}, b.add_mesh("masked_quad", quad, b.add_material(masked))));
+  b.add_mesh_node("masked_quad", {0.0, 0.5, 0.0}, quad, b.add_material(masked));
 
   MaterialDesc two_sided;
   two_sided.name = "double_sided_yellow";
@@ -808,7 +802,7 @@ SceneBuilder build_materials_scene(const Textures& tex) {
   blend.roughness = 0.7;
   blend.alpha_mode = "BLEND";
   const Geometry strip = b.add_geometry(make_quad(x, y, {4.0f, 0.4f}, {1, 1}, false));
-  b.add_node(mesh_node("blend_strip", {0.0, -0.6, 0.0}, b.add_mesh("blend_strip", strip, b.add_material(blend))));
+  b.add_mesh_node("blend_strip", {0.0, -0.6, 0.0}, strip, b.add_material(blend));
 
   b.add_point_light("light", {0.5, 2.0, 4.0}, kWhite, 3.0);  // lab 2 has no falloff
   b.add_camera({0.0, 0.6, 5.0}, {0.0, 0.3, 0.0}, 0.75);
@@ -847,7 +841,7 @@ SceneBuilder build_heavy_scene() {
     mat.roughness = 0.5;
     mat.base_color_texture = b.add_texture(mat.name + ".png", make_heavy_texture(i));
     const glm::dvec3 at(i % kHeavySpheresPerSide - 1.5, i / kHeavySpheresPerSide - 1.5, 0.0);
-    b.add_node(mesh_node(mat.name, at, b.add_mesh(mat.name, sphere, b.add_material(mat))));
+    b.add_mesh_node(mat.name, at, sphere, b.add_material(mat));
   }
   for (int i = 0; i < kHeavyUnusedImages; ++i)
     b.add_image("unused_" + std::to_string(i) + ".png", make_heavy_texture(100 + i));
