@@ -47,7 +47,8 @@ void GBuffer::resize(int width, int height) {
   allocate();
 }
 
-void begin_geometry_pass_on(const Framebuffer& fbo, int width, int height, int color_count, const glm::vec4& clear) {
+void begin_geometry_pass_on(const Framebuffer& fbo, int width, int height, int color_count, const glm::vec4& clear,
+                            bool clear_depth) {
   fbo.bind();
   glViewport(0, 0, width, height);
   glDisable(GL_BLEND);
@@ -58,7 +59,7 @@ void begin_geometry_pass_on(const Framebuffer& fbo, int width, int height, int c
   glCullFace(GL_BACK);
   for (int i = 0; i < color_count; ++i) glClearBufferfv(GL_COLOR, i, &clear[0]);
   const float far_depth = 1.0f;
-  glClearBufferfv(GL_DEPTH, 0, &far_depth);
+  if (clear_depth) glClearBufferfv(GL_DEPTH, 0, &far_depth);
 }
 
 void GBuffer::begin_geometry_pass() const { begin_geometry_pass_on(fbo_, width_, height_, KIT_GBUF_COUNT); }

@@ -179,44 +179,54 @@ Texture2D light_texture(const std::vector<Light>& lights) {
   return Texture2D(KIT_LIGHT_TEXELS, std::max(light_count, 1), {GL_RGBA32F, GL_RGBA, GL_FLOAT}, texels.data());
 }
 
-void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
-                const glm::mat4& view_projection, bool frustum_culling) {
-  const Frustum frustum = frustum_from(view_projection);
-  for (const DrawItem& d : scene.draws) {
-    const Primitive& prim = scene.primitives[static_cast<size_t>(d.primitive)];
-    // A draw wholly outside the view adds no fragment: skipping it saves its vertex work.
-    if (frustum_culling && !intersects(frustum, prim.bounds_min, prim.bounds_max, d.world)) continue;
-    static const Material kDefaultMaterial{};
-    const Material& m = prim.material >= 0 ? scene.materials[static_cast<size_t>(prim.material)] : kDefaultMaterial;
-    geometry.set("u_model", d.world);
-    geometry.set("u_normal_matrix", glm::inverseTranspose(glm::mat3(d.world)));
-    geometry.set("u_base_color_factor", m.base_color_factor);
-    geometry.set("u_metallic_factor", m.metallic_factor);
-    geometry.set("u_roughness_factor", m.roughness_factor);
-    geometry.set("u_emissive_factor", m.emissive);
-    geometry.set("u_normal_scale", m.normal_scale);
-    geometry.set("u_has_normal_texture", m.normal_image >= 0);
-    geometry.set("u_alpha_mode", m.alpha_mode);
-    geometry.set("u_alpha_cutoff", m.alpha_cutoff);
-    geometry.set("u_double_sided", m.double_sided);
-    gpu.texture(m.base_color_image, true).bind(KIT_UNIT_BASE_COLOR);
-    gpu.texture(m.metallic_roughness_image, false).bind(KIT_UNIT_METALLIC_ROUGHNESS);
-    (m.normal_image >= 0 ? gpu.texture(m.normal_image, false) : gpu.flat_normal()).bind(KIT_UNIT_NORMAL_MAP);
-    gpu.texture(m.emissive_image, true).bind(KIT_UNIT_EMISSIVE);
-    gpu.sampler(m.base_color_sampler).bind(KIT_UNIT_BASE_COLOR);
-    gpu.sampler(m.metallic_roughness_sampler).bind(KIT_UNIT_METALLIC_ROUGHNESS);
-    gpu.sampler(m.normal_sampler).bind(KIT_UNIT_NORMAL_MAP);
-    gpu.sampler(m.emissive_sampler).bind(KIT_UNIT_EMISSIVE);
-    glFrontFace(d.mirrored() ? GL_CW : GL_CCW);
-    // A double-sided material shows its back faces too (material_modes.glsl flips their normal).
-    if (m.double_sided) glDisable(GL_CULL_FACE); else glEnable(GL_CULL_FACE);
-    gpu.mesh(d.primitive).draw();
-  }
+void draw_item(const Program& geometry, const Scene& scene, const SceneGpu& gpu, const DrawItem& d) {
+  static const Material kDefaultMaterial{};
+  const Primitive& prim = scene.primitives[static_cast<size_t>(d.primitive)];
+  const Material& m = prim.material >= 0 ? scene.materials[static_cast<size_t>(prim.material)] : kDefaultMaterial;
+  geometry.set("u_model", d.world);
+  geometry.set("u_normal_matrix", glm::inverseTranspose(glm::mat3(d.world)));
+  geometry.set("u_base_color_factor", m.base_color_factor);
+  geometry.set("u_metallic_factor", m.metallic_factor);
+  geometry.set("u_roughness_factor", m.roughness_factor);
+  geometry.set("u_emissive_factor", m.emissive);
+  geometry.set("u_normal_scale", m.normal_scale);
+  geometry.set("u_has_normal_texture", m.normal_image >= 0);
+  geometry.set("u_alpha_mode", m.alpha_mode);
+  geometry.set("u_alpha_cutoff", m.alpha_cutoff);
+  geometry.set("u_double_sided", m.double_sided);
+  gpu.texture(m.base_color_image, true).bind(KIT_UNIT_BASE_COLOR);
+  gpu.texture(m.metallic_roughness_image, false).bind(KIT_UNIT_METALLIC_ROUGHNESS);
+  (m.normal_image >= 0 ? gpu.texture(m.normal_image, false) : gpu.flat_normal()).bind(KIT_UNIT_NORMAL_MAP);
+  gpu.texture(m.emissive_image, true).bind(KIT_UNIT_EMISSIVE);
+  gpu.sampler(m.base_color_sampler).bind(KIT_UNIT_BASE_COLOR);
+  gpu.sampler(m.metallic_roughness_sampler).bind(KIT_UNIT_METALLIC_ROUGHNESS);
+  gpu.sampler(m.normal_sampler).bind(KIT_UNIT_NORMAL_MAP);
+  gpu.sampler(m.emissive_sampler).bind(KIT_UNIT_EMISSIVE);
+  glFrontFace(d.mirrored() ? GL_CW : GL_CCW);
+  // A double-sided material shows its back faces too (material_modes.glsl flips their normal).
+  if (m.double_sided) glDisable(GL_CULL_FACE); else glEnable(GL_CULL_FACE);
+  gpu.mesh(d.primitive).draw();
+}
+
+void end_scene_draws() {
   glFrontFace(GL_CCW);  // GL's default, which every other pass expects
   glEnable(GL_CULL_FACE);  // as begin_geometry_pass_on left it
   // Units other passes may reuse sample with their textures' own settings again.
   for (int unit : {KIT_UNIT_BASE_COLOR, KIT_UNIT_METALLIC_ROUGHNESS, KIT_UNIT_NORMAL_MAP, KIT_UNIT_EMISSIVE})
     Sampler::unbind(unit);
+}
+
+void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
+                const glm::mat4& view_projection, bool frustum_culling, DrawSet set) {
+  const Frustum frustum = frustum_from(view_projection);
+  for (const DrawItem& d : scene.draws) {
+    if (set == DrawSet::AllButBlend && is_blend_draw(scene, d)) continue;  // the forward pass draws it
+    const Primitive& prim = scene.primitives[static_cast<size_t>(d.primitive)];
+    // A draw wholly outside the view adds no fragment: skipping it saves its vertex work.
+    if (frustum_culling && !intersects(frustum, prim.bounds_min, prim.bounds_max, d.world)) continue;
+    draw_item(geometry, scene, gpu, d);
+  }
+  end_scene_draws();
 }
 
 namespace {
@@ -259,7 +269,10 @@ void Renderer::build_programs() {
     p->custom = make_program(library_, "fullscreen.vert", "custom_effect.frag");
   }
   p->debug = make_program(library_, "fullscreen.vert", "debug_view.frag");
+  std::unique_ptr<ForwardPass> forward;
+  if (stage_.lighting) forward = std::make_unique<ForwardPass>(library_, settings_.width, settings_.height);
   programs_ = std::move(p);  // replaced only once everything compiled and linked
+  forward_ = std::move(forward);
   used_.clear();
 }
 
@@ -301,13 +314,14 @@ void Renderer::resize(int width, int height) {
   settings_.width = width;
   settings_.height = height;
   gbuffer_.resize(width, height);
+  if (forward_) forward_->resize(width, height);
   allocate_targets();
 }
 
 void Renderer::upload_lights() {
-  std::vector<Light> lights = frame_lights(scene_, stage_, settings_);
-  light_count_ = static_cast<int>(lights.size());
-  lights_ = light_texture(lights);
+  frame_lights_ = frame_lights(scene_, stage_, settings_);
+  light_count_ = static_cast<int>(frame_lights_.size());
+  lights_ = light_texture(frame_lights_);
   lights_extra_ = settings_.extra_lights;
   lights_default_rig_ = settings_.default_light_rig;
   lights_attenuation_model_ = settings_.attenuation_model;
@@ -379,11 +393,16 @@ void Renderer::render_passes(const FrameCamera& camera) {
                  (program != &p.blur || settings_.blur_passes > 0);
     if (drawn) used_.push_back(program);
   }
+  if (forward_ && has_blend_draws(scene_)) used_.push_back(&forward_->blend_program());
+  if (forward_ && settings_.light_markers) used_.push_back(&forward_->marker_program());
 
-  // 1. Geometry pass: every draw item into the G-buffer.
+  // 1. Geometry pass: every draw item into the G-buffer; from stage 2, BLEND
+  //    materials are left to the forward pass (stage 1 has no lighting to blend).
+  const glm::mat4 view_projection = camera_.projection * camera_.view;
   gbuffer_.begin_geometry_pass();
   set_frame_uniforms(p.geometry);
-  draw_scene(p.geometry, scene_, scene_gpu_, camera_.projection * camera_.view, settings_.frustum_culling);
+  draw_scene(p.geometry, scene_, scene_gpu_, view_projection, settings_.frustum_culling,
+             stage_.lighting ? DrawSet::AllButBlend : DrawSet::All);
   check_gl("geometry pass");
   if (!stage_.lighting) return;
 
@@ -393,6 +412,20 @@ void Renderer::render_passes(const FrameCamera& camera) {
   set_frame_uniforms(p.lighting);
   fullscreen_pass(p.lighting, hdr_fbo_, settings_.width, settings_.height);
   check_gl("lighting pass");
+
+  // 2'. Forward pass (forward_pass.h): BLEND draws back to front over the HDR
+  //     target, lit by the same lighting pass; then the light markers.
+  if (has_blend_draws(scene_)) {
+    forward_->draw_blend_layers(p.geometry, p.lighting, scene_, scene_gpu_, gbuffer_, hdr_fbo_, camera_.view,
+                                view_projection, triangle_);
+    gbuffer_.bind_textures();  // the opaque G-buffer again, for the passes after
+    check_gl("forward pass (BLEND materials)");
+  }
+  if (settings_.light_markers) {
+    set_frame_uniforms(forward_->marker_program());
+    forward_->draw_light_markers(frame_lights_, scene_, gbuffer_, hdr_);
+    check_gl("forward pass (light markers)");
+  }
   hdr_.bind(KIT_UNIT_HDR);
 
   if (!stage_.postprocess) {

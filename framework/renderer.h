@@ -7,6 +7,7 @@
 #include <memory>
 #include <optional>
 
+#include "forward_pass.h"
 #include "gbuffer.h"
 #include "image_io.h"
 #include "scene.h"
@@ -30,6 +31,9 @@ struct RenderSettings {
   // (cli.h; --no-default-lights turns it off); the grader and the tests render
   // scenes as they are.
   bool default_light_rig = false;
+  // A small sphere of the light's colour at each point and spot light, drawn
+  // forward after the lighting pass (forward_pass.h); the viewer's option, off headless.
+  bool light_markers = false;
 };
 
 enum class View { Final, Position, Normal, Albedo, Material, Emission, Depth, Hdr };
@@ -82,6 +86,11 @@ std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const Re
 // KIT_LIGHT_TEXELS texels per light, light i in row i (one row when empty).
 Texture2D light_texture(const std::vector<Light>& lights);
 
+// Which draws a geometry pass draws: every one (stage 1, which has no forward
+// pass, and kit-bench), or all but glTF BLEND materials, which the forward pass
+// draws after lighting (forward_pass.h).
+enum class DrawSet { All, AllButBlend };
+
 // The geometry pass's draw loop: per draw item the model/normal matrices and
 // material uniforms of geometry_uniforms.glsl, the material textures with their
 // glTF samplers, then the mesh, wound clockwise where the draw is mirrored
@@ -91,7 +100,10 @@ Texture2D light_texture(const std::vector<Light>& lights);
 // frame uniforms set. With `frustum_culling`, draws wholly outside
 // `view_projection` are skipped.
 void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
-                const glm::mat4& view_projection, bool frustum_culling);
+                const glm::mat4& view_projection, bool frustum_culling, DrawSet set = DrawSet::All);
+// One draw item as draw_scene draws it; end_scene_draws() restores GL's state after the last.
+void draw_item(const Program& geometry, const Scene& scene, const SceneGpu& gpu, const DrawItem& draw);
+void end_scene_draws();
 
 // Stage 5's separable blur: `passes` full-screen passes of blur.frag (in use,
 // frame uniforms set) ping-ponging between targets[0] (holding the bright pass)
@@ -168,6 +180,9 @@ class Renderer {
   GBuffer gbuffer_;
   FullscreenTriangle triangle_;
   std::unique_ptr<Programs> programs_;
+  // The forward pass (BLEND draws, light markers): stages with a lighting pass only.
+  std::unique_ptr<ForwardPass> forward_;
+  std::vector<Light> frame_lights_;  // as uploaded, for the light markers
   Texture2D lights_;
   int light_count_ = 0;
   // The settings the uploaded lights were made for: a change re-uploads them.

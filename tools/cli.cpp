@@ -32,6 +32,8 @@ const char* common_options_help() {
          "  --lights N            add N small point lights (default 0)\n"
          "  --no-default-lights   leave a scene without lights unlit (default: lit stages light it with\n"
          "                        the default rig: key, fill and rim point lights scaled to its bounds)\n"
+         "  --light-markers       a small sphere of each point and spot light's colour where the light is\n"
+         "                        (lit stages; drawn forward, hidden by what is in front; kit-view's M key)\n"
          "  --look-at EX,EY,EZ,TX,TY,TZ[,FOV]\n"
          "                        camera at EYE looking at TARGET, +Y up, vertical FOV in degrees\n"
          "                        (default: the scene's camera, else one framing its bounds; kit-view's\n"
@@ -118,6 +120,7 @@ void parse_options(int argc, char** argv, CommonOptions& o,
     else if (flag == "--blur-passes") s.blur_passes = static_cast<int>(parse_float(value(), flag));
     else if (flag == "--lights") s.extra_lights = static_cast<int>(parse_float(value(), flag));
     else if (flag == "--no-default-lights") s.default_light_rig = false;
+    else if (flag == "--light-markers") s.light_markers = true;
     else if (flag == "--look-at") o.look_at = parse_look_at(value(), flag);
     else {
       int used = extra ? extra(flag, next_value) : 0;

@@ -91,7 +91,7 @@ void usage() {
       "Keys: 1-8 view (final, position, normal, albedo, material, emission, depth, hdr),\n"
       "      P postprocess, C custom effect,\n"
       "      G gamma 2.2/1.0/0.5/2.5, A attenuation model (orbit mode), F fly/orbit, F12 or K screenshot,\n"
-      "      R reload shaders, L print the camera as --look-at (stdout), Esc quit.\n"
+      "      M light markers, R reload shaders, L print the camera as --look-at (stdout), Esc quit.\n"
       "Mouse: orbit: left drag rotates, wheel zooms, right/middle drag pans;\n"
       "       fly: WASD move, Q/E down/up, Shift faster, right drag looks around.\n"
       "A frame (or a shader build) that takes longer than --timeout ends the viewer with a message on stderr:\n"
@@ -369,6 +369,9 @@ class Viewer {
       case GLFW_KEY_A:  // in fly mode A strafes left; the panel still switches the model
         if (!rig_.flying() && applies(kFirstDisplayStage, "the attenuation model (A)"))
           settings_.attenuation_model = 1 - settings_.attenuation_model;
+        break;
+      case GLFW_KEY_M:
+        if (applies(kFirstLitStage, "light markers (M)")) settings_.light_markers = !settings_.light_markers;
         break;
       case GLFW_KEY_F: rig_.toggle_fly(); break;
       case GLFW_KEY_F12:
@@ -779,7 +782,10 @@ class Viewer {
       ImGui::SameLine();
       ImGui::RadioButton("simple", &settings_.attenuation_model, 1);
     }
-    if (stage >= kFirstLitStage) ImGui::SliderInt("extra lights", &settings_.extra_lights, 0, kMaxViewerLights);
+    if (stage >= kFirstLitStage) {
+      ImGui::SliderInt("extra lights", &settings_.extra_lights, 0, kMaxViewerLights);
+      ImGui::Checkbox("light markers (M)", &settings_.light_markers);
+    }
     ImGui::TextWrapped("camera (F): %s", rig_.flying() ? "fly: WASD, Q/E down/up, right drag looks"
                                                          : "orbit: left drag turns, wheel zooms, right drag pans");
     if (ImGui::Button("reload shaders (R)")) reload_now();

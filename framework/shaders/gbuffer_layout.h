@@ -20,9 +20,10 @@
 // colour never glowed.)
 //
 // Albedo alpha: the base colour alpha (factor * texel). The lighting pass ignores
-// it; it is there for a later forward pass of BLEND materials, which the geometry
-// pass draws like OPAQUE ones for now. MASK fragments below their cutoff are
-// discarded in the geometry pass and leave the attachments as cleared (mask 0).
+// it; the forward pass (framework/forward_pass.h) blends BLEND materials by it: from
+// stage 2 they are drawn into a layer G-buffer of their own, after lighting, not
+// into this one. MASK fragments below their cutoff are discarded in the geometry
+// pass and leave the attachments as cleared (mask 0).
 #ifndef KIT_GBUFFER_LAYOUT_H
 #define KIT_GBUFFER_LAYOUT_H
 

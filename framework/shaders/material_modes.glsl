@@ -8,8 +8,8 @@
 // KIT_ALPHA_MASK: a fragment whose base colour alpha (factor * texel) is below
 // u_alpha_cutoff is not part of the surface. Discarding it leaves the G-buffer as
 // cleared there (coverage mask 0) and writes no depth, so what lies behind shows.
-// OPAQUE ignores alpha; BLEND is drawn like OPAQUE in the G-buffer for now (its
-// alpha is kept in albedo.a for a later forward pass).
+// OPAQUE ignores alpha; BLEND is drawn like OPAQUE here, into the forward pass's
+// layer G-buffer (framework/forward_pass.h), which blends it by albedo.a.
 void kit_alpha_discard(float base_color_alpha) {
     if (u_alpha_mode == KIT_ALPHA_MASK && base_color_alpha < u_alpha_cutoff) discard;
 }

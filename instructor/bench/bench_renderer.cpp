@@ -8,6 +8,7 @@
 
 #include "bench_layout.h"
 #include "error.h"
+#include "forward_pass.h"
 #include "gbuffer_layout.h"
 #include "mesh_optimize.h"
 #include "stages.h"
@@ -100,46 +101,6 @@ std::vector<Method> make_methods() {
   geometry.optimized_geometry = true;
   out.push_back(geometry);
   return out;
-}
-
-// Unit-sphere-enclosing polyhedron: a subdivided icosahedron with its vertices on
-// the unit sphere, scaled so that its nearest face plane is at distance 1; the
-// scaled mesh then contains the sphere (a mesh on the sphere would cut into it
-// between its vertices and miss pixels at the volume's rim).
-Mesh enclosing_sphere_mesh(int subdivisions) {
-  const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
-  std::vector<glm::vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                              {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  std::vector<glm::uvec3> f = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
-                               {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
-                               {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
-  for (glm::vec3& p : v) p = glm::normalize(p);
-  for (int s = 0; s < subdivisions; ++s) {
-    std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoints;
-    auto midpoint = [&](uint32_t a, uint32_t b) {
-      auto key = std::minmax(a, b);
-      auto it = midpoints.find(key);
-      if (it != midpoints.end()) return it->second;
-      v.push_back(glm::normalize(v[a] + v[b]));
-      return midpoints[key] = static_cast<uint32_t>(v.size() - 1);
-    };
-    std::vector<glm::uvec3> finer;
-    for (const glm::uvec3& tri : f) {
-      uint32_t ab = midpoint(tri.x, tri.y), bc = midpoint(tri.y, tri.z), ca = midpoint(tri.z, tri.x);
-      finer.insert(finer.end(), {{tri.x, ab, ca}, {tri.y, bc, ab}, {tri.z, ca, bc}, {ab, bc, ca}});
-    }
-    f = std::move(finer);
-  }
-  float nearest_plane = 1.0f;
-  for (const glm::uvec3& tri : f) {
-    glm::vec3 n = glm::normalize(glm::cross(v[tri.y] - v[tri.x], v[tri.z] - v[tri.x]));
-    nearest_plane = std::min(nearest_plane, std::fabs(glm::dot(n, v[tri.x])));
-  }
-  std::vector<Vertex> vertices;
-  for (const glm::vec3& p : v) vertices.push_back({p / nearest_plane, p, glm::vec2(0.0f), glm::vec4(1, 0, 0, 1)});
-  std::vector<uint32_t> indices;
-  for (const glm::uvec3& tri : f) indices.insert(indices.end(), {tri.x, tri.y, tri.z});  // CCW seen from outside
-  return Mesh(vertices, indices);
 }
 
 // A render target. `filter` is how later passes sample it: GL_LINEAR where they
