@@ -3,6 +3,7 @@
 #include <cctype>
 
 #include "error.h"
+#include "gbuffer_layout.h"
 
 #if KIT_HAS_OBJ
 #include <tiny_obj_loader.h>
@@ -256,6 +257,9 @@ class ObjSceneBuilder {
     m.roughness_factor = definition.has_roughness ? std::clamp(static_cast<float>(src.roughness), 0.0f, 1.0f) : phong_roughness;
     const glm::vec3 base = definition.has_metallic ? diffuse : glm::mix(diffuse, specular, phong_metallic);
     m.base_color_factor = glm::vec4(base, std::clamp(static_cast<float>(src.dissolve), 0.0f, 1.0f));
+    // d < 1 (Tr > 0) is a see-through material: glTF's BLEND, which the forward pass
+    // lays over what is behind it (forward_pass.h). d 1 stays OPAQUE.
+    if (m.base_color_factor.a < 1.0f) m.alpha_mode = KIT_ALPHA_BLEND;
     m.emissive = glm::max(to_vec3(src.emission), glm::vec3(0.0f));
 
     m.base_color_image = texture(index, "map_Kd", src.diffuse_texname);

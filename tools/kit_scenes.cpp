@@ -760,7 +760,8 @@ SceneBuilder build_normal_map_scene(const Textures& tex) {
 //    its left 30 % is no surface at all;
 //  * a double-sided quad turned away from the camera: drawn only without back-face
 //    culling, and lit only with its normal flipped towards the viewer;
-//  * a BLEND strip with base colour alpha 0.5, drawn like OPAQUE (albedo.a keeps the 0.5).
+//  * a BLEND strip with base colour alpha 0.5 across the lower edge of the three: in
+//    stage 1's G-buffer with albedo.a 0.5, from stage 2 laid over them by the forward pass.
 SceneBuilder build_materials_scene(const Textures& tex) {
   SceneBuilder b("materials");
   const glm::vec3 x(1, 0, 0), y(0, 1, 0);
@@ -802,7 +803,8 @@ SceneBuilder build_materials_scene(const Textures& tex) {
   blend.roughness = 0.7;
   blend.alpha_mode = "BLEND";
   const Geometry strip = b.add_geometry(make_quad(x, y, {4.0f, 0.4f}, {1, 1}, false));
-  b.add_mesh_node("blend_strip", {0.0, -0.6, 0.0}, strip, b.add_material(blend));
+  // In front of the lower edge of the sphere and both quads, so the forward pass blends it over them.
+  b.add_mesh_node("blend_strip", {0.0, -0.05, 0.3}, strip, b.add_material(blend));
 
   b.add_point_light("light", {0.5, 2.0, 4.0}, kWhite, 3.0);  // lab 2 has no falloff
   b.add_camera({0.0, 0.6, 5.0}, {0.0, 0.3, 0.0}, 0.75);
