@@ -40,6 +40,8 @@ constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t(1) << 30;  // a .gl
 constexpr int kMaxJsonDepth = 64;       // glTF itself nests 7 deep; tinygltf's JSON parser recurses per level
 constexpr int kMaxNodeDepth = 256;      // the node hierarchy is walked recursively
 constexpr int kMaxTexcoordSet = 7;      // TEXCOORD_0 to TEXCOORD_7: more than any exporter writes
+// Where a Draco primitive's index accessor waits while tinygltf parses (move_draco_indices).
+constexpr const char* kDracoIndicesKey = "kit_indices";
 
 // ---- images: tinygltf hands us the bytes; only the header is read here ----
 // SceneGpu decodes the images materials use, once each (texture_decode.h).
@@ -585,7 +587,7 @@ class SceneBuilder {
     }
     if (draco) {
       const std::vector<uint32_t> corners = draco->mesh.triangle_indices();
-      out.indices = p.indices >= 0 ? reader_.indices(p.indices, what + " indices", &corners) : corners;
+      out.indices = draco->indices >= 0 ? reader_.indices(draco->indices, what + " indices", &corners) : corners;
     } else if (p.indices >= 0) {
       out.indices = reader_.indices(p.indices, what + " indices");
     } else {
@@ -618,6 +620,7 @@ class SceneBuilder {
   struct DracoPrimitive {
     DracoMesh mesh;
     std::map<std::string, uint32_t> unique_ids;
+    int indices = -1;  // the primitive's index accessor (see move_draco_indices), -1 when it has none
   };
   std::optional<DracoPrimitive> draco_primitive(const tinygltf::Primitive& p, int mode, const std::string& what) const {
     auto ext = p.extensions.find("KHR_draco_mesh_compression");
@@ -633,11 +636,14 @@ class SceneBuilder {
     for (const std::string& attribute : attributes.Keys())
       unique_ids[attribute] = static_cast<uint32_t>(index_in(attributes.Get(attribute), std::numeric_limits<int>::max(),
                                                              name + " attribute " + attribute + ": unique id"));
+    const int indices = ext->second.Has(kDracoIndicesKey)
+                            ? index_in(ext->second.Get(kDracoIndicesKey), model_.accessors.size(), name + " indices accessor")
+                            : p.indices;
     const size_t length = model_.bufferViews[view_index].byteLength;
     if (length == 0) throw Error(path_ + ": " + name + ": bufferView " + std::to_string(view_index) + " is empty");
     size_t stride = 0;
     const unsigned char* bytes = reader_.view_bytes(static_cast<int>(view_index), 0, 1, length, false, name, "", &stride);
-    return DracoPrimitive{DracoMesh(bytes, length, path_ + ": " + name), std::move(unique_ids)};
+    return DracoPrimitive{DracoMesh(bytes, length, path_ + ": " + name), std::move(unique_ids), indices};
   }
 
   // A strip's or a fan's triangles as a list, each wound as glTF says (a strip's
@@ -890,6 +896,50 @@ void check_uris(const unsigned char* json_text, size_t size, const std::string& 
   }
 }
 
+// Debian's tinygltf (2.7) refuses a primitive whose index accessor has no
+// bufferView, and a Draco primitive's has none: its indices are in the Draco mesh.
+// So before tinygltf sees the JSON, each Draco primitive's "indices" moves into its
+// KHR_draco_mesh_compression object under kDracoIndicesKey, where the builder takes
+// it back (draco_primitive). Returns the JSON to parse, or nothing when no
+// primitive needs it (the text is then parsed as it is).
+std::optional<std::string> move_draco_indices(const unsigned char* json_text, size_t size) {
+  static const std::string kName = "KHR_draco_mesh_compression";
+  if (std::search(json_text, json_text + size, kName.begin(), kName.end()) == json_text + size) return std::nullopt;
+  nlohmann::json doc = nlohmann::json::parse(json_text, json_text + size, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return std::nullopt;
+  bool moved = false;
+  for (nlohmann::json& mesh : doc["meshes"]) {
+    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+    for (nlohmann::json& prim : mesh["primitives"]) {
+      if (!prim.is_object() || !prim.contains("indices") || !prim.contains("extensions") ||
+          !prim["extensions"].is_object() || !prim["extensions"].contains(kName) || !prim["extensions"][kName].is_object())
+        continue;
+      prim["extensions"][kName][kDracoIndicesKey] = prim["indices"];
+      prim.erase("indices");
+      moved = true;
+    }
+  }
+  if (!moved) return std::nullopt;
+  return doc.dump();
+}
+
+// A .glb's bytes with its JSON chunk replaced by `json` (padded with spaces to 4
+// bytes, as the format asks); the chunks after it are kept as they are.
+std::vector<unsigned char> glb_with_json(const std::vector<unsigned char>& glb, size_t old_json_length, std::string json,
+                                         const std::string& path) {
+  json.resize((json.size() + 3) / 4 * 4, ' ');
+  const size_t rest = glb.size() - kGlbJsonOffset - old_json_length;  // glb_json_chunk checked the old length
+  if (json.size() > std::numeric_limits<uint32_t>::max() - kGlbJsonOffset - rest)
+    throw Error(path + ": invalid glTF: the JSON chunk grows past 4 GiB when its Draco primitives' indices move");
+  std::vector<unsigned char> out(glb.begin(), glb.begin() + kGlbJsonOffset);
+  const uint32_t total = static_cast<uint32_t>(kGlbJsonOffset + json.size() + rest), json_length = static_cast<uint32_t>(json.size());
+  std::memcpy(out.data() + 8, &total, 4);
+  std::memcpy(out.data() + 12, &json_length, 4);
+  out.insert(out.end(), json.begin(), json.end());
+  out.insert(out.end(), glb.begin() + static_cast<std::ptrdiff_t>(kGlbJsonOffset + old_json_length), glb.end());
+  return out;
+}
+
 // tinygltf reads buffers and images through these: confined to the scene's folder,
 // regular files only, never blocking, size-limited (safe_file.h).
 struct SceneFolder {
@@ -955,6 +1005,12 @@ Scene load_scene_unguarded(const std::string& path) {
   }
   check_json_depth(json_text, json_size, path);
   check_uris(json_text, json_size, path);
+  if (draco_supported()) {
+    if (std::optional<std::string> json = move_draco_indices(json_text, json_size)) {
+      if (binary) bytes = glb_with_json(bytes, json_size, std::move(*json), path);
+      else bytes.assign(json->begin(), json->end());
+    }
+  }
 
   SceneFolder folder{std::filesystem::absolute(path).parent_path()};
   tinygltf::Model model;
