@@ -585,11 +585,12 @@ class SceneBuilder {
       v.texcoord = uv.empty() ? glm::vec2(0.0f) : glm::vec2(uv[2 * i], uv[2 * i + 1]);
       v.tangent = tan.empty() ? glm::vec4(0.0f) : glm::vec4(tan[4 * i], tan[4 * i + 1], tan[4 * i + 2], tan[4 * i + 3]);
     }
+    const int indices = index_accessor(p, what);
     if (draco) {
       const std::vector<uint32_t> corners = draco->mesh.triangle_indices();
-      out.indices = draco->indices >= 0 ? reader_.indices(draco->indices, what + " indices", &corners) : corners;
-    } else if (p.indices >= 0) {
-      out.indices = reader_.indices(p.indices, what + " indices");
+      out.indices = indices >= 0 ? reader_.indices(indices, what + " indices", &corners) : corners;
+    } else if (indices >= 0) {
+      out.indices = reader_.indices(indices, what + " indices");
     } else {
       out.indices.resize(n);
       for (size_t i = 0; i < n; ++i) out.indices[i] = static_cast<uint32_t>(i);
@@ -620,7 +621,6 @@ class SceneBuilder {
   struct DracoPrimitive {
     DracoMesh mesh;
     std::map<std::string, uint32_t> unique_ids;
-    int indices = -1;  // the primitive's index accessor (see move_draco_indices), -1 when it has none
   };
   std::optional<DracoPrimitive> draco_primitive(const tinygltf::Primitive& p, int mode, const std::string& what) const {
     auto ext = p.extensions.find("KHR_draco_mesh_compression");
@@ -636,14 +636,19 @@ class SceneBuilder {
     for (const std::string& attribute : attributes.Keys())
       unique_ids[attribute] = static_cast<uint32_t>(index_in(attributes.Get(attribute), std::numeric_limits<int>::max(),
                                                              name + " attribute " + attribute + ": unique id"));
-    const int indices = ext->second.Has(kDracoIndicesKey)
-                            ? index_in(ext->second.Get(kDracoIndicesKey), model_.accessors.size(), name + " indices accessor")
-                            : p.indices;
     const size_t length = model_.bufferViews[view_index].byteLength;
     if (length == 0) throw Error(path_ + ": " + name + ": bufferView " + std::to_string(view_index) + " is empty");
     size_t stride = 0;
     const unsigned char* bytes = reader_.view_bytes(static_cast<int>(view_index), 0, 1, length, false, name, "", &stride);
-    return DracoPrimitive{DracoMesh(bytes, length, path_ + ": " + name), std::move(unique_ids), indices};
+    return DracoPrimitive{DracoMesh(bytes, length, path_ + ": " + name), std::move(unique_ids)};
+  }
+
+  // The primitive's index accessor, -1 when it has none. A Draco primitive's waits
+  // in its extension object while tinygltf parses (move_draco_indices).
+  int index_accessor(const tinygltf::Primitive& p, const std::string& what) const {
+    auto ext = p.extensions.find("KHR_draco_mesh_compression");
+    if (ext == p.extensions.end() || !ext->second.Has(kDracoIndicesKey)) return p.indices;
+    return index_in(ext->second.Get(kDracoIndicesKey), model_.accessors.size(), what + " indices accessor");
   }
 
   // A strip's or a fan's triangles as a list, each wound as glTF says (a strip's
@@ -900,8 +905,8 @@ void check_uris(const unsigned char* json_text, size_t size, const std::string& 
 // bufferView, and a Draco primitive's has none: its indices are in the Draco mesh.
 // So before tinygltf sees the JSON, each Draco primitive's "indices" moves into its
 // KHR_draco_mesh_compression object under kDracoIndicesKey, where the builder takes
-// it back (draco_primitive). Returns the JSON to parse, or nothing when no
-// primitive needs it (the text is then parsed as it is).
+// it back (SceneBuilder::index_accessor). Returns the JSON to parse, or nothing when
+// no primitive needs it (the text is then parsed as it is).
 std::optional<std::string> move_draco_indices(const unsigned char* json_text, size_t size) {
   static const std::string kName = "KHR_draco_mesh_compression";
   if (std::search(json_text, json_text + size, kName.begin(), kName.end()) == json_text + size) return std::nullopt;
@@ -1005,11 +1010,10 @@ Scene load_scene_unguarded(const std::string& path) {
   }
   check_json_depth(json_text, json_size, path);
   check_uris(json_text, json_size, path);
-  if (draco_supported()) {
-    if (std::optional<std::string> json = move_draco_indices(json_text, json_size)) {
-      if (binary) bytes = glb_with_json(bytes, json_size, std::move(*json), path);
-      else bytes.assign(json->begin(), json->end());
-    }
+  // With or without Draco support: without it, a file requiring Draco is then refused by name.
+  if (std::optional<std::string> json = move_draco_indices(json_text, json_size)) {
+    if (binary) bytes = glb_with_json(bytes, json_size, std::move(*json), path);
+    else bytes.assign(json->begin(), json->end());
   }
 
   SceneFolder folder{std::filesystem::absolute(path).parent_path()};
