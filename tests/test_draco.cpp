@@ -146,6 +146,34 @@ TEST(draco, GlbCopyLoadsAsTheGltfCopy) {
   expect_identical_primitives(kit::load_scene(copy.gltf.string()), kit::load_scene(glb.string()));
 }
 
+TEST(draco, DracoDataIsReadBeforeTheFallbackAccessors) {
+  // A file that only uses Draco keeps uncompressed accessors for decoders without it.
+  // Here their POSITION data is NaN: read, it would be refused.
+  DracoCopy copy("fallback", 0);
+  const json original = json::parse(kit::test::read_file(kit::resolve_scene(kScene)));
+  for (size_t i = 0; i < original["accessors"].size(); ++i)
+    for (const char* key : {"bufferView", "byteOffset"})
+      if (original["accessors"][i].contains(key)) copy.doc["accessors"][i][key] = original["accessors"][i][key];
+  copy.doc.erase("extensionsRequired");
+  const json& position = original["accessors"][copy.first_primitive()["attributes"]["POSITION"].get<size_t>()];
+  const json& view = original["bufferViews"][position["bufferView"].get<size_t>()];
+  std::string bin = kit::test::read_file(copy.bin);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (size_t i = 0; i < position["count"].get<size_t>() * 3; ++i)
+    std::memcpy(&bin[view.value("byteOffset", size_t{0}) + position.value("byteOffset", size_t{0}) + 4 * i], &nan, 4);
+  kit::test::write_file(copy.bin, bin);
+
+  json without_draco = copy.doc;
+  for (json& mesh : without_draco["meshes"])
+    for (json& prim : mesh["primitives"]) prim.erase("extensions");
+  const fs::path fallback_only = copy.gltf.parent_path() / "fallback_only.gltf";
+  kit::test::write_file(fallback_only, without_draco.dump(2));
+  expect_error(fallback_only, "POSITION 0 is not finite");  // witness: the fallback data is bad
+
+  copy.save_json();
+  expect_identical_primitives(kit::load_scene(kit::resolve_scene(kScene)), kit::load_scene(copy.gltf.string()));
+}
+
 TEST(draco, QuantizedPositionsLieWithinHalfAQuantizationStep) {
   constexpr int kBits = 12;
   const DracoCopy copy("quantized", kBits);
