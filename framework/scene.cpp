@@ -11,6 +11,8 @@
 #include <cstring>
 #include <filesystem>
 #include <functional>
+#include <limits>
+#include <map>
 #include <mutex>
 #include <new>
 #include <optional>
@@ -22,6 +24,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 
+#include "draco_mesh.h"
 #include "error.h"
 #include "gbuffer_layout.h"
 #include "obj_scene.h"
@@ -37,6 +40,8 @@ constexpr std::uintmax_t kMaxSceneFileBytes = std::uintmax_t(1) << 30;  // a .gl
 constexpr int kMaxJsonDepth = 64;       // glTF itself nests 7 deep; tinygltf's JSON parser recurses per level
 constexpr int kMaxNodeDepth = 256;      // the node hierarchy is walked recursively
 constexpr int kMaxTexcoordSet = 7;      // TEXCOORD_0 to TEXCOORD_7: more than any exporter writes
+// Where a Draco primitive's index accessor waits while tinygltf parses (move_draco_indices).
+constexpr const char* kDracoIndicesKey = "kit_indices";
 
 // ---- images: tinygltf hands us the bytes; only the header is read here ----
 // SceneGpu decodes the images materials use, once each (texture_decode.h).
@@ -158,8 +163,10 @@ struct AccessorReader {
   [[noreturn]] void fail(const std::string& what) const { throw Error(path + ": " + what); }
 
   // Reads `components` values per element as floats, decoded from any component
-  // type `formats` allows.
-  std::vector<float> floats(int index, int type, int components, AttributeFormats formats, const std::string& what) const {
+  // type `formats` allows. With `decoded` (KHR_draco_mesh_compression), the values are
+  // Draco's, which must agree with the accessor's count, type and component type.
+  std::vector<float> floats(int index, int type, int components, AttributeFormats formats, const std::string& what,
+                            const DracoAttribute* decoded = nullptr) const {
     const tinygltf::Accessor& acc = accessor(index, what);
     const std::string name = what + ": accessor " + std::to_string(index);
     if (acc.type != type) fail(name + " has the wrong type (expected " + std::to_string(components) + " components)");
@@ -167,22 +174,31 @@ struct AccessorReader {
     if (!(format & (quantized ? formats.quantized : formats.core)))
       fail(name + " has an unsupported component type " + component_type_name(acc) +
            (format & formats.quantized ? " (allowed only in a file that uses KHR_mesh_quantization)" : ""));
+    if (decoded) check_agrees_with_draco(acc, components, *decoded, name);
     const size_t component_size = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(acc.componentType));
     return elements<float>(acc, component_size * static_cast<size_t>(components), static_cast<size_t>(components), name,
-                           [&](const unsigned char* element, float* out) {
+                           decoded ? decoded->bytes.data() : nullptr, [&](const unsigned char* element, float* out) {
                              for (int c = 0; c < components; ++c)
                                out[c] = decode_component(element + static_cast<size_t>(c) * component_size,
                                                          acc.componentType, acc.normalized);
                            });
   }
 
-  std::vector<uint32_t> indices(int index, const std::string& what) const {
+  // With `decoded` (a Draco mesh's triangle corners), those are the indices, and
+  // the accessor's count must agree with them.
+  std::vector<uint32_t> indices(int index, const std::string& what, const std::vector<uint32_t>* decoded = nullptr) const {
     const tinygltf::Accessor& acc = accessor(index, what);
     const std::string name = what + ": index accessor " + std::to_string(index);
     if (acc.type != TINYGLTF_TYPE_SCALAR) fail(name + " is not SCALAR");
     const size_t size = index_size(acc.componentType);
     if (size == 0) fail(name + " has an unsupported component type " + component_type_name(acc));
-    return elements<uint32_t>(acc, size, 1, name, [&](const unsigned char* element, uint32_t* out) {
+    if (decoded) {
+      if (acc.count != decoded->size())
+        fail(name + " has count " + std::to_string(acc.count) + ", but the Draco mesh decoded " +
+             std::to_string(decoded->size() / 3) + " triangles (" + std::to_string(decoded->size()) + " indices)");
+      return *decoded;
+    }
+    return elements<uint32_t>(acc, size, 1, name, nullptr, [&](const unsigned char* element, uint32_t* out) {
       *out = read_unsigned(element, size);
     });
   }
@@ -193,17 +209,36 @@ struct AccessorReader {
     return model.accessors[static_cast<size_t>(index)];
   }
 
+  // The accessor of a KHR_draco_mesh_compression attribute describes what Draco
+  // decoded; where they disagree, the file is wrong about one of them.
+  void check_agrees_with_draco(const tinygltf::Accessor& acc, int components, const DracoAttribute& decoded,
+                               const std::string& name) const {
+    if (acc.count != decoded.count)
+      fail(name + " has count " + std::to_string(acc.count) + ", but the Draco mesh decoded " +
+           std::to_string(decoded.count) + " points");
+    if (decoded.components != components)
+      fail(name + " has " + std::to_string(components) + " components, but Draco decoded " +
+           std::to_string(decoded.components));
+    if (decoded.component_type != acc.componentType) {
+      tinygltf::Accessor draco_type;
+      draco_type.componentType = decoded.component_type;
+      fail(name + " has component type " + component_type_name(acc) + ", but Draco decoded " +
+           component_type_name(draco_type));
+    }
+  }
+
   // An accessor's elements, each decoded by `decode` (its bytes -> `components`
-  // values): read from its bufferView, or zeros when it has none, then replaced
+  // values): read from `decoded` (tightly packed: a Draco attribute, its count
+  // checked) or else from its bufferView, or zeros when it has none, then replaced
   // where its sparse part says (glTF 2.0 "Sparse Accessors").
   template <typename T, typename Decode>
   std::vector<T> elements(const tinygltf::Accessor& acc, size_t element_size, size_t components, const std::string& name,
-                          const Decode& decode) const {
-    size_t stride = 0;
-    const unsigned char* base = nullptr;
-    if (acc.bufferView >= 0)
+                          const unsigned char* decoded, const Decode& decode) const {
+    size_t stride = element_size;
+    const unsigned char* base = decoded;  // its count is the accessor's (check_agrees_with_draco)
+    if (!decoded && acc.bufferView >= 0)
       base = view_bytes(acc.bufferView, acc.byteOffset, acc.count, element_size, true, name, "", &stride);
-    else if (acc.count > kMaxSceneFileBytes / element_size)  // zeros, with no file bytes behind them
+    else if (!decoded && acc.count > kMaxSceneFileBytes / element_size)  // zeros, with no file bytes behind them
       fail(name + " has no bufferView and " + std::to_string(acc.count) + " elements of " + std::to_string(element_size) +
            " bytes (more than the " + std::to_string(kMaxSceneFileBytes) + " bytes the kit reads of a buffer)");
     // From here count is bounded by bytes in memory, so count * components (<= 4) cannot wrap.
@@ -493,24 +528,33 @@ class SceneBuilder {
                                 " (points or lines) is not drawn; the kit draws triangles");
       return -1;
     }
-    auto attr = [&](const char* name) {
+    auto attr = [&](const std::string& name) {
       auto it = p.attributes.find(name);
       return it == p.attributes.end() ? -1 : it->second;
     };
+    const std::optional<DracoPrimitive> draco = draco_primitive(p, mode, what);
+    // An attribute's values: Draco's when its mesh holds the attribute, else its accessor's.
+    auto read = [&](const std::string& name, int type, int components, AttributeFormats formats) {
+      std::optional<DracoAttribute> decoded;
+      if (draco) {
+        auto id = draco->unique_ids.find(name);
+        if (id != draco->unique_ids.end()) decoded = draco->mesh.attribute(id->second, path_ + ": " + what + " " + name);
+      }
+      return reader_.floats(attr(name), type, components, formats, what + " " + name, decoded ? &*decoded : nullptr);
+    };
     if (attr("POSITION") < 0) throw Error(path_ + ": " + what + ": has no POSITION attribute");
-    std::vector<float> pos = reader_.floats(attr("POSITION"), TINYGLTF_TYPE_VEC3, 3, kPositionFormats, what + " POSITION");
+    std::vector<float> pos = read("POSITION", TINYGLTF_TYPE_VEC3, 3, kPositionFormats);
     size_t n = pos.size() / 3;
     // No NORMAL: glTF asks for flat normals, computed below once the triangles are known.
     const bool flat = attr("NORMAL") < 0;
-    std::vector<float> nrm = flat ? std::vector<float>(pos.size(), 0.0f)
-                                  : reader_.floats(attr("NORMAL"), TINYGLTF_TYPE_VEC3, 3, kDirectionFormats, what + " NORMAL");
+    std::vector<float> nrm = flat ? std::vector<float>(pos.size(), 0.0f) : read("NORMAL", TINYGLTF_TYPE_VEC3, 3, kDirectionFormats);
     if (nrm.size() / 3 != n) throw Error(path_ + ": " + what + ": NORMAL count differs from POSITION count");
     std::vector<float> uv, tan;
     const Material* material =
         p.material >= 0 && p.material < static_cast<int>(scene_.materials.size()) ? &scene_.materials[static_cast<size_t>(p.material)] : nullptr;
     const std::string uv_name = "TEXCOORD_" + std::to_string(material ? material->texcoord_set : 0);
-    if (attr(uv_name.c_str()) >= 0) {
-      uv = reader_.floats(attr(uv_name.c_str()), TINYGLTF_TYPE_VEC2, 2, kTexcoordFormats, what + " " + uv_name);
+    if (attr(uv_name) >= 0) {
+      uv = read(uv_name, TINYGLTF_TYPE_VEC2, 2, kTexcoordFormats);
     } else if (material && material->texcoord_set != 0) {
       throw Error(path_ + ": " + what + ": its material's textures read " + uv_name + ", which the primitive does not have");
     }
@@ -521,7 +565,7 @@ class SceneBuilder {
         uv[i + 1] = t.y;
       }
     }
-    if (attr("TANGENT") >= 0) tan = reader_.floats(attr("TANGENT"), TINYGLTF_TYPE_VEC4, 4, kDirectionFormats, what + " TANGENT");
+    if (attr("TANGENT") >= 0) tan = read("TANGENT", TINYGLTF_TYPE_VEC4, 4, kDirectionFormats);
     if ((!uv.empty() && uv.size() / 2 != n) || (!tan.empty() && tan.size() / 4 != n))
       throw Error(path_ + ": " + what + ": attribute counts differ from POSITION count");
 
@@ -541,8 +585,12 @@ class SceneBuilder {
       v.texcoord = uv.empty() ? glm::vec2(0.0f) : glm::vec2(uv[2 * i], uv[2 * i + 1]);
       v.tangent = tan.empty() ? glm::vec4(0.0f) : glm::vec4(tan[4 * i], tan[4 * i + 1], tan[4 * i + 2], tan[4 * i + 3]);
     }
-    if (p.indices >= 0) {
-      out.indices = reader_.indices(p.indices, what + " indices");
+    const int indices = index_accessor(p, what);
+    if (draco) {
+      const std::vector<uint32_t> corners = draco->mesh.triangle_indices();
+      out.indices = indices >= 0 ? reader_.indices(indices, what + " indices", &corners) : corners;
+    } else if (indices >= 0) {
+      out.indices = reader_.indices(indices, what + " indices");
     } else {
       out.indices.resize(n);
       for (size_t i = 0; i < n; ++i) out.indices[i] = static_cast<uint32_t>(i);
@@ -564,6 +612,43 @@ class SceneBuilder {
     }
     scene_.primitives.push_back(std::move(out));
     return static_cast<int>(scene_.primitives.size()) - 1;
+  }
+
+  // KHR_draco_mesh_compression: the primitive's mesh decoded from the extension's
+  // bufferView, and the Draco unique id of each attribute it holds, by glTF name.
+  // Without Draco support the extension is passed over: a file requiring it was
+  // refused (check_required_extensions), one only using it has accessors to read.
+  struct DracoPrimitive {
+    DracoMesh mesh;
+    std::map<std::string, uint32_t> unique_ids;
+  };
+  std::optional<DracoPrimitive> draco_primitive(const tinygltf::Primitive& p, int mode, const std::string& what) const {
+    auto ext = p.extensions.find("KHR_draco_mesh_compression");
+    if (ext == p.extensions.end() || !draco_supported()) return std::nullopt;
+    const std::string name = what + " KHR_draco_mesh_compression";
+    if (mode != TINYGLTF_MODE_TRIANGLES)
+      throw Error(path_ + ": " + name + ": the primitive's mode is " + std::to_string(mode) +
+                  "; a Draco mesh is a triangle list (mode 4)");
+    const size_t view_index = static_cast<size_t>(index_in(ext->second.Get("bufferView"), model_.bufferViews.size(), name + " bufferView"));
+    const tinygltf::Value& attributes = ext->second.Get("attributes");
+    if (!attributes.IsObject()) throw Error(path_ + ": " + name + ": attributes is not an object");
+    std::map<std::string, uint32_t> unique_ids;
+    for (const std::string& attribute : attributes.Keys())
+      unique_ids[attribute] = static_cast<uint32_t>(index_in(attributes.Get(attribute), std::numeric_limits<int>::max(),
+                                                             name + " attribute " + attribute + ": unique id"));
+    const size_t length = model_.bufferViews[view_index].byteLength;
+    if (length == 0) throw Error(path_ + ": " + name + ": bufferView " + std::to_string(view_index) + " is empty");
+    size_t stride = 0;
+    const unsigned char* bytes = reader_.view_bytes(static_cast<int>(view_index), 0, 1, length, false, name, "", &stride);
+    return DracoPrimitive{DracoMesh(bytes, length, path_ + ": " + name), std::move(unique_ids)};
+  }
+
+  // The primitive's index accessor, -1 when it has none. A Draco primitive's waits
+  // in its extension object while tinygltf parses (move_draco_indices).
+  int index_accessor(const tinygltf::Primitive& p, const std::string& what) const {
+    auto ext = p.extensions.find("KHR_draco_mesh_compression");
+    if (ext == p.extensions.end() || !ext->second.Has(kDracoIndicesKey)) return p.indices;
+    return index_in(ext->second.Get(kDracoIndicesKey), model_.accessors.size(), what + " indices accessor");
   }
 
   // A strip's or a fan's triangles as a list, each wound as glTF says (a strip's
@@ -816,6 +901,50 @@ void check_uris(const unsigned char* json_text, size_t size, const std::string& 
   }
 }
 
+// Debian's tinygltf (2.7) refuses a primitive whose index accessor has no
+// bufferView, and a Draco primitive's has none: its indices are in the Draco mesh.
+// So before tinygltf sees the JSON, each Draco primitive's "indices" moves into its
+// KHR_draco_mesh_compression object under kDracoIndicesKey, where the builder takes
+// it back (SceneBuilder::index_accessor). Returns the JSON to parse, or nothing when
+// no primitive needs it (the text is then parsed as it is).
+std::optional<std::string> move_draco_indices(const unsigned char* json_text, size_t size) {
+  static const std::string kName = "KHR_draco_mesh_compression";
+  if (std::search(json_text, json_text + size, kName.begin(), kName.end()) == json_text + size) return std::nullopt;
+  nlohmann::json doc = nlohmann::json::parse(json_text, json_text + size, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object() || !doc.contains("meshes") || !doc["meshes"].is_array()) return std::nullopt;
+  bool moved = false;
+  for (nlohmann::json& mesh : doc["meshes"]) {
+    if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+    for (nlohmann::json& prim : mesh["primitives"]) {
+      if (!prim.is_object() || !prim.contains("indices") || !prim.contains("extensions") ||
+          !prim["extensions"].is_object() || !prim["extensions"].contains(kName) || !prim["extensions"][kName].is_object())
+        continue;
+      prim["extensions"][kName][kDracoIndicesKey] = prim["indices"];
+      prim.erase("indices");
+      moved = true;
+    }
+  }
+  if (!moved) return std::nullopt;
+  return doc.dump();
+}
+
+// A .glb's bytes with its JSON chunk replaced by `json` (padded with spaces to 4
+// bytes, as the format asks); the chunks after it are kept as they are.
+std::vector<unsigned char> glb_with_json(const std::vector<unsigned char>& glb, size_t old_json_length, std::string json,
+                                         const std::string& path) {
+  json.resize((json.size() + 3) / 4 * 4, ' ');
+  const size_t rest = glb.size() - kGlbJsonOffset - old_json_length;  // glb_json_chunk checked the old length
+  if (json.size() > std::numeric_limits<uint32_t>::max() - kGlbJsonOffset - rest)
+    throw Error(path + ": invalid glTF: the JSON chunk grows past 4 GiB when its Draco primitives' indices move");
+  std::vector<unsigned char> out(glb.begin(), glb.begin() + kGlbJsonOffset);
+  const uint32_t total = static_cast<uint32_t>(kGlbJsonOffset + json.size() + rest), json_length = static_cast<uint32_t>(json.size());
+  std::memcpy(out.data() + 8, &total, 4);
+  std::memcpy(out.data() + 12, &json_length, 4);
+  out.insert(out.end(), json.begin(), json.end());
+  out.insert(out.end(), glb.begin() + static_cast<std::ptrdiff_t>(kGlbJsonOffset + old_json_length), glb.end());
+  return out;
+}
+
 // tinygltf reads buffers and images through these: confined to the scene's folder,
 // regular files only, never blocking, size-limited (safe_file.h).
 struct SceneFolder {
@@ -845,17 +974,21 @@ bool refuse_write(std::string* err, const std::string& path, const std::vector<u
 }
 
 // A file that requires an extension the kit does not implement would render
-// wrongly or fail later with an unrelated message (a Draco mesh has no
-// bufferView): it is refused up front, by the extension's name.
+// wrongly or fail later with an unrelated message (a Draco mesh's accessors have
+// no bufferView): it is refused up front, by the extension's name. Draco is
+// implemented when the build has libdraco (draco_mesh.h).
 void check_required_extensions(const tinygltf::Model& model, const std::string& path) {
-  static const char* const kSupported[] = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
-                                           "KHR_mesh_quantization", "EXT_mesh_gpu_instancing",
-                                           "KHR_texture_transform"};
+  std::vector<std::string> supported_names = {"KHR_lights_punctual", "KHR_materials_emissive_strength",
+                                               "KHR_mesh_quantization", "EXT_mesh_gpu_instancing", "KHR_texture_transform"};
+  if (draco_supported()) supported_names.push_back("KHR_draco_mesh_compression");
   for (const std::string& name : model.extensionsRequired) {
-    if (std::find(std::begin(kSupported), std::end(kSupported), name) != std::end(kSupported)) continue;
+    if (std::find(supported_names.begin(), supported_names.end(), name) != supported_names.end()) continue;
     std::string supported;
-    for (const char* known : kSupported) supported += (supported.empty() ? "" : ", ") + std::string(known);
-    std::string hint = name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression"
+    for (const std::string& known : supported_names) supported += (supported.empty() ? "" : ", ") + known;
+    std::string hint = name == "KHR_draco_mesh_compression"
+                           ? " (this build has no Draco decoder: install libdraco-dev and rebuild, or save the model "
+                             "uncompressed, e.g. with a glTF tool's --no-compression option)"
+                       : name == "EXT_meshopt_compression"
                            ? " (its meshes are compressed: save the model uncompressed, e.g. with a glTF tool's --no-compression option)"
                            : "";
     throw Error(path + ": requires the glTF extension " + name + ", which the kit does not support" + hint +
@@ -877,6 +1010,11 @@ Scene load_scene_unguarded(const std::string& path) {
   }
   check_json_depth(json_text, json_size, path);
   check_uris(json_text, json_size, path);
+  // With or without Draco support: without it, a file requiring Draco is then refused by name.
+  if (std::optional<std::string> json = move_draco_indices(json_text, json_size)) {
+    if (binary) bytes = glb_with_json(bytes, json_size, std::move(*json), path);
+    else bytes.assign(json->begin(), json->end());
+  }
 
   SceneFolder folder{std::filesystem::absolute(path).parent_path()};
   tinygltf::Model model;

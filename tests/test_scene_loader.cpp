@@ -315,12 +315,12 @@ TEST(scene_loader_hostile, UrisOutsideTheSceneFolderAreRefused) {
 
 TEST(scene_loader_gltf, RequiredExtensionTheKitLacksIsRefusedByName) {
   SceneCopy copy("sphere", "required_extension");
-  copy.doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  copy.doc["extensionsUsed"] = {"EXT_meshopt_compression"};
   copy.save_json();
   EXPECT_NO_THROW(kit::load_scene(copy.gltf.string())) << "witness: merely used, it loads";
-  copy.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  copy.doc["extensionsRequired"] = {"EXT_meshopt_compression"};
   copy.save_json();
-  expect_error(copy.gltf, "requires the glTF extension KHR_draco_mesh_compression");
+  expect_error(copy.gltf, "requires the glTF extension EXT_meshopt_compression");
 }
 
 TEST(scene_loader_gltf, PointsAndLinesAreLeftOutWithAWarning) {

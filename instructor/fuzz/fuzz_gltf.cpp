@@ -1,4 +1,4 @@
-// libFuzzer harness: the glTF loader (framework/scene.*, framework/safe_file.*).
+// libFuzzer harness: the glTF loader (framework/scene.*, framework/safe_file.*, framework/draco_mesh.*).
 //
 // The input is the text of a .gltf file, or a .glb when it starts with "glTF",
 // written as scene.gltf / scene.glb into a private temp folder that also holds
