@@ -98,6 +98,7 @@ FrameCamera frame_camera(const Camera& camera, float aspect) {
 }
 
 float light_flux(const Light& light) {
+  if (light.type == KIT_LIGHT_DIRECTIONAL) return 0.0f;
   if (light.type == KIT_LIGHT_SPOT)
     return glm::two_pi<float>() * (1.0f - 0.5f * (std::cos(light.inner_cone) + std::cos(light.outer_cone))) * light.intensity;
   return 2.0f * glm::two_pi<float>() * light.intensity;

@@ -50,6 +50,8 @@ FrameCamera frame_camera(const Camera& camera, float aspect);
 
 // Light radiometry the framework derives from glTF units (see handouts/03-attenuation.md):
 // flux = 4*pi*I for a point light, 2*pi*(1 - (cos_inner + cos_outer)/2)*I for a spot light.
+// A directional light has no finite flux (its intensity is an illuminance): 0, which no
+// shader may use.
 float light_flux(const Light& light);
 
 // Sets the uniforms of uniforms.glsl every pass reads (camera matrices and position,

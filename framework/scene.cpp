@@ -807,19 +807,28 @@ class SceneBuilder {
     if (index < 0 || index >= static_cast<int>(model_.lights.size()))
       throw Error(path_ + ": KHR_lights_punctual light index " + std::to_string(index) + " does not exist");
     const tinygltf::Light& l = model_.lights[static_cast<size_t>(index)];
+    const std::string what = path_ + ": KHR_lights_punctual light " + std::to_string(index);
     Light out;
     if (l.type == "point") out.type = KIT_LIGHT_POINT;
     else if (l.type == "spot") out.type = KIT_LIGHT_SPOT;
-    else return;  // directional lights are outside the labs' scope
+    else if (l.type == "directional") out.type = KIT_LIGHT_DIRECTIONAL;
+    else throw Error(what + " has type '" + l.type + "' (must be point, spot or directional)");
     out.position = glm::vec3(world[3]);
+    // Spot and directional lights shine along their node's -Z; a node scaled to
+    // nothing gives no direction.
     out.direction = glm::normalize(glm::vec3(world * glm::vec4(0, 0, -1, 0)));
+    if (out.type != KIT_LIGHT_POINT && !std::isfinite(out.direction.x + out.direction.y + out.direction.z))
+      throw Error(what + " (" + l.type + ") is on a node whose transform has no -Z direction (a zero scale)");
     if (l.color.size() == 3) out.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
     out.intensity = static_cast<float>(l.intensity);
+    if (!std::isfinite(out.intensity) || out.intensity < 0.0f)
+      throw Error(what + " has intensity " + std::to_string(l.intensity) + " (must be a finite value >= 0)");
     // glTF: range, when present, is > 0; tinygltf reads an absent one as 0 (unlimited).
     if (!(l.range >= 0.0) || !std::isfinite(l.range))
-      throw Error(path_ + ": KHR_lights_punctual light " + std::to_string(index) + " has range " +
-                  std::to_string(l.range) + " (must be a positive distance, or left out for unlimited)");
-    out.range = static_cast<float>(l.range);
+      throw Error(what + " has range " + std::to_string(l.range) +
+                  " (must be a positive distance, or left out for unlimited)");
+    // The spec: range does not apply to a directional light (it reaches everywhere).
+    out.range = out.type == KIT_LIGHT_DIRECTIONAL ? 0.0f : static_cast<float>(l.range);
     out.inner_cone = static_cast<float>(l.spot.innerConeAngle);
     out.outer_cone = static_cast<float>(l.spot.outerConeAngle);
     scene_.lights.push_back(out);

@@ -82,12 +82,12 @@ struct DrawItem {
 };
 
 struct Light {
-  int type = 0;                  // KIT_LIGHT_POINT or KIT_LIGHT_SPOT
-  glm::vec3 position{0.0f};
-  glm::vec3 direction{0, 0, -1}; // where a spot light points (world space, unit)
+  int type = 0;                  // KIT_LIGHT_POINT, KIT_LIGHT_SPOT or KIT_LIGHT_DIRECTIONAL
+  glm::vec3 position{0.0f};      // its node's; a directional light's light comes from no point
+  glm::vec3 direction{0, 0, -1}; // where a spot or directional light points: its node's world -Z (unit)
   glm::vec3 color{1.0f};
-  float intensity = 1.0f;        // glTF units: candela
-  float range = 0.0f;            // 0: unlimited
+  float intensity = 1.0f;        // glTF units: candela; lux (illuminance) for a directional light
+  float range = 0.0f;            // 0: unlimited (always, for a directional light)
   float inner_cone = 0.0f;       // radians
   float outer_cone = 0.7853982f; // radians (glTF default pi/4)
 };

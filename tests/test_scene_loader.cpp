@@ -777,6 +777,88 @@ TEST(scene_loader_valid, DefaultSceneCountsLightsAndCamera) {
   EXPECT_NEAR(glm::distance(forward, glm::normalize(glm::dvec3(0.0, 0.8, -1.0) - eye)), 0.0, kUnitTolerance);
 }
 
+// The sphere scene's light made a KHR_lights_punctual "directional" light on a
+// rotated node under a rotated, non-uniformly scaled parent, with its light, node
+// and parent node returned for a test to change.
+struct DirectionalCopy {
+  SceneCopy copy;
+  json* light = nullptr;
+  std::string node_name;
+  explicit DirectionalCopy(const std::string& case_name) : copy("sphere", case_name) {
+    light = &copy.doc["extensions"]["KHR_lights_punctual"]["lights"][0];
+    (*light)["type"] = "directional";
+    size_t node_index = 0;
+    for (size_t i = 0; i < copy.doc["nodes"].size(); ++i)
+      if (copy.doc["nodes"][i].contains("extensions") && copy.doc["nodes"][i]["extensions"].contains("KHR_lights_punctual"))
+        node_index = i;
+    json& node = copy.doc["nodes"][node_index];
+    node_name = node.value("name", "");
+    // 50 degrees about (1, 2, 0.5) / |.|, as glTF's x, y, z, w.
+    const glm::dquat own = glm::angleAxis(glm::radians(50.0), glm::normalize(glm::dvec3(1.0, 2.0, 0.5)));
+    node["rotation"] = {own.x, own.y, own.z, own.w};
+    const glm::dquat parent = glm::angleAxis(glm::radians(110.0), glm::dvec3(0.0, 1.0, 0.0));
+    copy.doc["nodes"].push_back({{"name", "sun_parent"},
+                                 {"translation", {3.0, -1.0, 2.0}},
+                                 {"rotation", {parent.x, parent.y, parent.z, parent.w}},
+                                 {"scale", {2.0, 0.5, 1.5}},
+                                 {"children", {node_index}}});
+    for (json& root : copy.doc["scenes"][0]["nodes"])
+      if (root.get<size_t>() == node_index) root = copy.doc["nodes"].size() - 1;
+  }
+};
+
+// A directional light is lit (it was dropped before): its direction is its node's
+// world -Z, computed here in double through the whole node tree; its intensity is
+// the file's (lux) and its range, which glTF says does not apply, is left out.
+TEST(scene_loader_valid, DirectionalLightGetsItsNodesWorldDirection) {
+  DirectionalCopy sun("directional_rotated");
+  (*sun.light)["intensity"] = 3.25;
+  (*sun.light)["color"] = {1.0, 0.8, 0.6};
+  (*sun.light)["range"] = 7.0;
+  sun.copy.save_json();
+  const kit::Scene scene = kit::load_scene(sun.copy.gltf.string());
+  ASSERT_EQ(scene.lights.size(), 1u);
+  const kit::Light& l = scene.lights[0];
+  EXPECT_EQ(l.type, KIT_LIGHT_DIRECTIONAL);
+  const glm::dmat4 world = world_matrices(sun.copy.doc).at(sun.node_name);
+  const glm::dvec3 expected = glm::normalize(glm::dvec3(world * glm::dvec4(0.0, 0.0, -1.0, 0.0)));
+  EXPECT_GT(glm::distance(expected, glm::dvec3(0.0, 0.0, -1.0)), 0.5) << "the rotations must move -Z";
+  EXPECT_NEAR(glm::distance(glm::dvec3(l.direction), expected), 0.0, kUnitTolerance);
+  EXPECT_NEAR(glm::length(glm::dvec3(l.direction)), 1.0, kUnitTolerance);
+  EXPECT_NEAR(l.intensity, 3.25, 1e-6);
+  EXPECT_NEAR(glm::distance(glm::dvec3(l.color), glm::dvec3(1.0, 0.8, 0.6)), 0.0, 1e-6);
+  EXPECT_EQ(l.range, 0.0f) << "range does not apply to a directional light";
+}
+
+// A directional light's values are checked as a point or spot light's are, and
+// a node scaled to nothing gives it no direction.
+TEST(scene_loader_errors, InvalidDirectionalLightIsRefused) {
+  {
+    DirectionalCopy sun("directional_negative_range");
+    (*sun.light)["range"] = -1.0;
+    sun.copy.save_json();
+    expect_error(sun.copy.gltf, "KHR_lights_punctual light 0 has range -1");
+  }
+  {
+    DirectionalCopy sun("directional_negative_intensity");
+    (*sun.light)["intensity"] = -2.0;
+    sun.copy.save_json();
+    expect_error(sun.copy.gltf, "KHR_lights_punctual light 0 has intensity -2");
+  }
+  {
+    DirectionalCopy sun("directional_zero_scale");
+    sun.copy.doc["nodes"].back()["scale"] = {0.0, 0.0, 0.0};
+    sun.copy.save_json();
+    expect_error(sun.copy.gltf, "KHR_lights_punctual light 0 (directional) is on a node whose transform has no -Z");
+  }
+  {
+    DirectionalCopy sun("light_type_unknown");
+    (*sun.light)["type"] = "area";
+    sun.copy.save_json();
+    expect_error(sun.copy.gltf, "KHR_lights_punctual light 0 has type 'area' (must be point, spot or directional)");
+  }
+}
+
 TEST(scene_loader_valid, NodeHierarchyComposesParentTimesLocal) {
   expect_draw_transforms_match_json("default");
   expect_draw_transforms_match_json("normalmap");

@@ -473,6 +473,20 @@ class SceneBuilder {
     attach_light(light, {name, position, look_at_rotation(position, target), kUnitScale, -1});
   }
 
+  // A directional light shines along its node's local -Z, `direction` here; its
+  // intensity is an illuminance (lux). Its node's position changes nothing (glTF),
+  // which lets a scene put it where treating it as a point light shows.
+  void add_directional_light(const std::string& name, glm::dvec3 node_position, glm::dvec3 direction,
+                             glm::dvec3 color, double lux) {
+    tinygltf::Light light;
+    light.name = name;
+    light.type = "directional";
+    light.color = to_vector(color);
+    light.intensity = lux;
+    attach_light(light, {name, node_position, look_at_rotation(node_position, node_position + direction),
+                         kUnitScale, -1});
+  }
+
   // No aspect ratio: the renderer uses its viewport's.
   void add_camera(glm::dvec3 eye, glm::dvec3 target, double yfov) {
     tinygltf::Camera cam;
@@ -701,6 +715,34 @@ SceneBuilder build_spot_scene() {
   return b;
 }
 
+// A sphere on a floor lit by a low sun (a directional light 26 degrees above the
+// horizon) and a point light. The sun's node stands high above the sphere, where
+// a point light would light the floor almost head-on: a sun treated as a point
+// light at its node, lit from +direction, or dimmed with distance (lab 3) changes
+// most of the image, and the point light keeps the positional path graded too.
+// kit-grade's labs 2 and 3.
+const glm::dvec3 kSunDirection(1.0, -0.5, -0.3);  // where its light travels (normalised by the node)
+const glm::dvec3 kSunNode(0.5, 4.0, 0.5);
+SceneBuilder build_sun_scene() {
+  SceneBuilder b("sun");
+  MaterialDesc floor_mat;
+  floor_mat.name = "grey_floor";
+  floor_mat.base_color = glm::dvec4(0.6, 0.6, 0.6, 1.0);
+  floor_mat.roughness = 0.6;
+  const Geometry floor = b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {12, 12}, {1, 1}, false));
+  b.add_mesh_node("floor", {0, 0, 0}, floor, b.add_material(floor_mat));
+  MaterialDesc ball;
+  ball.name = "blue_ball";
+  ball.base_color = glm::dvec4(0.25, 0.45, 0.8, 1.0);
+  ball.roughness = 0.35;
+  const Geometry sphere = b.add_geometry(make_sphere(1.0f, 64, 32, {2, 1}, true));
+  b.add_mesh_node("sphere", {0, 1, 0}, sphere, b.add_material(ball));
+  b.add_directional_light("sun", kSunNode, kSunDirection, {1.0, 0.9, 0.75}, 2.5);
+  b.add_point_light("lamp", {-2.0, 1.5, 2.5}, {0.6, 0.75, 1.0}, 3.0);  // lab 2 has no falloff
+  b.add_camera({0.0, 3.0, 7.0}, {0.0, 0.6, 0.0}, 0.8);
+  return b;
+}
+
 // A close-up of one glossy highlight on a dark dielectric sphere (roughness 0.2):
 // the highlight fills much of the view, so a mistake that changes only the
 // specular peak (its height, width or clamping) changes thousands of pixels, where
@@ -911,6 +953,7 @@ int main(int argc, char** argv) {
     build_normal_map_scene(textures).write(out_dir);
     build_spot_scene().write(out_dir);
     build_highlight_scene().write(out_dir);
+    build_sun_scene().write(out_dir);
     build_materials_scene(textures).write(out_dir);
     write_obj_cube_scene(out_dir, textures);
   } catch (const std::exception& e) {

@@ -1,5 +1,6 @@
-// Stage 2's light model: no distance falloff yet. L_i = colour * intensity,
-// and a spot light lights only inside its outer cone. Lab 3 replaces this file.
+// Stage 2's light model: no distance falloff yet. L_i = colour * intensity for
+// every light type, directional included, and a spot light lights only inside
+// its outer cone. Lab 3 replaces this file.
 #include "lights.glsl"
 #include "uniforms.glsl"
 

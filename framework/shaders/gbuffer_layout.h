@@ -67,5 +67,6 @@
 #define KIT_LIGHT_TEXELS 4
 #define KIT_LIGHT_POINT 0
 #define KIT_LIGHT_SPOT 1
+#define KIT_LIGHT_DIRECTIONAL 2  // glTF "directional": parallel rays along `direction`
 
 #endif

@@ -6,15 +6,16 @@ uniform sampler2D u_light_texture;
 uniform int u_light_count;
 
 struct Light {
-    int type;          // KIT_LIGHT_POINT or KIT_LIGHT_SPOT
-    vec3 position;     // world space
-    vec3 direction;    // world space, where a spot light points (unit)
-    float range;       // glTF range, 0 = unlimited
+    int type;          // KIT_LIGHT_POINT, KIT_LIGHT_SPOT or KIT_LIGHT_DIRECTIONAL
+    vec3 position;     // world space (a directional light's node: not where its light comes from)
+    vec3 direction;    // world space, where a spot or directional light points (unit)
+    float range;       // glTF range, 0 = unlimited (always 0 for a directional light)
     vec3 color;        // linear RGB
-    float intensity;   // glTF intensity, candela
+    float intensity;   // glTF intensity: candela; lux (illuminance) for a directional light
     float cos_inner;   // cos(umbra/inner cone angle): full intensity inside
     float cos_outer;   // cos(penumbra/outer cone angle): no light outside
-    float flux;        // radiant flux derived from intensity (handouts/03-attenuation.md)
+    float flux;        // radiant flux derived from intensity (handouts/03-attenuation.md); 0 for a
+                       // directional light, which has no finite flux
 };
 
 Light kit_light(int i) {
@@ -38,9 +39,10 @@ Light kit_light(int i) {
 // glTF KHR_lights_punctual's `range`: the spec's recommended window
 // clamp(1 - (d / range)^4, 0, 1) takes the light to exactly 0 at d = range, so a
 // light volume or tile list of that radius drops nothing. range <= 0 is unlimited
-// (window 1). Lab 3's light_radiance multiplies its falloff by this.
+// (window 1), and so is a directional light (glTF: range does not apply; it
+// reaches everywhere). Lab 3's light_radiance multiplies its falloff by this.
 float kit_range_window(Light light, vec3 p) {
-    if (light.range <= 0.0) return 1.0;
+    if (light.type == KIT_LIGHT_DIRECTIONAL || light.range <= 0.0) return 1.0;
     vec3 offset = light.position - p;
     float q = dot(offset, offset) / (light.range * light.range);  // (d / range)^2
     return clamp(1.0 - q * q, 0.0, 1.0);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 
 #include "bench_layout.h"
 #include "error.h"
@@ -167,11 +168,19 @@ std::vector<Light> bench_lights(const Scene& scene, int extra, SmallLightRange r
 }
 
 float light_cutoff_radius(const Light& light, float epsilon, int attenuation_model) {
+  if (light.type == KIT_LIGHT_DIRECTIONAL) return std::numeric_limits<float>::infinity();
   const float c_max = std::max(light.color.r, std::max(light.color.g, light.color.b));
   float r2 = light.intensity * c_max / (glm::pi<float>() * epsilon);
   if (attenuation_model == 1) r2 -= 1.0f;
   const float radius = std::sqrt(std::max(r2, 0.0f));
   return light.range > 0.0f ? std::min(radius, light.range) : radius;
+}
+
+void require_positional_lights(const std::vector<Light>& lights, const std::string& method) {
+  for (size_t i = 0; i < lights.size(); ++i)
+    if (lights[i].type == KIT_LIGHT_DIRECTIONAL)
+      throw Error("method '" + method + "' culls lights by a sphere around each, and light " + std::to_string(i) +
+                  " is directional (it reaches everywhere): use a full-screen loop or forward method");
 }
 
 BenchRenderer::BenchRenderer(const Scene& scene, std::vector<Light> lights, const RenderSettings& settings)
@@ -298,6 +307,7 @@ void BenchRenderer::lighting_pass(const Method& m) {
 }
 
 void BenchRenderer::bind_light_bounds() {
+  require_positional_lights(lights_, last_.name);
   const std::pair<float, int> key{last_.epsilon, settings_.attenuation_model};
   if (key != bounds_key_) {
     std::vector<glm::vec4> texels(std::max(lights_.size(), size_t{1}), glm::vec4(0.0f));

@@ -74,8 +74,13 @@ std::vector<Light> bench_lights(const Scene& scene, int extra, SmallLightRange r
 // same bound gives r^2 = I c_max / (pi epsilon) - 1. The bound leaves out the
 // specular lobe: a glossy highlight of a light outside its radius is lost. A light
 // with a range adds exactly nothing past it (lights.glsl kit_range_window), so
-// when the range is the smaller radius, culling that light is exact.
+// when the range is the smaller radius, culling that light is exact. A directional
+// light reaches everywhere: +infinity (the culled methods refuse it, see
+// require_positional_lights).
 float light_cutoff_radius(const Light& light, float epsilon, int attenuation_model);
+// Light volumes and tiles bound each light by a sphere around its position; a
+// directional light has neither, so those methods throw kit::Error naming it.
+void require_positional_lights(const std::vector<Light>& lights, const std::string& method);
 
 class BenchRenderer {
  public:

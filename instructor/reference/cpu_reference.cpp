@@ -116,6 +116,7 @@ ShadingSettings shading_settings(const RenderSettings& settings, int stage) {
 }
 
 double exact_light_flux(const Light& light) {
+  if (light.type == KIT_LIGHT_DIRECTIONAL) return 0.0;
   const double intensity = light.intensity;
   if (light.type == KIT_LIGHT_SPOT) {
     const double cos_inner = std::cos(static_cast<double>(light.inner_cone));
@@ -222,7 +223,7 @@ double spot_cone_factor(const ShadingLight& light, dvec3 p, const Guards& guards
 
 // lights.glsl kit_range_window: glTF's recommended clamp(1 - (d / range)^4, 0, 1); 1 without a range.
 double range_window(const ShadingLight& light, dvec3 p) {
-  if (light.range <= 0.0) return 1.0;
+  if (light.type == KIT_LIGHT_DIRECTIONAL || light.range <= 0.0) return 1.0;
   const dvec3 to_light = light.position - p;
   const double q = glm::dot(to_light, to_light) / (light.range * light.range);
   return glsl_clamp(1.0 - q * q, 0.0, 1.0);
@@ -230,6 +231,8 @@ double range_window(const ShadingLight& light, dvec3 p) {
 
 dvec3 light_radiance(const ShadingLight& light, dvec3 p, const ShadingSettings& settings) {
   const Guards& g = settings.guards;
+  // The illuminance on a surface facing it, at every stage and under both models.
+  if (light.type == KIT_LIGHT_DIRECTIONAL) return light.color * light.intensity;
   if (settings.stage <= 2) {
     // framework/shaders/attenuation.glsl: no falloff; a spot lights only inside its outer cone.
     const dvec3 radiance = light.color * light.intensity;
@@ -267,9 +270,14 @@ dvec3 shade(const SurfaceSample& surface, const dvec3& camera_position, const st
 
   dvec3 radiance = surface.emission;
   for (const ShadingLight& light : lights) {
-    const dvec3 to_light = light.position - p;
-    // Shorter than unit within KIT_MIN_DISTANCE_SQUARED of the light, and 0 on it, as in the shader.
-    const dvec3 l = to_light * inversesqrt(std::max(glm::dot(to_light, to_light), g.min_distance_squared));
+    dvec3 l;
+    if (light.type == KIT_LIGHT_DIRECTIONAL) {
+      l = -light.direction;
+    } else {
+      const dvec3 to_light = light.position - p;
+      // Shorter than unit within KIT_MIN_DISTANCE_SQUARED of the light, and 0 on it, as in the shader.
+      l = to_light * inversesqrt(std::max(glm::dot(to_light, to_light), g.min_distance_squared));
+    }
     const double n_dot_l = glm::dot(n, l);
     if (n_dot_l <= 0.0) continue;
     radiance += cook_torrance(n, v, l, surface.albedo, surface.metallic, surface.roughness, g) *

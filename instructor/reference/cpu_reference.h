@@ -134,18 +134,19 @@ ShadingSettings shading_settings(const RenderSettings& settings, int stage);
 
 // A light as the lighting pass sees it: one row of the light texture (lights.glsl).
 struct ShadingLight {
-  int type = 0;  // KIT_LIGHT_POINT or KIT_LIGHT_SPOT
+  int type = 0;  // KIT_LIGHT_POINT, KIT_LIGHT_SPOT or KIT_LIGHT_DIRECTIONAL
   dvec3 position{0.0};
-  dvec3 direction{0.0, 0.0, -1.0};
+  dvec3 direction{0.0, 0.0, -1.0};  // a directional light's light travels along it (l = -direction)
   dvec3 color{1.0};
-  double intensity = 1.0;  // candela
+  double intensity = 1.0;  // candela; lux for a directional light
   double range = 0.0;      // glTF range, 0 = unlimited (stage 3 on: range_window)
   double cos_inner = 1.0;
   double cos_outer = 0.0;
   double flux = 0.0;
 };
 // renderer.cpp light_flux in double (a distinct name: kit::light_flux is found by
-// argument-dependent lookup on Light): 4 pi I (point), 2 pi (1 - (cos_i + cos_o)/2) I (spot).
+// argument-dependent lookup on Light): 4 pi I (point), 2 pi (1 - (cos_i + cos_o)/2) I (spot),
+// 0 (directional: no finite flux, and no shader uses it).
 double exact_light_flux(const Light& light);
 // Cosines and flux in double: the light as the equations define it.
 ShadingLight exact_light(const Light& light);
@@ -169,7 +170,8 @@ dvec3 cook_torrance(dvec3 n, dvec3 v, dvec3 l, dvec3 albedo, double metallic, do
 // 0 outside the outer cone, 1 inside the inner cone, smoothstep in between.
 double spot_cone_factor(const ShadingLight& light, dvec3 p, const Guards& guards = {});
 // Radiance arriving at p: stage 2 mirrors framework/shaders/attenuation.glsl (no falloff,
-// hard outer cone), stage 3 on mirrors solutions/03-attenuation/attenuation.glsl.
+// hard outer cone), stage 3 on mirrors solutions/03-attenuation/attenuation.glsl. A
+// directional light gives colour * intensity at every stage (no falloff, cone or range).
 dvec3 light_radiance(const ShadingLight& light, dvec3 p, const ShadingSettings& settings);
 
 // --- Lighting pass (solutions/02-lighting/lighting.frag) --------------------------------

@@ -5,10 +5,13 @@
 // measured by kit-bench, never asserted here.
 #include <cmath>
 #include <cstdio>
+#include <string>
 
 #include "bench_metrics.h"
 #include "bench_reference.h"
 #include "bench_renderer.h"
+#include "error.h"
+#include "gbuffer_layout.h"
 #include "kit_test.h"
 
 namespace kit::bench {
@@ -224,6 +227,44 @@ TEST_F(BenchMethods, Bloom6FullIsTheLabsPostprocessStage) {
   // The Renderer's image is rounded to 8 bits: half a step, plus float noise.
   constexpr double kRounding = 0.5 / 255.0 + 1e-4;
   EXPECT_LE(test::max_abs_difference(image, expected), kRounding);
+}
+
+// A directional light (the sun scene's) reaches everywhere: the loop and forward
+// methods shade it as the labs do (l = -direction, no falloff) and agree with the CPU
+// reference, while light volumes and tiles, which bound each light by a sphere
+// around its position, refuse it by name instead of culling it at a radius.
+// Witness: a sphere of light_cutoff_radius would be infinite for it.
+TEST_F(BenchMethods, DirectionalLightIsShadedByTheLoopAndRefusedByCulling) {
+  const Scene& scene = test::scene("sun");
+  int directional = -1;
+  for (size_t i = 0; i < scene.lights.size(); ++i)
+    if (scene.lights[i].type == KIT_LIGHT_DIRECTIONAL) directional = static_cast<int>(i);
+  ASSERT_GE(directional, 0) << "the sun scene has a directional light";
+  EXPECT_TRUE(std::isinf(light_cutoff_radius(scene.lights[static_cast<size_t>(directional)], 1.0f / 1024.0f, 0)));
+  BenchRenderer renderer(scene, bench_lights(scene, 0), settings_);
+  const FrameCamera cam = camera(scene);
+  const Reference reference = reference_hdr(renderer, cam);
+  ASSERT_EQ(reference.source, "cpu-double");
+  for (const char* name : {"reference", "forward"}) {
+    SCOPED_TRACE(name);
+    const Method& m = find_method(name);
+    renderer.render(m, cam);
+    const ErrorFigures e = compare_images(renderer.read_display(), reference_display(reference.hdr, settings_, m.blur_passes));
+    std::printf("sun scene, %s: display max %.2f/255\n", name, e.max_abs * 255.0);
+    EXPECT_EQ(e.non_finite, 0u);
+    EXPECT_LE(e.max_abs * 255.0, 1.5);
+  }
+  for (const char* name : {"volumes-e64", "tiled-e64"}) {
+    SCOPED_TRACE(name);
+    try {
+      renderer.render(find_method(name), cam);
+      ADD_FAILURE() << name << " rendered a directional light";
+    } catch (const Error& e) {
+      const std::string message = e.what();
+      EXPECT_NE(message.find(std::string("method '") + name + "'"), std::string::npos) << message;
+      EXPECT_NE(message.find("light " + std::to_string(directional) + " is directional"), std::string::npos) << message;
+    }
+  }
 }
 
 TEST(BenchLayouts, BytesPerPixel) {

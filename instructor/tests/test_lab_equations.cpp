@@ -5,6 +5,7 @@
 // falloff models and gamma 2.2 and 1.0. A pixel agrees when its linear HDR value
 // is within 1e-3 relative (measured from the fp16 values either side of the
 // reference) or its displayed value within 1/255. A copy of lab 2 with a wrong BRDF must fail the same check.
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <regex>
@@ -122,6 +123,11 @@ TEST(LabEquations, LightFluxMatchesRenderer) {
   spot.intensity = 80.0f;
   spot.inner_cone = 0.25f;
   spot.outer_cone = 0.45f;
+  Light sun;
+  sun.type = KIT_LIGHT_DIRECTIONAL;
+  sun.intensity = 3.0f;
+  EXPECT_EQ(kit::light_flux(sun), 0.0f) << "a directional light has no finite flux";
+  EXPECT_EQ(ref::exact_light_flux(sun), 0.0);
   for (const Light& l : {point, spot}) {
     const double exact = ref::exact_light_flux(l);
     // float evaluation of a handful of operations: a few float epsilons.
@@ -202,6 +208,41 @@ TEST(LabEquations, SphereSceneMatchesReference) {
   const Scene& s = scene("sphere");
   check_scene("sphere", s, {{"camera", scene_frame_camera(s, small_settings()), false},
                          {"silhouette", sphere_silhouette_camera(s, small_settings()), true}});
+}
+
+// A low sun (a directional light, l = -direction, no falloff) and a point light
+// over a floor and a sphere (tools/kit_scenes.cpp build_sun_scene).
+TEST(LabEquations, SunSceneMatchesReference) {
+  const Scene& s = scene("sun");
+  ASSERT_EQ(std::count_if(s.lights.begin(), s.lights.end(), [](const Light& l) { return l.type == KIT_LIGHT_DIRECTIONAL; }), 1);
+  check_scene("sun", s, {{"camera", scene_frame_camera(s, small_settings()), false}});
+}
+
+// Witness for the sun scene: the naive path, the sun evaluated as a point light at
+// its node's position (what a lighting pass reading light.position for every light
+// computes), is far outside the tolerance on the very frames the kit's solutions
+// pass, at stage 2 (l alone) and at stage 3 (l and the falloff).
+TEST(LabEquations, SunAsPointLightAtItsNodeFailsTheCheck) {
+  const Scene& s = scene("sun");
+  const FrameCamera camera = scene_frame_camera(s, small_settings());
+  for (const char* stage : {"lighting", "attenuation"}) {
+    auto renderer = make_renderer(stage, s, small_settings());
+    const ref::ShadingSettings settings = ref::shading_settings(renderer->settings(), renderer->stage().number);
+    const std::vector<Light> lights = ref::frame_lights(s, renderer->settings());
+    std::vector<Light> naive = lights;
+    for (Light& light : naive)
+      if (light.type == KIT_LIGHT_DIRECTIONAL) light.type = KIT_LIGHT_POINT;
+    ASSERT_NE(naive.size(), 0u);
+    const Frame frame = render_frame(*renderer, camera);
+    const PixelList pixels = covered_pixels(frame);
+    const Agreement kit = compare_with_reference(frame, lights, settings, pixels);
+    const Agreement point = compare_with_reference(frame, naive, settings, pixels);
+    std::printf("[ reference ] sun, stage %s: directional %s; as a point light at its node %s\n", stage,
+                describe(kit).c_str(), describe(point).c_str());
+    EXPECT_EQ(kit.failures, 0u) << stage << ": " << describe(kit);
+    EXPECT_GT(point.failures, pixels.size() / 2) << stage << ": " << describe(point);
+    EXPECT_GT(point.max_hdr_relative, 100.0 * kHdrRelativeTolerance) << stage;
+  }
 }
 
 // The reference's analytic surfaces (camera rays against the sphere and the plane)

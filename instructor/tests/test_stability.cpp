@@ -68,8 +68,8 @@ const std::vector<LineSwap> kBrdfWithoutRoughnessFloor = {
 // square, the spot direction.
 const std::vector<LineSwap> kWithoutDistanceFloor = {
     {"02-lighting/lighting.frag",
-     "vec3 l = to_light * inversesqrt(max(dot(to_light, to_light), KIT_MIN_DISTANCE_SQUARED));",
-     "vec3 l = normalize(to_light);"},
+     "l = to_light * inversesqrt(max(dot(to_light, to_light), KIT_MIN_DISTANCE_SQUARED));",
+     "l = normalize(to_light);"},
     {"03-attenuation/attenuation.glsl", "float r2 = max(dot(to_light, to_light), KIT_MIN_DISTANCE_SQUARED);",
      "float r2 = dot(to_light, to_light);"},
     {"03-attenuation/attenuation.glsl",

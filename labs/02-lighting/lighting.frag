@@ -21,6 +21,7 @@ void main() {
     // TODO(lab 2): L = L_e + sum over u_light_count lights (kit_light(i)) of
     //              cook_torrance(...) * light_radiance(light, p) * (n.l),
     //              with L_e = the emitted radiance in the G-buffer's emission
-    //              attachment (u_gbuffer_emission).
+    //              attachment (u_gbuffer_emission). l points from p towards the
+    //              light; a KIT_LIGHT_DIRECTIONAL light shines along light.direction.
     out_color = vec4(radiance + 0.1 * albedo, 1.0);  // placeholder so the scene is visible
 }

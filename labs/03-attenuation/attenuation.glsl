@@ -16,7 +16,8 @@ vec3 light_radiance(Light light, vec3 p) {
     // TODO(lab 3): u_attenuation_model == 0: point I = flux / (4 pi r^2),
     //              spot I = flux / (2 pi r^2 (1 - (cos_inner + cos_outer) / 2));
     //              u_attenuation_model == 1: intensity / (1 + d^2).
-    //              Floor r^2 with KIT_MIN_DISTANCE_SQUARED.
+    //              Floor r^2 with KIT_MIN_DISTANCE_SQUARED. A KIT_LIGHT_DIRECTIONAL
+    //              light (intensity in lux) has no falloff and no cone.
     float intensity = light.intensity;  // no falloff yet
     if (light.type == KIT_LIGHT_SPOT) intensity *= spot_cone_factor(light, p);
     // glTF range (lights.glsl), given: 1 for lights without one.

@@ -27,9 +27,14 @@ void main() {
     vec3 radiance = emission;  // L_e
     for (int i = 0; i < u_light_count; ++i) {
         Light light = kit_light(i);
-        vec3 to_light = light.position - p;
-        // A light exactly at p has no direction: l = 0 makes n.l = 0 and it adds nothing.
-        vec3 l = to_light * inversesqrt(max(dot(to_light, to_light), KIT_MIN_DISTANCE_SQUARED));
+        vec3 l;
+        if (light.type == KIT_LIGHT_DIRECTIONAL) {
+            l = -light.direction;  // parallel rays: the same l at every p, whatever its node's position
+        } else {
+            vec3 to_light = light.position - p;
+            // A light exactly at p has no direction: l = 0 makes n.l = 0 and it adds nothing.
+            l = to_light * inversesqrt(max(dot(to_light, to_light), KIT_MIN_DISTANCE_SQUARED));
+        }
         float n_dot_l = dot(n, l);
         if (n_dot_l <= 0.0) continue;  // light below the surface
         radiance += cook_torrance(n, v, l, albedo, metallic, roughness) * light_radiance(light, p) * n_dot_l;

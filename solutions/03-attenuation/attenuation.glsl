@@ -18,6 +18,9 @@ float spot_cone_factor(Light light, vec3 p) {
 
 // Radiance arriving at world position p from `light`.
 vec3 light_radiance(Light light, vec3 p) {
+    // A directional light's intensity is already the illuminance on a surface facing
+    // it: no distance (it is infinitely far), no cone, no range, under both models.
+    if (light.type == KIT_LIGHT_DIRECTIONAL) return light.color * light.intensity;
     vec3 to_light = light.position - p;
     float r2 = max(dot(to_light, to_light), KIT_MIN_DISTANCE_SQUARED);
     float intensity;

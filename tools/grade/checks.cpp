@@ -76,6 +76,10 @@ const std::vector<RenderSpec>& renders() {
     // L_e is the emission attachment itself: a black base colour still glows, and the
     // double-sided quad is lit from behind.
     r.push_back(hdr("lab2-materials-hdr", 2, "materials"));
+    // A low sun (a directional light: l = -direction wherever its node is) and a point
+    // light: treating the sun as a point at its node, or l = +direction, darkens or
+    // turns most of the floor and sphere.
+    r.push_back(hdr("lab2-sun-hdr", 2, "sun"));
     // Lab 3: the HDR buffer isolates attenuation.glsl; the display images add tonemap.glsl.
     auto simple = [](RenderSpec& s) { s.attenuation_model = 1; };
     auto gamma1 = [](RenderSpec& s) { s.gamma = 1.0f; };
@@ -88,6 +92,10 @@ const std::vector<RenderSpec>& renders() {
     // A wide penumbra (cones of 10 and 45 degrees): the smoothstep over the cosine and
     // one over the angle differ here by far more than the tolerance.
     r.push_back(hdr("lab3-spot-physical-hdr", 3, "spot"));
+    // A directional light has no falloff under either model, where the point light beside
+    // it falls off: a sun dimmed with distance (or given the point light's flux) shows.
+    r.push_back(hdr("lab3-sun-physical-hdr", 3, "sun"));
+    r.push_back(with(hdr("lab3-sun-simple-hdr", 3, "sun"), simple));
     // Lab 4: the lit image and the mapped normal itself.
     r.push_back(final_image("lab4-normalmap-final", 4, "normalmap"));
     r.push_back(final_image("lab4-default-final", 4, "default"));
@@ -139,6 +147,7 @@ const std::vector<Check>& checks() {
       {2, "sphere-hdr", "sphere scene, HDR", Metric::Hdr, "lab2-sphere-hdr", "lab2-sphere-hdr"},
       {2, "highlight-hdr", "highlight close-up, HDR", Metric::Hdr, "lab2-highlight-hdr", "lab2-highlight-hdr"},
       {2, "materials-hdr", "materials scene (emitter on black, double-sided), HDR", Metric::Hdr, "lab2-materials-hdr", "lab2-materials-hdr"},
+      {2, "sun-hdr", "sun scene (directional and point light), HDR", Metric::Hdr, "lab2-sun-hdr", "lab2-sun-hdr"},
 
       {3, "default-physical-hdr", "default scene, physical falloff, HDR", Metric::Hdr, "lab3-default-physical-hdr", "lab3-default-physical-hdr"},
       {3, "default-simple-hdr", "default scene, simple falloff, HDR", Metric::Hdr, "lab3-default-simple-hdr", "lab3-default-simple-hdr"},
@@ -147,6 +156,8 @@ const std::vector<Check>& checks() {
       {3, "default-physical-gamma10", "default scene, physical falloff, gamma 1.0", Metric::Ldr, "lab3-default-physical-gamma10", "lab3-default-physical-gamma10"},
       {3, "sphere-simple-gamma10", "sphere scene, simple falloff, gamma 1.0", Metric::Ldr, "lab3-sphere-simple-gamma10", "lab3-sphere-simple-gamma10"},
       {3, "spot-physical-hdr", "spot scene (wide penumbra), physical falloff, HDR", Metric::Hdr, "lab3-spot-physical-hdr", "lab3-spot-physical-hdr"},
+      {3, "sun-physical-hdr", "sun scene (directional light), physical falloff, HDR", Metric::Hdr, "lab3-sun-physical-hdr", "lab3-sun-physical-hdr"},
+      {3, "sun-simple-hdr", "sun scene (directional light), simple falloff, HDR", Metric::Hdr, "lab3-sun-simple-hdr", "lab3-sun-simple-hdr"},
 
       {4, "normalmap-final", "normalmap scene, final image", Metric::Ldr, "lab4-normalmap-final", "lab4-normalmap-final"},
       {4, "default-final", "default scene, final image", Metric::Ldr, "lab4-default-final", "lab4-default-final"},

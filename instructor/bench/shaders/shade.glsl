@@ -21,9 +21,14 @@ vec3 light_position(Light light) {
 // f(p, wo, wi) L_i (n.l) for one light, in linear HDR.
 vec3 shade_light(Surface s, vec3 v, Light light) {
     light.position = light_position(light);
-    vec3 to_light = light.position - s.position;
-    // A light exactly at p has no direction: l = 0 makes n.l = 0 and it adds nothing.
-    vec3 l = to_light * inversesqrt(max(dot(to_light, to_light), KIT_MIN_DISTANCE_SQUARED));
+    vec3 l;
+    if (light.type == KIT_LIGHT_DIRECTIONAL) {
+        l = -light.direction;  // parallel rays: the same l at every p
+    } else {
+        vec3 to_light = light.position - s.position;
+        // A light exactly at p has no direction: l = 0 makes n.l = 0 and it adds nothing.
+        l = to_light * inversesqrt(max(dot(to_light, to_light), KIT_MIN_DISTANCE_SQUARED));
+    }
     float n_dot_l = dot(s.normal, l);
     if (n_dot_l <= 0.0) return vec3(0.0);  // light below the surface
     return cook_torrance(s.normal, v, l, s.albedo, s.metallic, s.roughness) * light_radiance(light, s.position) * n_dot_l;
