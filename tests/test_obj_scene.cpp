@@ -9,6 +9,7 @@
 #include <string>
 
 #include "error.h"
+#include "gbuffer_layout.h"
 #include "image_io.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
@@ -152,12 +153,16 @@ TEST(ObjScene, MaterialsFollowTheDocumentedConversion) {
   EXPECT_NEAR(clear.base_color_factor.r, 0.3, kFloatTolerance);
   EXPECT_NEAR(clear.base_color_factor.b, 0.1, kFloatTolerance);
   EXPECT_NEAR(clear.base_color_factor.a, 1.0 - 0.25, kFloatTolerance) << "Tr is 1 - d";
+  // d < 1 (or Tr > 0) is see-through: drawn as glTF BLEND by the forward pass; d 1 stays opaque.
+  EXPECT_EQ(phong.alpha_mode, KIT_ALPHA_BLEND);
+  EXPECT_EQ(clear.alpha_mode, KIT_ALPHA_BLEND);
 
   const kit::Material& pbr = scene.materials[2];
   EXPECT_NEAR(pbr.roughness_factor, 0.3, kFloatTolerance) << "Pr wins over Ns";
   EXPECT_NEAR(pbr.metallic_factor, 0.9, kFloatTolerance) << "Pm wins over Ks";
   EXPECT_NEAR(pbr.base_color_factor.r, 0.7, kFloatTolerance) << "with Pm, Kd stays the base colour";
   EXPECT_NEAR(pbr.base_color_factor.g, 0.1, kFloatTolerance);
+  EXPECT_EQ(pbr.alpha_mode, KIT_ALPHA_OPAQUE);
   ASSERT_EQ(scene.primitives.size(), 3u);
 }
 
