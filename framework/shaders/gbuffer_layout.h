@@ -61,6 +61,7 @@
 #define KIT_ATTR_NORMAL 1
 #define KIT_ATTR_TEXCOORD 2
 #define KIT_ATTR_TANGENT 3
+#define KIT_ATTR_COLOR 4  // glTF COLOR_0 (linear rgba; white when the file has none)
 
 // Lights live in an RGBA32F texture, KIT_LIGHT_TEXELS texels per light (one row each).
 #define KIT_LIGHT_TEXELS 4
