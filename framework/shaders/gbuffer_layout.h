@@ -19,7 +19,7 @@
 // was multiplied by the albedo: it lost the emissive colour, and a black base
 // colour never glowed.)
 //
-// Albedo alpha: the base colour alpha (factor * texel). The lighting pass ignores
+// Albedo alpha: the base colour alpha (factor * texel * COLOR_0). The lighting pass ignores
 // it; it is there for a later forward pass of BLEND materials, which the geometry
 // pass draws like OPAQUE ones for now. MASK fragments below their cutoff are
 // discarded in the geometry pass and leave the attachments as cleared (mask 0).
