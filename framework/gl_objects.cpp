@@ -329,14 +329,15 @@ Mesh::Mesh(const std::vector<Vertex>& vertices, const std::vector<uint32_t>& ind
   glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(vertices.size() * sizeof(Vertex)), vertices.data(), GL_STATIC_DRAW);
   glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, ids[1]);
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(indices.size() * sizeof(uint32_t)), indices.data(), GL_STATIC_DRAW);
-  auto attribute = [](GLuint location, GLint size, size_t offset) {
+  auto attribute = [](GLuint location, GLint size, size_t offset, GLenum type = GL_FLOAT, GLboolean normalized = GL_FALSE) {
     glEnableVertexAttribArray(location);
-    glVertexAttribPointer(location, size, GL_FLOAT, GL_FALSE, sizeof(Vertex), reinterpret_cast<const void*>(offset));
+    glVertexAttribPointer(location, size, type, normalized, sizeof(Vertex), reinterpret_cast<const void*>(offset));
   };
   attribute(KIT_ATTR_POSITION, 3, offsetof(Vertex, position));
   attribute(KIT_ATTR_NORMAL, 3, offsetof(Vertex, normal));
   attribute(KIT_ATTR_TEXCOORD, 2, offsetof(Vertex, texcoord));
   attribute(KIT_ATTR_TANGENT, 4, offsetof(Vertex, tangent));
+  attribute(KIT_ATTR_COLOR, 4, offsetof(Vertex, color), GL_UNSIGNED_SHORT, GL_TRUE);
   glBindVertexArray(0);
 }
 

@@ -426,9 +426,15 @@ class ObjSceneBuilder {
       const size_t t = static_cast<size_t>(corner.texcoord_index);
       v.texcoord = glm::vec2(attrib_.texcoords[2 * t], 1.0f - attrib_.texcoords[2 * t + 1]);  // OBJ's v grows up
     }
+    // `v x y z r g b`: a linear vertex colour, like glTF's COLOR_0 (tinyobjloader
+    // gives every vertex one, white where the file has none, once any vertex has one).
+    glm::vec3 color(1.0f);
+    if (attrib_.colors.size() == attrib_.vertices.size())
+      color = glm::vec3(attrib_.colors[3 * p], attrib_.colors[3 * p + 1], attrib_.colors[3 * p + 2]);
     if (!std::isfinite(glm::dot(v.position, v.position)) || !std::isfinite(glm::dot(v.normal, v.normal)) ||
-        !std::isfinite(glm::dot(v.texcoord, v.texcoord)))
-      throw Error(where + ": a position, normal or texture coordinate is not finite (NaN or Inf)");
+        !std::isfinite(glm::dot(v.texcoord, v.texcoord)) || !std::isfinite(glm::dot(color, color)))
+      throw Error(where + ": a position, normal, texture coordinate or vertex colour is not finite (NaN or Inf)");
+    for (int c = 0; c < 3; ++c) v.color[c] = vertex_color_component(color[c]);
     const uint32_t index = static_cast<uint32_t>(b.primitive.vertices.size());
     b.primitive.vertices.push_back(v);
     b.primitive.indices.push_back(index);

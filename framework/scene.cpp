@@ -82,6 +82,8 @@ constexpr AttributeFormats kPositionFormats{kFloatComponents, kFloatComponents |
 // NORMAL and TANGENT
 constexpr AttributeFormats kDirectionFormats{kFloatComponents, kFloatComponents | kSignedNormalized};
 constexpr AttributeFormats kTexcoordFormats{kFloatComponents | kUnsignedNormalized, kFloatComponents | kAnyInteger};
+// COLOR_0 (KHR_mesh_quantization widens nothing for it)
+constexpr AttributeFormats kColorFormats{kFloatComponents | kUnsignedNormalized, kFloatComponents | kUnsignedNormalized};
 // EXT_mesh_gpu_instancing's ROTATION (a unit quaternion)
 constexpr AttributeFormats kRotationFormats{kFloatComponents | kSignedNormalized, kFloatComponents | kSignedNormalized};
 
@@ -108,6 +110,19 @@ std::string component_type_name(const tinygltf::Accessor& acc) {
     default: return std::to_string(acc.componentType);
   }
   return (acc.normalized ? "normalized " : "") + name;
+}
+
+std::string accessor_type_name(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR: return "SCALAR";
+    case TINYGLTF_TYPE_VEC2: return "VEC2";
+    case TINYGLTF_TYPE_VEC3: return "VEC3";
+    case TINYGLTF_TYPE_VEC4: return "VEC4";
+    case TINYGLTF_TYPE_MAT2: return "MAT2";
+    case TINYGLTF_TYPE_MAT3: return "MAT3";
+    case TINYGLTF_TYPE_MAT4: return "MAT4";
+    default: return "type " + std::to_string(type);
+  }
 }
 
 // One component as glTF 2.0 "Animations" / "Meshes" decode it: a normalized
@@ -566,7 +581,20 @@ class SceneBuilder {
       }
     }
     if (attr("TANGENT") >= 0) tan = read("TANGENT", TINYGLTF_TYPE_VEC4, 4, kDirectionFormats);
-    if ((!uv.empty() && uv.size() / 2 != n) || (!tan.empty() && tan.size() / 4 != n))
+    // COLOR_0 multiplies the base colour; VEC3 means alpha 1.
+    std::vector<float> color;
+    size_t color_components = 0;
+    if (attr("COLOR_0") >= 0) {
+      const std::string color_what = what + " COLOR_0";
+      const tinygltf::Accessor& acc = reader_.accessor(attr("COLOR_0"), color_what);
+      if (acc.type != TINYGLTF_TYPE_VEC3 && acc.type != TINYGLTF_TYPE_VEC4)
+        throw Error(path_ + ": " + color_what + ": accessor " + std::to_string(attr("COLOR_0")) + " is " +
+                    accessor_type_name(acc.type) + "; COLOR_0 must be VEC3 or VEC4");
+      color_components = acc.type == TINYGLTF_TYPE_VEC3 ? 3 : 4;
+      color = read("COLOR_0", acc.type, static_cast<int>(color_components), kColorFormats);
+    }
+    if ((!uv.empty() && uv.size() / 2 != n) || (!tan.empty() && tan.size() / 4 != n) ||
+        (!color.empty() && color.size() / color_components != n))
       throw Error(path_ + ": " + what + ": attribute counts differ from POSITION count");
 
     Primitive out;
@@ -574,6 +602,7 @@ class SceneBuilder {
     out.material = p.material;
     if (p.material >= static_cast<int>(model_.materials.size())) throw Error(path_ + ": " + what + ": material index does not exist");
     out.vertices.resize(n);
+    bool clamped_color = false;
     for (size_t i = 0; i < n; ++i) {
       Vertex& v = out.vertices[i];
       v.position = glm::vec3(pos[3 * i], pos[3 * i + 1], pos[3 * i + 2]);
@@ -584,7 +613,16 @@ class SceneBuilder {
         throw Error(path_ + ": " + what + ": NORMAL " + std::to_string(i) + " is not finite (NaN or Inf)");
       v.texcoord = uv.empty() ? glm::vec2(0.0f) : glm::vec2(uv[2 * i], uv[2 * i + 1]);
       v.tangent = tan.empty() ? glm::vec4(0.0f) : glm::vec4(tan[4 * i], tan[4 * i + 1], tan[4 * i + 2], tan[4 * i + 3]);
+      for (size_t c = 0; c < color_components; ++c) {
+        const float value = color[color_components * i + c];
+        if (!std::isfinite(value))
+          throw Error(path_ + ": " + what + ": COLOR_0 " + std::to_string(i) + " is not finite (NaN or Inf)");
+        clamped_color |= value < 0.0f || value > 1.0f;
+        v.color[static_cast<int>(c)] = vertex_color_component(value);
+      }
     }
+    if (clamped_color)
+      scene_.warnings.push_back(path_ + ": " + what + ": COLOR_0 has FLOAT values outside [0, 1]; clamped to it");
     const int indices = index_accessor(p, what);
     if (draco) {
       const std::vector<uint32_t> corners = draco->mesh.triangle_indices();
@@ -1105,6 +1143,10 @@ void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t
     float w = glm::dot(glm::cross(n, t), bitan[i]) > 0.0f ? -1.0f : 1.0f;
     vertices[i].tangent = glm::vec4(t, w);
   }
+}
+
+uint16_t vertex_color_component(float value) {
+  return static_cast<uint16_t>(std::lround(std::clamp(value, 0.0f, 1.0f) * float{Vertex::kVertexColorOne}));
 }
 
 // glTF: "When normals are not specified, client implementations MUST calculate

@@ -138,6 +138,10 @@ Scene load_scene(const std::string& path);
 // unit tangent perpendicular to the normal.
 void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t>& indices);
 
+// A vertex colour component (glTF COLOR_0, OBJ vertex colour; linear) as
+// Vertex::color stores it: clamped to [0, 1], then round(value * 65535).
+uint16_t vertex_color_component(float value);
+
 // Flat normals for a primitive whose file gives none (glTF requires them; OBJ
 // faces without vn get the same): every triangle gets its own three vertices
 // carrying its plane's normal. Call before generate_tangents.

@@ -120,6 +120,32 @@ TEST(ObjScene, FacesWithoutNormalsGetTheirPlanesNormal) {
   EXPECT_FLOAT_EQ(m.base_color_factor.r, 0.8f);
 }
 
+// `v x y z r g b` colours the vertex like glTF's COLOR_0 (alpha 1); a file without
+// them, or a vertex without one in a file that has some, is white.
+TEST(ObjScene, VertexColoursFromTheFile) {
+  REQUIRE_OBJ_SUPPORT();
+  fs::path dir = kit::test::temp_dir("obj_scene/vertex_colours");
+  const double colors[3][3] = {{1.0, 0.25, 0.0}, {0.125, 0.5, 0.75}, {0.3, 0.6, 0.9}};
+  kit::test::write_file(dir / "painted.obj",
+                        "v 0 0 0 1.0 0.25 0.0\nv 1 0 0 0.125 0.5 0.75\nv 1 1 0 0.3 0.6 0.9\nv 0 1 0\nf 1 2 3 4\n");
+  const kit::Scene scene = kit::load_scene((dir / "painted.obj").string());
+  const kit::Primitive& prim = scene.primitives.at(0);
+  bool corner_seen[4] = {false, false, false, false};
+  for (const kit::Vertex& v : prim.vertices) {
+    const int corner = v.position.x == 0.0f ? (v.position.y == 0.0f ? 0 : 3) : (v.position.y == 0.0f ? 1 : 2);
+    for (int c = 0; c < 3; ++c) {
+      const double expected = corner == 3 ? 1.0 : colors[corner][c];
+      EXPECT_NEAR(v.color[c] / 65535.0, expected, 0.5 / 65535.0) << "corner " << corner << " channel " << c;
+    }
+    EXPECT_EQ(v.color[3], 65535) << "alpha 1";
+    corner_seen[corner] = true;
+  }
+  for (int corner = 0; corner < 4; ++corner) EXPECT_TRUE(corner_seen[corner]) << "corner " << corner;
+  kit::test::write_file(dir / "Quad.obj", kQuadObj);
+  const kit::Scene plain = kit::load_scene((dir / "Quad.obj").string());
+  for (const kit::Vertex& v : plain.primitives.at(0).vertices) EXPECT_EQ(v.color, glm::u16vec4(65535));
+}
+
 TEST(ObjScene, MaterialsFollowTheDocumentedConversion) {
   REQUIRE_OBJ_SUPPORT();
   fs::path dir = kit::test::temp_dir("obj_scene/materials");

@@ -615,6 +615,116 @@ TEST(scene_loader_accessors, QuantizedPositionsNeedKhrMeshQuantization) {
   }
 }
 
+// COLOR_0 as glTF 2.0 decodes it (FLOAT as it is, c / 255, c / 65535; VEC3 means
+// alpha 1), through the kit's 16-bit store. Vertex::color keeps 8- and 16-bit colours
+// exactly (c8 / 255 = c8 * 257 / 65535) and a float within half a 16-bit step.
+double stored_color(const kit::Vertex& v, int c) { return v.color[c] / 65535.0; }
+constexpr double kLosslessColorTolerance = 1e-12;       // double round-off of c / 255 against c * 257 / 65535
+constexpr double kFloatColorTolerance = 0.5 / 65535.0;  // rounding a float to 16 bits
+
+TEST(scene_loader_accessors, VertexColoursDecodeAsTheSpecSays) {
+  const std::vector<float> floats = {0.0f, 0.125f, 0.3f, 0.5f, 0.999f, 1.0f, 0.0001f};
+  const std::vector<uint8_t> unsigned_bytes = {0, 1, 64, 128, 254, 255, 37};
+  const std::vector<uint16_t> unsigned_shorts = {0, 1, 257, 32768, 65534, 65535, 12345};
+  struct Case {
+    const char* name;
+    int component_type;  // 5126 FLOAT, 5121 UNSIGNED_BYTE, 5123 UNSIGNED_SHORT
+    size_t components;
+  };
+  // UNSIGNED_SHORT VEC3 is 6 bytes padded to 8: a byteStride the reader must follow.
+  for (const Case& k : {Case{"float_vec3", 5126, 3}, Case{"ubyte_vec4", 5121, 4}, Case{"ushort_vec3", 5123, 3},
+                        Case{"ushort_vec4", 5123, 4}}) {
+    SCOPED_TRACE(k.name);
+    SceneCopy copy("sphere", std::string("color_") + k.name);
+    const size_t count = copy.doc["accessors"][0]["count"];
+    json& attributes = copy.doc["meshes"][0]["primitives"][0]["attributes"];
+    attributes["COLOR_0"] = k.component_type == 5126   ? add_integer_accessor(copy, floats, count, k.components, 5126, false)
+                            : k.component_type == 5121 ? add_integer_accessor(copy, unsigned_bytes, count, k.components, 5121, true)
+                                                       : add_integer_accessor(copy, unsigned_shorts, count, k.components, 5123, true);
+    copy.save_json();
+    const kit::Scene scene = kit::load_scene(copy.gltf.string());
+    EXPECT_TRUE(scene.warnings.empty()) << scene.warnings.front();
+    const std::vector<kit::Vertex>& vertices = scene.primitives.at(0).vertices;
+    ASSERT_EQ(vertices.size(), count);
+    size_t changed = 0;
+    for (size_t v = 0; v < count; ++v)
+      for (size_t c = 0; c < 4; ++c) {
+        const size_t i = v * k.components + c;
+        double expected = 1.0;  // VEC3: alpha 1
+        if (c < k.components)
+          expected = k.component_type == 5126   ? double{floats[i % floats.size()]}
+                     : k.component_type == 5121 ? normalized_value(unsigned_bytes[i % unsigned_bytes.size()], 5121)
+                                                : normalized_value(unsigned_shorts[i % unsigned_shorts.size()], 5123);
+        ASSERT_NEAR(stored_color(vertices[v], static_cast<int>(c)), expected,
+                    k.component_type == 5126 ? kFloatColorTolerance : kLosslessColorTolerance)
+            << "vertex " << v << " component " << c;
+        changed += expected < 0.5;
+      }
+    EXPECT_GT(changed, count) << "the premise: the colours are far from the white of a mesh without COLOR_0";
+  }
+  // Without COLOR_0 every vertex is white.
+  for (const kit::Vertex& v : kit::test::scene("sphere").primitives.at(0).vertices)
+    ASSERT_EQ(v.color, glm::u16vec4(65535));
+}
+
+// A sparse COLOR_0 without bufferView: zeros (black, alpha 0) but where listed.
+TEST(scene_loader_accessors, SparseVertexColoursStartFromZeros) {
+  SceneCopy copy("sphere", "color_sparse");
+  const size_t count = copy.doc["accessors"][0]["count"];
+  const std::vector<uint8_t> moved = {2, 7};
+  const std::vector<uint8_t> values = {255, 128, 0, 255, 10, 20, 30, 40};
+  const int color = copy.add_accessor(
+      {{"componentType", 5121}, {"normalized", true}, {"count", count}, {"type", "VEC4"},
+       {"sparse", {{"count", moved.size()},
+                   {"indices", {{"bufferView", copy.add_view(bytes_of(moved))}, {"componentType", 5121}}},
+                   {"values", {{"bufferView", copy.add_view(bytes_of(values))}}}}}});
+  copy.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = color;
+  copy.save_json();
+  const std::vector<kit::Vertex> vertices = kit::load_scene(copy.gltf.string()).primitives.at(0).vertices;
+  for (size_t v = 0; v < vertices.size(); ++v)
+    for (int c = 0; c < 4; ++c) {
+      const size_t k = static_cast<size_t>(std::find(moved.begin(), moved.end(), v) - moved.begin());
+      const double expected = k < moved.size() ? normalized_value(values[4 * k + static_cast<size_t>(c)], 5121) : 0.0;
+      ASSERT_NEAR(stored_color(vertices[v], c), expected, kLosslessColorTolerance) << "vertex " << v;
+    }
+}
+
+// COLOR_0 of another type or component type is refused naming the file, the mesh,
+// the primitive and the reason; FLOAT values outside [0, 1] are clamped with a warning.
+TEST(scene_loader_errors, VertexColoursOfAnotherFormatAreRefused) {
+  SceneCopy copy("sphere", "color_refused");
+  const size_t count = copy.doc["accessors"][0]["count"];
+  json& attributes = copy.doc["meshes"][0]["primitives"][0]["attributes"];
+  const std::string where = "mesh 0 ('" + copy.doc["meshes"][0].value("name", std::string()) + "') primitive 0 COLOR_0: accessor ";
+  const std::vector<uint8_t> bytes = {10, 200};
+  attributes["COLOR_0"] = add_integer_accessor(copy, bytes, count, 2, 5121, true);
+  copy.save_json();
+  expect_error(copy.gltf, where + std::to_string(attributes["COLOR_0"].get<int>()) + " is VEC2; COLOR_0 must be VEC3 or VEC4");
+  attributes["COLOR_0"] = add_integer_accessor(copy, bytes, count, 4, 5121, false);
+  copy.save_json();
+  expect_error(copy.gltf, where + std::to_string(attributes["COLOR_0"].get<int>()) +
+                              " has an unsupported component type UNSIGNED_BYTE");
+  const std::vector<int8_t> signed_bytes = {-5, 100};
+  attributes["COLOR_0"] = add_integer_accessor(copy, signed_bytes, count, 4, 5120, true);
+  copy.save_json();
+  expect_error(copy.gltf, where + std::to_string(attributes["COLOR_0"].get<int>()) +
+                              " has an unsupported component type normalized BYTE");
+  // KHR_mesh_quantization widens POSITION, NORMAL, TANGENT and TEXCOORD, not COLOR_0.
+  copy.require_extension("KHR_mesh_quantization");
+  copy.save_json();
+  expect_error(copy.gltf, "unsupported component type normalized BYTE");
+
+  SceneCopy bright("sphere", "color_clamped");
+  const std::vector<float> floats = {1.5f, -0.25f, 0.5f};
+  bright.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = add_integer_accessor(bright, floats, count, 3, 5126, false);
+  bright.save_json();
+  const kit::Scene scene = kit::load_scene(bright.gltf.string());
+  ASSERT_EQ(scene.warnings.size(), 1u);
+  EXPECT_NE(scene.warnings[0].find("COLOR_0 has FLOAT values outside [0, 1]; clamped"), std::string::npos) << scene.warnings[0];
+  const kit::Vertex& first = scene.primitives.at(0).vertices.at(0);
+  EXPECT_EQ(first.color, glm::u16vec4(65535, 0, 32768, 65535));
+}
+
 // ---- mirrored transforms ----
 
 TEST(scene_loader_mirrored, NegativeDeterminantMarksTheDrawMirrored) {

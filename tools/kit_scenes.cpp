@@ -17,6 +17,7 @@
 #include <OpenImageIO/imageio.h>
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_precision.hpp>  // u8vec4
 
 #include <algorithm>
 #include <cmath>
@@ -285,6 +286,7 @@ struct Geometry {
   int normal = -1;
   int texcoord = -1;
   int tangent = -1;
+  int color = -1;  // COLOR_0; -1: none (white)
   int indices = -1;
 };
 
@@ -368,6 +370,7 @@ class SceneBuilder {
     prim.attributes["NORMAL"] = g.normal;
     prim.attributes["TEXCOORD_0"] = g.texcoord;
     if (g.tangent >= 0) prim.attributes["TANGENT"] = g.tangent;
+    if (g.color >= 0) prim.attributes["COLOR_0"] = g.color;
     prim.indices = g.indices;
     prim.material = material;
     prim.mode = TINYGLTF_MODE_TRIANGLES;
@@ -376,6 +379,16 @@ class SceneBuilder {
     mesh.primitives.push_back(prim);
     model_.meshes.push_back(mesh);
     return int(model_.meshes.size()) - 1;
+  }
+
+  // COLOR_0 for `g`, one colour a vertex: FLOAT VEC3 (alpha 1), or normalized
+  // UNSIGNED_BYTE VEC4 (c / 255).
+  void add_colors(Geometry& g, const std::vector<glm::vec3>& rgb) {
+    g.color = add_accessor(rgb, TINYGLTF_TYPE_VEC3, TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TARGET_ARRAY_BUFFER);
+  }
+  void add_colors(Geometry& g, const std::vector<glm::u8vec4>& rgba) {
+    g.color = add_accessor(rgba, TINYGLTF_TYPE_VEC4, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_TARGET_ARRAY_BUFFER);
+    model_.accessors[static_cast<size_t>(g.color)].normalized = true;
   }
 
   // A mesh of one primitive, named `name`, and a node of the same name drawing it at
@@ -804,6 +817,10 @@ SceneBuilder build_normal_map_scene(const Textures& tex) {
 //    culling, and lit only with its normal flipped towards the viewer;
 //  * a BLEND strip with base colour alpha 0.5 across the lower edge of the three: in
 //    stage 1's G-buffer with albedo.a 0.5, from stage 2 laid over them by the forward pass.
+//  * two vertex-coloured strips above the rest (COLOR_0 multiplies the base colour): a
+//    FLOAT VEC3 ramp from orange to blue, and a MASK strip of normalized UNSIGNED_BYTE
+//    VEC4 whose alpha ramps from 64/255 to 1 under cutoff 0.5, so its left third is no
+//    surface (a geometry pass that ignores COLOR_0, or its alpha, shows).
 SceneBuilder build_materials_scene(const Textures& tex) {
   SceneBuilder b("materials");
   const glm::vec3 x(1, 0, 0), y(0, 1, 0);
@@ -847,6 +864,24 @@ SceneBuilder build_materials_scene(const Textures& tex) {
   const Geometry strip = b.add_geometry(make_quad(x, y, {4.0f, 0.4f}, {1, 1}, false));
   // In front of the lower edge of the sphere and both quads, so the forward pass blends it over them.
   b.add_mesh_node("blend_strip", {0.0, -0.05, 0.3}, strip, b.add_material(blend));
+
+  // make_quad's corners: bottom-left, bottom-right, top-right, top-left.
+  MaterialDesc tinted;
+  tinted.name = "vertex_coloured";
+  tinted.base_color = glm::dvec4(0.9, 0.8, 0.7, 1.0);
+  tinted.roughness = 0.5;
+  Geometry ramp = b.add_geometry(make_quad(x, y, {3.0f, 0.3f}, {1, 1}, false));
+  const glm::vec3 orange(1.0f, 0.45f, 0.1f), blue(0.1f, 0.35f, 1.0f);
+  b.add_colors(ramp, std::vector<glm::vec3>{orange, blue, blue, orange});
+  b.add_mesh_node("vertex_colour_strip", {0.0, 1.45, 0.0}, ramp, b.add_material(tinted));
+
+  MaterialDesc tinted_mask = tinted;
+  tinted_mask.name = "vertex_coloured_mask";
+  tinted_mask.alpha_mode = "MASK";
+  Geometry faded = b.add_geometry(make_quad(x, y, {3.0f, 0.3f}, {1, 1}, false));
+  const glm::u8vec4 green_faint(40, 200, 90, 64), magenta_opaque(220, 30, 160, 255);
+  b.add_colors(faded, std::vector<glm::u8vec4>{green_faint, magenta_opaque, magenta_opaque, green_faint});
+  b.add_mesh_node("vertex_alpha_strip", {0.0, 1.8, 0.0}, faded, b.add_material(tinted_mask));
 
   b.add_point_light("light", {0.5, 2.0, 4.0}, kWhite, 3.0);  // lab 2 has no falloff
   b.add_camera({0.0, 0.6, 5.0}, {0.0, 0.3, 0.0}, 0.75);

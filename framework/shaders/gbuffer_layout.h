@@ -19,7 +19,7 @@
 // was multiplied by the albedo: it lost the emissive colour, and a black base
 // colour never glowed.)
 //
-// Albedo alpha: the base colour alpha (factor * texel). The lighting pass ignores
+// Albedo alpha: the base colour alpha (factor * texel * COLOR_0). The lighting pass ignores
 // it; the forward pass (framework/forward_pass.h) blends BLEND materials by it: from
 // stage 2 they are drawn into a layer G-buffer of their own, after lighting, not
 // into this one. MASK fragments below their cutoff are discarded in the geometry
@@ -62,6 +62,7 @@
 #define KIT_ATTR_NORMAL 1
 #define KIT_ATTR_TEXCOORD 2
 #define KIT_ATTR_TANGENT 3
+#define KIT_ATTR_COLOR 4  // glTF COLOR_0 (linear rgba; white when the file has none)
 
 // Lights live in an RGBA32F texture, KIT_LIGHT_TEXELS texels per light (one row each).
 #define KIT_LIGHT_TEXELS 4

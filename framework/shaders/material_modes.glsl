@@ -5,7 +5,7 @@
 #include "gbuffer_layout.h"
 #include "material_uniforms.glsl"
 
-// KIT_ALPHA_MASK: a fragment whose base colour alpha (factor * texel) is below
+// KIT_ALPHA_MASK: a fragment whose base colour alpha (factor * texel * COLOR_0) is below
 // u_alpha_cutoff is not part of the surface. Discarding it leaves the G-buffer as
 // cleared there (coverage mask 0) and writes no depth, so what lies behind shows.
 // OPAQUE ignores alpha; BLEND is drawn like OPAQUE here, into the forward pass's

@@ -464,16 +464,22 @@ std::optional<Hit> intersect_plane(const Ray& ray, dvec3 point, dvec3 normal) {
   return hit;
 }
 
-SurfaceSample surface_sample(const Hit& hit, const Material& material) {
+SurfaceSample surface_sample(const Hit& hit, const Material& material, dvec4 vertex_color) {
   SurfaceSample s;
   s.position = hit.position;
   s.normal = hit.normal;
-  s.albedo = dvec3(material.base_color_factor);
+  s.albedo = dvec3(base_color(material, dvec4(1.0), vertex_color));
   s.metallic = material.metallic_factor;
   s.roughness = material.roughness_factor;
   s.emission = dvec3(material.emissive);
   s.covered = true;
   return s;
+}
+
+dvec4 vertex_color(const Vertex& vertex) { return dvec4(vertex.color) / double{Vertex::kVertexColorOne}; }
+
+dvec4 base_color(const Material& material, dvec4 linear_texel, dvec4 vertex_color) {
+  return dvec4(material.base_color_factor) * linear_texel * vertex_color;
 }
 
 }  // namespace kit::reference

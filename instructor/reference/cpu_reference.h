@@ -14,6 +14,7 @@
 //          framework/shaders/attenuation.glsl             light_radiance with stage 2
 //          framework/shaders/tonemap.glsl                 display with stage 2 (clamp)
 //   Lab 3  solutions/03-attenuation/*.glsl      spot_cone_factor, light_radiance, tonemap
+//   Lab 1  solutions/01-gbuffer/gbuffer.*       base_color, vertex_color (and lab 4's copy)
 //   Lab 4  solutions/04-normalmap/gbuffer.*     world_tangent_frame, mapped_normal
 //          renderer.cpp (u_normal_matrix)       normal_matrix
 //   Lab 5  solutions/05-postprocess/*.frag      bright_pass, blur_pass, bloom, composite
@@ -243,7 +244,15 @@ struct Hit {
 // Nearest front-facing hit with t > 0 (the G-buffer culls back faces).
 std::optional<Hit> intersect_sphere(const Ray& ray, dvec3 center, double radius);
 std::optional<Hit> intersect_plane(const Ray& ray, dvec3 point, dvec3 normal);
-// The surface a hit shows with `material`'s factors (textures are not sampled).
-SurfaceSample surface_sample(const Hit& hit, const Material& material);
+// The surface a hit shows with `material`'s factors (textures are not sampled) and
+// the vertex colour there.
+SurfaceSample surface_sample(const Hit& hit, const Material& material, dvec4 vertex_color = dvec4(1.0));
+
+// --- Geometry pass (lab 1) --------------------------------------------------------
+// Vertex::color as the GPU reads it (normalized unsigned short: c / 65535).
+dvec4 vertex_color(const Vertex& vertex);
+// glTF's base colour: baseColorFactor x base colour texel (linear) x COLOR_0, alpha
+// included (the alpha modes read it); albedo.rgba of the G-buffer.
+dvec4 base_color(const Material& material, dvec4 linear_texel, dvec4 vertex_color);
 
 }  // namespace kit::reference

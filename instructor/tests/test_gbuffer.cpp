@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <limits>
@@ -15,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "cpu_reference.h"
 #include "error.h"
 #include "gbuffer.h"
 #include "gbuffer_layout.h"
@@ -27,6 +29,7 @@
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+namespace ref = kit::reference;
 
 namespace {
 
@@ -645,6 +648,64 @@ TEST(gbuffer_material_modes, MaskCutoffDecidesCoverage) {
       {{"01-gbuffer/gbuffer.frag", "    kit_alpha_discard(base_color.a);  // MASK: below the cutoff, no surface here\n", ""}});
   auto naive = render_quad("gbuffer", scene, camera, no_discard);
   EXPECT_EQ(naive->read_view(kit::View::Material, true).at(below.first, below.second, 3), 1.0f);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+// Where the centre ray of image pixel (x, y) meets the plane z = 0, in double.
+glm::dvec3 hit_on_z0(const kit::FrameCamera& camera, int x, int y) {
+  const glm::dmat4 inverse = glm::inverse(glm::dmat4(camera.projection) * glm::dmat4(camera.view));
+  const glm::dvec2 ndc((x + 0.5) / kWidth * 2.0 - 1.0, 1.0 - (y + 0.5) / kHeight * 2.0);
+  const glm::dvec4 near_point = inverse * glm::dvec4(ndc, -1.0, 1.0), far_point = inverse * glm::dvec4(ndc, 1.0, 1.0);
+  const glm::dvec3 a = glm::dvec3(near_point) / near_point.w, b = glm::dvec3(far_point) / far_point.w;
+  return a + (b - a) * (-a.z / (b.z - a.z));
+}
+
+TEST(gbuffer_material_modes, AlbedoIsFactorTimesTexelTimesVertexColour) {
+  // The quad's COLOR_0 goes from `left` (x = -1) to `right` (x = +1): an affine function
+  // of the position, which both triangles interpolate exactly, so the colour at a pixel
+  // is known in double from where its centre ray meets the quad. A 1 x 1 texture and a
+  // factor multiply it; alpha too (OPAQUE keeps it in albedo.a).
+  const glm::vec4 left(1.0f, 0.2f, 0.5f, 1.0f), right(0.3f, 1.0f, 0.1f, 0.6f);
+  const std::array<unsigned char, 4> texel = {200, 150, 100, 230};
+  kit::Material m = kit::test::plain_material(0.5f);
+  m.base_color_factor = glm::vec4(0.9f, 0.8f, 0.6f, 0.95f);
+  m.base_color_image = 0;
+  kit::Scene scene = quad_scene(m);
+  scene.images.push_back({"texel", 1, 1, {}, kit::ImageRgba8{1, 1, {texel.begin(), texel.end()}}});
+  const kit::Vertex *at_left = nullptr, *at_right = nullptr;
+  for (kit::Vertex& v : scene.primitives[0].vertices) {
+    const glm::vec4 color = v.position.x < 0.0f ? left : right;
+    for (int c = 0; c < 4; ++c) v.color[c] = kit::vertex_color_component(color[c]);
+    (v.position.x < 0.0f ? at_left : at_right) = &v;
+  }
+  const glm::dvec4 linear_texel(srgb_to_linear(texel[0] / 255.0), srgb_to_linear(texel[1] / 255.0),
+                                srgb_to_linear(texel[2] / 255.0), texel[3] / 255.0);
+  const glm::dvec4 left_color = ref::vertex_color(*at_left), right_color = ref::vertex_color(*at_right);
+  const kit::FrameCamera camera = quad_camera(3.0);
+  auto expected_at = [&](int x, int y) {
+    const double t = (hit_on_z0(camera, x, y).x + 1.0) / 2.0;
+    return ref::base_color(m, linear_texel, glm::mix(left_color, right_color, t));
+  };
+  auto renderer = render_quad("gbuffer", scene, camera);
+  const kit::Image albedo = renderer->read_view(kit::View::Albedo, true);
+  // Witness: the geometry pass without the vertex colour.
+  const fs::path no_color = kit::test::variant_root(
+      "gbuffer_no_vertex_color", {{"01-gbuffer/gbuffer.frag", "v_texcoord) * v_color;", "v_texcoord);"}});
+  auto naive = render_quad("gbuffer", scene, camera, no_color);
+  const kit::Image naive_albedo = naive->read_view(kit::View::Albedo, true);
+  size_t tested = 0;
+  for (double x_world : {-0.9, -0.5, -0.1, 0.3, 0.7, 0.9}) {
+    const auto [x, y] = pixel_of(camera, {x_world, 0.1, 0.0});
+    const glm::dvec4 expected = expected_at(x, y);
+    double naive_error = 0.0;
+    for (int c = 0; c < 4; ++c) {
+      ASSERT_NEAR(albedo.at(x, y, c), expected[c], kAlbedoTolerance) << "pixel (" << x << ", " << y << ") channel " << c;
+      naive_error = std::max(naive_error, std::fabs(naive_albedo.at(x, y, c) - expected[c]));
+    }
+    EXPECT_GT(naive_error, 10.0 * kAlbedoTolerance) << "pixel (" << x << ", " << y << "): ignoring COLOR_0 must show";
+    ++tested;
+  }
+  EXPECT_EQ(tested, 6u);
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 

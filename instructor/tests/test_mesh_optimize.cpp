@@ -8,6 +8,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <cstddef>
 #include <cstring>
 #include <random>
 #include <string>
@@ -22,15 +23,16 @@ using kit::Image;
 using kit::Primitive;
 using kit::Vertex;
 
-// A whole vertex as comparable floats (position, normal, texcoord, tangent).
-using VertexKey = std::array<float, 12>;
+// A whole vertex as comparable floats (position, normal, texcoord, tangent, colour).
+using VertexKey = std::array<float, 16>;
 // A triangle's three vertices, rotated so the smallest comes first: the same
 // triangle with the same winding gives the same key wherever it starts.
 using TriangleKey = std::array<VertexKey, 3>;
 
 VertexKey key_of(const Vertex& v) {
-  VertexKey k;
-  std::memcpy(k.data(), &v, sizeof(Vertex));
+  VertexKey k{};
+  std::memcpy(k.data(), &v, offsetof(Vertex, color));  // the 12 floats before the colour
+  for (int c = 0; c < 4; ++c) k[12 + static_cast<size_t>(c)] = v.color[c];
   return k;
 }
 

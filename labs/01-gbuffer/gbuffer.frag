@@ -7,6 +7,7 @@
 in vec3 v_world_position;
 in vec3 v_world_normal;
 in vec2 v_texcoord;
+in vec4 v_color;  // linear rgba
 
 layout(location = KIT_GBUF_POSITION) out vec4 out_position;
 layout(location = KIT_GBUF_NORMAL) out vec4 out_normal;
@@ -15,7 +16,8 @@ layout(location = KIT_GBUF_MATERIAL) out vec4 out_material;
 layout(location = KIT_GBUF_EMISSION) out vec4 out_emission;
 
 void main() {
-    // TODO(lab 1): base colour = u_base_color_factor * the base colour texture.
+    // TODO(lab 1): base colour = u_base_color_factor * the base colour texture
+    //              * the vertex colour, alpha included.
     vec4 base_color = u_base_color_factor;
     kit_alpha_discard(base_color.a);  // MASK: below the cutoff, no surface here
     // TODO(lab 1): metallic = u_metallic_factor * texel.b and

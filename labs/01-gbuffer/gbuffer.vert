@@ -5,10 +5,12 @@
 layout(location = KIT_ATTR_POSITION) in vec3 a_position;
 layout(location = KIT_ATTR_NORMAL) in vec3 a_normal;
 layout(location = KIT_ATTR_TEXCOORD) in vec2 a_texcoord;
+layout(location = KIT_ATTR_COLOR) in vec4 a_color;  // glTF COLOR_0 (white when the mesh has none)
 
 out vec3 v_world_position;
 out vec3 v_world_normal;
 out vec2 v_texcoord;
+out vec4 v_color;
 
 void main() {
     vec4 world = u_model * vec4(a_position, 1.0);
@@ -18,5 +20,6 @@ void main() {
     //              (u_normal_matrix), not with u_model. Why? See the handout.
     v_world_normal = a_normal;
     v_texcoord = a_texcoord;
+    v_color = a_color;
     gl_Position = u_projection * u_view * world;
 }

@@ -7,6 +7,7 @@
 in vec3 v_world_position;
 in vec3 v_world_normal;
 in vec2 v_texcoord;
+in vec4 v_color;  // linear rgba
 
 layout(location = KIT_GBUF_POSITION) out vec4 out_position;
 layout(location = KIT_GBUF_NORMAL) out vec4 out_normal;
@@ -16,7 +17,8 @@ layout(location = KIT_GBUF_EMISSION) out vec4 out_emission;
 
 void main() {
     // The sRGB texture format already decoded the texel to linear colour.
-    vec4 base_color = u_base_color_factor * texture(u_base_color_texture, v_texcoord);
+    // glTF: factor * texel * COLOR_0, alpha included (it decides MASK coverage).
+    vec4 base_color = u_base_color_factor * texture(u_base_color_texture, v_texcoord) * v_color;
     kit_alpha_discard(base_color.a);  // MASK: below the cutoff, no surface here
     vec4 metallic_roughness = texture(u_metallic_roughness_texture, v_texcoord);
     float metallic = u_metallic_factor * metallic_roughness.b;

@@ -10,6 +10,7 @@ in vec3 v_world_normal;
 in vec3 v_world_tangent;
 in vec3 v_world_bitangent;
 in vec2 v_texcoord;
+in vec4 v_color;  // linear rgba
 
 layout(location = KIT_GBUF_POSITION) out vec4 out_position;
 layout(location = KIT_GBUF_NORMAL) out vec4 out_normal;
@@ -43,7 +44,8 @@ vec3 mapped_normal(vec3 n) {
 }
 
 void main() {
-    vec4 base_color = u_base_color_factor * texture(u_base_color_texture, v_texcoord);
+    // glTF: factor * texel * COLOR_0, alpha included (it decides MASK coverage).
+    vec4 base_color = u_base_color_factor * texture(u_base_color_texture, v_texcoord) * v_color;
     kit_alpha_discard(base_color.a);  // MASK: below the cutoff, no surface here
     vec4 metallic_roughness = texture(u_metallic_roughness_texture, v_texcoord);
     float metallic = u_metallic_factor * metallic_roughness.b;

@@ -17,6 +17,7 @@ in vec3 v_world_normal;
 in vec3 v_world_tangent;
 in vec3 v_world_bitangent;
 in vec2 v_texcoord;
+in vec4 v_color;  // glTF COLOR_0
 
 struct SurfaceInputs {
     vec3 normal;      // unit, world space, normal map applied
@@ -51,7 +52,7 @@ vec3 mapped_normal(vec3 n) {
 
 SurfaceInputs surface_inputs() {
     SurfaceInputs m;
-    vec4 base_color = u_base_color_factor * texture(u_base_color_texture, v_texcoord);
+    vec4 base_color = u_base_color_factor * texture(u_base_color_texture, v_texcoord) * v_color;
     vec4 metallic_roughness = texture(u_metallic_roughness_texture, v_texcoord);
     kit_alpha_discard(base_color.a);
     m.albedo = base_color.rgb;
