@@ -108,7 +108,7 @@ Mesh enclosing_sphere_mesh(int subdivisions) {
 }
 
 float light_marker_radius(const Scene& scene) {
-  return std::max(0.015f * glm::length(scene.bounds_max - scene.bounds_min), 1e-4f);
+  return std::max(0.005f * glm::length(scene.bounds_max - scene.bounds_min), 1e-4f);
 }
 
 glm::vec3 light_marker_radiance(const Light& light) {

@@ -52,7 +52,7 @@ std::optional<PixelRect> projected_rect(const glm::vec3& bounds_min, const glm::
 // (kit-bench) and light markers draw it.
 Mesh enclosing_sphere_mesh(int subdivisions);
 
-// Radius of a light marker: 1.5 % of the scene's bounding-box diagonal, so
+// Radius of a light marker: 0.5 % of the scene's bounding-box diagonal, so
 // markers look alike at any scale.
 float light_marker_radius(const Scene& scene);
 
