@@ -11,12 +11,6 @@
 namespace kit {
 
 namespace {
-const Material& draw_material(const Scene& scene, const DrawItem& draw) {
-  static const Material kDefaultMaterial{};
-  const Primitive& prim = scene.primitives[static_cast<size_t>(draw.primitive)];
-  return prim.material >= 0 ? scene.materials[static_cast<size_t>(prim.material)] : kDefaultMaterial;
-}
-
 glm::vec3 box_corner(const glm::vec3& lo, const glm::vec3& hi, int c) {
   return {(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
 }

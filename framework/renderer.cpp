@@ -180,10 +180,14 @@ Texture2D light_texture(const std::vector<Light>& lights) {
   return Texture2D(KIT_LIGHT_TEXELS, std::max(light_count, 1), {GL_RGBA32F, GL_RGBA, GL_FLOAT}, texels.data());
 }
 
-void draw_item(const Program& geometry, const Scene& scene, const SceneGpu& gpu, const DrawItem& d) {
+const Material& draw_material(const Scene& scene, const DrawItem& draw) {
   static const Material kDefaultMaterial{};
-  const Primitive& prim = scene.primitives[static_cast<size_t>(d.primitive)];
-  const Material& m = prim.material >= 0 ? scene.materials[static_cast<size_t>(prim.material)] : kDefaultMaterial;
+  const Primitive& prim = scene.primitives[static_cast<size_t>(draw.primitive)];
+  return prim.material >= 0 ? scene.materials[static_cast<size_t>(prim.material)] : kDefaultMaterial;
+}
+
+void draw_item(const Program& geometry, const Scene& scene, const SceneGpu& gpu, const DrawItem& d) {
+  const Material& m = draw_material(scene, d);
   geometry.set("u_model", d.world);
   geometry.set("u_normal_matrix", glm::inverseTranspose(glm::mat3(d.world)));
   geometry.set("u_base_color_factor", m.base_color_factor);
@@ -247,6 +251,7 @@ Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene
       settings_(settings),
       scene_gpu_(timed_scene_upload(scene, scene_upload_seconds_)),
       gbuffer_(settings.width, settings.height) {
+  blend_draws_ = has_blend_draws(scene_);
   build_programs();
   allocate_targets();
   upload_lights();
@@ -394,7 +399,7 @@ void Renderer::render_passes(const FrameCamera& camera) {
                  (program != &p.blur || settings_.blur_passes > 0);
     if (drawn) used_.push_back(program);
   }
-  if (forward_ && has_blend_draws(scene_)) used_.push_back(&forward_->blend_program());
+  if (forward_ && blend_draws_) used_.push_back(&forward_->blend_program());
   if (forward_ && settings_.light_markers) used_.push_back(&forward_->marker_program());
 
   // 1. Geometry pass: every draw item into the G-buffer; from stage 2, BLEND
@@ -416,7 +421,7 @@ void Renderer::render_passes(const FrameCamera& camera) {
 
   // 2'. Forward pass (forward_pass.h): BLEND draws back to front over the HDR
   //     target, lit by the same lighting pass; then the light markers.
-  if (has_blend_draws(scene_)) {
+  if (blend_draws_) {
     forward_->draw_blend_layers(p.geometry, p.lighting, scene_, scene_gpu_, gbuffer_, hdr_fbo_, camera_.view,
                                 view_projection, triangle_);
     gbuffer_.bind_textures();  // the opaque G-buffer again, for the passes after

@@ -103,6 +103,8 @@ enum class DrawSet { All, AllButBlend };
 // `view_projection` are skipped.
 void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
                 const glm::mat4& view_projection, bool frustum_culling, DrawSet set = DrawSet::All);
+// The material a draw item is drawn with: its primitive's, or glTF's default material.
+const Material& draw_material(const Scene& scene, const DrawItem& draw);
 // One draw item as draw_scene draws it; end_scene_draws() restores GL's state after the last.
 void draw_item(const Program& geometry, const Scene& scene, const SceneGpu& gpu, const DrawItem& draw);
 void end_scene_draws();
@@ -184,6 +186,7 @@ class Renderer {
   std::unique_ptr<Programs> programs_;
   // The forward pass (BLEND draws, light markers): stages with a lighting pass only.
   std::unique_ptr<ForwardPass> forward_;
+  bool blend_draws_ = false;  // the scene has BLEND draws (it never changes: found once)
   std::vector<Light> frame_lights_;  // as uploaded, for the light markers
   Texture2D lights_;
   int light_count_ = 0;
