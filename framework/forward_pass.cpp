@@ -139,8 +139,8 @@ void ForwardPass::resize(int width, int height) {
   allocate();
 }
 
-void ForwardPass::draw_blend_layers(const Program& geometry, const Program& lighting, const Scene& scene,
-                                    const SceneGpu& gpu, const GBuffer& opaque, const Framebuffer& hdr_fbo,
+void ForwardPass::draw_blend_layers(const Program& geometry, const Program& lighting, const Program* ibl,
+                                    const Scene& scene, const SceneGpu& gpu, const GBuffer& opaque, const Framebuffer& hdr_fbo,
                                     const glm::mat4& view, const glm::mat4& view_projection,
                                     const FullscreenTriangle& triangle) {
   for (size_t index : blend_draws_back_to_front(scene, view)) {
@@ -167,6 +167,7 @@ void ForwardPass::draw_blend_layers(const Program& geometry, const Program& ligh
     // 2. The stage's own lighting pass on the layer.
     layer_.bind_textures();
     triangle.pass(lighting, layer_hdr_fbo_, width_, height_);
+    if (ibl) triangle.pass(*ibl, layer_hdr_fbo_, width_, height_, true);
 
     // 3. Over the HDR target: L = a L_layer + (1 - a) L_behind (alpha of the target kept).
     layer_hdr_.bind(KIT_UNIT_HDR);

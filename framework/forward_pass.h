@@ -72,11 +72,13 @@ class ForwardPass {
   void resize(int width, int height);
 
   // The BLEND draws over `hdr_fbo` (colour: the HDR target). `geometry` and
-  // `lighting` are the stage's programs with their frame uniforms set; the lights
-  // texture is bound; `opaque` is the frame's G-buffer with the opaque surfaces.
+  // `lighting` (and at stage 6 `ibl`, else null, added to the layer as to the opaque
+  // surfaces) are the stage's programs with their frame uniforms set; the lights
+  // texture (and the IBL maps) are bound; `opaque` is the frame's G-buffer with the opaque surfaces.
   // Leaves the layer's textures bound on the G-buffer units: rebind the opaque ones
   // before a pass reads them.
-  void draw_blend_layers(const Program& geometry, const Program& lighting, const Scene& scene, const SceneGpu& gpu,
+  void draw_blend_layers(const Program& geometry, const Program& lighting, const Program* ibl, const Scene& scene,
+                         const SceneGpu& gpu,
                          const GBuffer& opaque, const Framebuffer& hdr_fbo, const glm::mat4& view,
                          const glm::mat4& view_projection, const FullscreenTriangle& triangle);
 

@@ -263,6 +263,11 @@ void Texture2D::set_filter(GLenum min_filter, GLenum mag_filter) const {
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, static_cast<GLint>(mag_filter));
 }
 
+void Texture2D::set_max_level(int level) const {
+  glBindTexture(GL_TEXTURE_2D, texture_.get());
+  glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, level);
+}
+
 void Texture2D::set_wrap(GLenum wrap_s, GLenum wrap_t) const {
   glBindTexture(GL_TEXTURE_2D, texture_.get());
   glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, static_cast<GLint>(wrap_s));
@@ -285,9 +290,10 @@ Framebuffer::Framebuffer() {
   fbo_ = GlName<delete_framebuffer>(id);
 }
 
-void Framebuffer::attach_color(int index, const Texture2D& texture) const {
+void Framebuffer::attach_color(int index, const Texture2D& texture, int level) const {
   bind();
-  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(index), GL_TEXTURE_2D, texture.id(), 0);
+  glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(index), GL_TEXTURE_2D, texture.id(),
+                         level);
 }
 
 void Framebuffer::attach_depth(const Texture2D& texture) const {
@@ -362,14 +368,21 @@ void FullscreenTriangle::draw() const {
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
-void FullscreenTriangle::pass(const Program& program, const Framebuffer& target, int width, int height) const {
+void FullscreenTriangle::pass(const Program& program, const Framebuffer& target, int width, int height,
+                              bool additive) const {
   target.bind();
   glViewport(0, 0, width, height);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
+  if (additive) {
+    glEnable(GL_BLEND);
+    glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);
+  } else {
+    glDisable(GL_BLEND);
+  }
   program.use();
   draw();
+  if (additive) glDisable(GL_BLEND);
 }
 
 }  // namespace kit

@@ -120,6 +120,8 @@ class Texture2D {
   void bind(int unit) const;
   void set_filter(GLenum min_filter, GLenum mag_filter) const;
   void set_wrap(GLenum wrap_s, GLenum wrap_t) const;
+  // The last mip level sampling may use (GL_TEXTURE_MAX_LEVEL): a chain cut short stays complete.
+  void set_max_level(int level) const;
 
  private:
   GlName<delete_texture> texture_;
@@ -147,7 +149,8 @@ class Framebuffer {
   Framebuffer();
   GLuint id() const { return fbo_.get(); }
   void bind() const { glBindFramebuffer(GL_FRAMEBUFFER, fbo_.get()); }
-  void attach_color(int index, const Texture2D& texture) const;
+  // Attaches mip level `level` of `texture` (its size is the level's, not level 0's).
+  void attach_color(int index, const Texture2D& texture, int level = 0) const;
   void attach_depth(const Texture2D& texture) const;
   // Sets the draw buffers to attachments 0..count-1.
   void set_draw_buffers(int count) const;
@@ -196,8 +199,9 @@ class FullscreenTriangle {
   FullscreenTriangle();
   void draw() const;
   // A full-screen pass: binds `target`, sets the viewport to width x height, turns
-  // depth test, culling and blending off, uses `program` and draws.
-  void pass(const Program& program, const Framebuffer& target, int width, int height) const;
+  // depth test and culling off, uses `program` and draws. Blending is off, or with
+  // `additive` the colour is added to the target's (its alpha kept).
+  void pass(const Program& program, const Framebuffer& target, int width, int height, bool additive = false) const;
 
  private:
   GlName<delete_vertex_array> vao_;

@@ -3,6 +3,7 @@
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "error.h"
@@ -51,28 +52,30 @@ Image read_image(const std::string& path) {
   return image;
 }
 
-Image read_texture(const Texture2D& texture, bool depth) {
+Image read_texture(const Texture2D& texture, bool depth) { return read_texture_level(texture, 0, depth); }
+
+Image read_texture_level(const Texture2D& texture, int level, bool depth) {
   Framebuffer read_fbo;
   if (depth) {
     read_fbo.attach_depth(texture);
     glDrawBuffer(GL_NONE);
     glReadBuffer(GL_NONE);
   } else {
-    read_fbo.attach_color(0, texture);
+    read_fbo.attach_color(0, texture, level);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
   }
+  const int width = std::max(texture.width() >> level, 1), height = std::max(texture.height() >> level, 1);
   int channels = depth ? 1 : 4;
-  Image flipped(texture.width(), texture.height(), channels);
+  Image flipped(width, height, channels);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, texture.width(), texture.height(), depth ? GL_DEPTH_COMPONENT : GL_RGBA, GL_FLOAT,
-               flipped.pixels.data());
+  glReadPixels(0, 0, width, height, depth ? GL_DEPTH_COMPONENT : GL_RGBA, GL_FLOAT, flipped.pixels.data());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   check_gl("read_texture");
   // GL rows start at the bottom; images start at the top.
-  Image image(texture.width(), texture.height(), channels);
-  size_t row = static_cast<size_t>(texture.width()) * channels;
-  for (int y = 0; y < texture.height(); ++y)
-    std::copy_n(flipped.pixels.begin() + static_cast<std::ptrdiff_t>(row * (texture.height() - 1 - y)), row,
+  Image image(width, height, channels);
+  size_t row = static_cast<size_t>(width) * channels;
+  for (int y = 0; y < height; ++y)
+    std::copy_n(flipped.pixels.begin() + static_cast<std::ptrdiff_t>(row * (height - 1 - y)), row,
                 image.pixels.begin() + static_cast<std::ptrdiff_t>(row * y));
   return image;
 }

@@ -25,6 +25,8 @@ Image read_image(const std::string& path);
 
 // Reads a colour texture (any format) as RGBA floats, or a depth texture as one channel.
 Image read_texture(const Texture2D& texture, bool depth = false);
+// Mip level `level` of a colour texture (or the depth texture's level 0 with `depth`).
+Image read_texture_level(const Texture2D& texture, int level, bool depth = false);
 
 // Counts pixels with a NaN or Inf in any channel.
 size_t count_non_finite(const Image& image);

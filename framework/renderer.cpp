@@ -42,6 +42,8 @@ const std::pair<const char*, int> kSamplerUnits[] = {
     {"u_ldr", KIT_UNIT_LDR},                        {"u_base_color_texture", KIT_UNIT_BASE_COLOR},
     {"u_metallic_roughness_texture", KIT_UNIT_METALLIC_ROUGHNESS},
     {"u_normal_texture", KIT_UNIT_NORMAL_MAP},      {"u_emissive_texture", KIT_UNIT_EMISSIVE},
+    {"u_environment", KIT_UNIT_ENVIRONMENT},        {"u_irradiance", KIT_UNIT_IRRADIANCE},
+    {"u_prefiltered", KIT_UNIT_PREFILTERED},        {"u_brdf_lut", KIT_UNIT_BRDF_LUT},
 };
 
 }  // namespace
@@ -62,15 +64,20 @@ Program make_program(const ShaderLibrary& library, const std::string& vs, const 
 
 struct Renderer::Programs {
   Program geometry, lighting, display, bright, blur, composite, custom, debug;
+  // Stage 6: the lab's precompute shaders, its IBL pass, and the framework's background.
+  Program irradiance, prefilter, brdf_lut, ibl, background;
 };
 
 View parse_view(const std::string& name) {
   static const std::pair<const char*, View> names[] = {
       {"final", View::Final},       {"position", View::Position}, {"normal", View::Normal}, {"albedo", View::Albedo},
-      {"material", View::Material}, {"emission", View::Emission}, {"depth", View::Depth},   {"hdr", View::Hdr}};
+      {"material", View::Material}, {"emission", View::Emission}, {"depth", View::Depth},   {"hdr", View::Hdr},
+      {"irradiance", View::Irradiance}, {"prefiltered", View::Prefiltered}, {"brdf-lut", View::BrdfLut}};
   for (const auto& [n, v] : names)
     if (name == n) return v;
-  throw Error("unknown view '" + name + "' (views: final, position, normal, albedo, material, emission, depth, hdr)");
+  throw Error("unknown view '" + name +
+              "' (views: final, position, normal, albedo, material, emission, depth, hdr, and at stage 6 "
+              "irradiance, prefiltered, brdf-lut)");
 }
 
 const char* view_name(View view) {
@@ -83,6 +90,9 @@ const char* view_name(View view) {
     case View::Emission: return "emission";
     case View::Depth: return "depth";
     case View::Hdr: return "hdr";
+    case View::Irradiance: return "irradiance";
+    case View::Prefiltered: return "prefiltered";
+    case View::BrdfLut: return "brdf-lut";
   }
   return "?";
 }
@@ -157,9 +167,14 @@ bool uses_default_light_rig(const Scene& scene, const RenderSettings& settings) 
   return settings.default_light_rig && scene.lights.empty();
 }
 
+bool uses_default_light_rig(const Scene& scene, const Stage& stage, const RenderSettings& settings) {
+  return !stage.ibl && uses_default_light_rig(scene, settings);
+}
+
 std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings) {
-  std::vector<Light> lights =
-      uses_default_light_rig(scene, settings) ? default_light_rig(scene, stage, settings.attenuation_model) : scene.lights;
+  std::vector<Light> lights = uses_default_light_rig(scene, stage, settings)
+                                  ? default_light_rig(scene, stage, settings.attenuation_model)
+                                  : scene.lights;
   std::vector<Light> extra = spawned_lights(scene, settings.extra_lights);
   lights.insert(lights.end(), extra.begin(), extra.end());
   return lights;
@@ -252,6 +267,7 @@ Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene
       scene_gpu_(timed_scene_upload(scene, scene_upload_seconds_)),
       gbuffer_(settings.width, settings.height) {
   blend_draws_ = has_blend_draws(scene_);
+  if (stage_.ibl) load_environment();
   build_programs();
   allocate_targets();
   upload_lights();
@@ -275,11 +291,31 @@ void Renderer::build_programs() {
     p->custom = make_program(library_, "fullscreen.vert", "custom_effect.frag");
   }
   p->debug = make_program(library_, "fullscreen.vert", "debug_view.frag");
+  if (stage_.ibl) {
+    p->irradiance = make_program(library_, "fullscreen.vert", "irradiance.frag");
+    p->prefilter = make_program(library_, "fullscreen.vert", "prefilter.frag");
+    p->brdf_lut = make_program(library_, "fullscreen.vert", "brdf_lut.frag");
+    p->ibl = make_program(library_, "fullscreen.vert", "ibl.frag");
+    p->background = make_program(library_, "fullscreen.vert", "environment_background.frag");
+  }
   std::unique_ptr<ForwardPass> forward;
   if (stage_.lighting) forward = std::make_unique<ForwardPass>(library_, settings_.width, settings_.height);
   programs_ = std::move(p);  // replaced only once everything compiled and linked
   forward_ = std::move(forward);
   used_.clear();
+  if (ibl_) precompute_ibl();
+}
+
+void Renderer::load_environment() {
+  const std::string name = settings_.environment.empty() ? kDefaultEnvironment : settings_.environment;
+  ibl_ = std::make_unique<ImageBasedLighting>(kit::load_environment(resolve_environment(name)));
+  ibl_environment_ = settings_.environment;
+}
+
+void Renderer::precompute_ibl() {
+  const Programs& p = *programs_;
+  ibl_->precompute(p.irradiance, p.prefilter, p.brdf_lut, triangle_, settings_.ibl);
+  ibl_settings_ = settings_.ibl;
 }
 
 void Renderer::reload_shaders() { build_programs(); }
@@ -287,7 +323,8 @@ void Renderer::reload_shaders() { build_programs(); }
 std::vector<std::filesystem::path> Renderer::shader_paths() const {
   std::vector<std::filesystem::path> out;
   for (const Program* p : {&programs_->geometry, &programs_->lighting, &programs_->display, &programs_->bright,
-                           &programs_->blur, &programs_->composite, &programs_->custom})
+                           &programs_->blur, &programs_->composite, &programs_->custom, &programs_->irradiance,
+                           &programs_->prefilter, &programs_->brdf_lut, &programs_->ibl})
     out.insert(out.end(), p->source_paths().begin(), p->source_paths().end());
   return out;
 }
@@ -392,9 +429,16 @@ void Renderer::render_passes(const FrameCamera& camera) {
   if (settings_.extra_lights != lights_extra_ || settings_.default_light_rig != lights_default_rig_ ||
       settings_.attenuation_model != lights_attenuation_model_)
     upload_lights();
+  if (ibl_ && settings_.environment != ibl_environment_) {
+    load_environment();
+    precompute_ibl();
+  } else if (ibl_ && !(settings_.ibl == ibl_settings_)) {
+    precompute_ibl();
+  }
   camera_ = camera;
   const Programs& p = *programs_;
-  for (const Program* program : {&p.geometry, &p.lighting, &p.display, &p.bright, &p.blur, &p.composite, &p.custom}) {
+  for (const Program* program : {&p.geometry, &p.lighting, &p.display, &p.bright, &p.blur, &p.composite, &p.custom,
+                                 &p.irradiance, &p.prefilter, &p.brdf_lut, &p.ibl, &p.background}) {
     bool drawn = program->valid() && (program != &p.display || !stage_.postprocess) &&
                  (program != &p.blur || settings_.blur_passes > 0);
     if (drawn) used_.push_back(program);
@@ -419,11 +463,23 @@ void Renderer::render_passes(const FrameCamera& camera) {
   fullscreen_pass(p.lighting, hdr_fbo_, settings_.width, settings_.height);
   check_gl("lighting pass");
 
+  // 2''. Stage 6: the environment's light added (ibl.frag), then the environment
+  //      itself where no surface is.
+  if (ibl_) {
+    ibl_->bind();
+    set_frame_uniforms(p.ibl);
+    triangle_.pass(p.ibl, hdr_fbo_, settings_.width, settings_.height, true);
+    check_gl("IBL pass (ibl.frag)");
+    set_frame_uniforms(p.background);
+    fullscreen_pass(p.background, hdr_fbo_, settings_.width, settings_.height);
+    check_gl("environment background");
+  }
+
   // 2'. Forward pass (forward_pass.h): BLEND draws back to front over the HDR
   //     target, lit by the same lighting pass; then the light markers.
   if (blend_draws_) {
-    forward_->draw_blend_layers(p.geometry, p.lighting, scene_, scene_gpu_, gbuffer_, hdr_fbo_, camera_.view,
-                                view_projection, triangle_);
+    forward_->draw_blend_layers(p.geometry, p.lighting, ibl_ ? &p.ibl : nullptr, scene_, scene_gpu_, gbuffer_,
+                                hdr_fbo_, camera_.view, view_projection, triangle_);
     gbuffer_.bind_textures();  // the opaque G-buffer again, for the passes after
     check_gl("forward pass (BLEND materials)");
   }
@@ -484,6 +540,12 @@ const Texture2D& Renderer::final_texture() const {
 }
 
 Image Renderer::read_view(View view, bool raw) {
+  if (view == View::Irradiance || view == View::Prefiltered || view == View::BrdfLut) {
+    if (!ibl_) throw Error(std::string("view '") + view_name(view) + "' needs stage 6 (ibl)");
+    if (view == View::Irradiance) return read_texture(ibl_->irradiance());
+    if (view == View::BrdfLut) return read_texture(ibl_->brdf_lut());
+    return read_prefiltered_levels(ibl_->prefiltered());
+  }
   if (raw && view != View::Final && view != View::Hdr) {
     if (view == View::Depth) return read_texture(gbuffer_.depth(), true);
     int index = view == View::Position ? KIT_GBUF_POSITION : view == View::Normal ? KIT_GBUF_NORMAL
@@ -495,6 +557,10 @@ Image Renderer::read_view(View view, bool raw) {
 
 const Texture2D& Renderer::display_texture(View view) {
   if (view == View::Final) return final_texture();
+  if (view == View::Irradiance || view == View::Prefiltered || view == View::BrdfLut) {
+    if (!ibl_) throw Error(std::string("view '") + view_name(view) + "' needs stage 6 (ibl)");
+    return view == View::Irradiance ? ibl_->irradiance() : view == View::BrdfLut ? ibl_->brdf_lut() : ibl_->prefiltered();
+  }
   if (view == View::Hdr) {
     if (!stage_.lighting) throw Error("view 'hdr' needs a lit stage (lighting or later)");
     return hdr_;

@@ -9,6 +9,7 @@
 
 #include "forward_pass.h"
 #include "gbuffer.h"
+#include "ibl.h"
 #include "image_io.h"
 #include "scene.h"
 #include "stages.h"
@@ -34,10 +35,17 @@ struct RenderSettings {
   // A small sphere of the light's colour at each point and spot light, drawn
   // forward after the lighting pass (forward_pass.h); the viewer's option, off headless.
   bool light_markers = false;
+  // Stage 6: the environment (a kit environment's name or an .hdr/.exr file; empty:
+  // kDefaultEnvironment) and how its maps are precomputed (ibl.h).
+  std::string environment;
+  IblSettings ibl;
 };
 
-enum class View { Final, Position, Normal, Albedo, Material, Emission, Depth, Hdr };
-View parse_view(const std::string& name);  // final|position|normal|albedo|material|emission|depth|hdr
+// The last three are stage 6's precomputed maps: the irradiance map, the prefiltered
+// map's levels stacked (read_prefiltered_levels) and the BRDF table, each at its own size.
+enum class View { Final, Position, Normal, Albedo, Material, Emission, Depth, Hdr, Irradiance, Prefiltered, BrdfLut };
+// final|position|normal|albedo|material|emission|depth|hdr|irradiance|prefiltered|brdf-lut
+View parse_view(const std::string& name);
 const char* view_name(View view);
 
 // Camera matrices for one frame.
@@ -80,6 +88,9 @@ std::vector<Light> default_light_rig(const Scene& scene, const Stage& stage, int
 // Whether the lights of a frame include the default rig: the scene has no lights and
 // `settings` ask for it.
 bool uses_default_light_rig(const Scene& scene, const RenderSettings& settings);
+// The same at `stage`: never at a stage lit by an environment, which lights a scene
+// without lights by itself.
+bool uses_default_light_rig(const Scene& scene, const Stage& stage, const RenderSettings& settings);
 // The lights a frame uploads: the scene's (or the default rig), then
 // RenderSettings::extra_lights spawned ones.
 std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings);
@@ -142,6 +153,8 @@ class Renderer {
   std::vector<std::filesystem::path> shader_paths() const;  // for hot reload
   // Seconds the scene's meshes and textures took to decode and upload (SceneGpu).
   double scene_upload_seconds() const { return scene_upload_seconds_; }
+  // Stage 6: the environment and its maps (null at other stages).
+  const ImageBasedLighting* image_based_lighting() const { return ibl_.get(); }
 
   void render(const FrameCamera& camera);
 
@@ -174,6 +187,8 @@ class Renderer {
   void set_frame_uniforms(const Program& program) const;
   void fullscreen_pass(const Program& program, const Framebuffer& target, int width, int height) const;
   void allocate_targets();
+  void load_environment();
+  void precompute_ibl();
 
   Stage stage_;
   ShaderLibrary library_;
@@ -186,6 +201,10 @@ class Renderer {
   std::unique_ptr<Programs> programs_;
   // The forward pass (BLEND draws, light markers): stages with a lighting pass only.
   std::unique_ptr<ForwardPass> forward_;
+  // Stage 6's environment and maps, and the environment and settings they were made for.
+  std::unique_ptr<ImageBasedLighting> ibl_;
+  std::string ibl_environment_;
+  IblSettings ibl_settings_;
   bool blend_draws_ = false;  // the scene has BLEND draws (it never changes: found once)
   std::vector<Light> frame_lights_;  // as uploaded, for the light markers
   Texture2D lights_;

@@ -16,6 +16,7 @@ const std::vector<Stage>& stages() {
       {3, "attenuation", "03-attenuation", {"attenuation.glsl", "tonemap.glsl"}, true, false},
       {4, "normalmap", "04-normalmap", {"gbuffer.vert", "gbuffer.frag"}, true, false},
       {5, "postprocess", "05-postprocess", {"bright.frag", "blur.frag", "composite.frag", "custom_effect.frag"}, true, true},
+      {6, "ibl", "06-ibl", {"ibl.frag", "irradiance.frag", "prefilter.frag", "brdf_lut.frag"}, true, true, true},
   };
   return kStages;
 }

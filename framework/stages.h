@@ -17,6 +17,7 @@ struct Stage {
   std::vector<std::string> files;  // the files this step adds or changes
   bool lighting;                   // runs the full-screen lighting pass
   bool postprocess;                // runs bright pass, blur, composite and the custom effect
+  bool ibl = false;                // lit by an environment too: lab 6's precompute passes and IBL pass (ibl.h)
 };
 
 const std::vector<Stage>& stages();

@@ -10,7 +10,7 @@
 namespace kit {
 
 const char* common_options_help() {
-  return "  --stage NAME          gbuffer | lighting | attenuation | normalmap | postprocess (or 1-5);\n"
+  return "  --stage NAME          gbuffer | lighting | attenuation | normalmap | postprocess | ibl (or 1-6);\n"
          "                        default: the stage of the lab folder --shaders names, else gbuffer\n"
          "  --shaders DIR         your lab files: a folder holding NN-name/ lab folders (default: labs/),\n"
          "                        or one lab folder itself (labs/02-lighting)\n"
@@ -32,6 +32,9 @@ const char* common_options_help() {
          "  --lights N            add N small point lights (default 0)\n"
          "  --no-default-lights   leave a scene without lights unlit (default: lit stages light it with\n"
          "                        the default rig: key, fill and rim point lights scaled to its bounds)\n"
+         "  --environment NAME|FILE\n"
+         "                        stage 6's environment: studio (default) or sun, the kit's own, or an\n"
+         "                        equirectangular .hdr/.exr file\n"
          "  --light-markers       a small sphere of each point and spot light's colour where the light is\n"
          "                        (lit stages; drawn forward, hidden by what is in front; kit-view's M key)\n"
          "  --look-at EX,EY,EZ,TX,TY,TZ[,FOV]\n"
@@ -121,6 +124,7 @@ void parse_options(int argc, char** argv, CommonOptions& o,
     else if (flag == "--lights") s.extra_lights = static_cast<int>(parse_float(value(), flag));
     else if (flag == "--no-default-lights") s.default_light_rig = false;
     else if (flag == "--light-markers") s.light_markers = true;
+    else if (flag == "--environment") s.environment = value();
     else if (flag == "--look-at") o.look_at = parse_look_at(value(), flag);
     else {
       int used = extra ? extra(flag, next_value) : 0;
@@ -139,7 +143,10 @@ Camera initial_camera(const Scene& scene, const CommonOptions& o) {
 }
 
 void note_default_light_rig(const char* tool, const Scene& scene, const Stage& stage, const RenderSettings& settings) {
-  if (stage.lighting && uses_default_light_rig(scene, settings))
+  if (stage.ibl && scene.lights.empty())
+    std::fprintf(stderr, "%s: note: scene has no lights: the environment (%s) lights it alone\n", tool,
+                 settings.environment.empty() ? kDefaultEnvironment : settings.environment.c_str());
+  else if (stage.lighting && uses_default_light_rig(scene, stage, settings))
     std::fprintf(stderr,
                  "%s: note: scene has no lights: using the default rig (3 point lights: key, fill and rim around "
                  "its bounds); --no-default-lights turns it off\n",

@@ -10,8 +10,8 @@ add_executable(kit-scenes ${CMAKE_CURRENT_LIST_DIR}/kit_scenes.cpp)
 target_link_libraries(kit-scenes PRIVATE kit_warnings TinyGLTF::TinyGLTF PkgConfig::OIIO glm::glm)
 
 # The scenes are build outputs in ${CMAKE_BINARY_DIR}/scenes/<name>/, regenerated whenever
-# kit-scenes changes. One command writes all eight glTF scenes and the OBJ cube; the .gltf
-# files stand for the rest.
+# kit-scenes changes. One command writes all eight glTF scenes, the OBJ cube and lab 6's two
+# environments (environments/studio.exr, sun.exr); the .gltf files stand for the rest.
 set(KIT_SCENES_DIR ${CMAKE_BINARY_DIR}/scenes)
 set(KIT_SCENE_FILES
   ${KIT_SCENES_DIR}/default/default.gltf
@@ -40,7 +40,9 @@ set(KIT_SCENE_BYPRODUCTS
   ${KIT_SCENES_DIR}/obj-cube/obj-cube.obj
   ${KIT_SCENES_DIR}/obj-cube/obj-cube.mtl
   ${KIT_SCENES_DIR}/obj-cube/brick_color.png
-  ${KIT_SCENES_DIR}/obj-cube/brick_normal.png)
+  ${KIT_SCENES_DIR}/obj-cube/brick_normal.png
+  ${KIT_SCENES_DIR}/environments/studio.exr
+  ${KIT_SCENES_DIR}/environments/sun.exr)
 add_custom_command(
   OUTPUT ${KIT_SCENE_FILES}
   BYPRODUCTS ${KIT_SCENE_BYPRODUCTS}

@@ -45,6 +45,18 @@
 #define KIT_UNIT_HDR 7
 #define KIT_UNIT_BLOOM 8
 #define KIT_UNIT_LDR 9
+// Lab 6 (image-based lighting): the environment and what is precomputed from it
+// (framework/ibl.h, framework/shaders/environment.glsl).
+#define KIT_UNIT_ENVIRONMENT 10
+#define KIT_UNIT_IRRADIANCE 11
+#define KIT_UNIT_PREFILTERED 12
+#define KIT_UNIT_BRDF_LUT 13
+// The prefiltered radiance map holds KIT_PREFILTER_LEVELS mip levels; level k is
+// prefiltered for perceptual roughness k / (KIT_PREFILTER_LEVELS - 1).
+#define KIT_PREFILTER_LEVELS 6
+// The BRDF table is KIT_BRDF_LUT_SIZE x KIT_BRDF_LUT_SIZE texels; texel i holds the
+// value at i / (KIT_BRDF_LUT_SIZE - 1), so the grid includes n.v = 0 and 1.
+#define KIT_BRDF_LUT_SIZE 64
 
 // Texture units for material textures in the geometry pass.
 #define KIT_UNIT_BASE_COLOR 0

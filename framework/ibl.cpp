@@ -1,0 +1,179 @@
+#include "ibl.h"
+
+#include <OpenImageIO/imageio.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+
+#include "error.h"
+#include "gbuffer_layout.h"
+
+namespace fs = std::filesystem;
+
+namespace kit {
+
+namespace {
+constexpr TextureFormat kRadianceFormat{GL_RGBA32F, GL_RGBA, GL_FLOAT};
+
+// Levels of a full mip chain for a width x height texture.
+int mip_levels(int width, int height) {
+  int levels = 1;
+  while ((std::max(width, height) >> levels) > 0) ++levels;
+  return levels;
+}
+
+// An equirectangular map's sampling: bilinear, wrapping across u = 0/1 (the
+// azimuth is periodic), clamped at the poles.
+void set_equirect_sampling(const Texture2D& texture, bool mipmapped) {
+  texture.set_filter(mipmapped ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR, GL_LINEAR);
+  texture.set_wrap(GL_REPEAT, GL_CLAMP_TO_EDGE);
+}
+}  // namespace
+
+bool operator==(const IblSettings& a, const IblSettings& b) {
+  return a.prefilter_samples == b.prefilter_samples && a.prefilter_size == b.prefilter_size &&
+         a.brdf_lut_samples == b.brdf_lut_samples && a.irradiance_size == b.irradiance_size &&
+         a.irradiance_source_width == b.irradiance_source_width;
+}
+
+const std::vector<std::string>& kit_environment_names() {
+  static const std::vector<std::string> kNames = {"studio", "sun"};
+  return kNames;
+}
+
+std::string resolve_environment(const std::string& name_or_path) {
+  const auto& names = kit_environment_names();
+  if (std::find(names.begin(), names.end(), name_or_path) == names.end()) return name_or_path;
+  const char* env = std::getenv("KIT_SCENE_DIR");
+  fs::path dir = env && *env ? fs::path(env) : fs::path(KIT_SCENE_DIR);
+  return (dir / "environments" / (name_or_path + ".exr")).string();
+}
+
+Image load_environment(const std::string& path) {
+  auto in = OIIO::ImageInput::open(path);
+  if (!in) throw Error(path + ": cannot read the environment: " + OIIO::geterror());
+  const OIIO::ImageSpec& spec = in->spec();
+  if (spec.width < 2 || spec.height < 1 || spec.width > kMaxEnvironmentWidth || spec.height > kMaxEnvironmentWidth / 2)
+    throw Error(path + ": the environment is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
+                " texels (an equirectangular image of at most " + std::to_string(kMaxEnvironmentWidth) + "x" +
+                std::to_string(kMaxEnvironmentWidth / 2) + ")");
+  if (spec.nchannels != 1 && spec.nchannels < 3)
+    throw Error(path + ": the environment has " + std::to_string(spec.nchannels) +
+                " channels (it needs RGB, or 1 for grey)");
+  // The sizes are bounded above, so the products fit in size_t.
+  const size_t texels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
+  std::vector<float> read(texels * static_cast<size_t>(spec.nchannels));
+  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, read.data()))
+    throw Error(path + ": cannot decode the environment: " + in->geterror());
+  Image image(spec.width, spec.height, 3);
+  for (size_t t = 0; t < texels; ++t) {
+    for (int c = 0; c < 3; ++c) {
+      const float value = read[t * static_cast<size_t>(spec.nchannels) + (spec.nchannels == 1 ? 0 : c)];
+      if (!std::isfinite(value) || value < 0.0f)
+        throw Error(path + ": texel (" + std::to_string(t % static_cast<size_t>(spec.width)) + ", " +
+                    std::to_string(t / static_cast<size_t>(spec.width)) + ") has radiance " + std::to_string(value) +
+                    " (radiance must be finite and not negative)");
+      image.pixels[t * 3 + static_cast<size_t>(c)] = value;
+    }
+  }
+  return image;
+}
+
+ImageBasedLighting::ImageBasedLighting(const Image& environment)
+    : width_(environment.width), height_(environment.height) {
+  if (environment.channels < 3) throw Error("an environment needs RGB channels");
+  // GL's row 0 is the image's bottom row (environment.glsl: t = 0 is the nadir).
+  std::vector<float> rgba(static_cast<size_t>(width_) * static_cast<size_t>(height_) * 4, 1.0f);
+  for (int y = 0; y < height_; ++y)
+    for (int x = 0; x < width_; ++x)
+      for (int c = 0; c < 3; ++c)
+        rgba[(static_cast<size_t>(height_ - 1 - y) * static_cast<size_t>(width_) + static_cast<size_t>(x)) * 4 +
+             static_cast<size_t>(c)] = environment.at(x, y, c);
+  environment_ = Texture2D(width_, height_, kRadianceFormat, rgba.data(), true);
+  environment_levels_ = mip_levels(width_, height_);
+  set_equirect_sampling(environment_, true);
+}
+
+void ImageBasedLighting::precompute(const Program& irradiance, const Program& prefilter, const Program& brdf_lut,
+                                    const FullscreenTriangle& triangle, const IblSettings& settings) {
+  const auto start = std::chrono::steady_clock::now();
+  if (settings.prefilter_size < (2 << (KIT_PREFILTER_LEVELS - 1)) || settings.irradiance_size < 2)
+    throw Error("IBL maps too small: the prefiltered map needs " + std::to_string(2 << (KIT_PREFILTER_LEVELS - 1)) +
+                " texels a row for its " + std::to_string(KIT_PREFILTER_LEVELS) + " levels");
+  // The maps are written here, so none may stay bound where a pass could sample it.
+  for (int unit : {KIT_UNIT_IRRADIANCE, KIT_UNIT_PREFILTERED, KIT_UNIT_BRDF_LUT}) {
+    glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
+    glBindTexture(GL_TEXTURE_2D, 0);
+  }
+  environment_.bind(KIT_UNIT_ENVIRONMENT);
+  Framebuffer fbo;
+  auto render_into = [&](const Program& program, const Texture2D& target, int level) {
+    fbo.attach_color(0, target, level);
+    fbo.set_draw_buffers(1);
+    const std::string reason = fbo.incomplete_reason();
+    if (!reason.empty()) throw Error("IBL map target incomplete: " + reason);
+    triangle.pass(program, fbo, std::max(target.width() >> level, 1), std::max(target.height() >> level, 1));
+  };
+
+  // Irradiance: summed over the first environment level no wider than the setting.
+  irradiance_ = Texture2D(settings.irradiance_size, std::max(settings.irradiance_size / 2, 1), kRadianceFormat);
+  set_equirect_sampling(irradiance_, false);
+  int source_level = 0;
+  while (source_level + 1 < environment_levels_ && (width_ >> source_level) > settings.irradiance_source_width)
+    ++source_level;
+  irradiance.use();
+  irradiance.set("u_source_level", source_level);
+  render_into(irradiance, irradiance_, 0);
+  check_gl("irradiance map (irradiance.frag)");
+
+  // Prefiltered radiance: level k for roughness k / (levels - 1).
+  prefiltered_ = Texture2D(settings.prefilter_size, settings.prefilter_size / 2, kRadianceFormat, nullptr, true);
+  prefiltered_.set_max_level(KIT_PREFILTER_LEVELS - 1);
+  set_equirect_sampling(prefiltered_, true);
+  prefilter.use();
+  prefilter.set("u_sample_count", settings.prefilter_samples);
+  for (int level = 0; level < KIT_PREFILTER_LEVELS; ++level) {
+    prefilter.use();
+    prefilter.set("u_roughness", static_cast<float>(level) / static_cast<float>(KIT_PREFILTER_LEVELS - 1));
+    render_into(prefilter, prefiltered_, level);
+  }
+  check_gl("prefiltered map (prefilter.frag)");
+
+  // The BRDF table: a grid including n.v and roughness 0 and 1.
+  brdf_lut_ = Texture2D(KIT_BRDF_LUT_SIZE, KIT_BRDF_LUT_SIZE, kRadianceFormat);
+  brdf_lut_.set_filter(GL_LINEAR, GL_LINEAR);
+  brdf_lut.use();
+  brdf_lut.set("u_sample_count", settings.brdf_lut_samples);
+  render_into(brdf_lut, brdf_lut_, 0);
+  check_gl("BRDF table (brdf_lut.frag)");
+
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glFinish();
+  precompute_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+void ImageBasedLighting::bind() const {
+  environment_.bind(KIT_UNIT_ENVIRONMENT);
+  irradiance_.bind(KIT_UNIT_IRRADIANCE);
+  prefiltered_.bind(KIT_UNIT_PREFILTERED);
+  brdf_lut_.bind(KIT_UNIT_BRDF_LUT);
+}
+
+Image read_prefiltered_levels(const Texture2D& prefiltered) {
+  int height = 0;
+  for (int level = 0; level < KIT_PREFILTER_LEVELS; ++level) height += std::max(prefiltered.height() >> level, 1);
+  Image out(prefiltered.width(), height, 4);
+  int top = 0;
+  for (int level = 0; level < KIT_PREFILTER_LEVELS; ++level) {
+    Image image = read_texture_level(prefiltered, level);
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x)
+        for (int c = 0; c < 4; ++c) out.at(x, top + y, c) = image.at(x, y, c);
+    top += image.height;
+  }
+  return out;
+}
+
+}  // namespace kit
