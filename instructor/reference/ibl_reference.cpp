@@ -296,6 +296,8 @@ dvec3 equirect_direction(double u, double v) {
 }
 
 dvec2 equirect_uv(dvec3 d) {
+  // environment.glsl's guard: a zero vector has no angles (0/0); it maps to the pole overhead.
+  if (glm::dot(d, d) < KIT_MIN_DIRECTION_LENGTH_SQUARED) return {0.5, 0.0};
   const double length = glm::length(d);
   const double phi = std::atan2(d.x, -d.z);
   const double theta = std::acos(std::clamp(d.y / length, -1.0, 1.0));
