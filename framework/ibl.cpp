@@ -107,13 +107,15 @@ void ImageBasedLighting::precompute(const Program& irradiance, const Program& pr
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
     glBindTexture(GL_TEXTURE_2D, 0);
   }
-  environment_.bind(KIT_UNIT_ENVIRONMENT);
   Framebuffer fbo;
   auto render_into = [&](const Program& program, const Texture2D& target, int level) {
     fbo.attach_color(0, target, level);
     fbo.set_draw_buffers(1);
     const std::string reason = fbo.incomplete_reason();
     if (!reason.empty()) throw Error("IBL map target incomplete: " + reason);
+    // Bound here, just before drawing: creating or configuring a texture binds it on
+    // the active unit, which would otherwise replace the environment there.
+    environment_.bind(KIT_UNIT_ENVIRONMENT);
     triangle.pass(program, fbo, std::max(target.width() >> level, 1), std::max(target.height() >> level, 1));
   };
 
