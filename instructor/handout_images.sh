@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Regenerates the images the handouts show: handouts/images/*.png, 320x240 RGB.
+# Regenerates the images the handouts show: handouts/images/*.png, 320x240 RGB (lab 6's
+# maps and environments at their own shapes).
 # Called by `./kit handout-images`; also runs on its own from any directory.
 #
 # Everything is rendered headlessly by the default build's kit-render on the OSMesa
@@ -7,7 +8,9 @@
 # and the starters, a few images show a typical mistake: the script copies a solution
 # file into a temporary folder and changes one line in it (`mistake` below), so the
 # handouts can show what that mistake looks like. If a solution is rewritten so that
-# the line is no longer there, the script stops and names it.
+# the line is no longer there, the script stops and names it. Lab 6's maps (the BRDF
+# table, the prefiltered and irradiance maps) are floats at their own sizes: the script
+# tone-maps and enlarges them with oiiotool.
 #
 # The images are rendered into a temporary folder and replace handouts/images/*.png
 # only when every one of them was made.
@@ -29,8 +32,9 @@ export KIT_SCENE_DIR="$ROOT/build/default/scenes"
 TMP="$(mktemp -d "${TMPDIR:-/tmp}/handout-images.XXXXXX")"
 trap 'rm -rf "$TMP"' EXIT
 RAW="$TMP/raw"    # kit-render's output (RGBA, maybe larger than 320x240)
+VIEWS="$RAW/views" # lab 6's maps as kit-render writes them (floats at their own sizes), made into pictures in $RAW
 NEW="$TMP/images" # the finished images
-mkdir -p "$RAW" "$NEW"
+mkdir -p "$RAW" "$VIEWS" "$NEW"
 
 # --- Jobs: up to `nproc` renders at once (llvmpipe uses every core anyway, but the
 # shader compile and PNG writing of one render are single-threaded). ---
@@ -115,6 +119,26 @@ mistake_root() {
   mistake "$dest/solutions" "$@"
 }
 
+# edit_solution DEST_ROOT NN-name FILE FIND REPLACE [FIND REPLACE ...]
+# Writes solutions/NN-name/ to DEST_ROOT/NN-name/ with each FIND text of FILE (it must
+# occur exactly once) replaced: the mistakes of lab 6, which the grader's catalogue does
+# not cover yet. Stops, naming the text, when the solution no longer holds it.
+edit_solution() {
+  local dest="$1" folder="$2" file="$3"
+  shift 3
+  mkdir -p "$dest" && cp -r "$SOL/$folder" "$dest/"
+  python3 - "$dest/$folder/$file" "$@" <<'PY' || die "solutions/$folder/$file changed: update the lab 6 mistake images"
+import sys
+path, edits = sys.argv[1], sys.argv[2:]
+text = open(path, encoding="utf-8").read()
+for find, replace in zip(edits[::2], edits[1::2]):
+    if text.count(find) != 1:
+        sys.exit(f"handout_images.sh: '{find}' occurs {text.count(find)} times in {path}, not once")
+    text = text.replace(find, replace)
+open(path, "w", encoding="utf-8").write(text)
+PY
+}
+
 # with_kit_root DIR COMMAND...: COMMAND with KIT_ROOT=DIR (spawn runs it in a subshell).
 with_kit_root() {
   export KIT_ROOT="$1"
@@ -129,6 +153,15 @@ mistake "$TMP/m-double-gamma" tonemap-gamma-applied-twice
 mistake "$TMP/m-handedness" normalmap-handedness-ignored
 mistake "$TMP/m-tangent-space" normalmap-left-in-tangent-space
 mistake "$TMP/m-horizontal" postprocess-blur-horizontal-only
+# Lab 6: each sample read from level 0 (no filtered importance sampling), and the BRDF
+# table without its n.v guards (n.v = 0 in the first column makes the weight 0/0).
+edit_solution "$TMP/m-prefilter-level0" 06-ibl prefilter.frag \
+  'float level = max(0.5 * log2(sample_solid_angle / texel_solid_angle) + 1.0, 0.0);' 'float level = 0.0;'
+edit_solution "$TMP/m-brdf-no-guard" 06-ibl brdf_lut.frag \
+  'float n_dot_v = max(kit_brdf_lut_grid_value(v_uv.x), KIT_MIN_N_DOT_V);' \
+  'float n_dot_v = kit_brdf_lut_grid_value(v_uv.x);' \
+  'float weight = g * v_dot_h / max(n_dot_h * n_dot_v, KIT_MIN_DENOMINATOR);' \
+  'float weight = g * v_dot_h / (n_dot_h * n_dot_v);'
 
 # A floor with three 1.5 cd point lights 10 cm, 40 cm and 1 m above it (left to right):
 # where the physical and the simple falloff differ (the kit's scenes keep their lights
@@ -209,6 +242,59 @@ spawn render "$SOL" postprocess default --threshold 0.5 --out lab5-threshold-0.5
 spawn render "$SOL" postprocess default --threshold 4 --out lab5-threshold-4.png
 spawn render "$LAB" postprocess default --out lab5-starter.png
 spawn render "$TMP/m-horizontal" postprocess default --out lab5-mistake-horizontal-only.png
+
+# --- Lab 6: image-based lighting (the stage runs lab 5's bloom as well) ---
+spawn render "$SOL" ibl default --environment studio --out lab6-solution-studio.png
+spawn render "$SOL" ibl default --environment sun --out lab6-solution-sun.png \
+  --view brdf-lut --out views/lab6-brdf-lut.png --view prefiltered --out views/lab6-prefiltered-sun.exr \
+  --view irradiance --out views/lab6-irradiance-sun.exr
+spawn render "$LAB" ibl default --environment studio --out lab6-starter.png
+spawn render "$SOL" ibl sphere --environment sun --out lab6-solution-sphere-sun.png
+# The sun's reflection on the sphere's upper right, a 320x240 cut of a 640x480 frame.
+spawn render_crop 320x240+290+40 "$SOL" ibl sphere --environment sun --size 640x480 --out lab6-prefilter-detail.png
+spawn render_crop 320x240+290+40 "$TMP/m-prefilter-level0" ibl sphere --environment sun --size 640x480 \
+  --out lab6-mistake-prefilter-level0.png
+spawn render "$TMP/m-prefilter-level0" ibl sphere --environment sun \
+  --view prefiltered --out views/lab6-mistake-prefiltered-level0.exr
+spawn render "$TMP/m-brdf-no-guard" ibl sphere --environment sun --out lab6-mistake-brdf-no-guard.png
+
+wait_all
+
+# Lab 6's maps as pictures. Radiance is tone-mapped as the kit's display does it
+# (Reinhard c/(1+c), then gamma 2.2); irradiance E is shown as E/pi, the radiance a white
+# diffuse surface reflects, so it reads on the environment's scale. The BRDF table is
+# already in [0, 1]: shown as kit-render writes it, enlarged without smoothing.
+TONEMAP=(--dup --addc 1 --div --powc 0.454545)
+# An EXR's date and linear colour space would follow it into the PNG (a changing date, and
+# a gAMA chunk telling viewers the gamma-encoded values are linear).
+AS_SRGB=(--eraseattrib DateTime --eraseattrib oiio:Gamma --iscolorspace sRGB)
+ENVIRONMENTS="$KIT_SCENE_DIR/environments"
+# prefiltered_grid VIEW.exr OUT.png: the 'prefiltered' view (its KIT_PREFILTER_LEVELS = 6
+# levels stacked top to bottom, level 0 first) as a 2x3 grid of 160x80 tiles, row by row.
+prefiltered_grid() {
+  local in="$1" out="$2" width level top=0 args=()
+  width="$(oiiotool "$in" --echo '{TOP.width}')"
+  for ((level = 0; level < 6; level++)); do
+    args+=(-i "$in" --cut "$((width >> level))x$((width >> (level + 1)))+0+$top" --resample 160x80)
+    top=$((top + (width >> (level + 1))))
+  done
+  oiiotool --nosoftwareattrib "${args[@]}" --mosaic 2x3 --ch R,G,B "${TONEMAP[@]}" "${AS_SRGB[@]}" -d uint8 -o "$RAW/$out"
+}
+for name in studio sun; do
+  spawn oiiotool --nosoftwareattrib "$ENVIRONMENTS/$name.exr" --ch R,G,B "${TONEMAP[@]}" --resize 320x160 \
+    "${AS_SRGB[@]}" -d uint8 -o "$RAW/lab6-environment-$name.png"
+done
+spawn oiiotool --nosoftwareattrib "$VIEWS/lab6-irradiance-sun.exr" --ch R,G,B --mulc 0.3183099 "${TONEMAP[@]}" \
+  --resample 320x160 "${AS_SRGB[@]}" -d uint8 -o "$RAW/lab6-irradiance-sun.png"
+spawn prefiltered_grid "$VIEWS/lab6-prefiltered-sun.exr" lab6-prefiltered-sun.png
+spawn prefiltered_grid "$VIEWS/lab6-mistake-prefiltered-level0.exr" lab6-mistake-prefiltered-level0.png
+spawn oiiotool --nosoftwareattrib "$VIEWS/lab6-brdf-lut.png" --ch R,G,B --resample:interp=0 256x256 \
+  -o "$RAW/lab6-brdf-lut.png"
+# The table's channels A, B, C apart, as grey, 128x128 each.
+spawn oiiotool --nosoftwareattrib -i "$VIEWS/lab6-brdf-lut.png" --ch R=R,G=R,B=R --resample:interp=0 128x128 \
+  -i "$VIEWS/lab6-brdf-lut.png" --ch R=G,G=G,B=G --resample:interp=0 128x128 \
+  -i "$VIEWS/lab6-brdf-lut.png" --ch R=B,G=B,B=B --resample:interp=0 128x128 \
+  --mosaic:pad=6 3x1 -o "$RAW/lab6-brdf-lut-abc.png"
 
 wait_all
 finish_all
