@@ -63,9 +63,18 @@ constexpr int kFirstLitStage = 2;         // extra lights: the lighting pass
 constexpr int kFirstDisplayStage = 3;     // gamma and the attenuation model: lab 3's tonemap.glsl and attenuation.glsl
 constexpr int kFirstPostprocessStage = 5; // bloom, its threshold and the custom effect
 
-constexpr kit::View kViewKeys[] = {kit::View::Final,    kit::View::Position, kit::View::Normal,
-                                   kit::View::Albedo,   kit::View::Material, kit::View::Emission,
-                                   kit::View::Depth,    kit::View::Hdr};
+constexpr kit::View kViewKeys[] = {kit::View::Final,    kit::View::Position,   kit::View::Normal,
+                                   kit::View::Albedo,   kit::View::Material,   kit::View::Emission,
+                                   kit::View::Depth,    kit::View::Hdr,        kit::View::Irradiance,
+                                   kit::View::Prefiltered, kit::View::BrdfLut};
+// Keys 1-9 pick the first nine views; the rest are in the panel's list only.
+constexpr int kViewNumberKeys = 9;
+// Stage 6's maps (ibl.h), shown at their own size.
+bool is_ibl_view(kit::View v) {
+  return v == kit::View::Irradiance || v == kit::View::Prefiltered || v == kit::View::BrdfLut;
+}
+// The prefilter's sample counts the panel offers, as powers of two.
+constexpr int kMinPrefilterSamplesLog2 = 4, kMaxPrefilterSamplesLog2 = 11;
 
 struct ViewerOptions {
   kit::CommonOptions common;
@@ -352,7 +361,7 @@ class Viewer {
       return;
     }
     if (ui_wants_keyboard()) return;
-    if (key >= GLFW_KEY_1 && key < GLFW_KEY_1 + static_cast<int>(std::size(kViewKeys))) {
+    if (key >= GLFW_KEY_1 && key < GLFW_KEY_1 + std::min(kViewNumberKeys, static_cast<int>(std::size(kViewKeys)))) {
       select_view(kViewKeys[key - GLFW_KEY_1]);
       return;
     }
@@ -401,6 +410,10 @@ class Viewer {
   void select_view(kit::View view) {
     if (view == kit::View::Hdr && !stage_->lighting) {
       set_note("view hdr needs a lit stage (lighting or later); showing final");
+      view = kit::View::Final;
+    }
+    if (is_ibl_view(view) && !stage_->ibl) {
+      set_note(std::string("view ") + kit::view_name(view) + " needs stage 6 (ibl); showing final");
       view = kit::View::Final;
     }
     view_ = view;
@@ -759,8 +772,9 @@ class Viewer {
     if (ImGui::BeginCombo("view", kit::view_name(view_))) {
       for (size_t i = 0; i < std::size(kViewKeys); ++i) {
         kit::View v = kViewKeys[i];
-        if (v == kit::View::Hdr && !stage_->lighting) continue;
-        std::string label = std::to_string(i + 1) + " " + kit::view_name(v);
+        if ((v == kit::View::Hdr && !stage_->lighting) || (is_ibl_view(v) && !stage_->ibl)) continue;
+        std::string label = (static_cast<int>(i) < kViewNumberKeys ? std::to_string(i + 1) + " " : std::string("  ")) +
+                            kit::view_name(v);
         if (ImGui::Selectable(label.c_str(), v == view_)) select_view(v);
       }
       ImGui::EndCombo();
@@ -785,6 +799,21 @@ class Viewer {
     if (stage >= kFirstLitStage) {
       ImGui::SliderInt("extra lights", &settings_.extra_lights, 0, kMaxViewerLights);
       ImGui::Checkbox("light markers (M)", &settings_.light_markers);
+    }
+    if (stage_->ibl) {
+      const std::string shown = settings_.environment.empty() ? kit::kDefaultEnvironment : settings_.environment;
+      if (ImGui::BeginCombo("environment", shown.c_str())) {
+        for (const std::string& name : kit::kit_environment_names())
+          if (ImGui::Selectable(name.c_str(), name == shown)) settings_.environment = name;
+        ImGui::EndCombo();
+      }
+      // Powers of two, so the Hammersley points stay evenly spread.
+      int samples_log2 = static_cast<int>(std::lround(std::log2(std::max(settings_.ibl.prefilter_samples, 1))));
+      if (ImGui::SliderInt("prefilter samples", &samples_log2, kMinPrefilterSamplesLog2, kMaxPrefilterSamplesLog2,
+                           std::to_string(1 << samples_log2).c_str()))
+        settings_.ibl.prefilter_samples = 1 << samples_log2;
+      if (const kit::ImageBasedLighting* ibl = renderer_ ? renderer_->image_based_lighting() : nullptr)
+        ImGui::Text("maps precomputed in %.0f ms", 1000.0 * ibl->precompute_seconds());
     }
     ImGui::TextWrapped("camera (F): %s", rig_.flying() ? "fly: WASD, Q/E down/up, right drag looks"
                                                          : "orbit: left drag turns, wheel zooms, right drag pans");

@@ -1,0 +1,342 @@
+// Lab 6, image-based lighting, against the integral it approximates
+// (instructor/reference/ibl_reference.h), and its failure cases.
+//
+// Accuracy is measured in two parts, at known pixels and texels:
+//  * the GPU's error: the lab's maps and image against the split sum evaluated in
+//    double (brdf_table, irradiance, prefiltered_radiance, split_sum_radiance);
+//  * the split sum's own error: split_sum_radiance against the integral itself
+//    (reflected_radiance_integral, Monte Carlo with a 5-standard-error bound).
+// Both are printed; the note of the issue quotes them.
+//
+// Each failure case has a witness: a copy of the solutions (or of one framework
+// module) with the guarded line swapped for the naive one, shown to break on the
+// test's environment, and the kit's line shown not to.
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "error.h"
+#include "gbuffer_layout.h"
+#include "ibl.h"
+#include "ibl_reference.h"
+#include "kit_test.h"
+#include "kit_test_files.h"
+#include "reference_frames.h"
+#include "shader_variants.h"
+#include "tiny_scenes.h"
+
+namespace kit::test {
+namespace {
+
+namespace ref = kit::reference;
+using ref::dvec2;
+using ref::dvec3;
+
+const Image& environment(const std::string& name) {
+  static std::map<std::string, Image> loaded;
+  auto it = loaded.find(name);
+  if (it == loaded.end()) it = loaded.emplace(name, load_environment(resolve_environment(name))).first;
+  return it->second;
+}
+
+RenderSettings ibl_settings(const std::string& environment_name) {
+  RenderSettings settings = small_settings();
+  settings.environment = environment_name;
+  settings.default_light_rig = false;
+  return settings;
+}
+
+// A scene as the kit generated it, without its lights: the image is the environment's
+// light alone (plus L_e, which the comparisons subtract).
+Scene unlit(const std::string& name) {
+  Scene s = scene(name);
+  s.lights.clear();
+  return s;
+}
+
+double max3(dvec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
+dvec3 rgb(const Image& image, int x, int y) { return pixel_rgb(image, x, y); }
+
+// |a - b| relative to max(|b|, floor), the largest channel.
+double relative_error(dvec3 a, dvec3 b, double floor) {
+  return max3(glm::abs(a - b) / glm::max(glm::abs(b), dvec3(floor)));
+}
+
+// Image coordinates (u, v) of a texel centre of a W x H equirectangular image (rows top-down).
+dvec2 texel_uv(int x, int y, int width, int height) { return {(x + 0.5) / width, (y + 0.5) / height}; }
+
+std::unique_ptr<Renderer> ibl_renderer(const Scene& s, const RenderSettings& settings) {
+  auto renderer = make_renderer("ibl", s, settings);
+  renderer->render(scene_frame_camera(s, settings));
+  return renderer;
+}
+
+std::unique_ptr<Renderer> ibl_variant(const Scene& s, const RenderSettings& settings, const std::string& name,
+                                      const std::vector<LineSwap>& swaps) {
+  auto renderer = make_renderer("ibl", s, settings, full_root_library(find_stage("ibl"), variant_root(name, swaps)));
+  renderer->render(scene_frame_camera(s, settings));
+  return renderer;
+}
+
+// Level `level` of the prefiltered map out of View::Prefiltered's stack.
+Image prefiltered_level(const Image& stack, int level) {
+  int top = 0, width = stack.width, height = stack.width / 2;
+  for (int k = 0; k < level; ++k) {
+    top += height;
+    width = std::max(width / 2, 1);
+    height = std::max(height / 2, 1);
+  }
+  Image out(width, height, 4);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < 4; ++c) out.at(x, y, c) = stack.at(x, top + y, c);
+  return out;
+}
+
+double level_roughness(int level) { return static_cast<double>(level) / (KIT_PREFILTER_LEVELS - 1); }
+
+// The largest relative error of a prefiltered level against prefiltered_radiance, over
+// a grid of texels (every `step`-th in each direction).
+double prefiltered_level_error(const Image& level_image, const Image& env, int level, int step) {
+  double worst = 0.0;
+  for (int y = step / 2; y < level_image.height; y += step)
+    for (int x = step / 2; x < level_image.width; x += step) {
+      const dvec2 uv = texel_uv(x, y, level_image.width, level_image.height);
+      const dvec3 expected = ref::prefiltered_radiance(env, ref::equirect_direction(uv.x, uv.y), level_roughness(level));
+      const double e = relative_error(rgb(level_image, x, y), expected, 0.05);
+      if (e > worst && std::getenv("KIT_IBL_DEBUG"))
+        std::printf("  level %d texel %d,%d: gpu %.4f %.4f %.4f cpu %.4f %.4f %.4f\n", level, x, y, rgb(level_image, x, y).x,
+                    rgb(level_image, x, y).y, rgb(level_image, x, y).z, expected.x, expected.y, expected.z);
+      worst = std::max(worst, e);
+    }
+  return worst;
+}
+
+// ---------------------------------------------------------------------------
+// The maps against the split sum's factors in double.
+
+TEST(Ibl, BrdfTableMatchesTheQuadrature) {
+  auto renderer = ibl_renderer(unlit("sphere"), ibl_settings("studio"));
+  const Image table = renderer->read_view(View::BrdfLut, true);
+  ASSERT_EQ(table.width, KIT_BRDF_LUT_SIZE);
+  double worst = 0.0;
+  for (int j = 0; j < KIT_BRDF_LUT_SIZE; j += 3)
+    for (int i = 0; i < KIT_BRDF_LUT_SIZE; i += 3) {
+      const double n_dot_v = std::max(i / double(KIT_BRDF_LUT_SIZE - 1), ref::KIT_MIN_N_DOT_V);
+      const double roughness = j / double(KIT_BRDF_LUT_SIZE - 1);
+      // Grid row j (GL row j from the bottom) is image row N - 1 - j.
+      const dvec3 gpu = rgb(table, i, KIT_BRDF_LUT_SIZE - 1 - j);
+      worst = std::max(worst, max3(glm::abs(gpu - ref::brdf_table(n_dot_v, roughness))));
+    }
+  std::printf("[ ibl ] BRDF table (%d samples a texel) against the quadrature: largest error %.2e\n",
+              IblSettings{}.brdf_lut_samples, worst);
+  // 512 Hammersley points: the largest error sits where the specular estimator's
+  // weight G (v.h) / ((n.h)(n.v)) varies most, at grazing n.v and low roughness
+  // (measured 0.028).
+  EXPECT_LT(worst, 0.04);
+}
+
+TEST(Ibl, IrradianceMapMatchesTheIntegral) {
+  for (const char* name : {"studio", "sun"}) {
+    auto renderer = ibl_renderer(unlit("sphere"), ibl_settings(name));
+    const Image map = renderer->read_view(View::Irradiance, true);
+    const Image& env = environment(name);
+    double worst = 0.0;
+    for (int y = 0; y < map.height; ++y)
+      for (int x = 0; x < map.width; x += 3) {
+        const dvec2 uv = texel_uv(x, y, map.width, map.height);
+        const dvec3 expected = ref::irradiance(env, ref::equirect_direction(uv.x, uv.y));
+        worst = std::max(worst, relative_error(rgb(map, x, y), expected, 0.05));
+      }
+    std::printf("[ ibl ] irradiance map (%s) against the integral: largest relative error %.2e\n", name, worst);
+    // The sum runs over a 128 x 64 level of the environment, a box filter of level 0:
+    // the sun moves by up to half its texel, which matters where n.l is small
+    // (measured: 0.6 % under studio, 7 % under sun).
+    EXPECT_LT(worst, std::string(name) == "sun" ? 0.1 : 0.02) << name;
+  }
+}
+
+TEST(Ibl, PrefilteredLevelsMatchTheIntegral) {
+  for (const char* name : {"studio", "sun"}) {
+    auto renderer = ibl_renderer(unlit("sphere"), ibl_settings(name));
+    const Image stack = renderer->read_view(View::Prefiltered, true);
+    for (int level = 1; level < KIT_PREFILTER_LEVELS; ++level) {
+      const Image level_image = prefiltered_level(stack, level);
+      const double worst = prefiltered_level_error(level_image, environment(name), level, std::max(level_image.width / 8, 1));
+      std::printf("[ ibl ] prefiltered level %d (roughness %.1f, %s) against the integral: largest relative error %.2e\n",
+                  level, level_roughness(level), name, worst);
+      // Filtered importance sampling trades variance for blur (reading one mip level
+      // above the sample's footprint, Colbert and Krivanek's bias): light from bright
+      // regions spreads into dark ones, most at the rough levels, and most of all
+      // around the sun (measured up to 32 % under studio, 96 % under sun at roughness 1).
+      EXPECT_LT(worst, std::string(name) == "sun" ? 1.2 : 0.4) << name << " level " << level;
+    }
+  }
+}
+
+// ---------------------------------------------------------------------------
+// The lab's image against the split sum (the GPU's error) and the integral (the
+// split sum's own error), at sampled covered pixels of the default scene.
+
+struct ImageErrors {
+  double gpu_vs_split_sum = 0.0, split_sum_vs_integral = 0.0, gpu_vs_integral = 0.0;
+  int pixels = 0;
+};
+
+ImageErrors compare_with_integral(const std::string& scene_name, const std::string& env_name, int integral_samples) {
+  const Scene s = unlit(scene_name);
+  const RenderSettings settings = ibl_settings(env_name);
+  const FrameCamera camera = scene_frame_camera(s, settings);
+  auto renderer = make_renderer("ibl", s, settings);
+  const Frame frame = render_frame(*renderer, camera);
+  const Image& env = environment(env_name);
+  ImageErrors e;
+  const PixelList covered = covered_pixels(frame);
+  const size_t stride = std::max<size_t>(covered.size() / 40, 1);
+  for (size_t i = stride / 2; i < covered.size(); i += stride) {
+    const auto [x, y] = covered[i];
+    const ref::SurfaceSample sample = ref::gbuffer_sample(frame.gbuffer, x, y);
+    const dvec3 gpu = rgb(frame.hdr, x, y) - sample.emission;
+    const dvec3 split = ref::split_sum_radiance(env, sample, dvec3(camera.position));
+    const ref::IntegralEstimate integral =
+        ref::reflected_radiance_integral(env, sample, dvec3(camera.position), integral_samples, 1234u + i);
+    if (std::getenv("KIT_IBL_DEBUG"))
+      std::printf("  pixel %d,%d rough %.2f metal %.2f: gpu %.4f split %.4f integral %.4f +- %.4f\n", x, y,
+                  sample.roughness, sample.metallic, gpu.y, split.y, integral.value.y, integral.standard_error.y);
+    // Relative to the pixel's value, floored where it is dark (a tenth of the sky's radiance).
+    const double floor = 0.02;
+    e.gpu_vs_split_sum = std::max(e.gpu_vs_split_sum, relative_error(gpu, split, floor));
+    e.split_sum_vs_integral = std::max(e.split_sum_vs_integral, relative_error(split, integral.value, floor));
+    e.gpu_vs_integral = std::max(e.gpu_vs_integral, relative_error(gpu, integral.value, floor));
+    // The Monte Carlo bound itself must be tight enough to measure these.
+    EXPECT_LT(relative_error(integral.value + 5.0 * integral.standard_error, integral.value, floor), 0.06)
+        << "pixel " << x << "," << y;
+    ++e.pixels;
+  }
+  std::printf("[ ibl ] %s under %s, %d pixels: GPU vs split sum %.3f, split sum vs integral %.3f, GPU vs integral %.3f "
+              "(largest relative errors)\n",
+              scene_name.c_str(), env_name.c_str(), e.pixels, e.gpu_vs_split_sum, e.split_sum_vs_integral,
+              e.gpu_vs_integral);
+  return e;
+}
+
+TEST(Ibl, DefaultSceneAgainstTheIntegral) {
+  for (const char* env : {"studio", "sun"}) {
+    const bool sun = std::string(env) == "sun";
+    const ImageErrors e = compare_with_integral("default", env, 65536);
+    EXPECT_GT(e.pixels, 20);
+    // The GPU's own error: the maps' sampling and resolution, bilinear lookups, fp16
+    // (measured 0.06 under studio, 0.15 under sun, where the prefiltered map's blur
+    // around the sun dominates).
+    EXPECT_LT(e.gpu_vs_split_sum, sun ? 0.25 : 0.1) << env;
+    // The split sum's own departures (handouts/06-ibl.md) add to it: measured 0.10 and
+    // 0.24, the largest at grazing n.v and where the sun lies inside a lobe.
+    EXPECT_LT(e.gpu_vs_integral, sun ? 0.6 : 0.25) << env;
+  }
+}
+
+// White furnace: under a uniform environment the split sum is exact, so the image
+// must equal the integral up to the GPU's own error.
+TEST(Ibl, WhiteFurnaceIsExact) {
+  const std::filesystem::path dir = temp_dir("ibl_furnace");
+  Image uniform(64, 32, 3);
+  std::fill(uniform.pixels.begin(), uniform.pixels.end(), 1.0f);
+  write_image((dir / "uniform.exr").string(), uniform);
+  environment((dir / "uniform.exr").string());
+  const ImageErrors e = compare_with_integral("default", (dir / "uniform.exr").string(), 65536);
+  EXPECT_LT(e.split_sum_vs_integral, 0.02);
+  // What is left is the BRDF table's sampling error (up to 0.028, BrdfTableMatchesTheQuadrature).
+  EXPECT_LT(e.gpu_vs_integral, 0.05);
+}
+
+// ---------------------------------------------------------------------------
+// Failure cases.
+
+// Fireflies: the sun (1.5 degrees, 3000 times the sky) hit by a few of the prefilter's
+// GGX samples makes spikes and holes; reading the mip level chosen by each sample's PDF
+// spreads it evenly.
+TEST(IblStability, FirefliesFromTheSun) {
+  const std::vector<LineSwap> level_zero = {
+      {"06-ibl/prefilter.frag", "float level = max(0.5 * log2(sample_solid_angle / texel_solid_angle) + 1.0, 0.0);",
+       "float level = 0.0;"}};
+  const Scene s = unlit("sphere");
+  auto kit = ibl_renderer(s, ibl_settings("sun"));
+  auto naive = ibl_variant(s, ibl_settings("sun"), "ibl_fireflies", level_zero);
+  const Image kit_stack = kit->read_view(View::Prefiltered, true), naive_stack = naive->read_view(View::Prefiltered, true);
+  for (int level : {3}) {
+    const Image k = prefiltered_level(kit_stack, level), n = prefiltered_level(naive_stack, level);
+    const int step = std::max(k.width / 8, 1);
+    const double kit_error = prefiltered_level_error(k, environment("sun"), level, step);
+    const double naive_error = prefiltered_level_error(n, environment("sun"), level, step);
+    std::printf("[ ibl ] fireflies, level %d: largest relative error %.2f with the PDF's mip level, %.2f reading level 0\n",
+                level, kit_error, naive_error);
+    EXPECT_GT(naive_error, 2.0 * kit_error) << "witness: level 0 alone makes fireflies";
+    EXPECT_GT(naive_error, 1.0);
+  }
+}
+
+// Roughness 0: alpha = 0 makes D (and so the PDF) 0 at the one half vector sampled,
+// so the sample's solid angle, and the level read, become enormous: a mirror shows the
+// environment's average. The roughness floor keeps the PDF finite.
+TEST(IblStability, RoughnessZeroInThePrefilter) {
+  const std::vector<LineSwap> no_floor = {
+      {"06-ibl/prefilter.frag", "float alpha = max(u_roughness, KIT_MIN_ROUGHNESS) * max(u_roughness, KIT_MIN_ROUGHNESS);",
+       "float alpha = u_roughness * u_roughness;"}};
+  const Scene s = unlit("sphere");
+  auto kit = ibl_renderer(s, ibl_settings("studio"));
+  auto naive = ibl_variant(s, ibl_settings("studio"), "ibl_roughness_zero", no_floor);
+  const Image& env = environment("studio");
+  auto level0_error = [&](Renderer& r) {
+    const Image level0 = prefiltered_level(r.read_view(View::Prefiltered, true), 0);
+    double worst = 0.0;
+    for (int y = 4; y < level0.height; y += 8)
+      for (int x = 4; x < level0.width; x += 8) {
+        const dvec2 uv = texel_uv(x, y, level0.width, level0.height);
+        worst = std::max(worst, relative_error(rgb(level0, x, y), ref::environment_radiance_uv(env, uv), 0.05));
+      }
+    return worst;
+  };
+  const double kit_error = level0_error(*kit), naive_error = level0_error(*naive);
+  std::printf("[ ibl ] roughness 0, level 0 against the environment: %.3f with the floor, %.3f without\n", kit_error,
+              naive_error);
+  EXPECT_GT(naive_error, 0.5) << "witness: a mirror shows the environment's average";
+  EXPECT_LT(kit_error, 0.35);  // the floor's lobe and the map's half resolution
+}
+
+// n.v = 0 in the BRDF table: G = 0 and the estimator divides by n.v, 0/0 in the first column.
+TEST(IblStability, GrazingViewInTheBrdfTable) {
+  const std::vector<LineSwap> no_floor = {
+      {"06-ibl/brdf_lut.frag", "float n_dot_v = max(kit_brdf_lut_grid_value(v_uv.x), KIT_MIN_N_DOT_V);",
+       "float n_dot_v = kit_brdf_lut_grid_value(v_uv.x);"},
+      {"06-ibl/brdf_lut.frag", "float weight = g * v_dot_h / max(n_dot_h * n_dot_v, KIT_MIN_DENOMINATOR);",
+       "float weight = g * v_dot_h / (n_dot_h * n_dot_v);"}};
+  const Scene s = unlit("sphere");
+  auto kit = ibl_renderer(s, ibl_settings("studio"));
+  auto naive = ibl_variant(s, ibl_settings("studio"), "ibl_grazing_table", no_floor);
+  const size_t kit_broken = count_non_finite(kit->read_view(View::BrdfLut, true));
+  const size_t naive_broken = count_non_finite(naive->read_view(View::BrdfLut, true));
+  std::printf("[ ibl ] n.v = 0: %zu non-finite table texels with the floor, %zu without\n", kit_broken, naive_broken);
+  EXPECT_GE(naive_broken, size_t(KIT_BRDF_LUT_SIZE / 2)) << "witness: the n.v = 0 column is 0/0";
+  EXPECT_EQ(kit_broken, 0u);
+}
+
+// A zero-length direction: normalising it is 0/0, and its angles NaN. kit_equirect_uv
+// maps it to the pole (the GLSL guard KIT_MIN_DIRECTION_LENGTH_SQUARED); the CPU
+// mirror does the same, and the naive formula shows what it prevents.
+TEST(IblStability, ZeroLengthDirection) {
+  const dvec3 zero(0.0);
+  const dvec3 naive_unit = zero / glm::length(zero);
+  EXPECT_TRUE(std::isnan(std::acos(std::clamp(naive_unit.y, -1.0, 1.0)))) << "witness: 0/0";
+  const dvec2 uv = ref::equirect_uv(zero);
+  EXPECT_TRUE(std::isfinite(uv.x) && std::isfinite(uv.y));
+  EXPECT_TRUE(finite(ref::environment_radiance(environment("sun"), zero)));
+}
+
+}  // namespace
+}  // namespace kit::test
