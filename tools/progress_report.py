@@ -24,8 +24,23 @@ import textwrap
 import warnings
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-STAGES = {1: "gbuffer", 2: "lighting", 3: "attenuation", 4: "normalmap", 5: "postprocess"}
-LAB_FOLDER = re.compile(r"^0([1-5])-[a-z]+$")
+LAB_FOLDER = re.compile(r"^(\d\d)-([a-z]+)$")
+
+
+def kit_stages():
+    """{lab number: stage name} from the kit's lab folders (NN-name, the stage table's
+    folders): labs/ and solutions/ together, since a student copy for lab N holds the
+    starters of labs N and later and the solutions of the others."""
+    stages = {}
+    for folder in ("labs", "solutions"):
+        path = os.path.join(ROOT, folder)
+        for m in (LAB_FOLDER.match(n) for n in (os.listdir(path) if os.path.isdir(path) else [])):
+            if m:
+                stages[int(m.group(1))] = m.group(2)
+    return stages
+
+
+STAGES = kit_stages()
 
 # Frame time: the first frame holds llvmpipe's shader JIT and is dropped; the median of the rest.
 TIMING_FRAMES = 6
@@ -79,7 +94,7 @@ def parse_lab_list(text):
         elif m:
             a, b = int(m.group(1)), int(m.group(2) or m.group(1))
             if a > b or a not in STAGES or b not in STAGES:
-                raise ReportError(f"--labs: '{part}' is not a lab (1 to 5)")
+                raise ReportError(f"--labs: '{part}' is not a lab ({min(STAGES)} to {max(STAGES)})")
             labs.update(range(a, b + 1))
         else:
             raise ReportError(f"--labs: '{part}' is not a lab number, range (1-3) or stage name")
@@ -355,7 +370,8 @@ class Pdf:
         for spine in ax.spines.values():
             spine.set_edgecolor(border)
         if path and os.path.exists(path):
-            ax.imshow(mpimg.imread(path), interpolation="nearest", aspect="auto")
+            # "equal": lab 6's maps (2:1, square, 256x252) keep their shape inside the 4:3 box.
+            ax.imshow(mpimg.imread(path), interpolation="nearest", aspect="equal")
         else:
             ax.set_facecolor("#eee")
             ax.text(0.5, 0.5, "no image", ha="center", va="center", fontsize=7, color="#777",
@@ -505,7 +521,7 @@ def lab_page(pdf, lab, entry, results, grade_dir, timing):
             pdf.text(x + 5.0, y, f"{format_score(c['score'])} / {format_score(c['max_score'])}", size=9)
             y += 0.22
         return
-    # Rows share the page below the header: up to 1.42 in each, less when a lab has more checks (lab 5 has 9).
+    # Rows share the page below the header: up to 1.42 in each, less when a lab has more checks (lab 1 has 12).
     row_h = min(1.42, (A4[1] - MARGIN - 0.25 - y) / max(1, len(checks)))
     gap = 0.1
     img_w = min((row_h - 0.18) * 4 / 3, (A4[0] - 2 * MARGIN - 2.35 - 2 * gap) / 3)  # text column >= 2.3 in

@@ -18,8 +18,8 @@ vec2 kit_hammersley(int i, int n) {
 // a point xi of [0,1)^2 by inverting the distribution of n.h:
 // cos^2 theta_h = (1 - xi.x) / (1 + (alpha^2 - 1) xi.x), phi = 2 pi xi.y.
 vec3 kit_sample_ggx_half_vector(vec2 xi, float alpha) {
-    float alpha2 = alpha * alpha;
-    float cos_theta = sqrt((1.0 - xi.x) / (1.0 + (alpha2 - 1.0) * xi.x));
+    float alpha_squared = alpha * alpha;
+    float cos_theta = sqrt((1.0 - xi.x) / (1.0 + (alpha_squared - 1.0) * xi.x));
     float sin_theta = sqrt(max(1.0 - cos_theta * cos_theta, 0.0));
     float phi = 2.0 * KIT_PI * xi.y;
     return vec3(sin_theta * cos(phi), sin_theta * sin(phi), cos_theta);

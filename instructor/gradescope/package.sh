@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# ./kit gradescope-package [--labs 1,2,3,4,5] [--out FILE.zip]
+# ./kit gradescope-package [--labs 1,2,3] [--out FILE.zip]
 #
 # Builds the Gradescope autograder: a zip whose root holds setup.sh and
 # run_autograder (Gradescope's two entry points), autograder.conf (the labs this
@@ -17,7 +17,7 @@ set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 ROOT="$(cd "$HERE/../.." && pwd)"
 OUT="$ROOT/out/gradescope/autograder.zip"
-LABS="1,2,3,4,5"
+LABS=""  # empty: every lab of the kit (kit-grade's default)
 FIXTURE_LIMIT=$((1024 * 1024))
 
 say() { printf 'gradescope-package: %s\n' "$*" >&2; }
@@ -26,7 +26,7 @@ die() { say "$*"; exit 1; }
 usage() {
   cat <<'USAGE'
 usage: ./kit gradescope-package [--labs LIST] [--out FILE.zip]
-  --labs LIST   labs this Gradescope assignment grades, comma separated (default 1,2,3,4,5);
+  --labs LIST   labs this Gradescope assignment grades, comma separated (default: every lab);
                 one lab per assignment lets students upload that lab's files on their own
   --out FILE    where to write the zip (default out/gradescope/autograder.zip)
 USAGE
@@ -41,7 +41,12 @@ while [ $# -gt 0 ]; do
   esac
 done
 
-[[ "$LABS" =~ ^[1-5](,[1-5])*$ ]] || die "--labs expects lab numbers 1-5 separated by commas (got '$LABS')"
+if [ -n "$LABS" ]; then
+  [[ "$LABS" =~ ^[0-9]+(,[0-9]+)*$ ]] || die "--labs expects lab numbers separated by commas (got '$LABS')"
+  for n in ${LABS//,/ }; do
+    ls -d "$ROOT/labs/$(printf '%02d' "$((10#$n))")"-* >/dev/null 2>&1 || die "--labs: the kit has no lab $n (labs/)"
+  done
+fi
 command -v zip >/dev/null || die "zip is not installed (./kit setup installs it)"
 case "$OUT" in /*) ;; *) OUT="$PWD/$OUT" ;; esac
 
@@ -82,7 +87,7 @@ install -m 0755 "$HERE/setup.sh" "$STAGE/setup.sh"
 install -m 0755 "$HERE/run_autograder" "$STAGE/run_autograder"
 cat >"$STAGE/autograder.conf" <<CONF
 # Read by run_autograder (an environment variable of the same name wins).
-# Written by ./kit gradescope-package --labs $LABS
+# Written by ./kit gradescope-package${LABS:+ --labs $LABS} (empty: every lab)
 KIT_LABS=$LABS
 CONF
 
@@ -90,6 +95,6 @@ mkdir -p "$(dirname "$OUT")"
 rm -f "$OUT"
 (cd "$STAGE" && zip -q -r -X "$OUT" setup.sh run_autograder autograder.conf kit)
 
-say "$count kit files, labs $LABS$([ ${#skipped[@]} -gt 0 ] && echo ", ${#skipped[@]} big fixture(s) left out")"
+say "$count kit files, labs ${LABS:-(every lab)}$([ ${#skipped[@]} -gt 0 ] && echo ", ${#skipped[@]} big fixture(s) left out")"
 say "wrote $OUT ($(du -h "$OUT" | cut -f1)); upload it as the assignment's autograder (README: instructor/gradescope/README.md)"
 echo "$OUT"

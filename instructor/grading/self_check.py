@@ -53,6 +53,11 @@ class CatalogueError(Exception):
     pass
 
 
+def stage_labs():
+    """The lab numbers of the stage table (framework/stages.cpp), as its labs/NN-name folders."""
+    return sorted(int(p.name[:2]) for p in (ROOT / "labs").iterdir() if p.is_dir() and re.match(r"\d\d-", p.name))
+
+
 def load_catalogue(path):
     try:
         data = json.loads(Path(path).read_text(encoding="utf-8"))
@@ -64,6 +69,7 @@ def load_catalogue(path):
     if not isinstance(entries, list) or not entries:
         raise CatalogueError(f"{path}: expected an object with a non-empty 'entries' list")
     seen = set()
+    labs = stage_labs()
     for i, e in enumerate(entries):
         where = f"{path}: entry {i + 1}" + (f" ('{e.get('id')}')" if isinstance(e, dict) and e.get("id") else "")
         if not isinstance(e, dict):
@@ -76,8 +82,8 @@ def load_catalogue(path):
         if e["id"] in seen:
             raise CatalogueError(f"{where}: duplicate id")
         seen.add(e["id"])
-        if not 1 <= e["lab"] <= 5:
-            raise CatalogueError(f"{where}: lab must be 1..5")
+        if e["lab"] not in labs:
+            raise CatalogueError(f"{where}: lab must be one of the stage table's ({', '.join(map(str, labs))})")
         if e["kind"] not in KINDS:
             raise CatalogueError(f"{where}: kind must be one of {', '.join(KINDS)}")
         if not e["edits"]:

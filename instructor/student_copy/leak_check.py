@@ -3,11 +3,15 @@
 
     leak_check.py COPY N [--kit KIT_ROOT]
 
-For every file of solutions/NN-name with NN >= N, each line the starter
-(labs/NN-name/same file) does not contain is a solution line, unless a released
-solution (labs before N, which the copy holds) has it too, or it is
-trivial: shorter than MIN_LINE_CHARS once whitespace is collapsed, or only
-punctuation and keywords (a brace, `return x;`, `#endif`). Every text file of
+For every file of solutions/NN-name with NN >= N, each line is a solution line
+unless the students get it anyway: a starter of that lab or an earlier one holds
+it (any file of labs/MM-name, MM <= NN: lab 6's reads of the G-buffer are lab 2's
+starter's), or a released solution (labs before N, which the copy holds) does; a
+line of those also counts without its trailing `//` comment. Trivial lines are
+not solution lines either: shorter than MIN_LINE_CHARS once whitespace is
+collapsed, or only punctuation and keywords (a brace, `return x;`, `#endif`).
+(A later lab's starter can restate an earlier solution, as lab 4's restates lab
+1's geometry pass: student_copy.py holds such starters back, so those do not count.) Every text file of
 the copy is searched for each solution line, compared line by line after the
 same whitespace collapsing, and long lines also as substrings (a line quoted
 inside a Markdown paragraph). Besides lines, the copy must hold no instructor/
@@ -31,9 +35,29 @@ def normalize(line):
     return " ".join(line.split())
 
 
+def public_forms(lines):
+    """The normalized lines of a file the students get, each also without its trailing
+    `//` comment: a solution line equal to the code of such a line gives nothing away."""
+    forms = set()
+    for line in lines:
+        forms.add(normalize(line))
+        forms.add(normalize(line.split("//", 1)[0]))
+    return forms
+
+
 def lab_number(folder):
     m = re.match(r"^(\d+)-", folder)
     return int(m.group(1)) if m else None
+
+
+def folder_forms(folder):
+    """public_forms of every file of `folder` (none when it does not exist)."""
+    forms = set()
+    if folder.is_dir():
+        for path in sorted(folder.iterdir()):
+            if path.is_file():
+                forms |= public_forms(path.read_text(encoding="utf-8").splitlines())
+    return forms
 
 
 def released_lines(kit, first_lab):
@@ -42,29 +66,29 @@ def released_lines(kit, first_lab):
     for folder in sorted((kit / "solutions").iterdir()):
         n = lab_number(folder.name)
         if n is not None and n < first_lab:
-            for sol in folder.iterdir():
-                lines.update(normalize(l) for l in sol.read_text(encoding="utf-8").splitlines())
+            lines |= folder_forms(folder)
     return lines
 
 
 def solution_lines(kit, first_lab, last_lab=None):
     """(solution file, line) for every non-trivial line of the solutions of labs
-    first_lab..last_lab that neither the same file's starter nor a released
-    solution (labs before first_lab) already holds."""
+    first_lab..last_lab that neither a starter of that lab or an earlier one (any
+    of its files) nor a released solution (labs before first_lab) already holds."""
     found = []
     released = released_lines(kit, first_lab)
+    starters = sorted((lab_number(f.name), f) for f in (kit / "labs").iterdir() if lab_number(f.name) is not None)
     for folder in sorted((kit / "solutions").iterdir()):
         n = lab_number(folder.name)
         if n is None or n < first_lab or (last_lab is not None and n > last_lab):
             continue
+        given = set(released)
+        for m, starter in starters:
+            if m <= n:
+                given |= folder_forms(starter)
         for sol in sorted(folder.iterdir()):
-            starter = kit / "labs" / folder.name / sol.name
-            starter_lines = set()
-            if starter.is_file():
-                starter_lines = {normalize(l) for l in starter.read_text(encoding="utf-8").splitlines()}
             for line in sol.read_text(encoding="utf-8").splitlines():
                 text = normalize(line)
-                if len(text) < MIN_LINE_CHARS or TRIVIAL.match(text) or text in starter_lines or text in released:
+                if len(text) < MIN_LINE_CHARS or TRIVIAL.match(text) or text in given:
                     continue
                 found.append((f"solutions/{folder.name}/{sol.name}", text))
     return found

@@ -18,17 +18,20 @@ print("%g/%g %s" % (lab["score"], lab["max_score"], lab["status"]))
 PY
 }
 
-# 1. A copy for every lab: written, and no solution line of that lab or later in it
-#    (student_copy.py runs leak_check.py and fails on a hit).
-for n in 1 2 3 4 5; do
+# 1. A copy for every lab of the stage table (its labs/NN-name folders): written, and no
+#    solution line of that lab or later in it (student_copy.py runs leak_check.py and
+#    fails on a hit).
+LABS=$(ls "$ROOT/labs" | sed -n 's/^0*\([0-9][0-9]*\)-.*/\1/p')
+for n in $LABS; do
   if "$ROOT/kit" student-copy "$n" "$WORK/copy$n" >"$WORK/copy$n.log" 2>&1; then
     pass "copy for lab $n: $(tail -2 "$WORK/copy$n.log" | head -1)"
   else
     fail "copy for lab $n"; sed 's/^/    /' "$WORK/copy$n.log" | tail -10
   fi
 done
-for n in 1 2 3 4 5; do
+for n in $LABS; do
   [ -d "$WORK/copy$n/instructor" ] && fail "copy $n holds instructor/"
+  ls -d "$WORK/copy$n"/labs/"$(printf '%02d' "$n")"-* >/dev/null 2>&1 || fail "copy $n lacks the starters of lab $n"
   for d in "$WORK/copy$n"/solutions/*/; do
     [ -d "$d" ] || continue
     m=$((10#$(basename "$d" | cut -d- -f1)))

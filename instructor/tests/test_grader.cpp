@@ -25,7 +25,8 @@ using nlohmann::json;
 
 namespace {
 
-constexpr int kLabCount = 5;
+// Every lab of the stage table (framework/stages.cpp) is graded.
+const int kLabCount = static_cast<int>(kit::stages().size());
 // Short wall-clock limit for the run holding the endless loop.
 constexpr int kShortTimeoutSeconds = 5;
 
@@ -187,9 +188,13 @@ TEST(Grader, SolutionsScoreFullMarksThreeRunsOnOsmesa) {
   for (int n = 1; n <= kLabCount; ++n) copy_lab("solutions", n, wrapped / "labs-of-alice");
   make_zip(dir / "bob.zip", solution_entries("labs/"));
   const fs::path submissions[] = {kit::kit_root() / "solutions", dir / "bob.zip", wrapped};
-  // The summary line counts lab 2's checks as grading.json lists them.
+  // The summary line counts lab 2's checks as grading.json lists them, and the total its weights.
   std::ifstream config(kit::kit_root() / "tools" / "grade" / "grading.json");
-  const std::string lab2_checks = std::to_string(json::parse(config)["labs"]["2"]["checks"].size());
+  const json labs = json::parse(config)["labs"];
+  const std::string lab2_checks = std::to_string(labs["2"]["checks"].size());
+  double weights = 0.0;
+  for (const auto& [number, lab] : labs.items()) weights += lab["weight"].get<double>();
+  const std::string total = std::to_string(static_cast<int>(weights));
   int run = 0;
   for (const fs::path& submission : submissions) {
     GradeRun r = grade(submission, "solutions-" + std::to_string(++run));
@@ -200,7 +205,7 @@ TEST(Grader, SolutionsScoreFullMarksThreeRunsOnOsmesa) {
     EXPECT_NE(r.output.find("lab 2 lighting: 10/10  (" + lab2_checks + " of " + lab2_checks + " checks passed)"),
               std::string::npos)
         << r.output;
-    EXPECT_NE(r.output.find("total: 50/50"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("total: " + total + "/" + total), std::string::npos) << r.output;
   }
 }
 
@@ -217,7 +222,7 @@ TEST(Grader, StartersScoreTheDocumentedMinimum) {
   GradeRun r = grade(kit::kit_root() / "labs", "starters");
   expect_ran(r);
   const std::map<int, std::set<std::string>> documented = {
-      {1, {}}, {2, {}}, {3, {}}, {4, {}}, {5, {"default-off", "custom-off", "custom-on-postprocess-off"}}};
+      {1, {}}, {2, {}}, {3, {}}, {4, {}}, {5, {"default-off", "custom-off", "custom-on-postprocess-off"}}, {6, {}}};
   for (const auto& [number, passing] : documented) {
     EXPECT_EQ(lab(r, number)["status"], "graded");
     for (const auto& [key, check] : lab(r, number)["checks"].items())
@@ -297,7 +302,7 @@ TEST(Grader, BrokenLabsScoreZeroAndTheOthersFullMarksB) {
 }
 
 // Run C: a symlink out of the submission, an empty file, text that is not UTF-8,
-// a 10 MB file and a missing file.
+// a 10 MB file and missing files.
 TEST(Grader, RefusedAndMissingFilesScoreZero) {
   fs::path dir = kit::test::temp_dir("grader-bad-c");
   fs::path sub = dir / "submission";
@@ -309,6 +314,7 @@ TEST(Grader, RefusedAndMissingFilesScoreZero) {
   write_file(sub / "03-attenuation/tonemap.glsl", "// caf\xe9 in Latin-1\nvec3 tonemap(vec3 c) { return c; }\n");
   write_file(sub / "04-normalmap/gbuffer.vert", std::string(10 * 1024 * 1024, 'x'));
   fs::remove(sub / "05-postprocess/custom_effect.frag");
+  fs::remove(sub / "06-ibl/prefilter.frag");
   GradeRun r = grade(sub, "bad-c");
   expect_ran(r);
   expect_zero(r, 1, "invalid_files", "symbolic link");
@@ -316,6 +322,7 @@ TEST(Grader, RefusedAndMissingFilesScoreZero) {
   expect_zero(r, 3, "invalid_files", "not UTF-8");
   expect_zero(r, 4, "invalid_files", "over the 262144-byte limit");
   expect_zero(r, 5, "missing_files", "labs/05-postprocess/custom_effect.frag");
+  expect_zero(r, 6, "missing_files", "labs/06-ibl/prefilter.frag");
 }
 
 TEST(Grader, EmptySubmissionScoresZeroWithValidResults) {
@@ -529,6 +536,30 @@ TEST(GraderVerdicts, MessagesNameTheCriterionThatFailed) {
   EXPECT_TRUE(l.passed);
   EXPECT_EQ(l.summary.find("Over the limit"), std::string::npos);
   EXPECT_NE(l.summary.find("the largest difference is 0 at (0, 0);"), std::string::npos) << l.summary;
+}
+
+// Lab 6's maps are compared at their own sizes (the irradiance map is 32x16, where
+// the failing share allows no pixel at all); an image whose size differs from its
+// reference's is not compared, and the note says so and what to run.
+TEST(GraderVerdicts, MapsAreComparedAtTheirOwnSizeAndOtherSizesAreRefused) {
+  const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Hdr);
+  kit::Image map(32, 16, 4);
+  for (size_t i = 0; i < map.pixels.size(); ++i) map.pixels[i] = 0.5f + static_cast<float>(i % 7);
+  kit::grade::Comparison same = kit::grade::compare_images(Metric::Hdr, tol, map, map);
+  EXPECT_TRUE(same.passed) << same.summary;
+  EXPECT_EQ(same.allowed_failing_pixels, 0u);
+  kit::Image one_off = map;
+  one_off.at(3, 4, 0) += 1.0f;
+  EXPECT_FALSE(kit::grade::compare_images(Metric::Hdr, tol, one_off, map).passed);
+
+  kit::Image larger(64, 32, 4);
+  kit::grade::Comparison c = kit::grade::compare_images(Metric::Hdr, tol, larger, map);
+  EXPECT_FALSE(c.passed);
+  EXPECT_EQ(c.note.rfind("the image is 64x32 with 4 channels, the reference 32x16 with 4 channels: nothing was compared", 0),
+            0u)
+      << c.note;
+  EXPECT_NE(c.note.find("--update-references"), std::string::npos) << c.note;
+  EXPECT_EQ(c.summary, c.note);
 }
 
 // handouts/instructors.md's tolerance table says what grading.json holds, and calls

@@ -119,6 +119,33 @@ const std::vector<RenderSpec>& renders() {
     auto gamma10 = [](RenderSpec& s) { s.gamma = 1.0f; };
     r.push_back(with(final_image("lab5-default-bloom-gamma10", 5, "default"), gamma10));
     r.push_back(with(with(with(final_image("lab5-default-custom-on-off", 5, "default"), isolated), custom_on), off));
+    // Lab 6: each render also precomputes the maps (one precompute per scene and
+    // environment: render_child keeps one Renderer per scene), so the maps are read
+    // from the highlight scene's renderer under "sun", which its HDR render needs anyway.
+    auto sun = [](RenderSpec& s) { s.environment = "sun"; };
+    auto studio = [](RenderSpec& s) { s.environment = "studio"; };
+    // The BRDF table, on its own: G, alpha = roughness^2 and the Fresnel split into A
+    // and B change most of its texels, and a C without the diffuse Fresnel (1 - Fc)
+    // shows only here (4 times the mean error's limit; half of it in the images, where
+    // the diffuse part is dim beside the environment's reflection).
+    r.push_back(with(gbuffer("lab6-brdf-lut", 6, "highlight", View::BrdfLut), sun));
+    // The maps of "sun", the hard case (a 1.5-degree sun 3000 times brighter than the
+    // sky): an irradiance sum without the solid angle or the cosine, or with uniform
+    // weights, misplaces the sun's share; a prefilter without the n.l weight, without
+    // alpha = roughness^2, or reading level 0 only (the sun hit by a few samples:
+    // fireflies) changes the rough levels by far more than the tolerance.
+    r.push_back(with(gbuffer("lab6-sun-irradiance", 6, "highlight", View::Irradiance), sun));
+    r.push_back(with(gbuffer("lab6-sun-prefiltered", 6, "highlight", View::Prefiltered), sun));
+    // The pass that combines them (ibl.frag): the sun's glossy reflection covers a
+    // corner of the close-up, so r = reflect(-v, n) (not reflect(v, n), nor n) and the
+    // table's (n.v, roughness) order show on thousands of pixels.
+    r.push_back(with(hdr("lab6-highlight-sun-hdr", 6, "highlight"), sun));
+    // Metal and dielectric spheres of every roughness under the soft studio: the
+    // diffuse's (1 - metallic), (1 - F0) and 1/pi, and the irradiance looked up at n.
+    r.push_back(with(hdr("lab6-default-studio-hdr", 6, "default"), studio));
+    // BLEND layers (lit by the same ibl.frag in the forward pass), an emitter on black
+    // and a double-sided back face: the IBL is added to what the lighting pass wrote.
+    r.push_back(with(hdr("lab6-materials-studio-hdr", 6, "materials"), studio));
     return r;
   }();
   return kRenders;
@@ -177,6 +204,14 @@ const std::vector<Check>& checks() {
       // Postprocessing off gates the custom effect too: with its own toggle on, the
       // image must still be stage 4's.
       {5, "custom-on-postprocess-off", "custom effect on, postprocess off, equals stage 4", Metric::Ldr, "lab5-default-custom-on-off", "lab4-default-final"},
+
+      // The maps are radiance (the table a fraction of it): compared like HDR.
+      {6, "brdf-lut", "BRDF table (A, B, C)", Metric::Hdr, "lab6-brdf-lut", "lab6-brdf-lut"},
+      {6, "sun-irradiance", "irradiance map of the sun environment", Metric::Hdr, "lab6-sun-irradiance", "lab6-sun-irradiance"},
+      {6, "sun-prefiltered", "prefiltered map of the sun environment (6 levels)", Metric::Hdr, "lab6-sun-prefiltered", "lab6-sun-prefiltered"},
+      {6, "highlight-sun-hdr", "highlight close-up under the sun environment, HDR", Metric::Hdr, "lab6-highlight-sun-hdr", "lab6-highlight-sun-hdr"},
+      {6, "default-studio-hdr", "default scene under the studio environment, HDR", Metric::Hdr, "lab6-default-studio-hdr", "lab6-default-studio-hdr"},
+      {6, "materials-studio-hdr", "materials scene (BLEND layers, emitter) under the studio environment, HDR", Metric::Hdr, "lab6-materials-studio-hdr", "lab6-materials-studio-hdr"},
   };
   return kChecks;
 }
@@ -221,7 +256,16 @@ RenderSettings render_settings(const RenderSpec& spec) {
   s.postprocess = spec.postprocess;
   s.custom_effect = spec.custom_effect;
   s.bloom_threshold = spec.bloom_threshold;
+  s.environment = spec.environment;
   return s;
+}
+
+bool is_precomputed_map(View view) {
+  return view == View::Irradiance || view == View::Prefiltered || view == View::BrdfLut;
+}
+
+std::string environment_name(const RenderSpec& spec) {
+  return spec.environment.empty() ? kDefaultEnvironment : spec.environment;
 }
 
 std::string reference_extension(const RenderSpec& spec) { return spec.raw ? "exr" : "png"; }

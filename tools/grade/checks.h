@@ -14,7 +14,8 @@
 
 namespace kit::grade {
 
-// The size every check is rendered at. 256x192 (4:3 like the scenes' cameras)
+// The size every check is rendered at (lab 6's precomputed maps have their own,
+// fixed by the framework: framework/ibl.h). 256x192 (4:3 like the scenes' cameras)
 // keeps a whole submission under ~2 s on llvmpipe, yet each sphere of the
 // default scene still covers ~200 pixels, so one wrong term in a BRDF, a falloff
 // or a tangent frame changes far more pixels than the tolerances allow.
@@ -48,6 +49,9 @@ struct RenderSpec {
   // Lab 5: the submission's custom_effect.frag with the solution's bloom
   // shaders, so the toggle is graded independently of the bloom.
   bool isolate_custom = false;
+  // Stage 6: the environment that lights the scene (a kit environment's name; empty:
+  // kDefaultEnvironment).
+  std::string environment = {};
 };
 
 struct Check {
@@ -69,6 +73,12 @@ std::vector<const RenderSpec*> lab_renders(int lab);
 std::vector<const RenderSpec*> reference_renders();
 // RenderSettings for a render at the grading size.
 RenderSettings render_settings(const RenderSpec& spec);
+// Whether `view` is one of stage 6's precomputed maps: made from the environment
+// alone (not from the frame's HDR buffer), each at its own size.
+bool is_precomputed_map(View view);
+// The environment a render is lit by as the manifest names it: the kit's default
+// for an empty RenderSpec::environment.
+std::string environment_name(const RenderSpec& spec);
 // "png" or "exr": how a render is stored as a reference file.
 std::string reference_extension(const RenderSpec& spec);
 

@@ -1,7 +1,7 @@
 // kit-grade: the autograder. handouts/instructors.md explains every flag, the
 // checks, the tolerances and the output files.
 //
-//   kit-grade SUBMISSION [--labs 1-5] [--out DIR] [--jobs N] [--backend osmesa|egl]
+//   kit-grade SUBMISSION [--labs 1-6] [--out DIR] [--jobs N] [--backend osmesa|egl]
 //   kit-grade --batch FOLDER --out DIR [--jobs N] [--force]   (regrades what changed since its result)
 //   kit-grade --update-references | --check-references
 //
@@ -28,7 +28,7 @@ constexpr int kMaxDefaultJobs = 2;
 
 void usage() {
   std::printf(
-      "usage: kit-grade SUBMISSION [--labs 1-5] [--out DIR] [options]\n"
+      "usage: kit-grade SUBMISSION [--labs 1-6] [--out DIR] [options]\n"
       "       kit-grade --batch FOLDER --out DIR [--force] [options]\n"
       "       kit-grade --update-references | --check-references [--references DIR]\n"
       "       kit-grade --self-check [self_check.py options]\n"
@@ -40,7 +40,7 @@ void usage() {
       "each lab was taken from. Only regular files with one name are read (symbolic and hard links are refused);\n"
       "a zip is refused whole when an entry would leave its folder or it lists over %zu entries, and an\n"
       "encrypted or damaged (bad CRC) lab file in it is refused by name.\n"
-      "  --labs SPEC           labs to grade: 1-5 (default), 2, 1,3,5 or names (lighting)\n"
+      "  --labs SPEC           labs to grade (default: every lab this kit can grade), 1-3, 2, 1,3,5 or names (lighting)\n"
       "  --out DIR             result folder (default out/grade/<submission name>)\n"
       "  --jobs N              labs (and batch submissions) rendered at once (default: cores, at most %d)\n"
       "  --backend NAME        osmesa (default) | egl\n"
@@ -83,7 +83,7 @@ int parse_int(const std::string& text, const std::string& flag, int lo, int hi) 
                    " (got '" + text + "')");
 }
 
-// "1-5", "2", "1,3,5", "lighting,5" -> lab numbers, ascending, each once.
+// "1-6", "2", "1,3,5", "lighting,5" -> lab numbers, ascending, each once.
 std::vector<int> parse_labs(const std::string& spec) {
   std::vector<bool> chosen(kit::stages().size() + 1, false);
   size_t start = 0;

@@ -37,18 +37,21 @@ nlohmann::json read_manifest(const fs::path& dir) {
 fs::path default_references_dir() { return kit_root() / "tools" / "grade" / "references"; }
 
 nlohmann::json manifest_entry(const RenderSpec& spec) {
-  return {{"id", spec.id},
-          {"file", spec.id + "." + reference_extension(spec)},
-          {"stage", spec.stage},
-          {"scene", spec.scene},
-          {"view", view_name(spec.view)},
-          {"raw", spec.raw},
-          {"gamma", spec.gamma},
-          {"attenuation", spec.attenuation_model == 0 ? "physical" : "simple"},
-          {"postprocess", spec.postprocess},
-          {"custom_effect", spec.custom_effect},
-          {"bloom_threshold", spec.bloom_threshold},
-          {"isolate_custom", spec.isolate_custom}};
+  nlohmann::json entry = {{"id", spec.id},
+                          {"file", spec.id + "." + reference_extension(spec)},
+                          {"stage", spec.stage},
+                          {"scene", spec.scene},
+                          {"view", view_name(spec.view)},
+                          {"raw", spec.raw},
+                          {"gamma", spec.gamma},
+                          {"attenuation", spec.attenuation_model == 0 ? "physical" : "simple"},
+                          {"postprocess", spec.postprocess},
+                          {"custom_effect", spec.custom_effect},
+                          {"bloom_threshold", spec.bloom_threshold},
+                          {"isolate_custom", spec.isolate_custom}};
+  // Only where an environment lights the stage: the other entries stay as they were.
+  if (find_stage(std::to_string(spec.stage)).ibl) entry["environment"] = environment_name(spec);
+  return entry;
 }
 
 void write_references(const fs::path& dir, const std::map<std::string, Image>& renders, const std::string& renderer) {

@@ -125,8 +125,9 @@ int render_lab(const RenderJob& job) {
       report["seconds"]["render_each"][spec->id] = seconds;
       t = Clock::now();
       write_raw_image(raw_image_path(job.out_dir, spec->id), renderer->read_view(spec->view, spec->raw));
-      // A display image cannot hold NaN (RGBA8): count them where they start, in the HDR buffer.
-      if (stage.lighting && spec->view != View::Hdr)
+      // A display image cannot hold NaN (RGBA8): count them where they start, in the HDR
+      // buffer. Stage 6's maps are float images made before the frame: they count their own.
+      if (stage.lighting && spec->view != View::Hdr && !is_precomputed_map(spec->view))
         report["hdr_non_finite"][spec->id] = renderer->count_non_finite(View::Hdr);
       readback += since(t);
     } catch (const Error& e) {
