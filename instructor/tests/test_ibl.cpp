@@ -60,6 +60,12 @@ Scene unlit(const std::string& name) {
   return s;
 }
 
+// The sphere scene without its light, kept for the whole run (renderers refer to their scene).
+const Scene& unlit_sphere() {
+  static const Scene s = unlit("sphere");
+  return s;
+}
+
 double max3(dvec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 dvec3 rgb(const Image& image, int x, int y) { return pixel_rgb(image, x, y); }
 
@@ -82,6 +88,18 @@ std::unique_ptr<Renderer> ibl_variant(const Scene& s, const RenderSettings& sett
   auto renderer = make_renderer("ibl", s, settings, full_root_library(find_stage("ibl"), variant_root(name, swaps)));
   renderer->render(scene_frame_camera(s, settings));
   return renderer;
+}
+
+// The solutions' stage 6 and a variant of them (`swaps` applied), both rendered under
+// `environment_name` on the unlit sphere scene.
+struct KitAndNaive {
+  std::unique_ptr<Renderer> kit, naive;
+};
+KitAndNaive kit_and_naive(const std::string& environment_name, const std::string& variant_name,
+                          const std::vector<LineSwap>& swaps) {
+  const Scene& s = unlit_sphere();
+  return {ibl_renderer(s, ibl_settings(environment_name)),
+          ibl_variant(s, ibl_settings(environment_name), variant_name, swaps)};
 }
 
 // Level `level` of the prefiltered map out of View::Prefiltered's stack.
@@ -122,7 +140,7 @@ double prefiltered_level_error(const Image& level_image, const Image& env, int l
 // The maps against the split sum's factors in double.
 
 TEST(Ibl, BrdfTableMatchesTheQuadrature) {
-  auto renderer = ibl_renderer(unlit("sphere"), ibl_settings("studio"));
+  auto renderer = ibl_renderer(unlit_sphere(), ibl_settings("studio"));
   const Image table = renderer->read_view(View::BrdfLut, true);
   ASSERT_EQ(table.width, KIT_BRDF_LUT_SIZE);
   double worst = 0.0;
@@ -144,7 +162,7 @@ TEST(Ibl, BrdfTableMatchesTheQuadrature) {
 
 TEST(Ibl, IrradianceMapMatchesTheIntegral) {
   for (const char* name : {"studio", "sun"}) {
-    auto renderer = ibl_renderer(unlit("sphere"), ibl_settings(name));
+    auto renderer = ibl_renderer(unlit_sphere(), ibl_settings(name));
     const Image map = renderer->read_view(View::Irradiance, true);
     const Image& env = environment(name);
     double worst = 0.0;
@@ -164,7 +182,7 @@ TEST(Ibl, IrradianceMapMatchesTheIntegral) {
 
 TEST(Ibl, PrefilteredLevelsMatchTheIntegral) {
   for (const char* name : {"studio", "sun"}) {
-    auto renderer = ibl_renderer(unlit("sphere"), ibl_settings(name));
+    auto renderer = ibl_renderer(unlit_sphere(), ibl_settings(name));
     const Image stack = renderer->read_view(View::Prefiltered, true);
     for (int level = 1; level < KIT_PREFILTER_LEVELS; ++level) {
       const Image level_image = prefiltered_level(stack, level);
@@ -265,9 +283,7 @@ TEST(IblStability, FirefliesFromTheSun) {
   const std::vector<LineSwap> level_zero = {
       {"06-ibl/prefilter.frag", "float level = max(0.5 * log2(sample_solid_angle / texel_solid_angle) + 1.0, 0.0);",
        "float level = 0.0;"}};
-  const Scene s = unlit("sphere");
-  auto kit = ibl_renderer(s, ibl_settings("sun"));
-  auto naive = ibl_variant(s, ibl_settings("sun"), "ibl_fireflies", level_zero);
+  auto [kit, naive] = kit_and_naive("sun", "ibl_fireflies", level_zero);
   const Image kit_stack = kit->read_view(View::Prefiltered, true), naive_stack = naive->read_view(View::Prefiltered, true);
   for (int level : {3}) {
     const Image k = prefiltered_level(kit_stack, level), n = prefiltered_level(naive_stack, level);
@@ -288,9 +304,7 @@ TEST(IblStability, RoughnessZeroInThePrefilter) {
   const std::vector<LineSwap> no_floor = {
       {"06-ibl/prefilter.frag", "float alpha = max(u_roughness, KIT_MIN_ROUGHNESS) * max(u_roughness, KIT_MIN_ROUGHNESS);",
        "float alpha = u_roughness * u_roughness;"}};
-  const Scene s = unlit("sphere");
-  auto kit = ibl_renderer(s, ibl_settings("studio"));
-  auto naive = ibl_variant(s, ibl_settings("studio"), "ibl_roughness_zero", no_floor);
+  auto [kit, naive] = kit_and_naive("studio", "ibl_roughness_zero", no_floor);
   const Image& env = environment("studio");
   auto level0_error = [&](Renderer& r) {
     const Image level0 = prefiltered_level(r.read_view(View::Prefiltered, true), 0);
@@ -316,9 +330,7 @@ TEST(IblStability, GrazingViewInTheBrdfTable) {
        "float n_dot_v = kit_brdf_lut_grid_value(v_uv.x);"},
       {"06-ibl/brdf_lut.frag", "float weight = g * v_dot_h / max(n_dot_h * n_dot_v, KIT_MIN_DENOMINATOR);",
        "float weight = g * v_dot_h / (n_dot_h * n_dot_v);"}};
-  const Scene s = unlit("sphere");
-  auto kit = ibl_renderer(s, ibl_settings("studio"));
-  auto naive = ibl_variant(s, ibl_settings("studio"), "ibl_grazing_table", no_floor);
+  auto [kit, naive] = kit_and_naive("studio", "ibl_grazing_table", no_floor);
   const size_t kit_broken = count_non_finite(kit->read_view(View::BrdfLut, true));
   const size_t naive_broken = count_non_finite(naive->read_view(View::BrdfLut, true));
   std::printf("[ ibl ] n.v = 0: %zu non-finite table texels with the floor, %zu without\n", kit_broken, naive_broken);
