@@ -5,12 +5,10 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdlib>
 
 #include "error.h"
+#include "stages.h"
 #include "gbuffer_layout.h"
-
-namespace fs = std::filesystem;
 
 namespace kit {
 
@@ -46,9 +44,7 @@ const std::vector<std::string>& kit_environment_names() {
 std::string resolve_environment(const std::string& name_or_path) {
   const auto& names = kit_environment_names();
   if (std::find(names.begin(), names.end(), name_or_path) == names.end()) return name_or_path;
-  const char* env = std::getenv("KIT_SCENE_DIR");
-  fs::path dir = env && *env ? fs::path(env) : fs::path(KIT_SCENE_DIR);
-  return (dir / "environments" / (name_or_path + ".exr")).string();
+  return (scene_dir() / "environments" / (name_or_path + ".exr")).string();
 }
 
 Image load_environment(const std::string& path) {

@@ -37,12 +37,15 @@ fs::path kit_root() {
 
 fs::path shaders_dir() { return kit_root() / "framework" / "shaders"; }
 
+fs::path scene_dir() {
+  const char* env = std::getenv("KIT_SCENE_DIR");
+  return env && *env ? fs::path(env) : fs::path(KIT_SCENE_DIR);
+}
+
 std::string resolve_scene(const std::string& name_or_path) {
   bool is_name = name_or_path.find('/') == std::string::npos && name_or_path.find('.') == std::string::npos;
   if (!is_name) return name_or_path;
-  const char* env = std::getenv("KIT_SCENE_DIR");
-  fs::path dir = env && *env ? fs::path(env) : fs::path(KIT_SCENE_DIR);
-  return (dir / name_or_path / (name_or_path + ".gltf")).string();
+  return (scene_dir() / name_or_path / (name_or_path + ".gltf")).string();
 }
 
 namespace {

@@ -29,6 +29,9 @@ const Stage& find_stage(const std::string& name_or_number);
 std::filesystem::path kit_root();
 // The framework's shaders and shared GLSL modules: <kit root>/framework/shaders.
 std::filesystem::path shaders_dir();
+// Where the build wrote the kit's generated scenes and environments: $KIT_SCENE_DIR
+// when set, else the path compiled in.
+std::filesystem::path scene_dir();
 // Scenes generated at build time, by name ("default") or as a path to a .gltf file.
 std::string resolve_scene(const std::string& name_or_path);
 
