@@ -77,18 +77,17 @@ Image load_environment(const std::string& path) {
   return image;
 }
 
-ImageBasedLighting::ImageBasedLighting(const Image& environment)
-    : width_(environment.width), height_(environment.height) {
+ImageBasedLighting::ImageBasedLighting(const Image& environment) {
   if (environment.channels < 3) throw Error("an environment needs RGB channels");
+  const int width = environment.width, height = environment.height;
   // GL's row 0 is the image's bottom row (environment.glsl: t = 0 is the nadir).
-  std::vector<float> rgba(static_cast<size_t>(width_) * static_cast<size_t>(height_) * 4, 1.0f);
-  for (int y = 0; y < height_; ++y)
-    for (int x = 0; x < width_; ++x)
+  std::vector<float> rgba(static_cast<size_t>(width) * static_cast<size_t>(height) * 4, 1.0f);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
       for (int c = 0; c < 3; ++c)
-        rgba[(static_cast<size_t>(height_ - 1 - y) * static_cast<size_t>(width_) + static_cast<size_t>(x)) * 4 +
+        rgba[(static_cast<size_t>(height - 1 - y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * 4 +
              static_cast<size_t>(c)] = environment.at(x, y, c);
-  environment_ = Texture2D(width_, height_, kRadianceFormat, rgba.data(), true);
-  environment_levels_ = mip_levels(width_, height_);
+  environment_ = Texture2D(width, height, kRadianceFormat, rgba.data(), true);
   set_equirect_sampling(environment_, true);
 }
 
@@ -118,9 +117,9 @@ void ImageBasedLighting::precompute(const Program& irradiance, const Program& pr
   // Irradiance: summed over the first environment level no wider than the setting.
   irradiance_ = Texture2D(settings.irradiance_size, std::max(settings.irradiance_size / 2, 1), kRadianceFormat);
   set_equirect_sampling(irradiance_, false);
+  const int width = environment_.width(), levels = mip_levels(width, environment_.height());
   int source_level = 0;
-  while (source_level + 1 < environment_levels_ && (width_ >> source_level) > settings.irradiance_source_width)
-    ++source_level;
+  while (source_level + 1 < levels && (width >> source_level) > settings.irradiance_source_width) ++source_level;
   irradiance.use();
   irradiance.set("u_source_level", source_level);
   render_into(irradiance, irradiance_, 0);

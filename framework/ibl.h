@@ -68,17 +68,12 @@ class ImageBasedLighting {
   // Binds the environment and the maps on their units (gbuffer_layout.h).
   void bind() const;
 
-  const Texture2D& environment() const { return environment_; }
   const Texture2D& irradiance() const { return irradiance_; }
   const Texture2D& prefiltered() const { return prefiltered_; }
   const Texture2D& brdf_lut() const { return brdf_lut_; }
-  // The environment's level 0 as uploaded (RGB floats, rows top-down).
-  int environment_width() const { return width_; }
-  int environment_height() const { return height_; }
 
  private:
   Texture2D environment_, irradiance_, prefiltered_, brdf_lut_;
-  int width_ = 0, height_ = 0, environment_levels_ = 1;
   double precompute_seconds_ = 0.0;
 };
 
