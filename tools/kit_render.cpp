@@ -35,7 +35,8 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 void usage() {
   std::printf(
       "usage: kit-render --stage NAME [--view VIEW] --out FILE.png|FILE.exr [--view VIEW --out FILE ...] [options]\n"
-      "Renders one headless frame. VIEW: final (default) | position | normal | albedo | material | emission | depth | hdr.\n"
+      "Renders one headless frame. VIEW: final (default) | position | normal | albedo | material | emission | depth | hdr,\n"
+      "and at stage 6 irradiance | prefiltered (its levels stacked, level 0 on top) | brdf-lut.\n"
       "PNG shows a view for people (vectors as (v+1)/2, depth linearised); EXR keeps the float values.\n"
       "Renders your labs/ unless --solution or --shaders says otherwise. Warns (stderr) about NaN/Inf pixels\n"
       "and uniforms nothing sets; exits 1 on a shader error, %d when --timeout runs out.\n"

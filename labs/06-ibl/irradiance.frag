@@ -12,6 +12,7 @@ void main() {
 
     // TODO(lab 6): E(n) = integral of L(l) max(n.l, 0) over all directions l, as a sum
     //              over the texels of level u_source_level of u_environment (texelFetch),
-    //              each weighted by its solid angle (kit_equirect_texel_solid_angle).
+    //              each weighted by its solid angle (kit_equirect_texel_solid_angle),
+    //              in the direction of the texel's centre, (x + 0.5, y + 0.5) / size.
     out_color = vec4(KIT_PI * kit_environment_radiance(n), 1.0);  // placeholder: one direction
 }
