@@ -411,10 +411,11 @@ void Renderer::fullscreen_pass(const Program& program, const Framebuffer& target
   triangle_.pass(program, target, width, height);
 }
 
-void Renderer::render(const FrameCamera& camera) {
+void Renderer::render(const FrameCamera& camera, PassTimes* pass_times) {
   used_.clear();
+  PassClock clock(pass_times);
   try {
-    render_passes(camera);
+    render_passes(camera, clock);
   } catch (const Error& e) {
     // A uniform set with another type than declared is a GL error in its pass: say which.
     std::string mistyped;
@@ -425,7 +426,7 @@ void Renderer::render(const FrameCamera& camera) {
   }
 }
 
-void Renderer::render_passes(const FrameCamera& camera) {
+void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
   if (settings_.extra_lights != lights_extra_ || settings_.default_light_rig != lights_default_rig_ ||
       settings_.attenuation_model != lights_attenuation_model_)
     upload_lights();
@@ -435,6 +436,7 @@ void Renderer::render_passes(const FrameCamera& camera) {
   } else if (ibl_ && !(settings_.ibl == ibl_settings_)) {
     precompute_ibl();
   }
+  clock.lap("setup");
   camera_ = camera;
   const Programs& p = *programs_;
   for (const Program* program : {&p.geometry, &p.lighting, &p.display, &p.bright, &p.blur, &p.composite, &p.custom,
@@ -454,6 +456,7 @@ void Renderer::render_passes(const FrameCamera& camera) {
   draw_scene(p.geometry, scene_, scene_gpu_, view_projection, settings_.frustum_culling,
              stage_.lighting ? DrawSet::AllButBlend : DrawSet::All);
   check_gl("geometry pass");
+  clock.lap("geometry");
   if (!stage_.lighting) return;
 
   // 2. Lighting pass: G-buffer -> HDR.
@@ -462,6 +465,7 @@ void Renderer::render_passes(const FrameCamera& camera) {
   set_frame_uniforms(p.lighting);
   fullscreen_pass(p.lighting, hdr_fbo_, settings_.width, settings_.height);
   check_gl("lighting pass");
+  clock.lap("lighting");
 
   // 2''. Stage 6: the environment's light added (ibl.frag), then the environment
   //      itself where no surface is.
@@ -473,6 +477,7 @@ void Renderer::render_passes(const FrameCamera& camera) {
     set_frame_uniforms(p.background);
     fullscreen_pass(p.background, hdr_fbo_, settings_.width, settings_.height);
     check_gl("environment background");
+    clock.lap("ibl");
   }
 
   // 2'. Forward pass (forward_pass.h): BLEND draws back to front over the HDR
@@ -488,6 +493,7 @@ void Renderer::render_passes(const FrameCamera& camera) {
     forward_->draw_light_markers(frame_lights_, scene_, gbuffer_, hdr_);
     check_gl("forward pass (light markers)");
   }
+  if (blend_draws_ || settings_.light_markers) clock.lap("forward");
   hdr_.bind(KIT_UNIT_HDR);
 
   if (!stage_.postprocess) {
@@ -495,6 +501,7 @@ void Renderer::render_passes(const FrameCamera& camera) {
     set_frame_uniforms(p.display);
     fullscreen_pass(p.display, final_fbo_, settings_.width, settings_.height);
     check_gl("display pass");
+    clock.lap("display");
     return;
   }
 
@@ -510,6 +517,7 @@ void Renderer::render_passes(const FrameCamera& camera) {
   set_frame_uniforms(p.custom);
   fullscreen_pass(p.custom, final_fbo_, settings_.width, settings_.height);
   check_gl("postprocess passes");
+  clock.lap("postprocess");
 }
 
 size_t Renderer::count_non_finite(View view) {

@@ -11,6 +11,7 @@
 #include "gbuffer.h"
 #include "ibl.h"
 #include "image_io.h"
+#include "pass_clock.h"
 #include "scene.h"
 #include "stages.h"
 
@@ -156,7 +157,9 @@ class Renderer {
   // Stage 6: the environment and its maps (null at other stages).
   const ImageBasedLighting* image_based_lighting() const { return ibl_.get(); }
 
-  void render(const FrameCamera& camera);
+  // One frame. With `pass_times`, each pass ends in glFinish and its time is appended
+  // (pass_clock.h: for breakdowns only).
+  void render(const FrameCamera& camera, PassTimes* pass_times = nullptr);
 
   const GBuffer& gbuffer() const { return gbuffer_; }
   // The stage's output texture: the LDR image for lit stages, albedo for stage 1.
@@ -182,7 +185,7 @@ class Renderer {
  private:
   struct Programs;
   void build_programs();
-  void render_passes(const FrameCamera& camera);
+  void render_passes(const FrameCamera& camera, PassClock& clock);
   void upload_lights();
   void set_frame_uniforms(const Program& program) const;
   void fullscreen_pass(const Program& program, const Framebuffer& target, int width, int height) const;

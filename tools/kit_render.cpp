@@ -42,7 +42,8 @@ void usage() {
       "and uniforms nothing sets; exits 1 on a shader error, %d when --timeout runs out.\n"
       "  --timings             print where the time went (stderr)\n"
       "  --frames N            render the frame N times (default 1); with --timings, each frame's\n"
-      "                        wall-clock time in ms, glFinish included (the first holds llvmpipe's JIT)\n%s",
+      "                        wall-clock time in ms, glFinish included (the first holds llvmpipe's JIT),\n"
+      "                        then each pass's median over N more frames\n%s",
       kit::kTimedOutStatus,
       kit::common_options_help());
 }
@@ -93,12 +94,19 @@ int main(int argc, char** argv) {
     watchdog.relabel("rendering stage " + stage.name);
     const auto& s = options.settings;
     std::vector<double> frame_ms;
+    std::vector<kit::PassTimes> pass_ms;
+    const kit::FrameCamera frame_camera =
+        kit::frame_camera(camera, static_cast<float>(s.width) / static_cast<float>(s.height));
     for (int f = 0; f < frames; ++f) {
       auto t_frame = std::chrono::steady_clock::now();
-      renderer.render(kit::frame_camera(camera, static_cast<float>(s.width) / static_cast<float>(s.height)));
+      renderer.render(frame_camera);
       glFinish();
       frame_ms.push_back(1000.0 * seconds_since(t_frame));
     }
+    // The breakdown is taken in frames of its own: its glFinish after every pass
+    // would slow the frames timed above.
+    if (timings && frames > 1)
+      for (int f = 0; f < frames; ++f) renderer.render(frame_camera, &pass_ms.emplace_back());
     auto t_render = seconds_since(t0);
     for (const Output& out : outputs) {
       bool raw = out.path.size() > 4 && out.path.compare(out.path.size() - 4, 4, ".exr") == 0;
@@ -124,6 +132,9 @@ int main(int argc, char** argv) {
       std::string list;
       for (double ms : frame_ms) list += (list.empty() ? "" : " ") + std::to_string(ms);
       std::fprintf(stderr, "frame ms: %s\n", list.c_str());
+      std::string passes;
+      for (const auto& [pass, ms] : kit::median_pass_times(pass_ms)) passes += " " + pass + " " + std::to_string(ms);
+      std::fprintf(stderr, "pass ms (median of %d, glFinish after each):%s\n", frames, passes.c_str());
     }
     return 0;
   });

@@ -929,6 +929,43 @@ SceneBuilder build_heavy_scene() {
   return b;
 }
 
+// ---------------------------------------------------------------------------
+// The crowd scene: the lighting pass's benchmark (kit-bench's `crowd` configuration,
+// issue 13), laid out like a well-known deferred-shading tutorial program's scene:
+// nine instances of one 19k-triangle model on a 3 x 3 grid, 32 coloured point lights
+// scattered among them, no floor, at 800 x 600 (the camera is raised so all nine show).
+constexpr int kCrowdModelSegments = 128;  // 128 x 76 quads, less the poles' halves: 19,200 triangles
+constexpr int kCrowdModelRings = 76;
+constexpr int kCrowdGridSide = 3;         // 9 instances, 172,800 triangles
+constexpr double kCrowdSpacing = 3.0;     // metres between instances
+constexpr int kCrowdLights = 32;
+constexpr double kCrowdLightCandela = 1.5;  // each light: the 32 together expose like the default scene
+
+SceneBuilder build_crowd_scene() {
+  SceneBuilder b("crowd");
+  MaterialDesc mat;
+  mat.name = "crowd_model";
+  mat.base_color = glm::dvec4(0.7, 0.62, 0.55, 1.0);
+  mat.roughness = 0.45;
+  const Geometry model = b.add_geometry(make_sphere(0.8f, kCrowdModelSegments, kCrowdModelRings, {4, 2}, false));
+  const int material = b.add_material(mat);
+  const double half = 0.5 * (kCrowdGridSide - 1);
+  for (int i = 0; i < kCrowdGridSide * kCrowdGridSide; ++i) {
+    const glm::dvec3 at(kCrowdSpacing * (i % kCrowdGridSide - half), -0.5, kCrowdSpacing * (i / kCrowdGridSide - half));
+    b.add_mesh_node("crowd_" + std::to_string(i), at, model, material);
+  }
+  // Deterministic scatter over x, z in [-3.5, 3.5] and y in [-1.5, 2.5] (the tutorial's
+  // program: y in [-4, 2], which lights its models mostly from below), colours in [0.5, 1].
+  for (int i = 0; i < kCrowdLights; ++i) {
+    const auto r = [i](std::uint32_t k) { return double(hash01(std::uint32_t(i) * 8u + k + 5000u)); };
+    const glm::dvec3 position(7.0 * r(0) - 3.5, 4.0 * r(1) - 1.5, 7.0 * r(2) - 3.5);
+    const glm::dvec3 color(0.5 + 0.5 * r(3), 0.5 + 0.5 * r(4), 0.5 + 0.5 * r(5));
+    b.add_point_light("light_" + std::to_string(i), position, color, kCrowdLightCandela);
+  }
+  b.add_camera({0.0, 3.5, 8.0}, {0.0, -0.5, 0.0}, glm::radians(45.0));
+  return b;
+}
+
 }  // namespace
 
 // "obj-cube": an OBJ/MTL scene, as students bring them (obj_scene.h): a unit cube
@@ -1075,6 +1112,7 @@ int main(int argc, char** argv) {
     build_highlight_scene().write(out_dir);
     build_sun_scene().write(out_dir);
     build_materials_scene(textures).write(out_dir);
+    build_crowd_scene().write(out_dir);
     write_obj_cube_scene(out_dir, textures);
     write_studio_environment(out_dir / "environments" / "studio.exr");
     write_sun_environment(out_dir / "environments" / "sun.exr");

@@ -408,24 +408,17 @@ void BenchRenderer::render(const Method& m, const FrameCamera& camera, PassTimes
   }
   camera_ = camera;
   last_ = m;
-  auto t0 = std::chrono::steady_clock::now();
-  auto lap = [&](const char* pass) {
-    if (!pass_times) return;
-    glFinish();
-    auto t1 = std::chrono::steady_clock::now();
-    pass_times->emplace_back(pass, std::chrono::duration<double, std::milli>(t1 - t0).count());
-    t0 = t1;
-  };
+  PassClock clock(pass_times);
   geometry_pass(m);
-  lap(m.lighting == Lighting::Forward ? "forward" : "geometry");
+  clock.lap(m.lighting == Lighting::Forward ? "forward" : "geometry");
   lighting_pass(m);
-  if (m.lighting != Lighting::Forward) lap("lighting");
+  if (m.lighting != Lighting::Forward) clock.lap("lighting");
   if (m.blur_passes > 0) {
     bloom_passes();
-    lap("bloom");
+    clock.lap("bloom");
   }
   display_pass(ldr_fbo_);
-  lap("display");
+  clock.lap("display");
 }
 
 void BenchRenderer::bloom_passes() {

@@ -91,8 +91,6 @@ class BenchRenderer {
   BenchRenderer(const BenchRenderer&) = delete;
   BenchRenderer& operator=(const BenchRenderer&) = delete;
 
-  // (pass name, milliseconds) in frame order.
-  using PassTimes = std::vector<std::pair<std::string, double>>;
   // One frame, ending in the 8-bit display image as the labs' pipeline does.
   // Programs and targets a method needs are made on its first frame. With
   // `pass_times`, each pass ends in glFinish and its wall-clock time is appended

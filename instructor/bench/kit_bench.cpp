@@ -139,21 +139,10 @@ void write_images(kit::bench::BenchRenderer& renderer, const kit::bench::Method&
 // Median wall-clock time of each pass over `frames` frames, glFinish after every pass.
 void print_passes(kit::bench::BenchRenderer& renderer, const kit::bench::Method& method,
                   const kit::FrameCamera& camera, int frames) {
-  std::map<std::string, std::vector<double>> samples;
-  std::vector<std::string> order;
-  for (int f = 0; f < frames; ++f) {
-    kit::bench::BenchRenderer::PassTimes times;
-    renderer.render(method, camera, &times);
-    for (const auto& [pass, ms] : times) {
-      if (!samples.count(pass)) order.push_back(pass);
-      samples[pass].push_back(ms);
-    }
-  }
-  for (const std::string& pass : order) {
-    std::vector<double>& v = samples[pass];
-    std::sort(v.begin(), v.end());
-    std::printf("  %-10s %9.2f ms (median of %zu)\n", pass.c_str(), v[v.size() / 2], v.size());
-  }
+  std::vector<kit::PassTimes> times(static_cast<size_t>(frames));
+  for (kit::PassTimes& frame : times) renderer.render(method, camera, &frame);
+  for (const auto& [pass, ms] : kit::median_pass_times(times))
+    std::printf("  %-10s %9.2f ms (median of %d)\n", pass.c_str(), ms, frames);
 }
 
 const char* range_name(kit::bench::SmallLightRange range) {
