@@ -89,6 +89,8 @@ void usage() {
       "  --ibl-only            only the IBL family\n"
       "  --method NAME         one configuration: prints ms/frame and its error; several names\n"
       "                        separated by commas are timed round-robin on the same scene\n"
+      "                        (IBL methods, ibl-*: one after the other, %d frames unless --frames;\n"
+      "                        --passes and --images do not apply to them)\n"
       "  --frames N            timed frames (default %d)\n"
       "  --passes              with --method: median time of each pass (glFinish after each)\n"
       "  --images DIR          with --method: write the method's and the reference's display\n"
@@ -102,7 +104,7 @@ void usage() {
       "                        infinity), so culling them is never exact (default on)\n%s",
       kit::bench::kTimedFrames, kit::bench::kWarmupFrames, kFullWidth, kFullHeight, kit::bench::kIblFullRun.pixels,
       kQuickWidth, kQuickHeight,
-      kQuickTimedFrames, kit::bench::kTimedFrames, kDifferenceGain, kit::common_options_help());
+      kQuickTimedFrames, kit::bench::kIblFullRun.timed_frames, kit::bench::kTimedFrames, kDifferenceGain, kit::common_options_help());
 }
 
 void list_methods() {
