@@ -28,6 +28,22 @@ void set_equirect_sampling(const Texture2D& texture, bool mipmapped) {
   texture.set_filter(mipmapped ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR, GL_LINEAR);
   texture.set_wrap(GL_REPEAT, GL_CLAMP_TO_EDGE);
 }
+
+// An equirectangular RGBA32F texture of an image's RGB (rows top-down), alpha 1.
+Texture2D equirect_texture(const Image& image, bool mipmapped) {
+  if (image.channels < 3) throw Error("an equirectangular map needs RGB channels");
+  const int width = image.width, height = image.height;
+  // GL's row 0 is the image's bottom row (environment.glsl: t = 0 is the nadir).
+  std::vector<float> rgba(static_cast<size_t>(width) * static_cast<size_t>(height) * 4, 1.0f);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < 3; ++c)
+        rgba[(static_cast<size_t>(height - 1 - y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * 4 +
+             static_cast<size_t>(c)] = image.at(x, y, c);
+  Texture2D texture(width, height, kRadianceFormat, rgba.data(), mipmapped);
+  set_equirect_sampling(texture, mipmapped);
+  return texture;
+}
 }  // namespace
 
 bool operator==(const IblSettings& a, const IblSettings& b) {
@@ -77,19 +93,9 @@ Image load_environment(const std::string& path) {
   return image;
 }
 
-ImageBasedLighting::ImageBasedLighting(const Image& environment) {
-  if (environment.channels < 3) throw Error("an environment needs RGB channels");
-  const int width = environment.width, height = environment.height;
-  // GL's row 0 is the image's bottom row (environment.glsl: t = 0 is the nadir).
-  std::vector<float> rgba(static_cast<size_t>(width) * static_cast<size_t>(height) * 4, 1.0f);
-  for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x)
-      for (int c = 0; c < 3; ++c)
-        rgba[(static_cast<size_t>(height - 1 - y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * 4 +
-             static_cast<size_t>(c)] = environment.at(x, y, c);
-  environment_ = Texture2D(width, height, kRadianceFormat, rgba.data(), true);
-  set_equirect_sampling(environment_, true);
-}
+ImageBasedLighting::ImageBasedLighting(const Image& environment) : environment_(equirect_texture(environment, true)) {}
+
+void ImageBasedLighting::set_irradiance(const Image& irradiance) { irradiance_ = equirect_texture(irradiance, false); }
 
 void ImageBasedLighting::precompute(const Program& irradiance, const Program& prefilter, const Program& brdf_lut,
                                     const FullscreenTriangle& triangle, const IblSettings& settings) {
@@ -124,6 +130,8 @@ void ImageBasedLighting::precompute(const Program& irradiance, const Program& pr
   irradiance.set("u_source_level", source_level);
   render_into(irradiance, irradiance_, 0);
   check_gl("irradiance map (irradiance.frag)");
+  glFinish();
+  irradiance_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   // Prefiltered radiance: level k for roughness k / (levels - 1).
   prefiltered_ = Texture2D(settings.prefilter_size, settings.prefilter_size / 2, kRadianceFormat, nullptr, true);

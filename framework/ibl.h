@@ -62,8 +62,13 @@ class ImageBasedLighting {
   // fullscreen.vert with the sampler units set). Throws kit::Error on a GL error.
   void precompute(const Program& irradiance, const Program& prefilter, const Program& brdf_lut,
                   const FullscreenTriangle& triangle, const IblSettings& settings);
-  // Seconds the last precompute took (after glFinish).
+  // Seconds the last precompute took (after glFinish), and of them the irradiance map's.
   double precompute_seconds() const { return precompute_seconds_; }
+  double irradiance_seconds() const { return irradiance_seconds_; }
+  // Replaces the irradiance map with one made elsewhere (RGB or RGBA floats, rows
+  // top-down, equirectangular like the environment, any size): kit-bench compares
+  // irradiance.frag with other ways of making it. The next precompute replaces it again.
+  void set_irradiance(const Image& irradiance);
 
   // Binds the environment and the maps on their units (gbuffer_layout.h).
   void bind() const;
@@ -74,7 +79,7 @@ class ImageBasedLighting {
 
  private:
   Texture2D environment_, irradiance_, prefiltered_, brdf_lut_;
-  double precompute_seconds_ = 0.0;
+  double precompute_seconds_ = 0.0, irradiance_seconds_ = 0.0;
 };
 
 // The prefiltered map's levels read back, stacked top to bottom (level 0 first) in one

@@ -154,8 +154,10 @@ class Renderer {
   std::vector<std::filesystem::path> shader_paths() const;  // for hot reload
   // Seconds the scene's meshes and textures took to decode and upload (SceneGpu).
   double scene_upload_seconds() const { return scene_upload_seconds_; }
-  // Stage 6: the environment and its maps (null at other stages).
+  // Stage 6: the environment and its maps (null at other stages). Changing a map
+  // (ImageBasedLighting::set_irradiance) lasts until the settings change or the shaders reload.
   const ImageBasedLighting* image_based_lighting() const { return ibl_.get(); }
+  ImageBasedLighting* image_based_lighting() { return ibl_.get(); }
 
   // One frame. With `pass_times`, each pass ends in glFinish and its time is appended
   // (pass_clock.h: for breakdowns only).

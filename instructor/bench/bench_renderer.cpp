@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 
+#include "bench_ibl.h"
 #include "bench_layout.h"
 #include "error.h"
 #include "forward_pass.h"
@@ -140,6 +141,7 @@ const Method& find_method(const std::string& name) {
     if (m.name == name) return m;
     names += (names.empty() ? "" : ", ") + m.name;
   }
+  for (const IblMethod& m : ibl_methods()) names += ", " + m.name;
   throw Error("unknown method '" + name + "' (methods: " + names + ")");
 }
 

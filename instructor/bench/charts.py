@@ -13,6 +13,11 @@ left the scene with its own lights, right the most small lights measured; a thir
 panel gives the G-buffer layouts' bytes per pixel.
 lights_scaling.png/.svg: frame time against the number of small lights for the
 full-screen loop, light volumes, tiled deferred and forward shading.
+ibl_speed_accuracy.png/.svg: the IBL family (stage 6's precomputed maps), one panel per
+environment: precompute time against the relative error of the image against the
+reflectance integral at the sampled pixels (dot the mean, bar top the largest), one
+line per sweep through the lab's settings; a last panel gives stage 6's frame times.
+Each chart is written when its rows are present (kit-bench --ibl-only has only the last).
 """
 import csv
 import math
@@ -40,19 +45,43 @@ SCALING = [("labs", "full-screen loop (labs)", "black", "-"),
            ("tiled-lean16-e1024", "tiled, eps 1/1024, lean16 G-buffer", "tab:olive", "-"),
            ("tiled-ref32-e1024", "tiled, eps 1/1024, RGBA32F G-buffer", "tab:cyan", "-"),
            ("forward", "forward", "tab:red", "-")]
+# The IBL family's sweeps: (label, colour, [(method, value label)]), each through the
+# lab's own settings (ibl-default).
+IBL = "ibl"
+IBL_DEFAULT = "ibl-default"
+IBL_SWEEPS = [("prefilter samples", "tab:blue",
+               [("ibl-prefilter16", "16"), ("ibl-prefilter64", "64"), (IBL_DEFAULT, "256"),
+                ("ibl-prefilter1024", "1024")]),
+              ("BRDF table samples", "tab:green",
+               [("ibl-lut32", "32"), ("ibl-lut128", "128"), (IBL_DEFAULT, "512"), ("ibl-lut2048", "2048")]),
+              ("prefiltered map width", "tab:orange",
+               [("ibl-size64", "64"), ("ibl-size128", "128"), (IBL_DEFAULT, "256"), ("ibl-size512", "512")]),
+              ("irradiance map", "tab:red", [(IBL_DEFAULT, "irradiance.frag"), ("ibl-sh2", "SH order 2")])]
 FAMILY_COLORS = {"reference": "tab:gray", "gbuffer": "tab:purple", "lighting": "tab:blue",
                  "bloom": "tab:orange", "geometry": "tab:brown"}
 
 
 def read_rows(path):
+    """The rows, numbers parsed: (image rows, IBL rows). An IBL row has no image comparison
+    (its cells are empty), the others no IBL figures."""
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
+    image_rows, ibl_rows = [], []
     for r in rows:
-        for key in ("median_ms", "min_ms", "max_ms", "max_abs_ldr", "frac_over_1_255", "psnr_ldr"):
+        for key in ("median_ms", "min_ms", "max_ms"):
             r[key] = float(r[key])
         for key in ("lights", "bytes_per_pixel", "total_lights"):
             r[key] = int(r[key])
-    return rows
+        if r["family"] == IBL:
+            for key in r:
+                if key.startswith(("max_rel_", "mean_rel_")) or key in ("precompute_ms", "irradiance_ms"):
+                    r[key] = float(r[key])
+            ibl_rows.append(r)
+        else:
+            for key in ("max_abs_ldr", "frac_over_1_255", "psnr_ldr"):
+                r[key] = float(r[key])
+            image_rows.append(r)
+    return image_rows, ibl_rows
 
 
 def steps(row):
@@ -188,14 +217,80 @@ def lights_scaling(rows, out_dir):
     plt.close(fig)
 
 
+def ibl_environments(rows):
+    return [key[len("max_rel_"):] for key in rows[0] if key.startswith("max_rel_")]
+
+
+def ibl_panel(ax, rows, environment):
+    by_method = {r["method"]: r for r in rows}
+    for label, color, points in IBL_SWEEPS:
+        present = [(by_method[m], value) for m, value in points if m in by_method]
+        if not present:
+            continue
+        xs = [r["precompute_ms"] for r, _ in present]
+        ax.plot(xs, [r["mean_rel_" + environment] for r, _ in present], color=color, marker="o", markersize=4,
+                label=label, zorder=3)
+        for r, value in present:
+            if r["method"] != IBL_DEFAULT:  # the lab's point is named once, in the legend
+                ax.annotate(value, (r["precompute_ms"], r["mean_rel_" + environment]), fontsize=7, color=color,
+                            xytext=(4, 3), textcoords="offset points")
+            ax.plot([r["precompute_ms"]] * 2, [r["mean_rel_" + environment], r["max_rel_" + environment]], color=color,
+                    linewidth=0.8, alpha=0.6, zorder=2)
+            ax.scatter(r["precompute_ms"], r["max_rel_" + environment], color=color, marker="_", s=40, zorder=3)
+    if IBL_DEFAULT in by_method:
+        r = by_method[IBL_DEFAULT]
+        ax.scatter(r["precompute_ms"], r["mean_rel_" + environment], marker="*", s=160, color="black", zorder=4,
+                   label="the lab's settings (ibl-default)")
+    first = rows[0]
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("precompute time of the three maps, median (ms, wall clock, llvmpipe)")
+    ax.set_ylabel("relative error against the integral: dot mean, bar top largest")
+    ax.set_title("under '%s': %s px of the %s scene (%s), integral of %s samples a pixel" %
+                 (environment, first["ibl_pixels"], first["scene"], first["size"], first["integral_samples"]),
+                 fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=3, frameon=False)
+
+
+def ibl_frame_panel(ax, rows):
+    rows = sorted(rows, key=lambda r: r["median_ms"])
+    names = [r["method"] for r in rows]
+    medians = [r["median_ms"] for r in rows]
+    spread = [[r["median_ms"] - r["min_ms"] for r in rows], [r["max_ms"] - r["median_ms"] for r in rows]]
+    ax.barh(names, medians, xerr=spread, color="tab:gray", error_kw={"linewidth": 0.8})
+    ax.tick_params(axis="y", labelsize=7)
+    ax.set_xlabel("stage 6 frame time (ms): median, min-max")
+    ax.set_title("frame time (%s)" % rows[0]["size"], fontsize=9)
+
+
+def ibl_speed_accuracy(rows, out_dir):
+    environments = ibl_environments(rows)
+    fig, axes = plt.subplots(1, len(environments) + 1, figsize=(7 * len(environments) + 5, 6.5),
+                             gridspec_kw={"width_ratios": [3] * len(environments) + [1.6]})
+    for ax, environment in zip(axes, environments):
+        ibl_panel(ax, rows, environment)
+    ibl_frame_panel(axes[-1], rows)
+    lab = ", ".join("%s %s" % (label, dict(points)[IBL_DEFAULT]) for label, _, points in IBL_SWEEPS)
+    fig.suptitle("kit-bench, image-based lighting: precompute time against error (stage 6 without the scene's lights; "
+                 "error relative to max(integral, 0.02))\n* the lab's settings: %s" % lab, fontsize=10)
+    fig.tight_layout()
+    for ext in ("png", "svg"):
+        fig.savefig(os.path.join(out_dir, "ibl_speed_accuracy." + ext), dpi=110, bbox_inches="tight")
+    plt.close(fig)
+
+
 def main():
     if len(sys.argv) != 3:
         sys.exit("usage: charts.py RESULTS.csv OUT_DIR")
-    rows = read_rows(sys.argv[1])
-    if not rows:
+    rows, ibl_rows = read_rows(sys.argv[1])
+    if not rows and not ibl_rows:
         sys.exit("charts.py: %s holds no rows" % sys.argv[1])
-    speed_accuracy(rows, sys.argv[2])
-    lights_scaling(rows, sys.argv[2])
+    if rows:
+        speed_accuracy(rows, sys.argv[2])
+        lights_scaling(rows, sys.argv[2])
+    if ibl_rows:
+        ibl_speed_accuracy(ibl_rows, sys.argv[2])
 
 
 if __name__ == "__main__":

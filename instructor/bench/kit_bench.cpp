@@ -1,6 +1,7 @@
 // kit-bench: speed against accuracy of the deferred pipeline's methods.
 //
 //   kit-bench [--quick] [--out DIR]       the whole comparison: out/bench/results.csv and charts
+//   kit-bench --ibl-only [--quick]        only the image-based lighting family (stage 6)
 //   kit-bench --method NAME[,NAME...] [--scene FILE --size WxH --lights N]   one configuration
 //                                         (several: timed round-robin under the same load)
 //   kit-bench --list                      the method names
@@ -8,6 +9,8 @@
 // Every method renders with the same framework (instructor/bench/bench_renderer.h), scene,
 // lights and camera; frame times are wall clock over glFinish-ended frames, errors
 // are measured against the CPU double-precision reference (instructor/bench/bench_reference.h).
+// The IBL family (bench_ibl.h, measure_ibl.h) renders stage 6 itself and is measured
+// against the reflectance integral at sampled pixels.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -21,6 +24,7 @@
 #include "context.h"
 #include "error.h"
 #include "measure.h"
+#include "measure_ibl.h"
 #include "stages.h"
 
 namespace fs = std::filesystem;
@@ -39,6 +43,7 @@ constexpr int kQuickWidth = 320, kQuickHeight = 180;
 const int kQuickSmallLights[] = {16, 64};
 constexpr int kQuickWarmupFrames = 1;
 constexpr int kQuickTimedFrames = 5;
+const char* const kQuickIblMethods[] = {"ibl-default", "ibl-prefilter16", "ibl-sh2"};
 // Difference images are amplified so a one-step (1/255) error is visible.
 constexpr int kDifferenceGain = 16;
 
@@ -70,17 +75,22 @@ std::vector<Case> plan(bool quick) {
 
 void usage() {
   std::printf(
-      "usage: kit-bench [--quick] [--out DIR]\n"
+      "usage: kit-bench [--quick] [--ibl-only] [--out DIR]\n"
       "       kit-bench --method NAME[,NAME...] [--scene FILE] [--size WxH] [--lights N] [--frames N]\n"
       "       kit-bench --list\n"
       "Times the deferred pipeline's methods (median of %d glFinish-ended frames after %d warm-up\n"
       "frames, wall clock) and measures each against the CPU double-precision reference.\n"
       "Without --method: the default scene at %dx%d with its own lights, then with 32, 256 and 1024\n"
-      "small lights; writes DIR/results.csv, speed_accuracy.png/.svg and lights_scaling.png/.svg\n"
+      "small lights, then the IBL family (stage 6 without the scene's lights, measured against the\n"
+      "reflectance integral at %d pixels under each kit environment); writes DIR/results.csv,\n"
+      "speed_accuracy.png/.svg, lights_scaling.png/.svg and ibl_speed_accuracy.png/.svg\n"
       "(DIR defaults to out/bench under the kit root).\n"
       "  --quick               %dx%d, %d frames, fewer methods (CI smoke run)\n"
+      "  --ibl-only            only the IBL family\n"
       "  --method NAME         one configuration: prints ms/frame and its error; several names\n"
       "                        separated by commas are timed round-robin on the same scene\n"
+      "                        (IBL methods, ibl-*: one after the other, %d frames unless --frames;\n"
+      "                        --passes and --images do not apply to them)\n"
       "  --frames N            timed frames (default %d)\n"
       "  --passes              with --method: median time of each pass (glFinish after each)\n"
       "  --images DIR          with --method: write the method's and the reference's display\n"
@@ -92,8 +102,9 @@ void usage() {
       "  --small-light-range on|off\n"
       "                        off: the small lights have no glTF range (inverse square to\n"
       "                        infinity), so culling them is never exact (default on)\n%s",
-      kit::bench::kTimedFrames, kit::bench::kWarmupFrames, kFullWidth, kFullHeight, kQuickWidth, kQuickHeight,
-      kQuickTimedFrames, kit::bench::kTimedFrames, kDifferenceGain, kit::common_options_help());
+      kit::bench::kTimedFrames, kit::bench::kWarmupFrames, kFullWidth, kFullHeight, kit::bench::kIblFullRun.pixels,
+      kQuickWidth, kQuickHeight,
+      kQuickTimedFrames, kit::bench::kIblFullRun.timed_frames, kit::bench::kTimedFrames, kDifferenceGain, kit::common_options_help());
 }
 
 void list_methods() {
@@ -101,6 +112,9 @@ void list_methods() {
     int bytes = m.lighting == kit::bench::Lighting::Forward ? 0 : kit::bench::bytes_per_pixel(m.layout);
     std::printf("%-20s %-9s %2d B/px  %s\n", m.name.c_str(), m.family.c_str(), bytes, m.summary.c_str());
   }
+  const int ibl_bytes = kit::bench::bytes_per_pixel(kit::bench::labs_method().layout);
+  for (const kit::bench::IblMethod& m : kit::bench::ibl_methods())
+    std::printf("%-20s %-9s %2d B/px  %s\n", m.name.c_str(), kit::bench::kIblFamily, ibl_bytes, m.summary.c_str());
 }
 
 std::string over_255(double v) {
@@ -109,7 +123,20 @@ std::string over_255(double v) {
   return buf;
 }
 
+void print_ibl_row(const kit::bench::Row& r) {
+  const kit::bench::IblFigures& f = *r.ibl;
+  std::printf("%-20s %4dx%-4d precompute %8.1f ms (irradiance %6.1f ms)  frame %7.2f ms (min %.2f, max %.2f, %d frames)",
+              r.method.c_str(), r.width, r.height, f.precompute_ms, f.irradiance_ms, r.timing.median_ms, r.timing.min_ms,
+              r.timing.max_ms, r.timing.frames);
+  for (size_t e = 0; e < f.errors.size(); ++e)
+    std::printf("  %s max %.3f mean %.3f", kit::kit_environment_names()[e].c_str(), f.errors[e].max_relative,
+                f.errors[e].mean_relative);
+  std::printf("  [relative to the integral, %d px x %d samples]\n", f.pixels, f.integral_samples);
+  std::fflush(stdout);
+}
+
 void print_row(const kit::bench::Row& r) {
+  if (r.ibl) return print_ibl_row(r);
   std::printf("%-20s %4dx%-4d lights %4d (%.1f/px)  %9.2f ms (min %.2f, max %.2f, %d frames)  HDR %.1f dB max %.3g  "
               "display %.1f dB max %s, %.3f%% > 1/255  [%s]\n",
               r.method.c_str(), r.width, r.height, r.total_lights, r.lights_per_pixel, r.timing.median_ms, r.timing.min_ms,
@@ -159,7 +186,7 @@ kit::FrameCamera camera_for(const kit::Scene& scene, const kit::RenderSettings& 
 int main(int argc, char** argv) {
   auto t0 = std::chrono::steady_clock::now();
   kit::CommonOptions options;
-  bool quick = false, list = false, size_given = false, passes = false;
+  bool quick = false, list = false, size_given = false, passes = false, ibl_only = false;
   std::string method_name, out_dir, images_dir;
   int frames = -1;
   kit::bench::SmallLightRange small_range = kit::bench::SmallLightRange::Ranged;
@@ -174,6 +201,7 @@ int main(int argc, char** argv) {
     }
     kit::parse_options(argc, argv, options, [&](const std::string& flag, const kit::OptionValue& value) -> int {
       if (flag == "--quick") return quick = true, 1;
+      if (flag == "--ibl-only") return ibl_only = true, 1;
       if (flag == "--list") return list = true, 1;
       if (flag == "--passes") return passes = true, 1;
       if (flag == "--out") return out_dir = value(), 2;
@@ -205,10 +233,22 @@ int main(int argc, char** argv) {
       // One method, or several separated by commas: those are timed round-robin
       // (time_interleaved), so their ratios hold under a changing machine load.
       std::vector<const kit::bench::Method*> methods;
+      std::vector<const kit::bench::IblMethod*> ibl_methods;
       for (size_t begin = 0; begin <= method_name.size();) {
         size_t end = std::min(method_name.find(',', begin), method_name.size());
-        methods.push_back(&kit::bench::find_method(method_name.substr(begin, end - begin)));
+        const std::string name = method_name.substr(begin, end - begin);
+        if (const kit::bench::IblMethod* ibl = kit::bench::find_ibl_method(name))
+          ibl_methods.push_back(ibl);
+        else
+          methods.push_back(&kit::bench::find_method(name));
         begin = end + 1;
+      }
+      if (!ibl_methods.empty()) {
+        kit::bench::IblRun run = kit::bench::kIblFullRun;
+        if (frames > 0) run.timed_frames = frames;
+        std::printf("%s\n", context->describe().c_str());
+        kit::bench::measure_ibl(ibl_methods, scene, options.scene, settings, camera_for(scene, settings), run, print_row);
+        if (methods.empty()) return 0;
       }
       kit::bench::BenchRenderer renderer(scene, kit::bench::bench_lights(scene, settings.extra_lights, small_range), settings);
       kit::FrameCamera camera = camera_for(scene, settings);
@@ -241,7 +281,7 @@ int main(int argc, char** argv) {
                 options.scene.c_str(), settings.width, settings.height);
 
     std::vector<kit::bench::Row> rows;
-    for (const Case& c : plan(quick)) {
+    for (const Case& c : ibl_only ? std::vector<Case>{} : plan(quick)) {
       kit::bench::BenchRenderer renderer(scene, kit::bench::bench_lights(scene, c.small_lights, small_range), settings);
       kit::FrameCamera camera = camera_for(scene, settings);
       auto t_ref = std::chrono::steady_clock::now();
@@ -260,10 +300,24 @@ int main(int argc, char** argv) {
       }
       kit::bench::write_csv((out / "results.csv").string(), rows);  // partial results survive an interruption
     }
+    std::vector<const kit::bench::IblMethod*> ibl_methods;
+    if (quick) {
+      for (const char* name : kQuickIblMethods) ibl_methods.push_back(kit::bench::find_ibl_method(name));
+    } else {
+      for (const kit::bench::IblMethod& m : kit::bench::ibl_methods()) ibl_methods.push_back(&m);
+    }
+    auto t_ibl = std::chrono::steady_clock::now();
+    kit::bench::IblRun run = quick ? kit::bench::kIblQuickRun : kit::bench::kIblFullRun;
+    if (frames > 0) run.timed_frames = frames;
+    for (kit::bench::Row& row : kit::bench::measure_ibl(ibl_methods, scene, options.scene, settings,
+                                                        camera_for(scene, settings), run, print_row))
+      rows.push_back(std::move(row));
+    kit::bench::write_csv((out / "results.csv").string(), rows);
+    std::printf("-- IBL family: %zu methods in %.0f s\n", ibl_methods.size(), seconds_since(t_ibl));
     std::string charts = std::string(kChartPython) + " \"" + (kit::kit_root() / "instructor" / "bench" / "charts.py").string() +
                          "\" \"" + (out / "results.csv").string() + "\" \"" + out.string() + "\"";
     if (std::system(charts.c_str()) != 0) throw kit::Error("the chart script failed: " + charts);
-    std::printf("wrote %s/results.csv, speed_accuracy.png/.svg, lights_scaling.png/.svg in %.0f s\n",
+    std::printf("wrote %s/results.csv and its charts (.png/.svg) in %.0f s\n",
                 out.string().c_str(), seconds_since(t0));
     return 0;
   });

@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "error.h"
+#include "ibl.h"
 
 namespace kit::bench {
 
@@ -25,6 +26,8 @@ std::string number(double v) {
   return buf;
 }
 
+}  // namespace
+
 Timing summarize(std::vector<double> ms) {
   std::sort(ms.begin(), ms.end());
   Timing t;
@@ -36,11 +39,17 @@ Timing summarize(std::vector<double> ms) {
   return t;
 }
 
-double timed_frame(BenchRenderer& renderer, const Method& method, const FrameCamera& camera) {
+double timed_ms(const std::function<void()>& frame) {
   auto t0 = std::chrono::steady_clock::now();
-  renderer.render(method, camera);
+  frame();
   glFinish();
   return 1000.0 * seconds_since(t0);
+}
+
+namespace {
+
+double timed_frame(BenchRenderer& renderer, const Method& method, const FrameCamera& camera) {
+  return timed_ms([&] { renderer.render(method, camera); });
 }
 
 }  // namespace
@@ -87,15 +96,29 @@ void write_csv(const std::string& path, const std::vector<Row>& rows) {
   std::ofstream out(path);
   if (!out) throw Error(path + ": cannot write");
   out << "method,scene,size,lights,bytes_per_pixel,median_ms,min_ms,max_ms,psnr_hdr,max_abs_hdr,psnr_ldr,"
-         "max_abs_ldr,frac_over_1_255,family,reference,frames,total_lights,lights_per_pixel,triangles,non_finite,small_light_range\n";
+         "max_abs_ldr,frac_over_1_255,family,reference,frames,total_lights,lights_per_pixel,triangles,non_finite,"
+         "small_light_range,precompute_ms,irradiance_ms,ibl_pixels,integral_samples";
+  for (const std::string& environment : kit_environment_names()) out << ",max_rel_" << environment << ",mean_rel_" << environment;
+  out << '\n';
   for (const Row& r : rows) {
+    const IblFigures* ibl = r.ibl ? &*r.ibl : nullptr;
+    // An IBL row has no image comparison, the others no IBL figures: their cells stay empty.
+    auto image_figure = [&](double v) { return ibl ? std::string() : number(v); };
     out << r.method << ',' << r.scene << ',' << r.width << 'x' << r.height << ',' << r.small_lights << ','
         << r.bytes_per_pixel << ',' << number(r.timing.median_ms) << ',' << number(r.timing.min_ms) << ','
-        << number(r.timing.max_ms) << ',' << number(r.hdr.psnr) << ',' << number(r.hdr.max_abs) << ','
-        << number(r.ldr.psnr) << ',' << number(r.ldr.max_abs) << ',' << number(r.ldr.frac_over_step) << ','
-        << r.family << ',' << r.reference << ',' << r.timing.frames << ',' << r.total_lights << ','
-        << number(r.lights_per_pixel) << ',' << r.triangles << ',' << r.ldr.non_finite << ','
-        << r.small_light_range << '\n';
+        << number(r.timing.max_ms) << ',' << image_figure(r.hdr.psnr) << ',' << image_figure(r.hdr.max_abs) << ','
+        << image_figure(r.ldr.psnr) << ',' << image_figure(r.ldr.max_abs) << ',' << image_figure(r.ldr.frac_over_step)
+        << ',' << r.family << ',' << r.reference << ',' << r.timing.frames << ',' << r.total_lights << ','
+        << image_figure(r.lights_per_pixel) << ',' << (ibl ? std::string() : std::to_string(r.triangles)) << ','
+        << (ibl ? ibl->non_finite : r.ldr.non_finite) << ',' << r.small_light_range;
+    if (ibl) {
+      out << ',' << number(ibl->precompute_ms) << ',' << number(ibl->irradiance_ms) << ',' << ibl->pixels << ','
+          << ibl->integral_samples;
+      for (const IblError& e : ibl->errors) out << ',' << number(e.max_relative) << ',' << number(e.mean_relative);
+    } else {
+      out << std::string(4 + 2 * kit_environment_names().size(), ',');
+    }
+    out << '\n';
   }
   if (!out) throw Error(path + ": write failed");
 }

@@ -1,6 +1,8 @@
 #pragma once
 // kit-bench's measurements: wall-clock frame times and error figures of one
 // method on one scene configuration, and the CSV they are written to.
+#include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -26,6 +28,11 @@ struct Timing {
   int frames = 0;
 };
 
+// Wall-clock milliseconds of `frame` ended by glFinish.
+double timed_ms(const std::function<void()>& frame);
+// Median, fastest and slowest of some milliseconds (at least one).
+Timing summarize(std::vector<double> ms);
+
 // Times several methods on one scene configuration round-robin: after each
 // method's `warmup` frames, round r renders one frame of every method in turn
 // (every frame ended by glFinish, wall clock). Other processes on the machine
@@ -33,6 +40,20 @@ struct Timing {
 // absolute times drift. Slow methods (see above) drop out after their frames.
 std::vector<Timing> time_interleaved(BenchRenderer& renderer, const std::vector<const Method*>& methods,
                                      const FrameCamera& camera, int warmup, int frames);
+
+// The IBL family's figures (measure_ibl.h): its rows compare with the reflectance
+// integral at sampled pixels instead of with a reference image.
+struct IblError {
+  double max_relative = 0.0, mean_relative = 0.0;  // over the pixels (ibl_reference.h relative_error)
+};
+struct IblFigures {
+  double precompute_ms = 0.0;  // the three maps (median of the runs)
+  double irradiance_ms = 0.0;  // of which the irradiance map
+  int pixels = 0;              // sampled covered pixels, per environment
+  int integral_samples = 0;    // reflected_radiance_integral's samples a pixel
+  std::vector<IblError> errors;  // one per kit_environment_names() (ibl.h), in its order
+  size_t non_finite = 0;         // HDR pixels holding NaN or Inf, over the environments
+};
 
 // One measured configuration: a row of results.csv.
 struct Row {
@@ -47,6 +68,7 @@ struct Row {
   double lights_per_pixel = 0.0;
   size_t triangles = 0;
   std::string small_light_range = "ranged";  // "ranged" or "unlimited" (bench_renderer.h SmallLightRange)
+  std::optional<IblFigures> ibl;  // the IBL family only; hdr, ldr, lights_per_pixel and triangles then unused
 };
 
 // A row for `method` without its timing: one frame rendered and measured against
@@ -55,7 +77,10 @@ Row measure_accuracy(BenchRenderer& renderer, const Method& method, const FrameC
                      const Reference& reference, const std::string& scene_name, int small_lights);
 
 // results.csv: the columns the issue names, then family, reference, frames,
-// total_lights, lights_per_pixel, triangles, non_finite, small_light_range.
+// total_lights, lights_per_pixel, triangles, non_finite, small_light_range, and the
+// IBL family's precompute_ms, irradiance_ms, ibl_pixels, integral_samples and, per
+// environment E, max_rel_E and mean_rel_E (empty on the other rows, as are the IBL
+// rows' image comparisons).
 void write_csv(const std::string& path, const std::vector<Row>& rows);
 
 }  // namespace kit::bench

@@ -23,8 +23,6 @@ dvec3 glsl_max(dvec3 x, double y) { return {std::max(x.x, y), std::max(x.y, y), 
 dvec3 glsl_clamp(dvec3 x, double lo, double hi) { return glsl_min(glsl_max(x, lo), hi); }
 double inversesqrt(double x) { return 1.0 / std::sqrt(x); }
 
-dvec3 pixel_rgb(const Image& image, int x, int y) { return {image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2)}; }
-
 void set_pixel(Image& image, int x, int y, dvec3 rgb) {
   for (int c = 0; c < 3; ++c) image.at(x, y, c) = static_cast<float>(rgb[c]);
   if (image.channels > 3) image.at(x, y, 3) = 1.0f;  // every full-screen pass writes alpha 1
@@ -40,6 +38,8 @@ Image map_pixels(const Image& image, F f) {
 }
 
 }  // namespace
+
+dvec3 pixel_rgb(const Image& image, int x, int y) { return {image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2)}; }
 
 const std::vector<MirroredConstant>& mirrored_constants() {
   static const std::vector<MirroredConstant> kConstants = {
@@ -323,6 +323,14 @@ SurfaceSample gbuffer_sample(const GBufferImages& gbuffer, int x, int y) {
   // lighting.frag shades the clear colour where `material.a < 0.5`.
   s.covered = !(gbuffer.material.at(x, y, 3) < 0.5f);
   return s;
+}
+
+std::vector<std::pair<int, int>> covered_pixels(const GBufferImages& gbuffer) {
+  std::vector<std::pair<int, int>> out;
+  for (int y = 0; y < gbuffer.material.height; ++y)
+    for (int x = 0; x < gbuffer.material.width; ++x)
+      if (gbuffer_sample(gbuffer, x, y).covered) out.emplace_back(x, y);
+  return out;
 }
 
 Image shade_gbuffer(const GBufferImages& gbuffer, const dvec3& camera_position, const std::vector<ShadingLight>& lights,

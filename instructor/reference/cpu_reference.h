@@ -26,6 +26,7 @@
 #include <glm/glm.hpp>
 
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "image_io.h"
@@ -195,7 +196,11 @@ struct GBufferImages {
   Image position, normal, albedo, material, emission;
 };
 GBufferImages read_gbuffer(Renderer& renderer);
+// A pixel's RGB in double.
+dvec3 pixel_rgb(const Image& image, int x, int y);
 SurfaceSample gbuffer_sample(const GBufferImages& gbuffer, int x, int y);
+// The pixels (x, y) gbuffer_sample calls covered, row by row from the top.
+std::vector<std::pair<int, int>> covered_pixels(const GBufferImages& gbuffer);
 // The lighting pass over a whole G-buffer: RGBA, alpha 1, as the HDR target holds it
 // (before fp16 rounding).
 Image shade_gbuffer(const GBufferImages& gbuffer, const dvec3& camera_position, const std::vector<ShadingLight>& lights,

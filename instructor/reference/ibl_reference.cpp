@@ -403,6 +403,11 @@ IntegralEstimate reflected_radiance_integral(const Image& env, const SurfaceSamp
 
 // --- The split sum ----------------------------------------------------------------------------
 
+double relative_error(dvec3 a, dvec3 b, double floor) {
+  const dvec3 e = glm::abs(a - b) / glm::max(glm::abs(b), dvec3(floor));
+  return std::max(e.x, std::max(e.y, e.z));
+}
+
 dvec3 brdf_table(double n_dot_v, double roughness, const Guards& guards) {
   const double mu = std::clamp(n_dot_v, 0.0, 1.0);
   const dvec3 n(0.0, 0.0, 1.0);

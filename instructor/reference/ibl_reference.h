@@ -102,6 +102,10 @@ IntegralEstimate reflected_radiance_integral(const Image& env, const SurfaceSamp
                                              int samples, std::uint64_t seed, const Guards& guards = {},
                                              unsigned strategies = kSampleAll);
 
+// How the IBL tests and kit-bench measure a value against the integral: |a - b| relative
+// to max(|b|, floor), the largest channel (the floor keeps dark pixels from dominating).
+double relative_error(dvec3 a, dvec3 b, double floor);
+
 // --- The split sum ----------------------------------------------------------------------------
 // The BRDF table the lab precomputes, (A, B, C) at n.v = n_dot_v for a view
 // v = (sqrt(1 - n_dot_v^2), 0, n_dot_v) above n = (0, 0, 1). With Fc = (1 - v.h)^5 and

@@ -69,10 +69,7 @@ const Scene& unlit_sphere() {
 double max3(dvec3 v) { return std::max(v.x, std::max(v.y, v.z)); }
 dvec3 rgb(const Image& image, int x, int y) { return pixel_rgb(image, x, y); }
 
-// |a - b| relative to max(|b|, floor), the largest channel.
-double relative_error(dvec3 a, dvec3 b, double floor) {
-  return max3(glm::abs(a - b) / glm::max(glm::abs(b), dvec3(floor)));
-}
+using ref::relative_error;
 
 // Image coordinates (u, v) of a texel centre of a W x H equirectangular image (rows top-down).
 dvec2 texel_uv(int x, int y, int width, int height) { return {(x + 0.5) / width, (y + 0.5) / height}; }

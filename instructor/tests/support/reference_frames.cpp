@@ -65,8 +65,6 @@ Frame render_frame(Renderer& renderer, const FrameCamera& camera) {
   return frame;
 }
 
-dvec3 pixel_rgb(const Image& image, int x, int y) { return {image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2)}; }
-
 dvec3 stored_ldr(const Image& image, int x, int y) { return glm::round(pixel_rgb(image, x, y) * 255.0) / 255.0; }
 
 bool finite(dvec3 v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
@@ -82,13 +80,7 @@ double n_dot_v(const Frame& frame, int x, int y) {
   return glm::dot(glm::normalize(s.normal), glm::normalize(dvec3(frame.camera.position) - s.position));
 }
 
-PixelList covered_pixels(const Frame& frame) {
-  PixelList out;
-  for (int y = 0; y < frame.hdr.height; ++y)
-    for (int x = 0; x < frame.hdr.width; ++x)
-      if (reference::gbuffer_sample(frame.gbuffer, x, y).covered) out.emplace_back(x, y);
-  return out;
-}
+PixelList covered_pixels(const Frame& frame) { return reference::covered_pixels(frame.gbuffer); }
 
 PixelList grazing_pixels(const Frame& frame, double max_n_dot_v) {
   PixelList out;

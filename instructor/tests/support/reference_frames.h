@@ -48,8 +48,7 @@ FrameCamera sphere_silhouette_camera(const Scene& sphere, const RenderSettings& 
 // Renders one frame with the renderer's current settings and reads it back.
 Frame render_frame(Renderer& renderer, const FrameCamera& camera);
 
-// A pixel's RGB in double.
-reference::dvec3 pixel_rgb(const Image& image, int x, int y);
+using reference::pixel_rgb;
 // The value an RGBA8 target stored at a pixel, exactly k/255 (read back as float,
 // k/255 is off by up to 3e-10, enough to tip an error of one step over the bound).
 reference::dvec3 stored_ldr(const Image& image, int x, int y);
