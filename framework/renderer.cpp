@@ -259,15 +259,25 @@ SceneGpu timed_scene_upload(const Scene& scene, double& seconds) {
 }
 }  // namespace
 
-Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene, RenderSettings settings)
+std::shared_ptr<const ImageBasedLighting> IblCache::find(const std::string& key) const {
+  auto it = maps_.find(key);
+  return it == maps_.end() ? nullptr : it->second;
+}
+
+void IblCache::store(const std::string& key, std::shared_ptr<const ImageBasedLighting> maps) {
+  maps_[key] = std::move(maps);
+}
+
+Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene, RenderSettings settings,
+                   IblCache* ibl_cache)
     : stage_(stage),
       library_(std::move(library)),
       scene_(scene),
       settings_(settings),
       scene_gpu_(timed_scene_upload(scene, scene_upload_seconds_)),
-      gbuffer_(settings.width, settings.height) {
+      gbuffer_(settings.width, settings.height),
+      ibl_cache_(ibl_cache) {
   blend_draws_ = has_blend_draws(scene_);
-  if (stage_.ibl) load_environment();
   build_programs();
   allocate_targets();
   upload_lights();
@@ -303,18 +313,44 @@ void Renderer::build_programs() {
   programs_ = std::move(p);  // replaced only once everything compiled and linked
   forward_ = std::move(forward);
   used_.clear();
-  if (ibl_) precompute_ibl();
+  if (stage_.ibl) update_ibl();
 }
 
-void Renderer::load_environment() {
-  const std::string name = settings_.environment.empty() ? kDefaultEnvironment : settings_.environment;
-  ibl_ = std::make_unique<ImageBasedLighting>(kit::load_environment(resolve_environment(name)));
+std::string Renderer::ibl_cache_key() const {
+  std::string key = settings_.environment.empty() ? kDefaultEnvironment : settings_.environment;
+  const IblSettings& s = settings_.ibl;
+  for (int v : {s.prefilter_samples, s.prefilter_size, s.brdf_lut_samples, s.irradiance_size, s.irradiance_source_width})
+    key += '\n' + std::to_string(v);
+  for (const char* shader : {"fullscreen.vert", "irradiance.frag", "prefilter.frag", "brdf_lut.frag"})
+    key += '\n' + library_.assemble(shader).text;
+  return key;
+}
+
+ImageBasedLighting* Renderer::image_based_lighting() {
+  if (ibl_cache_) throw Error("the environment's maps are shared through an IblCache and cannot be changed");
+  // Not from a cache: this Renderer made the maps and is their only owner.
+  return std::const_pointer_cast<ImageBasedLighting>(ibl_).get();
+}
+
+void Renderer::update_ibl() {
+  const std::string key = ibl_cache_ ? ibl_cache_key() : std::string();
+  std::shared_ptr<const ImageBasedLighting> maps = ibl_cache_ ? ibl_cache_->find(key) : nullptr;
+  if (!maps) {
+    // Made afresh when cached maps would change under other Renderers, or the environment is another.
+    std::shared_ptr<ImageBasedLighting> made;
+    if (ibl_ && !ibl_cache_ && settings_.environment == ibl_environment_) {
+      made = std::const_pointer_cast<ImageBasedLighting>(ibl_);
+    } else {
+      const std::string name = settings_.environment.empty() ? kDefaultEnvironment : settings_.environment;
+      made = std::make_shared<ImageBasedLighting>(kit::load_environment(resolve_environment(name)));
+    }
+    const Programs& p = *programs_;
+    made->precompute(p.irradiance, p.prefilter, p.brdf_lut, triangle_, settings_.ibl);
+    if (ibl_cache_) ibl_cache_->store(key, made);
+    maps = std::move(made);
+  }
+  ibl_ = std::move(maps);
   ibl_environment_ = settings_.environment;
-}
-
-void Renderer::precompute_ibl() {
-  const Programs& p = *programs_;
-  ibl_->precompute(p.irradiance, p.prefilter, p.brdf_lut, triangle_, settings_.ibl);
   ibl_settings_ = settings_.ibl;
 }
 
@@ -430,12 +466,7 @@ void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
   if (settings_.extra_lights != lights_extra_ || settings_.default_light_rig != lights_default_rig_ ||
       settings_.attenuation_model != lights_attenuation_model_)
     upload_lights();
-  if (ibl_ && settings_.environment != ibl_environment_) {
-    load_environment();
-    precompute_ibl();
-  } else if (ibl_ && !(settings_.ibl == ibl_settings_)) {
-    precompute_ibl();
-  }
+  if (ibl_ && (settings_.environment != ibl_environment_ || !(settings_.ibl == ibl_settings_))) update_ibl();
   clock.lap("setup");
   camera_ = camera;
   const Programs& p = *programs_;

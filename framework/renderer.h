@@ -4,8 +4,10 @@
 // pass through tonemap.glsl, then (stage 5) bright pass, separable blur
 // ping-pong, composite and the student's custom effect. The framework sets
 // every uniform, so lab shaders only compute.
+#include <map>
 #include <memory>
 #include <optional>
+#include <string>
 
 #include "forward_pass.h"
 #include "gbuffer.h"
@@ -138,12 +140,30 @@ struct NonFiniteCount {
   size_t pixels = 0, of = 0;  // pixels holding a NaN or Inf in any channel, out of all
 };
 
+// Stage 6's environments and precomputed maps, shared by the Renderers of one GL
+// context (the grader renders a lab's scenes under two environments: each
+// environment's maps are made once, not once per Renderer). Keyed by the
+// environment, the IblSettings and the assembled text of the precompute shaders,
+// so a Renderer with other shaders, or reloaded ones, never gets another's maps.
+// It must not outlive the context its textures belong to.
+class IblCache {
+ public:
+  std::shared_ptr<const ImageBasedLighting> find(const std::string& key) const;
+  void store(const std::string& key, std::shared_ptr<const ImageBasedLighting> maps);
+
+ private:
+  std::map<std::string, std::shared_ptr<const ImageBasedLighting>> maps_;
+};
+
 class Renderer {
  public:
   // `library` resolves the stage's shaders (see stage_library). Throws kit::Error
   // on any shader or GL problem; before compiling, the stage's vertex/fragment
-  // pairs must agree on their varyings (interface_check.h).
-  Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene, RenderSettings settings);
+  // pairs must agree on their varyings (interface_check.h). With `ibl_cache`,
+  // stage 6 takes its environment's maps from it when they are there, and
+  // leaves them there when it makes them.
+  Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene, RenderSettings settings,
+           IblCache* ibl_cache = nullptr);
   ~Renderer();
 
   void reload_shaders();  // recompiles; on error keeps the old programs and throws
@@ -154,10 +174,12 @@ class Renderer {
   std::vector<std::filesystem::path> shader_paths() const;  // for hot reload
   // Seconds the scene's meshes and textures took to decode and upload (SceneGpu).
   double scene_upload_seconds() const { return scene_upload_seconds_; }
-  // Stage 6: the environment and its maps (null at other stages). Changing a map
-  // (ImageBasedLighting::set_irradiance) lasts until the settings change or the shaders reload.
+  // Stage 6: the environment and its maps (null at other stages).
   const ImageBasedLighting* image_based_lighting() const { return ibl_.get(); }
-  ImageBasedLighting* image_based_lighting() { return ibl_.get(); }
+  // The same, to change a map (ImageBasedLighting::set_irradiance, kit-bench): lasts until
+  // the settings change or the shaders reload. Throws kit::Error for a Renderer made with
+  // an IblCache, whose maps other Renderers share.
+  ImageBasedLighting* image_based_lighting();
 
   // One frame. With `pass_times`, each pass ends in glFinish and its time is appended
   // (pass_clock.h: for breakdowns only).
@@ -192,8 +214,10 @@ class Renderer {
   void set_frame_uniforms(const Program& program) const;
   void fullscreen_pass(const Program& program, const Framebuffer& target, int width, int height) const;
   void allocate_targets();
-  void load_environment();
-  void precompute_ibl();
+  // Stage 6: the maps for settings_.environment and settings_.ibl, from the cache or
+  // made (loading the environment when it is another than ibl_'s).
+  void update_ibl();
+  std::string ibl_cache_key() const;
 
   Stage stage_;
   ShaderLibrary library_;
@@ -207,9 +231,11 @@ class Renderer {
   // The forward pass (BLEND draws, light markers): stages with a lighting pass only.
   std::unique_ptr<ForwardPass> forward_;
   // Stage 6's environment and maps, and the environment and settings they were made for.
-  std::unique_ptr<ImageBasedLighting> ibl_;
+  // Shared with ibl_cache_ (and other Renderers) when it came from there: never changed then.
+  std::shared_ptr<const ImageBasedLighting> ibl_;
   std::string ibl_environment_;
   IblSettings ibl_settings_;
+  IblCache* ibl_cache_ = nullptr;
   bool blend_draws_ = false;  // the scene has BLEND draws (it never changes: found once)
   std::vector<Light> frame_lights_;  // as uploaded, for the light markers
   Texture2D lights_;

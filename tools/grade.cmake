@@ -18,7 +18,11 @@ list(REMOVE_ITEM kit_grade_sources ${kit_grade_submission_sources} ${CMAKE_CURRE
 add_library(kit_grade_core STATIC ${kit_grade_sources})
 target_include_directories(kit_grade_core PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
 target_link_libraries(kit_grade_core PUBLIC kit_grade_submission kitcore PkgConfig::OIIO nlohmann_json::nlohmann_json)
-add_executable(kit-grade ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
-target_link_libraries(kit-grade PRIVATE kit_grade_core)
+add_executable(kit-grade-main ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
+target_link_libraries(kit-grade-main PRIVATE kit_grade_core)
+# kit-grade itself is a launcher that links only the C library: it turns on glibc's
+# huge-page malloc (read at process start) and execs kit-grade-main beside it
+# (grade/launcher/kit_grade_launcher.cpp says why).
+add_executable(kit-grade ${CMAKE_CURRENT_LIST_DIR}/grade/launcher/kit_grade_launcher.cpp)
 # The grader renders the generated scenes: building it builds them.
-add_dependencies(kit-grade kit_scene_files)
+add_dependencies(kit-grade kit-grade-main kit_scene_files)

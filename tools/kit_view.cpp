@@ -24,6 +24,7 @@
 #include <memory>
 #include <string>
 #include <system_error>
+#include <utility>
 #include <vector>
 
 #include "cli.h"
@@ -812,7 +813,7 @@ class Viewer {
       if (ImGui::SliderInt("prefilter samples", &samples_log2, kMinPrefilterSamplesLog2, kMaxPrefilterSamplesLog2,
                            std::to_string(1 << samples_log2).c_str()))
         settings_.ibl.prefilter_samples = 1 << samples_log2;
-      if (const kit::ImageBasedLighting* ibl = renderer_ ? renderer_->image_based_lighting() : nullptr)
+      if (const kit::ImageBasedLighting* ibl = renderer_ ? std::as_const(*renderer_).image_based_lighting() : nullptr)
         ImGui::Text("maps precomputed in %.0f ms", 1000.0 * ibl->precompute_seconds());
     }
     ImGui::TextWrapped("camera (F): %s", rig_.flying() ? "fly: WASD, Q/E down/up, right drag looks"

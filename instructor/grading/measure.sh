@@ -75,7 +75,7 @@ EOF
 }
 
 echo
-echo "1. one full submission (solutions/, 5 labs, 31 checks)"
+echo "1. one full submission (solutions/, 6 labs, 46 checks)"
 # Each submission's render children use a private shader cache that starts as a
 # copy of the seed in $XDG_CACHE_HOME/kit-grade/ (written by --check-references):
 # cold is no seed, warm is the seed of the solutions.

@@ -119,9 +119,9 @@ const std::vector<RenderSpec>& renders() {
     auto gamma10 = [](RenderSpec& s) { s.gamma = 1.0f; };
     r.push_back(with(final_image("lab5-default-bloom-gamma10", 5, "default"), gamma10));
     r.push_back(with(with(with(final_image("lab5-default-custom-on-off", 5, "default"), isolated), custom_on), off));
-    // Lab 6: each render also precomputes the maps (one precompute per scene and
-    // environment: render_child keeps one Renderer per scene), so the maps are read
-    // from the highlight scene's renderer under "sun", which its HDR render needs anyway.
+    // Lab 6: the maps are precomputed once per environment (render_child's Renderers
+    // share them through an IblCache), so the maps are read from the highlight
+    // scene's renderer under "sun", which its HDR render needs anyway.
     auto sun = [](RenderSpec& s) { s.environment = "sun"; };
     auto studio = [](RenderSpec& s) { s.environment = "studio"; };
     // The BRDF table, on its own: G, alpha = roughness^2 and the Fresnel split into A

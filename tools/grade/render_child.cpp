@@ -88,7 +88,9 @@ int render_lab(const RenderJob& job) {
   report["renderer"] = context->describe();
   report["seconds"]["context"] = since(t0);
 
-  // One Renderer per (scene, isolated custom effect), built on first use.
+  // One Renderer per (scene, isolated custom effect), built on first use; stage 6's
+  // maps are made once per environment and shared between them.
+  IblCache ibl_cache;
   std::map<std::pair<std::string, bool>, std::unique_ptr<Renderer>> renderers;
   double compile = 0.0, render = 0.0, readback = 0.0;
   for (const RenderSpec* spec : lab_renders(job.lab)) {
@@ -105,7 +107,7 @@ int render_lab(const RenderJob& job) {
       try {
         ShaderLibrary library = spec->isolate_custom ? isolated_custom_library(stage, job.lab_root)
                                                      : stage_library(stage, job.lab_root);
-        renderer = std::make_unique<Renderer>(stage, std::move(library), scene, settings);
+        renderer = std::make_unique<Renderer>(stage, std::move(library), scene, settings, &ibl_cache);
       } catch (const Error& e) {
         write_text(error_file, e.what());
         return kChildShaderError;

@@ -1,7 +1,8 @@
 #pragma once
 // What a render child does: one lab of one submission, every render of that lab
 // (lab_renders) in one process with one GL context, one Renderer per scene, so
-// each shader is compiled once and only uniforms change between settings.
+// each shader is compiled once and only uniforms change between settings, and
+// one IblCache, so stage 6's maps are precomputed once per environment.
 // Results go to files in the task folder: one raw image per render, child.json
 // (timings, the renderer's name, NaN/Inf counts of the HDR buffer) and, when
 // the lab could not be rendered, error.txt with the kit::Error text (compiler

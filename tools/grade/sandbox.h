@@ -12,7 +12,7 @@
 // a signal or failure with its peak address space at the limit) ends as
 // Outcome::Kind::OutOfMemory, not as a crash.
 //
-// Render children are fork()ed without exec(): kit-grade links OpenImageIO,
+// Render children are fork()ed without exec(): kit-grade-main links OpenImageIO,
 // whose ~260 shared libraries cost ~0.3 s of CPU and ~130 MB of RSS per exec
 // (measured by instructor/grading/measure.sh), more than rendering a lab. What makes
 // that safe: the parent never creates a GL context, does all its own work in
