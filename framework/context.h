@@ -22,7 +22,11 @@ class GlContext {
 
 // Creates and makes current a headless context (OSMesa or EGL surfaceless,
 // falling back to EGL device enumeration). Throws kit::Error with the reason.
+// Also sets glibc's malloc to keep freed memory for reuse (keep_freed_memory_for_reuse).
 std::unique_ptr<GlContext> create_headless_context(Backend backend);
+// Fixed malloc thresholds so a renderer's per-frame allocations are not returned to the
+// kernel and faulted back in every frame (context.cpp says what it cost).
+void keep_freed_memory_for_reuse();
 
 // Loads GL entry points through `get_proc` and checks the version is >= 3.3.
 using GlProcLoader = void* (*)(const char* name);

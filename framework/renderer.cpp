@@ -48,14 +48,17 @@ const std::pair<const char*, int> kSamplerUnits[] = {
 
 }  // namespace
 
-void set_sampler_units(const Program& program) {
+void set_resource_bindings(const Program& program) {
   program.use();
   for (const auto& [name, unit] : kSamplerUnits) program.set(name, unit);
+  // GL 3.3 has no layout(binding = N) for blocks: the program is told.
+  const GLuint lights = glGetUniformBlockIndex(program.id(), "KitLightBlock");
+  if (lights != GL_INVALID_INDEX) glUniformBlockBinding(program.id(), lights, KIT_BLOCK_LIGHTS);
 }
 
 Program make_program(const ShaderLibrary& library, const std::string& vs, const std::string& fs) {
   Program p(library, vs, fs);
-  set_sampler_units(p);
+  set_resource_bindings(p);
   // Leave no program current: if a later program of the same build fails, this
   // one is deleted while current, and a UI drawing afterwards would restore a dead name.
   glUseProgram(0);
@@ -180,7 +183,7 @@ std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const Re
   return lights;
 }
 
-Texture2D light_texture(const std::vector<Light>& lights) {
+LightBuffers::LightBuffers(const std::vector<Light>& lights) {
   const int light_count = static_cast<int>(lights.size());
   std::vector<float> texels(static_cast<size_t>(std::max(light_count, 1)) * KIT_LIGHT_TEXELS * 4, 0.0f);
   for (size_t i = 0; i < lights.size(); ++i) {
@@ -192,7 +195,21 @@ Texture2D light_texture(const std::vector<Light>& lights) {
                            std::cos(l.inner_cone), std::cos(l.outer_cone), light_flux(l), 0.0f};
     std::copy(row, row + 16, t);
   }
-  return Texture2D(KIT_LIGHT_TEXELS, std::max(light_count, 1), {GL_RGBA32F, GL_RGBA, GL_FLOAT}, texels.data());
+  texture_ = Texture2D(KIT_LIGHT_TEXELS, std::max(light_count, 1), {GL_RGBA32F, GL_RGBA, GL_FLOAT}, texels.data());
+  // The block is always its full size: std140 reads past the lights given are zeros, never unbacked.
+  texels.resize(size_t{KIT_LIGHT_BLOCK_CAPACITY} * KIT_LIGHT_TEXELS * 4, 0.0f);
+  GLuint id = 0;
+  glGenBuffers(1, &id);
+  block_ = GlName<delete_buffer>(id);
+  glBindBuffer(GL_UNIFORM_BUFFER, id);
+  glBufferData(GL_UNIFORM_BUFFER, static_cast<GLsizeiptr>(KIT_LIGHT_BLOCK_CAPACITY * KIT_LIGHT_TEXELS * 4 * sizeof(float)),
+               texels.data(), GL_STATIC_DRAW);
+  glBindBuffer(GL_UNIFORM_BUFFER, 0);
+}
+
+void LightBuffers::bind() const {
+  texture_.bind(KIT_UNIT_LIGHTS);
+  glBindBufferBase(GL_UNIFORM_BUFFER, KIT_BLOCK_LIGHTS, block_.get());
 }
 
 const Material& draw_material(const Scene& scene, const DrawItem& draw) {
@@ -278,9 +295,9 @@ Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene
       gbuffer_(settings.width, settings.height),
       ibl_cache_(ibl_cache) {
   blend_draws_ = has_blend_draws(scene_);
+  upload_lights();  // first: the light count chooses how the programs read lights
   build_programs();
   allocate_targets();
-  upload_lights();
   check_gl("Renderer setup");
 }
 
@@ -400,7 +417,12 @@ void Renderer::resize(int width, int height) {
 void Renderer::upload_lights() {
   frame_lights_ = frame_lights(scene_, stage_, settings_);
   light_count_ = static_cast<int>(frame_lights_.size());
-  lights_ = light_texture(frame_lights_);
+  lights_ = LightBuffers(frame_lights_);
+  const bool in_texture = frame_lights_.size() > size_t{KIT_LIGHT_BLOCK_CAPACITY};
+  if (in_texture != library_.has_define(kLightsInTexture)) {
+    library_.set_define(kLightsInTexture, in_texture);
+    if (programs_) build_programs();
+  }
   lights_extra_ = settings_.extra_lights;
   lights_default_rig_ = settings_.default_light_rig;
   lights_attenuation_model_ = settings_.attenuation_model;
@@ -492,7 +514,7 @@ void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
 
   // 2. Lighting pass: G-buffer -> HDR.
   gbuffer_.bind_textures();
-  lights_.bind(KIT_UNIT_LIGHTS);
+  lights_.bind();
   set_frame_uniforms(p.lighting);
   fullscreen_pass(p.lighting, hdr_fbo_, settings_.width, settings_.height);
   check_gl("lighting pass");

@@ -70,8 +70,9 @@ float light_flux(const Light& light);
 void set_frame_uniforms(const Program& program, const FrameCamera& camera, const RenderSettings& settings,
                         int light_count);
 
-// Points every sampler uniform the framework binds at its texture unit (gbuffer_layout.h).
-void set_sampler_units(const Program& program);
+// Points every sampler uniform the framework binds at its texture unit, and every
+// uniform block at its binding point (gbuffer_layout.h).
+void set_resource_bindings(const Program& program);
 // A vertex + fragment program from `library` with the sampler units set.
 Program make_program(const ShaderLibrary& library, const std::string& vertex, const std::string& fragment);
 
@@ -98,9 +99,23 @@ bool uses_default_light_rig(const Scene& scene, const Stage& stage, const Render
 // RenderSettings::extra_lights spawned ones.
 std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings);
 
-// The light texture every lighting shader reads (lights.glsl): RGBA32F,
-// KIT_LIGHT_TEXELS texels per light, light i in row i (one row when empty).
-Texture2D light_texture(const std::vector<Light>& lights);
+// The lights every lighting shader reads (lights.glsl): an RGBA32F texture of
+// KIT_LIGHT_TEXELS texels per light, light i in row i (one row when empty), and a
+// uniform buffer holding the first KIT_LIGHT_BLOCK_CAPACITY lights the same way.
+// Defined in every shader (ShaderLibrary::set_define) when a frame has more lights
+// than the uniform block holds: lights.glsl then reads them all from the texture.
+constexpr const char* kLightsInTexture = "KIT_LIGHTS_IN_TEXTURE";
+class LightBuffers {
+ public:
+  LightBuffers() = default;
+  explicit LightBuffers(const std::vector<Light>& lights);
+  // The texture on KIT_UNIT_LIGHTS, the buffer at KIT_BLOCK_LIGHTS.
+  void bind() const;
+
+ private:
+  Texture2D texture_;
+  GlName<delete_buffer> block_;
+};
 
 // Which draws a geometry pass draws: every one (stage 1, which has no forward
 // pass, and kit-bench), or all but glTF BLEND materials, which the forward pass
@@ -238,7 +253,7 @@ class Renderer {
   IblCache* ibl_cache_ = nullptr;
   bool blend_draws_ = false;  // the scene has BLEND draws (it never changes: found once)
   std::vector<Light> frame_lights_;  // as uploaded, for the light markers
-  Texture2D lights_;
+  LightBuffers lights_;
   int light_count_ = 0;
   // The settings the uploaded lights were made for: a change re-uploads them.
   int lights_extra_ = -1, lights_attenuation_model_ = -1;

@@ -193,7 +193,24 @@ AssembledShader ShaderLibrary::assemble(const std::string& name) const {
   AssembledShader out;
   std::vector<std::string> included;
   append(name, out, included, 0, true);
+  // After the version line (the first line: append() refuses anything else there),
+  // counted as that line for error messages.
+  const size_t after_version = out.text.find('\n') + 1;
+  for (const std::string& define : defines_) {
+    out.text.insert(after_version, "#define " + define + "\n");
+    out.lines.insert(out.lines.begin() + 1, out.lines.front());
+  }
   return out;
+}
+
+void ShaderLibrary::set_define(const std::string& name, bool on) {
+  auto it = std::find(defines_.begin(), defines_.end(), name);
+  if (on && it == defines_.end()) defines_.push_back(name);
+  if (!on && it != defines_.end()) defines_.erase(it);
+}
+
+bool ShaderLibrary::has_define(const std::string& name) const {
+  return std::find(defines_.begin(), defines_.end(), name) != defines_.end();
 }
 
 void ShaderLibrary::append(const std::string& name, AssembledShader& out,

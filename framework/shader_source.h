@@ -56,11 +56,16 @@ class ShaderLibrary {
   std::filesystem::path locate(const std::string& name, std::string* display = nullptr) const;
   // Reads a top-level shader and everything it includes; throws kit::Error.
   AssembledShader assemble(const std::string& name) const;
+  // The framework's own switches: `#define NAME` right after the #version line of every
+  // shader assembled while it is set (errors still name the student's files and lines).
+  void set_define(const std::string& name, bool on);
+  bool has_define(const std::string& name) const;
 
  private:
   void append(const std::string& name, AssembledShader& out, std::vector<std::string>& included,
               int depth, bool top_level) const;
   std::vector<ShaderFolder> folders_;
+  std::vector<std::string> defines_;
 };
 
 // Reads a whole file as shader text: size limit, no NUL bytes, valid UTF-8,

@@ -1,9 +1,17 @@
-// The scene's lights, read from an RGBA32F texture the framework fills:
-// KIT_LIGHT_TEXELS texels per light, light i in row i.
+// The scene's lights, as the framework uploads them: KIT_LIGHT_TEXELS vec4 per light,
+// light i in row i of an RGBA32F texture, and the first KIT_LIGHT_BLOCK_CAPACITY also
+// in a uniform block. The block is the fast path: a light read from it is a few loads
+// where four texelFetch calls are four texture lookups, which on llvmpipe made the
+// lighting pass about a fifth slower (handouts/02-lighting.md, "Speed"). Only with more
+// lights than the block holds does the framework define KIT_LIGHTS_IN_TEXTURE (and
+// rebuild its programs): choosing per light inside the loop costs llvmpipe both reads.
 #include "gbuffer_layout.h"
 
 uniform sampler2D u_light_texture;
 uniform int u_light_count;
+layout(std140) uniform KitLightBlock {
+    vec4 u_light_block[KIT_LIGHT_BLOCK_CAPACITY * KIT_LIGHT_TEXELS];
+};
 
 struct Light {
     int type;          // KIT_LIGHT_POINT, KIT_LIGHT_SPOT or KIT_LIGHT_DIRECTIONAL
@@ -19,10 +27,18 @@ struct Light {
 };
 
 Light kit_light(int i) {
+#ifdef KIT_LIGHTS_IN_TEXTURE
     vec4 t0 = texelFetch(u_light_texture, ivec2(0, i), 0);
     vec4 t1 = texelFetch(u_light_texture, ivec2(1, i), 0);
     vec4 t2 = texelFetch(u_light_texture, ivec2(2, i), 0);
     vec4 t3 = texelFetch(u_light_texture, ivec2(3, i), 0);
+#else
+    int k = i * KIT_LIGHT_TEXELS;
+    vec4 t0 = u_light_block[k];
+    vec4 t1 = u_light_block[k + 1];
+    vec4 t2 = u_light_block[k + 2];
+    vec4 t3 = u_light_block[k + 3];
+#endif
     Light light;
     light.type = int(t0.w + 0.5);
     light.position = t0.xyz;

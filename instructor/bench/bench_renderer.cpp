@@ -192,7 +192,8 @@ BenchRenderer::BenchRenderer(const Scene& scene, std::vector<Light> lights, cons
       library_(bench_library()),
       scene_gpu_(scene),
       volume_sphere_(enclosing_sphere_mesh(kVolumeSphereSubdivisions)),
-      light_texture_(light_texture(lights_)) {
+      light_buffers_(lights_) {
+  library_.set_define(kLightsInTexture, lights_.size() > size_t{KIT_LIGHT_BLOCK_CAPACITY});
   settings_.postprocess = true;     // composite.frag adds the bloom only with the toggle on
   settings_.custom_effect = false;  // the free-choice effect is no method
   const int w = settings_.width, h = settings_.height;
@@ -232,7 +233,7 @@ const Program& BenchRenderer::program(const std::string& key) {
   Program p;
   if (key == "tiled-cull") {
     p = Program(library_, "tiled_cull.comp");
-    set_sampler_units(p);
+    set_resource_bindings(p);
   } else {
     const auto& [vs, fs] = sources.at(key);
     p = make_program(library_, vs, fs);
@@ -276,7 +277,7 @@ void BenchRenderer::geometry_pass(const Method& m) {
     begin_geometry_pass_on(forward_fbo_, settings_.width, settings_.height, 1, glm::vec4(settings_.clear_color, 1.0f));
     const Program& p = program("forward");
     set_uniforms(p, light_count());
-    light_texture_.bind(KIT_UNIT_LIGHTS);
+    light_buffers_.bind();
     draw_scene(p, scene, gpu, view_projection, m.optimized_geometry);
     check_gl("forward pass");
     return;
@@ -293,7 +294,7 @@ void BenchRenderer::lighting_pass(const Method& m) {
   if (m.lighting == Lighting::Forward) return;  // shaded in the geometry pass
   const int w = settings_.width, h = settings_.height;
   gbuffer(m.layout).bind_textures();
-  light_texture_.bind(KIT_UNIT_LIGHTS);
+  light_buffers_.bind();
   if (m.lighting == Lighting::Tiled) {
     if (m.hdr32) throw Error("tiled lighting writes the RGBA16F HDR target only");
     tiled_passes(false);
@@ -477,7 +478,7 @@ double BenchRenderer::lights_per_pixel() {
   if (m.lighting == Lighting::Loop || m.lighting == Lighting::Forward) return light_count();
   const LayoutGBuffer& gb = gbuffer(m.layout);
   gb.bind_textures();
-  light_texture_.bind(KIT_UNIT_LIGHTS);
+  light_buffers_.bind();
   const int w = settings_.width, h = settings_.height;
   if (m.lighting == Lighting::Tiled) {
     tiled_passes(true);

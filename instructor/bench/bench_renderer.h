@@ -148,7 +148,7 @@ class BenchRenderer {
   Mesh volume_sphere_;
   GlName<delete_buffer> tile_buffer_;  // the tiles' light lists (tiled_lists.glsl)
   size_t tile_buffer_ints_ = 0;
-  Texture2D light_texture_;
+  LightBuffers light_buffers_;
   // One texel per light for the culling methods (light_bounds.glsl): world
   // position and light_cutoff_radius at bounds_key_'s epsilon and falloff model.
   Texture2D light_bounds_;

@@ -2,6 +2,7 @@
 //
 //   kit-bench [--quick] [--out DIR]       the whole comparison: out/bench/results.csv and charts
 //   kit-bench --ibl-only [--quick]        only the image-based lighting family (stage 6)
+//   kit-bench --crowd-only [--quick]      only the lighting pass's benchmark scene (issue 13)
 //   kit-bench --method NAME[,NAME...] [--scene FILE --size WxH --lights N]   one configuration
 //                                         (several: timed round-robin under the same load)
 //   kit-bench --list                      the method names
@@ -44,6 +45,15 @@ const int kQuickSmallLights[] = {16, 64};
 constexpr int kQuickWarmupFrames = 1;
 constexpr int kQuickTimedFrames = 5;
 const char* const kQuickIblMethods[] = {"ibl-default", "ibl-prefilter16", "ibl-sh2"};
+// The lighting pass's benchmark (issue 13): kit-scenes' crowd scene, nine instances of a
+// 19,200-triangle model and 32 point lights of its own, at 800 x 600 as the
+// deferred-shading tutorial program it is compared with.
+constexpr const char* kCrowdScene = "crowd";
+constexpr int kCrowdWidth = 800, kCrowdHeight = 600;
+constexpr int kQuickCrowdWidth = 200, kQuickCrowdHeight = 150;
+const char* const kCrowdMethods[] = {"labs", "forward", "tiled-e256", "volumes-e256"};
+// The labs' own stage whose frame is broken down: lighting, attenuation and tone mapping.
+constexpr const char* kCrowdStage = "attenuation";
 // Difference images are amplified so a one-step (1/255) error is visible.
 constexpr int kDifferenceGain = 16;
 
@@ -81,12 +91,14 @@ void usage() {
       "Times the deferred pipeline's methods (median of %d glFinish-ended frames after %d warm-up\n"
       "frames, wall clock) and measures each against the CPU double-precision reference.\n"
       "Without --method: the default scene at %dx%d with its own lights, then with 32, 256 and 1024\n"
-      "small lights, then the IBL family (stage 6 without the scene's lights, measured against the\n"
+      "small lights, then the crowd configuration (the crowd scene at 800x600 with its 32 lights, and\n"
+      "the labs' own frame pass by pass with ns per covered pixel and light), then the IBL family (stage 6 without the scene's lights, measured against the\n"
       "reflectance integral at %d pixels under each kit environment); writes DIR/results.csv,\n"
       "speed_accuracy.png/.svg, lights_scaling.png/.svg and ibl_speed_accuracy.png/.svg\n"
       "(DIR defaults to out/bench under the kit root).\n"
       "  --quick               %dx%d, %d frames, fewer methods (CI smoke run)\n"
       "  --ibl-only            only the IBL family\n"
+      "  --crowd-only          only the crowd configuration (prints it; writes DIR/results.csv)\n"
       "  --method NAME         one configuration: prints ms/frame and its error; several names\n"
       "                        separated by commas are timed round-robin on the same scene\n"
       "                        (IBL methods, ibl-*: one after the other, %d frames unless --frames;\n"
@@ -176,6 +188,33 @@ const char* range_name(kit::bench::SmallLightRange range) {
   return range == kit::bench::SmallLightRange::Ranged ? "ranged" : "unlimited";
 }
 
+// The labs' own Renderer (the solutions) on `scene`: each pass's median time, and the
+// lighting pass per covered pixel and light, the figure issue 13 sets at <= 5 ns.
+void print_labs_breakdown(const kit::Scene& scene, const kit::RenderSettings& settings,
+                          const kit::FrameCamera& camera, int warmup, int frames) {
+  const kit::Stage& stage = kit::find_stage(kCrowdStage);
+  kit::Renderer renderer(stage, kit::stage_library(stage, kit::kit_root() / "solutions"), scene, settings);
+  for (int f = 0; f < warmup; ++f) renderer.render(camera);
+  std::vector<kit::PassTimes> times(static_cast<size_t>(frames));
+  for (kit::PassTimes& frame : times) renderer.render(camera, &frame);
+  const kit::Image material = renderer.read_view(kit::View::Material, true);
+  size_t covered = 0;
+  for (size_t i = 3; i < material.pixels.size(); i += 4) covered += material.pixels[i] >= 0.5f;
+  const int lights = static_cast<int>(kit::frame_lights(scene, stage, settings).size());
+  std::printf("  the labs' own stage %s (solutions), median of %d frames, glFinish after each pass:\n",
+              stage.name.c_str(), frames);
+  double total = 0.0;
+  for (const auto& [pass, ms] : kit::median_pass_times(times)) {
+    total += ms;
+    std::printf("    %-10s %8.2f ms", pass.c_str(), ms);
+    if (pass == "lighting" && covered > 0 && lights > 0)
+      std::printf("   %.2f ns per covered pixel and light (%zu covered pixels, %d lights)",
+                  1e6 * ms / (static_cast<double>(covered) * lights), covered, lights);
+    std::printf("\n");
+  }
+  std::printf("    %-10s %8.2f ms\n", "sum", total);
+}
+
 kit::FrameCamera camera_for(const kit::Scene& scene, const kit::RenderSettings& s) {
   kit::Camera camera = scene.camera ? *scene.camera : kit::framing_camera(scene);
   return kit::frame_camera(camera, static_cast<float>(s.width) / static_cast<float>(s.height));
@@ -186,7 +225,7 @@ kit::FrameCamera camera_for(const kit::Scene& scene, const kit::RenderSettings& 
 int main(int argc, char** argv) {
   auto t0 = std::chrono::steady_clock::now();
   kit::CommonOptions options;
-  bool quick = false, list = false, size_given = false, passes = false, ibl_only = false;
+  bool quick = false, list = false, size_given = false, passes = false, ibl_only = false, crowd_only = false;
   std::string method_name, out_dir, images_dir;
   int frames = -1;
   kit::bench::SmallLightRange small_range = kit::bench::SmallLightRange::Ranged;
@@ -202,6 +241,7 @@ int main(int argc, char** argv) {
     kit::parse_options(argc, argv, options, [&](const std::string& flag, const kit::OptionValue& value) -> int {
       if (flag == "--quick") return quick = true, 1;
       if (flag == "--ibl-only") return ibl_only = true, 1;
+      if (flag == "--crowd-only") return crowd_only = true, 1;
       if (flag == "--list") return list = true, 1;
       if (flag == "--passes") return passes = true, 1;
       if (flag == "--out") return out_dir = value(), 2;
@@ -233,7 +273,7 @@ int main(int argc, char** argv) {
       // One method, or several separated by commas: those are timed round-robin
       // (time_interleaved), so their ratios hold under a changing machine load.
       std::vector<const kit::bench::Method*> methods;
-      std::vector<const kit::bench::IblMethod*> ibl_methods;
+    std::vector<const kit::bench::IblMethod*> ibl_methods;
       for (size_t begin = 0; begin <= method_name.size();) {
         size_t end = std::min(method_name.find(',', begin), method_name.size());
         const std::string name = method_name.substr(begin, end - begin);
@@ -281,7 +321,7 @@ int main(int argc, char** argv) {
                 options.scene.c_str(), settings.width, settings.height);
 
     std::vector<kit::bench::Row> rows;
-    for (const Case& c : ibl_only ? std::vector<Case>{} : plan(quick)) {
+    for (const Case& c : ibl_only || crowd_only ? std::vector<Case>{} : plan(quick)) {
       kit::bench::BenchRenderer renderer(scene, kit::bench::bench_lights(scene, c.small_lights, small_range), settings);
       kit::FrameCamera camera = camera_for(scene, settings);
       auto t_ref = std::chrono::steady_clock::now();
@@ -299,6 +339,31 @@ int main(int argc, char** argv) {
         print_row(rows.back());
       }
       kit::bench::write_csv((out / "results.csv").string(), rows);  // partial results survive an interruption
+    }
+      if (!ibl_only) {
+      // The crowd configuration: its own scene, size and lights, the labs' loop against
+      // the other lighting methods, then the labs' own frame pass by pass.
+      const kit::Scene crowd = kit::load_scene(kit::resolve_scene(kCrowdScene));
+      kit::RenderSettings crowd_settings = settings;
+      crowd_settings.width = quick ? kQuickCrowdWidth : kCrowdWidth;
+      crowd_settings.height = quick ? kQuickCrowdHeight : kCrowdHeight;
+      kit::FrameCamera camera = camera_for(crowd, crowd_settings);
+      print_labs_breakdown(crowd, crowd_settings, camera, warmup, timed);
+      kit::bench::BenchRenderer renderer(crowd, kit::bench::bench_lights(crowd, 0, small_range), crowd_settings);
+      kit::bench::Reference reference = kit::bench::reference_hdr(renderer, camera, cpu_budget);
+      std::printf("-- %s scene at %dx%d, %d lights: reference %s\n", kCrowdScene, crowd_settings.width,
+                  crowd_settings.height, renderer.light_count(), reference.source.c_str());
+      std::vector<const kit::bench::Method*> methods;
+      for (const char* name : kCrowdMethods) methods.push_back(&kit::bench::find_method(name));
+      std::vector<kit::bench::Timing> timings = kit::bench::time_interleaved(renderer, methods, camera, warmup, timed);
+      for (size_t m = 0; m < methods.size(); ++m) {
+        rows.push_back(kit::bench::measure_accuracy(renderer, *methods[m], camera, reference, kCrowdScene, 0));
+        rows.back().timing = timings[m];
+        rows.back().small_light_range = range_name(small_range);
+        print_row(rows.back());
+      }
+      kit::bench::write_csv((out / "results.csv").string(), rows);
+      if (crowd_only) return 0;
     }
     std::vector<const kit::bench::IblMethod*> ibl_methods;
     if (quick) {
