@@ -176,7 +176,9 @@ def bytes_panel(ax, rows):
 
 
 def speed_accuracy(rows, out_dir):
-    scene_rows = [r for r in rows if r["lights"] == 0]
+    # The main scene's rows only: the crowd configuration (issue 13) has its own scene.
+    main_scene = rows[0]["scene"] if rows else ""
+    scene_rows = [r for r in rows if r["lights"] == 0 and r["scene"] == main_scene]
     most = max((r["lights"] for r in rows), default=0)
     many_rows = [r for r in rows if r["lights"] == most and most > 0]
     fig, axes = plt.subplots(1, 3, figsize=(20, 10), gridspec_kw={"width_ratios": [3, 3, 1.3]})
