@@ -44,7 +44,7 @@ grep -q "for \*\*lab 2\*\*" "$WORK/copy2/README.md" || fail "copy 2's README is 
 # 2. Witnesses: the leak check finds a solution line planted in a handout, and a
 #    released-too-early solution folder.
 cp -r "$WORK/copy2" "$WORK/planted"
-grep -m1 'pow(clamp' "$ROOT/solutions/02-lighting/brdf.glsl" >>"$WORK/planted/handouts/02-lighting.md"
+grep -m1 'return f0 + (1.0 - f0)' "$ROOT/solutions/02-lighting/brdf.glsl" >>"$WORK/planted/handouts/02-lighting.md"
 if "$PY" "$ROOT/instructor/student_copy/leak_check.py" "$WORK/planted" 2 >"$WORK/planted.log" 2>&1; then
   fail "witness: a lab-2 solution line planted in a handout was not found"
 else
