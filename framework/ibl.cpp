@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "error.h"
+#include "pass_clock.h"
 #include "stages.h"
 #include "gbuffer_layout.h"
 
@@ -55,6 +56,10 @@ bool operator==(const IblSettings& a, const IblSettings& b) {
 const std::vector<std::string>& kit_environment_names() {
   static const std::vector<std::string> kNames = {"studio", "sun"};
   return kNames;
+}
+
+std::string environment_or_default(const std::string& environment) {
+  return environment.empty() ? kDefaultEnvironment : environment;
 }
 
 std::string resolve_environment(const std::string& name_or_path) {
@@ -131,7 +136,7 @@ void ImageBasedLighting::precompute(const Program& irradiance, const Program& pr
   render_into(irradiance, irradiance_, 0);
   check_gl("irradiance map (irradiance.frag)");
   glFinish();
-  irradiance_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  irradiance_seconds_ = seconds_since(start);
 
   // Prefiltered radiance: level k for roughness k / (levels - 1).
   prefiltered_ = Texture2D(settings.prefilter_size, settings.prefilter_size / 2, kRadianceFormat, nullptr, true);
@@ -156,7 +161,7 @@ void ImageBasedLighting::precompute(const Program& irradiance, const Program& pr
 
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glFinish();
-  precompute_seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  precompute_seconds_ = seconds_since(start);
 }
 
 void ImageBasedLighting::bind() const {

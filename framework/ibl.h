@@ -27,6 +27,8 @@ namespace kit {
 const std::vector<std::string>& kit_environment_names();
 // What stage 6 is lit by when no --environment is given.
 constexpr const char* kDefaultEnvironment = "studio";
+// The environment a setting names: kDefaultEnvironment when it is empty.
+std::string environment_or_default(const std::string& environment);
 // A kit environment's file by name ("studio"), or the argument itself as a path.
 std::string resolve_environment(const std::string& name_or_path);
 

@@ -10,6 +10,11 @@
 
 namespace kit {
 
+// Seconds from `start` to now, on the steady clock every timing of the kit uses.
+inline double seconds_since(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
 // (pass name, milliseconds) in the order the passes ran.
 using PassTimes = std::vector<std::pair<std::string, double>>;
 

@@ -100,6 +100,10 @@ const char* view_name(View view) {
   return "?";
 }
 
+bool is_precomputed_map(View view) {
+  return view == View::Irradiance || view == View::Prefiltered || view == View::BrdfLut;
+}
+
 FrameCamera frame_camera(const Camera& camera, float aspect) {
   FrameCamera f;
   f.view = camera.view;
@@ -184,32 +188,33 @@ std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const Re
 }
 
 LightBuffers::LightBuffers(const std::vector<Light>& lights) {
-  const int light_count = static_cast<int>(lights.size());
-  std::vector<float> texels(static_cast<size_t>(std::max(light_count, 1)) * KIT_LIGHT_TEXELS * 4, 0.0f);
+  const size_t rows = std::max(lights.size(), size_t{KIT_LIGHT_BLOCK_CAPACITY});
+  std::vector<float> texels(rows * KIT_LIGHT_TEXELS * 4, 0.0f);
   for (size_t i = 0; i < lights.size(); ++i) {
     const Light& l = lights[i];
-    float* t = &texels[i * KIT_LIGHT_TEXELS * 4];
     const float row[16] = {l.position.x, l.position.y, l.position.z, static_cast<float>(l.type),
                            l.direction.x, l.direction.y, l.direction.z, l.range,
                            l.color.r, l.color.g, l.color.b, l.intensity,
                            std::cos(l.inner_cone), std::cos(l.outer_cone), light_flux(l), 0.0f};
-    std::copy(row, row + 16, t);
+    std::copy(row, row + 16, &texels[i * KIT_LIGHT_TEXELS * 4]);
   }
-  texture_ = Texture2D(KIT_LIGHT_TEXELS, std::max(light_count, 1), {GL_RGBA32F, GL_RGBA, GL_FLOAT}, texels.data());
-  // The block is always its full size: std140 reads past the lights given are zeros, never unbacked.
-  texels.resize(size_t{KIT_LIGHT_BLOCK_CAPACITY} * KIT_LIGHT_TEXELS * 4, 0.0f);
+  if (lights.size() > size_t{KIT_LIGHT_BLOCK_CAPACITY}) {
+    texture_ = Texture2D(KIT_LIGHT_TEXELS, static_cast<int>(rows), {GL_RGBA32F, GL_RGBA, GL_FLOAT}, texels.data());
+    return;
+  }
   GLuint id = 0;
   glGenBuffers(1, &id);
   block_ = GlName<delete_buffer>(id);
   glBindBuffer(GL_UNIFORM_BUFFER, id);
-  glBufferData(GL_UNIFORM_BUFFER, static_cast<GLsizeiptr>(KIT_LIGHT_BLOCK_CAPACITY * KIT_LIGHT_TEXELS * 4 * sizeof(float)),
-               texels.data(), GL_STATIC_DRAW);
+  glBufferData(GL_UNIFORM_BUFFER, static_cast<GLsizeiptr>(texels.size() * sizeof(float)), texels.data(), GL_STATIC_DRAW);
   glBindBuffer(GL_UNIFORM_BUFFER, 0);
 }
 
 void LightBuffers::bind() const {
-  texture_.bind(KIT_UNIT_LIGHTS);
-  glBindBufferBase(GL_UNIFORM_BUFFER, KIT_BLOCK_LIGHTS, block_.get());
+  if (in_texture())
+    texture_.bind(KIT_UNIT_LIGHTS);
+  else
+    glBindBufferBase(GL_UNIFORM_BUFFER, KIT_BLOCK_LIGHTS, block_.get());
 }
 
 const Material& draw_material(const Scene& scene, const DrawItem& draw) {
@@ -271,7 +276,7 @@ SceneGpu timed_scene_upload(const Scene& scene, double& seconds) {
   const auto start = std::chrono::steady_clock::now();
   SceneGpu gpu(scene);
   glFinish();  // the upload's GL work is done, not only queued
-  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  seconds = seconds_since(start);
   return gpu;
 }
 }  // namespace
@@ -334,7 +339,7 @@ void Renderer::build_programs() {
 }
 
 std::string Renderer::ibl_cache_key() const {
-  std::string key = settings_.environment.empty() ? kDefaultEnvironment : settings_.environment;
+  std::string key = environment_or_default(settings_.environment);
   const IblSettings& s = settings_.ibl;
   for (int v : {s.prefilter_samples, s.prefilter_size, s.brdf_lut_samples, s.irradiance_size, s.irradiance_source_width})
     key += '\n' + std::to_string(v);
@@ -358,7 +363,7 @@ void Renderer::update_ibl() {
     if (ibl_ && !ibl_cache_ && settings_.environment == ibl_environment_) {
       made = std::const_pointer_cast<ImageBasedLighting>(ibl_);
     } else {
-      const std::string name = settings_.environment.empty() ? kDefaultEnvironment : settings_.environment;
+      const std::string name = environment_or_default(settings_.environment);
       made = std::make_shared<ImageBasedLighting>(kit::load_environment(resolve_environment(name)));
     }
     const Programs& p = *programs_;
@@ -418,9 +423,8 @@ void Renderer::upload_lights() {
   frame_lights_ = frame_lights(scene_, stage_, settings_);
   light_count_ = static_cast<int>(frame_lights_.size());
   lights_ = LightBuffers(frame_lights_);
-  const bool in_texture = frame_lights_.size() > size_t{KIT_LIGHT_BLOCK_CAPACITY};
-  if (in_texture != library_.has_define(kLightsInTexture)) {
-    library_.set_define(kLightsInTexture, in_texture);
+  if (lights_.in_texture() != library_.has_define(kLightsInTexture)) {
+    library_.set_define(kLightsInTexture, lights_.in_texture());
     if (programs_) build_programs();
   }
   lights_extra_ = settings_.extra_lights;
@@ -601,7 +605,7 @@ const Texture2D& Renderer::final_texture() const {
 }
 
 Image Renderer::read_view(View view, bool raw) {
-  if (view == View::Irradiance || view == View::Prefiltered || view == View::BrdfLut) {
+  if (is_precomputed_map(view)) {
     if (!ibl_) throw Error(std::string("view '") + view_name(view) + "' needs stage 6 (ibl)");
     if (view == View::Irradiance) return read_texture(ibl_->irradiance());
     if (view == View::BrdfLut) return read_texture(ibl_->brdf_lut());
@@ -618,7 +622,7 @@ Image Renderer::read_view(View view, bool raw) {
 
 const Texture2D& Renderer::display_texture(View view) {
   if (view == View::Final) return final_texture();
-  if (view == View::Irradiance || view == View::Prefiltered || view == View::BrdfLut) {
+  if (is_precomputed_map(view)) {
     if (!ibl_) throw Error(std::string("view '") + view_name(view) + "' needs stage 6 (ibl)");
     return view == View::Irradiance ? ibl_->irradiance() : view == View::BrdfLut ? ibl_->brdf_lut() : ibl_->prefiltered();
   }

@@ -50,6 +50,9 @@ enum class View { Final, Position, Normal, Albedo, Material, Emission, Depth, Hd
 // final|position|normal|albedo|material|emission|depth|hdr|irradiance|prefiltered|brdf-lut
 View parse_view(const std::string& name);
 const char* view_name(View view);
+// Whether `view` is one of stage 6's precomputed maps: made from the environment alone
+// (not from the frame), each at its own size; other stages have none.
+bool is_precomputed_map(View view);
 
 // Camera matrices for one frame.
 struct FrameCamera {
@@ -99,17 +102,21 @@ bool uses_default_light_rig(const Scene& scene, const Stage& stage, const Render
 // RenderSettings::extra_lights spawned ones.
 std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings);
 
-// The lights every lighting shader reads (lights.glsl): an RGBA32F texture of
-// KIT_LIGHT_TEXELS texels per light, light i in row i (one row when empty), and a
-// uniform buffer holding the first KIT_LIGHT_BLOCK_CAPACITY lights the same way.
 // Defined in every shader (ShaderLibrary::set_define) when a frame has more lights
 // than the uniform block holds: lights.glsl then reads them all from the texture.
 constexpr const char* kLightsInTexture = "KIT_LIGHTS_IN_TEXTURE";
+// The lights every lighting shader reads (lights.glsl), KIT_LIGHT_TEXELS vec4 per light,
+// light i in row i: up to KIT_LIGHT_BLOCK_CAPACITY in a uniform buffer (always its full
+// size: std140 reads past the lights given are zeros, never unbacked), more in an
+// RGBA32F texture. Only the one the shaders read is made.
 class LightBuffers {
  public:
   LightBuffers() = default;
   explicit LightBuffers(const std::vector<Light>& lights);
-  // The texture on KIT_UNIT_LIGHTS, the buffer at KIT_BLOCK_LIGHTS.
+  // Whether the lights are in the texture: the programs that read them must be
+  // compiled with kLightsInTexture defined exactly then.
+  bool in_texture() const { return texture_.id() != 0; }
+  // The texture on KIT_UNIT_LIGHTS, or the buffer at KIT_BLOCK_LIGHTS.
   void bind() const;
 
  private:

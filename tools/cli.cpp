@@ -145,7 +145,7 @@ Camera initial_camera(const Scene& scene, const CommonOptions& o) {
 void note_default_light_rig(const char* tool, const Scene& scene, const Stage& stage, const RenderSettings& settings) {
   if (stage.ibl && scene.lights.empty())
     std::fprintf(stderr, "%s: note: scene has no lights: the environment (%s) lights it alone\n", tool,
-                 settings.environment.empty() ? kDefaultEnvironment : settings.environment.c_str());
+                 environment_or_default(settings.environment).c_str());
   else if (stage.lighting && uses_default_light_rig(scene, stage, settings))
     std::fprintf(stderr,
                  "%s: note: scene has no lights: using the default rig (3 point lights: key, fill and rim around "

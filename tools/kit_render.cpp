@@ -13,6 +13,7 @@
 #include "cli.h"
 #include "context.h"
 #include "error.h"
+#include "pass_clock.h"
 
 namespace {
 
@@ -28,9 +29,6 @@ double peak_resident_mib() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 void usage() {
   std::printf(
@@ -82,15 +80,15 @@ int main(int argc, char** argv) {
     kit::Scene scene = kit::load_scene(kit::resolve_scene(options.scene));
     for (const std::string& warning : scene.warnings) std::fprintf(stderr, "kit-render: warning: %s\n", warning.c_str());
     const kit::Camera camera = kit::initial_camera(scene, options);
-    auto t_scene = seconds_since(t0);
+    auto t_scene = kit::seconds_since(t0);
     auto context = kit::create_headless_context(kit::parse_backend(options.backend));
-    auto t_context = seconds_since(t0);
+    auto t_context = kit::seconds_since(t0);
     // One time limit for compiling, drawing and reading back, as the grader gives a lab.
     kit::Watchdog watchdog("kit-render", options.timeout);
     watchdog.arm("compiling the shaders of stage " + stage.name);
     kit::Renderer renderer(stage, kit::stage_library(stage, lab.root), scene, options.settings);
     kit::note_default_light_rig("kit-render", scene, stage, options.settings);
-    auto t_compile = seconds_since(t0);
+    auto t_compile = kit::seconds_since(t0);
     watchdog.relabel("rendering stage " + stage.name);
     const auto& s = options.settings;
     std::vector<double> frame_ms;
@@ -101,13 +99,13 @@ int main(int argc, char** argv) {
       auto t_frame = std::chrono::steady_clock::now();
       renderer.render(frame_camera);
       glFinish();
-      frame_ms.push_back(1000.0 * seconds_since(t_frame));
+      frame_ms.push_back(1000.0 * kit::seconds_since(t_frame));
     }
     // The breakdown is taken in frames of its own: its glFinish after every pass
     // would slow the frames timed above.
     if (timings && frames > 1)
       for (int f = 0; f < frames; ++f) renderer.render(frame_camera, &pass_ms.emplace_back());
-    auto t_render = seconds_since(t0);
+    auto t_render = kit::seconds_since(t0);
     for (const Output& out : outputs) {
       bool raw = out.path.size() > 4 && out.path.compare(out.path.size() - 4, 4, ".exr") == 0;
       kit::write_image(out.path, renderer.read_view(out.view, raw));
@@ -125,7 +123,7 @@ int main(int argc, char** argv) {
       const double upload = renderer.scene_upload_seconds();
       std::fprintf(stderr, "timings: scene %.3fs, context %.3fs, upload %.3fs, compile %.3fs, render %.3fs, write %.3fs (%s)\n",
                    t_scene, t_context - t_scene, upload, t_compile - t_context - upload, t_render - t_compile,
-                   seconds_since(t0) - t_render, context->describe().c_str());
+                   kit::seconds_since(t0) - t_render, context->describe().c_str());
       std::fprintf(stderr, "memory: peak %.0f MiB resident (the process so far, GL driver included)\n", peak_resident_mib());
     }
     if (timings && frames > 1) {

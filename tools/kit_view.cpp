@@ -70,10 +70,6 @@ constexpr kit::View kViewKeys[] = {kit::View::Final,    kit::View::Position,   k
                                    kit::View::Prefiltered, kit::View::BrdfLut};
 // Keys 1-9 pick the first nine views; the rest are in the panel's list only.
 constexpr int kViewNumberKeys = 9;
-// Stage 6's maps (ibl.h), shown at their own size.
-bool is_ibl_view(kit::View v) {
-  return v == kit::View::Irradiance || v == kit::View::Prefiltered || v == kit::View::BrdfLut;
-}
 // The prefilter's sample counts the panel offers, as powers of two.
 constexpr int kMinPrefilterSamplesLog2 = 4, kMaxPrefilterSamplesLog2 = 11;
 
@@ -413,7 +409,7 @@ class Viewer {
       set_note("view hdr needs a lit stage (lighting or later); showing final");
       view = kit::View::Final;
     }
-    if (is_ibl_view(view) && !stage_->ibl) {
+    if (kit::is_precomputed_map(view) && !stage_->ibl) {
       set_note(std::string("view ") + kit::view_name(view) + " needs stage 6 (ibl); showing final");
       view = kit::View::Final;
     }
@@ -773,7 +769,7 @@ class Viewer {
     if (ImGui::BeginCombo("view", kit::view_name(view_))) {
       for (size_t i = 0; i < std::size(kViewKeys); ++i) {
         kit::View v = kViewKeys[i];
-        if ((v == kit::View::Hdr && !stage_->lighting) || (is_ibl_view(v) && !stage_->ibl)) continue;
+        if ((v == kit::View::Hdr && !stage_->lighting) || (kit::is_precomputed_map(v) && !stage_->ibl)) continue;
         std::string label = (static_cast<int>(i) < kViewNumberKeys ? std::to_string(i + 1) + " " : std::string("  ")) +
                             kit::view_name(v);
         if (ImGui::Selectable(label.c_str(), v == view_)) select_view(v);
@@ -802,7 +798,7 @@ class Viewer {
       ImGui::Checkbox("light markers (M)", &settings_.light_markers);
     }
     if (stage_->ibl) {
-      const std::string shown = settings_.environment.empty() ? kit::kDefaultEnvironment : settings_.environment;
+      const std::string shown = kit::environment_or_default(settings_.environment);
       if (ImGui::BeginCombo("environment", shown.c_str())) {
         for (const std::string& name : kit::kit_environment_names())
           if (ImGui::Selectable(name.c_str(), name == shown)) settings_.environment = name;

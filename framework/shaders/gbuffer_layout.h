@@ -76,11 +76,10 @@
 #define KIT_ATTR_TANGENT 3
 #define KIT_ATTR_COLOR 4  // glTF COLOR_0 (linear rgba; white when the file has none)
 
-// Lights live in an RGBA32F texture, KIT_LIGHT_TEXELS texels per light (one row each),
-// and the first KIT_LIGHT_BLOCK_CAPACITY of them also in a uniform block (lights.glsl)
-// bound at KIT_BLOCK_LIGHTS: 256 lights of 4 vec4 are 16 KiB, the uniform block size
-// every GL 3.3 implementation must allow. With more lights the framework defines
-// KIT_LIGHTS_IN_TEXTURE, and shaders read every light from the texture.
+// Lights live in a uniform block bound at KIT_BLOCK_LIGHTS (lights.glsl), KIT_LIGHT_TEXELS
+// vec4 per light: 256 lights of 4 vec4 are 16 KiB, the uniform block size every GL 3.3
+// implementation must allow. With more lights they live in an RGBA32F texture (one row
+// each), the framework defines KIT_LIGHTS_IN_TEXTURE, and shaders read that instead.
 #define KIT_LIGHT_TEXELS 4
 #define KIT_LIGHT_BLOCK_CAPACITY 256
 #define KIT_BLOCK_LIGHTS 0

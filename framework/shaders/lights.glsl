@@ -1,6 +1,6 @@
 // The scene's lights, as the framework uploads them: KIT_LIGHT_TEXELS vec4 per light,
-// light i in row i of an RGBA32F texture, and the first KIT_LIGHT_BLOCK_CAPACITY also
-// in a uniform block. The block is the fast path: a light read from it is a few loads
+// light i in row i of a uniform block of KIT_LIGHT_BLOCK_CAPACITY lights, or with more
+// lights of an RGBA32F texture. The block is the fast path: a light read from it is a few loads
 // where four texelFetch calls are four texture lookups, which on llvmpipe made the
 // lighting pass about a fifth slower (handouts/02-lighting.md, "Speed"). Only with more
 // lights than the block holds does the framework define KIT_LIGHTS_IN_TEXTURE (and

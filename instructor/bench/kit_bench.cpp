@@ -19,11 +19,13 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <map>
+#include <iterator>
 
 #include "cli.h"
 #include "context.h"
+#include "cpu_reference.h"
 #include "error.h"
+#include "pass_clock.h"
 #include "measure.h"
 #include "measure_ibl.h"
 #include "stages.h"
@@ -157,9 +159,6 @@ void print_row(const kit::bench::Row& r) {
   std::fflush(stdout);
 }
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 // The last frame's display image, the reference's, and |difference| x kDifferenceGain.
 void write_images(kit::bench::BenchRenderer& renderer, const kit::bench::Method& method,
@@ -188,6 +187,25 @@ const char* range_name(kit::bench::SmallLightRange range) {
   return range == kit::bench::SmallLightRange::Ranged ? "ranged" : "unlimited";
 }
 
+// One configuration's rows: `names` timed round-robin on `renderer` (so their ratios
+// hold under a changing load), then each measured against `reference`, printed as it comes.
+std::vector<kit::bench::Row> measure_methods(kit::bench::BenchRenderer& renderer, const std::vector<std::string>& names,
+                                             const kit::FrameCamera& camera, const kit::bench::Reference& reference,
+                                             const std::string& scene_name, int small_lights,
+                                             kit::bench::SmallLightRange range, int warmup, int timed) {
+  std::vector<const kit::bench::Method*> methods;
+  for (const std::string& name : names) methods.push_back(&kit::bench::find_method(name));
+  std::vector<kit::bench::Timing> timings = kit::bench::time_interleaved(renderer, methods, camera, warmup, timed);
+  std::vector<kit::bench::Row> rows;
+  for (size_t m = 0; m < methods.size(); ++m) {
+    rows.push_back(kit::bench::measure_accuracy(renderer, *methods[m], camera, reference, scene_name, small_lights));
+    rows.back().timing = timings[m];
+    rows.back().small_light_range = range_name(range);
+    print_row(rows.back());
+  }
+  return rows;
+}
+
 // The labs' own Renderer (the solutions) on `scene`: each pass's median time, and the
 // lighting pass per covered pixel and light, the figure issue 13 sets at <= 5 ns.
 void print_labs_breakdown(const kit::Scene& scene, const kit::RenderSettings& settings,
@@ -197,9 +215,7 @@ void print_labs_breakdown(const kit::Scene& scene, const kit::RenderSettings& se
   for (int f = 0; f < warmup; ++f) renderer.render(camera);
   std::vector<kit::PassTimes> times(static_cast<size_t>(frames));
   for (kit::PassTimes& frame : times) renderer.render(camera, &frame);
-  const kit::Image material = renderer.read_view(kit::View::Material, true);
-  size_t covered = 0;
-  for (size_t i = 3; i < material.pixels.size(); i += 4) covered += material.pixels[i] >= 0.5f;
+  const size_t covered = kit::reference::covered_pixels(kit::reference::read_gbuffer(renderer)).size();
   const int lights = static_cast<int>(kit::frame_lights(scene, stage, settings).size());
   std::printf("  the labs' own stage %s (solutions), median of %d frames, glFinish after each pass:\n",
               stage.name.c_str(), frames);
@@ -273,7 +289,7 @@ int main(int argc, char** argv) {
       // One method, or several separated by commas: those are timed round-robin
       // (time_interleaved), so their ratios hold under a changing machine load.
       std::vector<const kit::bench::Method*> methods;
-    std::vector<const kit::bench::IblMethod*> ibl_methods;
+      std::vector<const kit::bench::IblMethod*> ibl_methods;
       for (size_t begin = 0; begin <= method_name.size();) {
         size_t end = std::min(method_name.find(',', begin), method_name.size());
         const std::string name = method_name.substr(begin, end - begin);
@@ -327,22 +343,15 @@ int main(int argc, char** argv) {
       auto t_ref = std::chrono::steady_clock::now();
       kit::bench::Reference reference = kit::bench::reference_hdr(renderer, camera, cpu_budget);
       std::printf("-- %d lights (%d small): reference %s in %.1f s\n", renderer.light_count(), c.small_lights,
-                  reference.source.c_str(), seconds_since(t_ref));
-      std::vector<const kit::bench::Method*> methods;
-      for (const std::string& name : c.methods) methods.push_back(&kit::bench::find_method(name));
-      std::vector<kit::bench::Timing> timings = kit::bench::time_interleaved(renderer, methods, camera, warmup, timed);
-      for (size_t m = 0; m < methods.size(); ++m) {
-        rows.push_back(kit::bench::measure_accuracy(renderer, *methods[m], camera, reference, options.scene,
-                                                    c.small_lights));
-        rows.back().timing = timings[m];
-        rows.back().small_light_range = range_name(small_range);
-        print_row(rows.back());
-      }
+                  reference.source.c_str(), kit::seconds_since(t_ref));
+      for (kit::bench::Row& row : measure_methods(renderer, c.methods, camera, reference, options.scene,
+                                                  c.small_lights, small_range, warmup, timed))
+        rows.push_back(std::move(row));
       kit::bench::write_csv((out / "results.csv").string(), rows);  // partial results survive an interruption
     }
-      if (!ibl_only) {
-      // The crowd configuration: its own scene, size and lights, the labs' loop against
-      // the other lighting methods, then the labs' own frame pass by pass.
+    if (!ibl_only) {
+      // The crowd configuration: its own scene, size and lights; the labs' own frame pass
+      // by pass, then the labs' loop against the other lighting methods.
       const kit::Scene crowd = kit::load_scene(kit::resolve_scene(kCrowdScene));
       kit::RenderSettings crowd_settings = settings;
       crowd_settings.width = quick ? kQuickCrowdWidth : kCrowdWidth;
@@ -353,15 +362,10 @@ int main(int argc, char** argv) {
       kit::bench::Reference reference = kit::bench::reference_hdr(renderer, camera, cpu_budget);
       std::printf("-- %s scene at %dx%d, %d lights: reference %s\n", kCrowdScene, crowd_settings.width,
                   crowd_settings.height, renderer.light_count(), reference.source.c_str());
-      std::vector<const kit::bench::Method*> methods;
-      for (const char* name : kCrowdMethods) methods.push_back(&kit::bench::find_method(name));
-      std::vector<kit::bench::Timing> timings = kit::bench::time_interleaved(renderer, methods, camera, warmup, timed);
-      for (size_t m = 0; m < methods.size(); ++m) {
-        rows.push_back(kit::bench::measure_accuracy(renderer, *methods[m], camera, reference, kCrowdScene, 0));
-        rows.back().timing = timings[m];
-        rows.back().small_light_range = range_name(small_range);
-        print_row(rows.back());
-      }
+      const std::vector<std::string> crowd_methods(std::begin(kCrowdMethods), std::end(kCrowdMethods));
+      for (kit::bench::Row& row : measure_methods(renderer, crowd_methods, camera, reference, kCrowdScene, 0,
+                                                  small_range, warmup, timed))
+        rows.push_back(std::move(row));
       kit::bench::write_csv((out / "results.csv").string(), rows);
       if (crowd_only) return 0;
     }
@@ -378,12 +382,12 @@ int main(int argc, char** argv) {
                                                         camera_for(scene, settings), run, print_row))
       rows.push_back(std::move(row));
     kit::bench::write_csv((out / "results.csv").string(), rows);
-    std::printf("-- IBL family: %zu methods in %.0f s\n", ibl_methods.size(), seconds_since(t_ibl));
+    std::printf("-- IBL family: %zu methods in %.0f s\n", ibl_methods.size(), kit::seconds_since(t_ibl));
     std::string charts = std::string(kChartPython) + " \"" + (kit::kit_root() / "instructor" / "bench" / "charts.py").string() +
                          "\" \"" + (out / "results.csv").string() + "\" \"" + out.string() + "\"";
     if (std::system(charts.c_str()) != 0) throw kit::Error("the chart script failed: " + charts);
     std::printf("wrote %s/results.csv and its charts (.png/.svg) in %.0f s\n",
-                out.string().c_str(), seconds_since(t0));
+                out.string().c_str(), kit::seconds_since(t0));
     return 0;
   });
 }

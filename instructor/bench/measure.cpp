@@ -9,14 +9,12 @@
 
 #include "error.h"
 #include "ibl.h"
+#include "pass_clock.h"
 
 namespace kit::bench {
 
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 std::string number(double v) {
   if (std::isinf(v)) return v > 0 ? "inf" : "-inf";

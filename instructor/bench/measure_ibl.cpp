@@ -10,6 +10,7 @@
 
 #include "error.h"
 #include "ibl_reference.h"
+#include "pass_clock.h"
 #include "stages.h"
 
 namespace kit::bench {
@@ -35,9 +36,6 @@ struct Environment {
   dvec3 eye{0.0};  // the camera's position
 };
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
 
 Environment prepare(const std::string& name, const Scene& scene, RenderSettings settings, const FrameCamera& camera,
                     const IblRun& run) {

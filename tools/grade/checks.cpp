@@ -260,12 +260,8 @@ RenderSettings render_settings(const RenderSpec& spec) {
   return s;
 }
 
-bool is_precomputed_map(View view) {
-  return view == View::Irradiance || view == View::Prefiltered || view == View::BrdfLut;
-}
-
 std::string environment_name(const RenderSpec& spec) {
-  return spec.environment.empty() ? kDefaultEnvironment : spec.environment;
+  return environment_or_default(spec.environment);
 }
 
 std::string reference_extension(const RenderSpec& spec) { return spec.raw ? "exr" : "png"; }

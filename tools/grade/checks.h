@@ -73,9 +73,6 @@ std::vector<const RenderSpec*> lab_renders(int lab);
 std::vector<const RenderSpec*> reference_renders();
 // RenderSettings for a render at the grading size.
 RenderSettings render_settings(const RenderSpec& spec);
-// Whether `view` is one of stage 6's precomputed maps: made from the environment
-// alone (not from the frame's HDR buffer), each at its own size.
-bool is_precomputed_map(View view);
 // The environment a render is lit by as the manifest names it: the kit's default
 // for an empty RenderSpec::environment.
 std::string environment_name(const RenderSpec& spec);

@@ -21,6 +21,7 @@
 #include <set>
 
 #include "error.h"
+#include "pass_clock.h"
 #include "references.h"
 #include "renderer.h"
 #include "render_child.h"
@@ -43,7 +44,6 @@ std::string labs_list(const std::vector<int>& labs) {
   return out.empty() ? "none" : out;
 }
 
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // How much of a child's error file and log the messages quote.
 constexpr size_t kErrorBytes = 64 * 1024;
@@ -266,7 +266,7 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
     write_report_images(run, result_dir, check, image, reference, c);
     c.comparison.diff = Image();  // written: a batch keeps no images in memory
   }
-  lab.compare_seconds = since(t0);
+  lab.compare_seconds = seconds_since(t0);
 }
 
 // Mesa's shader cache as the kit's own renders leave it (solutions/ and
@@ -337,7 +337,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
     lab.folder = e.prepared->labs.at(lab.lab).folder;
     e.outcome.labs[lab.lab] = std::move(lab);
     if (--e.labs_left > 0) return;
-    e.outcome.seconds = since(e.started);
+    e.outcome.seconds = seconds_since(e.started);
     finished(e);
     e.outcome = SubmissionOutcome();  // reported: free it before the next submission
     e.prepared.reset();
@@ -737,7 +737,7 @@ int grade_batch(const fs::path& folder, const Options& options) {
   });
   remove_run_temp(run);
   write_gradebook(options.out, all_names, options.labs);
-  std::printf("kit-grade: %zu graded in %.1f s; gradebook: %s\n", done, since(t0), (options.out / "gradebook.csv").c_str());
+  std::printf("kit-grade: %zu graded in %.1f s; gradebook: %s\n", done, seconds_since(t0), (options.out / "gradebook.csv").c_str());
   if (!completed) return 130;
   return grader_error ? 2 : 0;
 }

@@ -10,6 +10,7 @@
 #include "checks.h"
 #include "error.h"
 #include "gl.h"
+#include "pass_clock.h"
 #include "renderer.h"
 #include "sandbox.h"
 #include "report.h"
@@ -26,7 +27,6 @@ constexpr char kRawMagic[8] = {'K', 'I', 'T', 'R', 'A', 'W', '1', '\0'};
 constexpr int kMaxRawDimension = 8192;
 
 using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 void write_text(const fs::path& path, const std::string& text) {
   std::ofstream out(path, std::ios::binary);
@@ -86,7 +86,7 @@ int render_lab(const RenderJob& job) {
     return kChildEnvironmentError;
   }
   report["renderer"] = context->describe();
-  report["seconds"]["context"] = since(t0);
+  report["seconds"]["context"] = seconds_since(t0);
 
   // One Renderer per (scene, isolated custom effect), built on first use; stage 6's
   // maps are made once per environment and shared between them.
@@ -112,7 +112,7 @@ int render_lab(const RenderJob& job) {
         write_text(error_file, e.what());
         return kChildShaderError;
       }
-      double seconds = since(t);
+      double seconds = seconds_since(t);
       compile += seconds;
       report["seconds"]["compile_each"].push_back(seconds);
     }
@@ -122,7 +122,7 @@ int render_lab(const RenderJob& job) {
       auto t = Clock::now();
       renderer->render(frame_camera(camera, static_cast<float>(settings.width) / static_cast<float>(settings.height)));
       glFinish();
-      double seconds = since(t);
+      double seconds = seconds_since(t);
       render += seconds;
       report["seconds"]["render_each"][spec->id] = seconds;
       t = Clock::now();
@@ -131,7 +131,7 @@ int render_lab(const RenderJob& job) {
       // buffer. Stage 6's maps are float images made before the frame: they count their own.
       if (stage.lighting && spec->view != View::Hdr && !is_precomputed_map(spec->view))
         report["hdr_non_finite"][spec->id] = renderer->count_non_finite(View::Hdr);
-      readback += since(t);
+      readback += seconds_since(t);
     } catch (const Error& e) {
       write_text(error_file, std::string("while rendering ") + spec->scene + ": " + e.what());
       return kChildRenderError;
@@ -140,7 +140,7 @@ int render_lab(const RenderJob& job) {
   report["seconds"]["compile"] = compile;
   report["seconds"]["render"] = render;
   report["seconds"]["readback"] = readback;
-  report["seconds"]["total"] = since(t0);
+  report["seconds"]["total"] = seconds_since(t0);
   report["vm_peak_kib"] = peak_address_space_kib();  // what RLIMIT_AS limits
   write_text(job.out_dir / "child.json", json_text(report));
   return kChildOk;
