@@ -44,6 +44,10 @@ struct RenderSettings {
   IblSettings ibl;
 };
 
+// Whether two settings give the same image at the same size and camera: every field
+// but the size and u_time (RenderSettings' fields, all of them; a new field goes here too).
+bool same_image_settings(const RenderSettings& a, const RenderSettings& b);
+
 // The last three are stage 6's precomputed maps: the irradiance map, the prefiltered
 // map's levels stacked (read_prefiltered_levels) and the BRDF table, each at its own size.
 enum class View { Final, Position, Normal, Albedo, Material, Emission, Depth, Hdr, Irradiance, Prefiltered, BrdfLut };

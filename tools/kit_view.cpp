@@ -1,7 +1,9 @@
-// kit-view: a window onto one stage. Renders the stage every frame at the
-// window's framebuffer size, shows the final image or a G-buffer view, and
-// reloads the stage's shaders when their files change (errors are shown, the
-// last good programs keep running). `./kit view --lab N [--solution]` opens it.
+// kit-view: a window onto one stage. Renders the stage at the window's
+// framebuffer size when something it depends on changed (camera, controls,
+// shaders, size), at a lower resolution while the camera moves, shows the final
+// image or a G-buffer view, and reloads the stage's shaders when their files
+// change (errors are shown, the last good programs keep running).
+// `./kit view --lab N [--solution]` opens it.
 //   kit-view --stage lighting --shaders labs [--view normal] [--frames N --screenshot out.png]
 #include <imgui.h>
 #include <imgui_impl_glfw.h>
@@ -22,6 +24,7 @@
 #include <limits>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -40,6 +43,16 @@ constexpr double kShaderPollSeconds = 0.25;    // how often shader files are che
 constexpr double kTitleRefreshSeconds = 0.25;  // the title shows the frame time, but not every frame
 constexpr double kWarningCheckSeconds = 2.0;   // NaN/Inf read-back and uniform check (a read-back costs a few ms)
 constexpr double kFrameTimeSmoothing = 0.05;   // weight of the newest frame in the moving average
+// While the camera moves, frames are rendered at 1/kMovingResolutionDivisor of the
+// window's width and height (a quarter of the pixels: the passes after the geometry
+// pass cost per pixel), then scaled up; the first frame the camera holds still is
+// rendered at full size, so a still image is always the full-quality one.
+constexpr int kMovingResolutionDivisor = 2;
+// Frames drawn after the last input before the viewer waits for events again: Dear
+// ImGui needs a frame or two to show what a click or a key did.
+constexpr int kFramesAfterInput = 3;
+constexpr float kSpinPixelsPerFrame = 8.0f;    // --spin: a steady left drag of this many pixels a frame
+constexpr double kMaxFlyStepSeconds = 0.1;     // the longest step one frame flies (the loop may have slept)
 constexpr float kGammaCycle[] = {2.2f, 1.0f, 0.5f, 2.5f};  // the G key, as in the gamma slides
 constexpr float kGammaMin = 0.2f, kGammaMax = 3.0f;
 constexpr float kBloomThresholdMax = 5.0f;
@@ -81,6 +94,8 @@ struct ViewerOptions {
   kit::View view = kit::View::Final;
   bool hidden = false;
   bool ui = true;
+  bool spin = false;     // turn the orbit camera every frame (measures the frame rate while moving)
+  bool timings = false;  // print the frame times at exit
 };
 
 void usage() {
@@ -94,6 +109,11 @@ void usage() {
       "  --window-screenshot FILE  after the last frame, write the window as shown, panel included\n"
       "  --hidden              invisible window (the image is still rendered)\n"
       "  --no-ui               no control panel (errors and warnings still go to stderr)\n"
+      "  --spin                turn the camera a little every frame, as a steady drag would (with --frames:\n"
+      "                        the frame rate while the camera moves; the last frame is still)\n"
+      "  --timings             at exit, print how many frames were rendered, at which size, and their median time\n"
+      "A frame is rendered only when the camera, a control, a shader or the window size changed (or the\n"
+      "custom effect animates); while the camera moves, at half the width and height.\n"
       "Keys: 1-8 view (final, position, normal, albedo, material, emission, depth, hdr),\n"
       "      P postprocess, C custom effect,\n"
       "      G gamma 2.2/1.0/0.5/2.5, A attenuation model (orbit mode), F fly/orbit, F12 or K screenshot,\n"
@@ -271,6 +291,9 @@ class Viewer {
     glfwSetKeyCallback(handle, on_key);
     glfwSetScrollCallback(handle, on_scroll);
     glfwSetCursorPosCallback(handle, on_cursor);
+    glfwSetMouseButtonCallback(handle, on_mouse_button);
+    glfwSetCharCallback(handle, on_char);
+    glfwSetWindowSizeCallback(handle, on_window_size);
     glfwGetCursorPos(handle, &cursor_x_, &cursor_y_);
     if (options_.ui) imgui_ = std::make_unique<ImGuiSession>(handle);
 
@@ -290,18 +313,23 @@ class Viewer {
     const double start = glfwGetTime();
     double last = start, next_poll = start, next_title = start, next_check = start;
     int frame = 0;
+    bool draw_next = true;  // the last frame rendered, or input came: draw the next one without waiting
     while (!window_.should_close()) {
-      glfwPollEvents();
+      // Nothing to redraw: sleep until an event or the next shader poll (--frames never waits).
+      if (options_.frames == 0 && !draw_next) glfwWaitEventsTimeout(kShaderPollSeconds);
+      else glfwPollEvents();
       double now = glfwGetTime();
+      const double frame_start = now;
       double seconds = now - last;
       last = now;
-      if (frame == 1) frame_ms_ = seconds * 1000.0;  // frame 0 has no previous frame to time against
-      else if (frame > 1) frame_ms_ += kFrameTimeSmoothing * (seconds * 1000.0 - frame_ms_);
       if (now >= next_poll) {
         poll_shader_files();
         next_poll = now + kShaderPollSeconds;
       }
-      move_camera(static_cast<float>(seconds));
+      bool last_frame = options_.frames > 0 && frame + 1 >= options_.frames;
+      if (options_.spin && !last_frame) left_drag_.x += kSpinPixelsPerFrame;
+      // A wait for events is not flying time: a held key moves by one frame's step at most.
+      move_camera(static_cast<float>(std::min(seconds, kMaxFlyStepSeconds)));
       settings_.time = static_cast<float>(now - start);
 
       int width = 0, height = 0;
@@ -314,26 +342,31 @@ class Viewer {
       // finishes blocks whichever GL call waits for it first.
       in_frame_ = true;
       watchdog_.arm(frame_activity());
-      draw_frame(width, height);
-      if (renderer_ && (warnings_due_ || now >= next_check)) {
+      // A screenshot and --frames' last frame are full-quality images.
+      const Rendered rendered = draw_frame(width, height, last_frame || screenshot_requested_);
+      // Warnings count a full-size frame's pixels, so their numbers do not flicker while moving.
+      if (rendered == Rendered::Full && (warnings_due_ || now >= next_check)) {
         refresh_warnings();
         next_check = now + kWarningCheckSeconds;
       }
       if (imgui_) draw_ui();
 
-      bool last_frame = options_.frames > 0 && frame + 1 >= options_.frames;
       if (screenshot_requested_) write_key_screenshot();
       if (last_frame) write_final_screenshots();
       window_.swap_buffers();
       watchdog_.disarm();
       in_frame_ = false;
+      if (rendered != Rendered::None) note_frame_time(rendered, (glfwGetTime() - frame_start) * 1000.0);
       if (now >= next_title) {
         refresh_title();
         next_title = now + kTitleRefreshSeconds;
       }
+      if (input_frames_left_ > 0) --input_frames_left_;
+      draw_next = rendered != Rendered::None || input_frames_left_ > 0 || animated();
       ++frame;
       if (last_frame) break;
     }
+    if (options_.timings) print_timings(frame);
     // With --frames the viewer is a check: a shader error still showing is a failure.
     return options_.frames > 0 && !error_.empty() ? 1 : 0;
   }
@@ -341,12 +374,21 @@ class Viewer {
  private:
   // ---- GLFW callbacks: the viewer is reached through the window's user pointer.
   static Viewer& from(GLFWwindow* window) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(window)); }
-  static void on_key(GLFWwindow* window, int key, int, int action, int) { from(window).key(key, action); }
-  static void on_cursor(GLFWwindow* window, double x, double y) { from(window).cursor_moved(x, y); }
-  static void on_scroll(GLFWwindow* window, double, double dy) {
+  // Every callback counts as input: the next frames are drawn (kFramesAfterInput).
+  static Viewer& input(GLFWwindow* window) {
     Viewer& v = from(window);
+    v.input_frames_left_ = kFramesAfterInput;
+    return v;
+  }
+  static void on_key(GLFWwindow* window, int key, int, int action, int) { input(window).key(key, action); }
+  static void on_cursor(GLFWwindow* window, double x, double y) { input(window).cursor_moved(x, y); }
+  static void on_scroll(GLFWwindow* window, double, double dy) {
+    Viewer& v = input(window);
     if (!v.ui_wants_mouse()) v.wheel_steps_ += static_cast<float>(dy);
   }
+  static void on_mouse_button(GLFWwindow* window, int, int, int) { input(window); }
+  static void on_char(GLFWwindow* window, unsigned int) { input(window); }
+  static void on_window_size(GLFWwindow* window, int, int) { input(window); }
 
   bool ui_wants_mouse() const { return imgui_ && ImGui::GetIO().WantCaptureMouse; }
   bool ui_wants_keyboard() const { return imgui_ && ImGui::GetIO().WantCaptureKeyboard; }
@@ -440,7 +482,10 @@ class Viewer {
         };
         glm::vec3 move(axis(GLFW_KEY_D, GLFW_KEY_A), axis(GLFW_KEY_E, GLFW_KEY_Q), axis(GLFW_KEY_W, GLFW_KEY_S));
         if (glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS) move *= kFlyFastFactor;
-        if (move != glm::vec3(0.0f)) rig_.fly(move, seconds);
+        if (move != glm::vec3(0.0f)) {
+          rig_.fly(move, seconds);
+          input_frames_left_ = kFramesAfterInput;  // a held key sends no events to wake the loop
+        }
       }
     } else {
       if (left_drag_ != kNone) rig_.rotate(left_drag_.x, left_drag_.y);
@@ -455,7 +500,32 @@ class Viewer {
   }
 
   // ---- Rendering and display.
-  void draw_frame(int width, int height) {
+  // What a rendered frame depends on. When all of it is as it was for the last
+  // rendered frame, the viewer shows that frame again instead of rendering it anew.
+  // The view is not in it: G-buffer views are drawn from the last frame's G-buffer.
+  struct FrameInputs {
+    kit::FrameCamera camera;
+    kit::RenderSettings settings;  // its size is the window's; the size rendered at is below
+    int width = 0, height = 0;
+    long shader_builds = 0;
+  };
+  static bool same_camera(const kit::FrameCamera& a, const kit::FrameCamera& b) {
+    return a.view == b.view && a.projection == b.projection && a.position == b.position && a.znear == b.znear &&
+           a.zfar == b.zfar;
+  }
+  static bool same_frame(const FrameInputs& a, const FrameInputs& b) {
+    return same_camera(a.camera, b.camera) && kit::same_image_settings(a.settings, b.settings) && a.width == b.width &&
+           a.height == b.height && a.shader_builds == b.shader_builds;
+  }
+  // The custom effect may animate with u_time: it is rendered every frame.
+  bool animated() const { return renderer_ && settings_.custom_effect && renderer_->stage().postprocess; }
+
+  enum class Rendered { None, Moving, Full };
+
+  // Renders the stage if what it depends on changed: at the window's size, or at
+  // 1/kMovingResolutionDivisor of it while the camera moves (unless `full_quality`);
+  // then shows the current view.
+  Rendered draw_frame(int width, int height, bool full_quality) {
     // A failed shader build can leave its deleted program current; Dear ImGui
     // would restore it after drawing the panel (GL_INVALID_VALUE).
     glUseProgram(0);
@@ -463,31 +533,51 @@ class Viewer {
     glViewport(0, 0, width, height);
     glClearColor(0.0f, 0.0f, 0.0f, 1.0f);
     glClear(GL_COLOR_BUFFER_BIT);
-    if (!renderer_) return;  // the stage never compiled: the panel shows why
+    if (!renderer_) return Rendered::None;  // the stage never compiled: the panel shows why
+    Rendered rendered = Rendered::None;
     gpu_timer_->begin();
     try {
-      // The renderer keeps its own size (resize reallocates the targets); everything else follows the controls.
-      kit::RenderSettings& s = renderer_->settings();
-      int rendered_width = s.width, rendered_height = s.height;
-      s = settings_;
-      s.width = rendered_width;
-      s.height = rendered_height;
-      renderer_->resize(width, height);
-      renderer_->render(kit::frame_camera(rig_.camera(), static_cast<float>(width) / static_cast<float>(height)));
+      FrameInputs inputs;
+      inputs.camera = kit::frame_camera(rig_.camera(), static_cast<float>(width) / static_cast<float>(height));
+      inputs.settings = settings_;
+      inputs.shader_builds = shader_builds_;
+      const bool moving =
+          !full_quality && last_frame_inputs_ && !same_camera(inputs.camera, last_frame_inputs_->camera);
+      const int divisor = moving ? kMovingResolutionDivisor : 1;
+      inputs.width = std::max(width / divisor, 1);
+      inputs.height = std::max(height / divisor, 1);
+      if (animated() || !last_frame_inputs_ || !same_frame(inputs, *last_frame_inputs_)) {
+        // The renderer keeps its own size (resize reallocates the targets); everything else follows the controls.
+        kit::RenderSettings& s = renderer_->settings();
+        int rendered_width = s.width, rendered_height = s.height;
+        s = settings_;
+        s.width = rendered_width;
+        s.height = rendered_height;
+        last_frame_inputs_.reset();  // a frame that throws is rendered again next time
+        renderer_->resize(inputs.width, inputs.height);
+        renderer_->render(inputs.camera);
+        last_frame_inputs_ = inputs;
+        rendered = moving ? Rendered::Moving : Rendered::Full;
+      }
       show(renderer_->display_texture(view_), width, height);
     } catch (const kit::Error& e) {
       report_error(e.what());
     }
     gpu_timer_->end();
+    return rendered;
   }
 
   // Copies a texture to the window; blitting converts float views to the window's 8 bits.
+  // A frame rendered smaller while moving is scaled up bilinearly; the precomputed maps
+  // are shown texel by texel.
   void show(const kit::Texture2D& texture, int width, int height) {
+    const bool smooth = (texture.width() != width || texture.height() != height) && !kit::is_precomputed_map(view_);
     blit_source_->attach_color(0, texture);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, blit_source_->id());
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, 0);
-    glBlitFramebuffer(0, 0, texture.width(), texture.height(), 0, 0, width, height, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBlitFramebuffer(0, 0, texture.width(), texture.height(), 0, 0, width, height, GL_COLOR_BUFFER_BIT,
+                      smooth ? GL_LINEAR : GL_NEAREST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     kit::check_gl("showing the view");
   }
@@ -573,6 +663,7 @@ class Viewer {
       auto renderer = std::make_unique<kit::Renderer>(*stage_, kit::stage_library(*stage_, shader_root_), scene_, settings_);
       bool retry = !error_.empty();
       renderer_ = std::move(renderer);  // replaces the old stage only once the new one built
+      ++shader_builds_;
       if (retry) set_note("stage " + stage_->name + " built");
       if (!gpu_timer_) gpu_timer_ = std::make_unique<GpuTimer>();
       if (!blit_source_) blit_source_ = std::make_unique<kit::Framebuffer>();
@@ -601,6 +692,7 @@ class Viewer {
     TimedWork timed(*this, "compiling the shaders of stage " + stage_->name);
     try {
       renderer_->reload_shaders();
+      ++shader_builds_;
       error_.clear();
       warnings_due_ = true;
       set_note("shaders reloaded");
@@ -685,6 +777,31 @@ class Viewer {
   void report_error(const std::string& message) {
     if (message != error_) std::fprintf(stderr, "kit-view: %s\n", message.c_str());
     error_ = message;
+  }
+
+  // ---- Frame times: of the frames that rendered, from the end of the event wait to after the swap.
+  void note_frame_time(Rendered rendered, double ms) {
+    frame_ms_ = frame_times_[0].empty() && frame_times_[1].empty() ? ms : frame_ms_ + kFrameTimeSmoothing * (ms - frame_ms_);
+    const int kind = rendered == Rendered::Moving ? 0 : 1;
+    frame_times_[kind].push_back(ms);
+    if (last_frame_inputs_) frame_sizes_[kind] = {last_frame_inputs_->width, last_frame_inputs_->height};
+  }
+
+  // --timings: how many frames rendered, at which size, and their median times.
+  void print_timings(int frames) const {
+    const size_t moving = frame_times_[0].size(), full = frame_times_[1].size();
+    std::printf("kit-view: timings: %d frames, %zu rendered (%zu while moving at %dx%d, %zu still at %dx%d), %zu shown again\n",
+                frames, moving + full, moving, frame_sizes_[0].x, frame_sizes_[0].y, full, frame_sizes_[1].x,
+                frame_sizes_[1].y, static_cast<size_t>(frames) - moving - full);
+    const char* names[] = {"moving", "still"};
+    for (int i = 0; i < 2; ++i) {
+      if (frame_times_[i].empty()) continue;
+      std::vector<double> times = frame_times_[i];
+      std::nth_element(times.begin(), times.begin() + static_cast<long>(times.size() / 2), times.end());
+      const double median = times[times.size() / 2];
+      std::printf("kit-view: timings: %s frames: median %.1f ms (%.1f fps)\n", names[i], median, 1000.0 / median);
+    }
+    std::fflush(stdout);
   }
 
   // ---- Window title and control panel.
@@ -843,7 +960,12 @@ class Viewer {
   std::vector<std::string> warnings_;  // NaN/Inf and uniform warnings of the last check
   bool warnings_due_ = false;          // check at the next frame (shaders were built)
   bool in_frame_ = false;              // the watchdog times the current frame
-  double frame_ms_ = 0.0;
+  std::optional<FrameInputs> last_frame_inputs_;  // of the frame the renderer holds
+  long shader_builds_ = 0;             // renderer builds and reloads: each may change the image
+  int input_frames_left_ = 0;          // frames still to draw after the last input
+  double frame_ms_ = 0.0;              // smoothed time of the frames that rendered
+  std::vector<double> frame_times_[2]; // ms of each rendered frame: [0] while moving, [1] still
+  glm::ivec2 frame_sizes_[2]{};        // the size each kind was last rendered at
   double cursor_x_ = 0.0, cursor_y_ = 0.0;
   float wheel_steps_ = 0.0f;
   glm::vec2 left_drag_{0.0f}, right_drag_{0.0f}, middle_drag_{0.0f};  // pixels since the last frame
@@ -863,6 +985,8 @@ int main(int argc, char** argv) {
     kit::parse_options(argc, argv, options.common, [&](const std::string& flag, const kit::OptionValue& value) -> int {
       if (flag == "--hidden") return options.hidden = true, 1;
       if (flag == "--no-ui") return options.ui = false, 1;
+      if (flag == "--spin") return options.spin = true, 1;
+      if (flag == "--timings") return options.timings = true, 1;
       if (flag == "--frames") return options.frames = parse_frame_count(value()), 2;
       if (flag == "--screenshot") return options.screenshot = value(), 2;
       if (flag == "--window-screenshot") return options.window_screenshot = value(), 2;
