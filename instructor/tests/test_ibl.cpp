@@ -92,11 +92,23 @@ std::unique_ptr<Renderer> ibl_variant(const Scene& s, const RenderSettings& sett
 struct KitAndNaive {
   std::unique_ptr<Renderer> kit, naive;
 };
+// `refuse_non_finite` off lets a variant's NaN reach the maps and the frame (IblSettings).
 KitAndNaive kit_and_naive(const std::string& environment_name, const std::string& variant_name,
-                          const std::vector<LineSwap>& swaps) {
+                          const std::vector<LineSwap>& swaps, bool refuse_non_finite = true) {
   const Scene& s = unlit_sphere();
-  return {ibl_renderer(s, ibl_settings(environment_name)),
-          ibl_variant(s, ibl_settings(environment_name), variant_name, swaps)};
+  RenderSettings naive_settings = ibl_settings(environment_name);
+  naive_settings.ibl.refuse_non_finite = refuse_non_finite;
+  return {ibl_renderer(s, ibl_settings(environment_name)), ibl_variant(s, naive_settings, variant_name, swaps)};
+}
+
+// The BRDF table without its n.v guards (GrazingViewInTheBrdfTable): the n.v = 0 column is 0/0.
+const std::vector<LineSwap>& table_without_n_dot_v_guards() {
+  static const std::vector<LineSwap> swaps = {
+      {"06-ibl/brdf_lut.frag", "float n_dot_v = max(kit_brdf_lut_grid_value(v_uv.x), KIT_MIN_N_DOT_V);",
+       "float n_dot_v = kit_brdf_lut_grid_value(v_uv.x);"},
+      {"06-ibl/brdf_lut.frag", "float weight = g * v_dot_h / max(n_dot_h * n_dot_v, KIT_MIN_DENOMINATOR);",
+       "float weight = g * v_dot_h / (n_dot_h * n_dot_v);"}};
+  return swaps;
 }
 
 // Level `level` of the prefiltered map out of View::Prefiltered's stack.
@@ -322,12 +334,7 @@ TEST(IblStability, RoughnessZeroInThePrefilter) {
 
 // n.v = 0 in the BRDF table: G = 0 and the estimator divides by n.v, 0/0 in the first column.
 TEST(IblStability, GrazingViewInTheBrdfTable) {
-  const std::vector<LineSwap> no_floor = {
-      {"06-ibl/brdf_lut.frag", "float n_dot_v = max(kit_brdf_lut_grid_value(v_uv.x), KIT_MIN_N_DOT_V);",
-       "float n_dot_v = kit_brdf_lut_grid_value(v_uv.x);"},
-      {"06-ibl/brdf_lut.frag", "float weight = g * v_dot_h / max(n_dot_h * n_dot_v, KIT_MIN_DENOMINATOR);",
-       "float weight = g * v_dot_h / (n_dot_h * n_dot_v);"}};
-  auto [kit, naive] = kit_and_naive("studio", "ibl_grazing_table", no_floor);
+  auto [kit, naive] = kit_and_naive("studio", "ibl_grazing_table", table_without_n_dot_v_guards(), false);
   const size_t kit_broken = count_non_finite(kit->read_view(View::BrdfLut, true));
   const size_t naive_broken = count_non_finite(naive->read_view(View::BrdfLut, true));
   std::printf("[ ibl ] n.v = 0: %zu non-finite table texels with the floor, %zu without\n", kit_broken, naive_broken);
@@ -345,6 +352,58 @@ TEST(IblStability, ZeroLengthDirection) {
   const dvec2 uv = ref::equirect_uv(zero);
   EXPECT_TRUE(std::isfinite(uv.x) && std::isfinite(uv.y));
   EXPECT_TRUE(finite(ref::environment_radiance(environment("sun"), zero)));
+}
+
+// A NaN in a map hides in the frame: on llvmpipe ibl.frag's min(NaN, KIT_HDR_MAX) is
+// KIT_HDR_MAX, so no view kit-render and the grader count (the HDR target among them)
+// holds a non-finite pixel; the bloom spreads each such pixel into a white disc. The kit
+// reads the maps back after the precompute and stops, naming the shader, map and texel.
+TEST(IblStability, NanInAMapIsNamedNotHidden) {
+  // Witness: the table without its n.v guards (0/0 in its first column), the check off,
+  // at 320x240 (the handout's image), where the outline's n.v is below the table's first
+  // step, 1/63, so lookups there blend that column in.
+  RenderSettings settings = ibl_settings("sun");
+  settings.width = 320;
+  settings.height = 240;
+  const auto kit = ibl_renderer(unlit_sphere(), settings);
+  settings.ibl.refuse_non_finite = false;
+  const auto naive = ibl_variant(unlit_sphere(), settings, "ibl_nan_unchecked", table_without_n_dot_v_guards());
+  const size_t table_broken = count_non_finite(naive->read_view(View::BrdfLut, true));
+  size_t frame_broken = 0;
+  for (const NonFiniteCount& n : naive->non_finite_pixels()) frame_broken += n.pixels;
+  // Where the NaN went: HDR pixels at KIT_HDR_MAX (65504), against the solution's.
+  auto at_hdr_max = [](Renderer& r) {
+    const Image hdr = r.read_view(View::Hdr, true);
+    size_t count = 0;
+    for (int y = 0; y < hdr.height; ++y)
+      for (int x = 0; x < hdr.width; ++x) count += max3(rgb(hdr, x, y)) >= 65504.0 ? 1 : 0;
+    return count;
+  };
+  const size_t naive_white = at_hdr_max(*naive), kit_white = at_hdr_max(*kit);
+  std::printf("[ ibl ] NaN in the BRDF table: %zu non-finite texels in the table, %zu non-finite pixels in the frame's "
+              "views, %zu HDR pixels at KIT_HDR_MAX (%zu with the solution's table)\n",
+              table_broken, frame_broken, naive_white, kit_white);
+  ASSERT_GE(table_broken, size_t(KIT_BRDF_LUT_SIZE / 2)) << "witness: the n.v = 0 column is 0/0";
+  EXPECT_EQ(frame_broken, 0u) << "witness: the frame does not show the NaN as NaN";
+  EXPECT_GT(naive_white, kit_white) << "witness: min(NaN, KIT_HDR_MAX) gave KIT_HDR_MAX";
+
+  // The kit's check refuses the same shaders, naming the file, the map and the first texel.
+  std::string message;
+  try {
+    ibl_variant(unlit_sphere(), ibl_settings("sun"), "ibl_nan_checked", table_without_n_dot_v_guards());
+  } catch (const NonFiniteMapError& e) {
+    message = e.what();
+  }
+  std::printf("[ ibl ] the check says: %s\n", message.c_str());
+  EXPECT_NE(message.find("ibl_nan_checked/06-ibl/brdf_lut.frag wrote NaN into the BRDF table, texel (0, "),
+            std::string::npos)
+      << message;
+
+  // What the read-back costs, on the solution's maps (32x16, 256x128 and 5 more levels, 64x64).
+  const ImageBasedLighting& maps = *kit->image_based_lighting();
+  std::printf("[ ibl ] reading the maps back for the check: %.1f ms (the precompute: %.1f ms)\n",
+              maps.finite_check_seconds() * 1e3, maps.precompute_seconds() * 1e3);
+  EXPECT_GT(maps.finite_check_seconds(), 0.0);
 }
 
 }  // namespace
