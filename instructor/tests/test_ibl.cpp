@@ -450,14 +450,13 @@ double columns_error(const Image& map, const Image& env, int level, int x) {
   return worst;
 }
 
-// The precompute. The rough levels of the prefiltered map read the environment's coarse
-// levels (a sample's footprint), where a texel spans many degrees. Wrapping in u (GL_REPEAT,
-// set_equirect_sampling) a lookup near u = 0/1 blends the two sides of the meridian, as
-// a lookup anywhere else blends its neighbours. Naive: the texture's default
-// GL_CLAMP_TO_EDGE, which reads one side only: each side of phi = +-pi keeps its own
-// colour. A sampler object on the environment's unit stands for
-// the naive wrap mode (GL's sampler objects override a texture's own settings), the
-// shaders being the solutions' in both.
+// The precompute. The rough levels of the prefiltered map read the environment's
+// coarse levels (a sample's footprint), where a texel spans many degrees. Wrapping in u
+// (GL_REPEAT, set_equirect_sampling) a lookup near u = 0/1 blends the two sides of the
+// meridian, as a lookup anywhere else blends its neighbours. Naive: GL_CLAMP_TO_EDGE
+// (Texture2D's default), which reads one side only. A sampler object on the
+// environment's unit stands for the naive wrap mode (GL's sampler objects override a
+// texture's own settings); the shaders are the solutions' in both.
 TEST(IblStability, WrapSeamInThePrefilteredMap) {
   const std::string& env_path = two_halves_environment();
   const Image& env = environment(env_path);
@@ -489,8 +488,9 @@ TEST(IblStability, WrapSeamInThePrefilteredMap) {
     worst_ratio_of_errors = std::max(worst_ratio_of_errors, naive_seam_error / kit_seam_error);
   }
   // Clamped, the texels beside the wrap are several times further off (measured 2.6 to
-  // 6.6 times, levels 2 to 5: 2 to 5 %). The steps still look alike: the lobes are wider than the few
-  // degrees a clamped lookup gets wrong, so the error is spread, not a step of its own.
+  // 6.6 times over levels 2 to 5: 2 to 5 %). The steps still look alike: the lobes are
+  // wider than the few degrees a clamped lookup gets wrong, so the error is spread out,
+  // not a step of its own (the lookups' seam is WrapSeamInTheLookups').
   EXPECT_GT(worst_ratio_of_errors, 3.0) << "witness: clamped at u = 0/1, the maps are off beside phi = +-pi";
 }
 
