@@ -198,8 +198,10 @@ std::string Program::declaration_site(const std::string& uniform) const {
       return source.files[static_cast<size_t>(at.file)] + ":" + std::to_string(at.line);
     }
   }
-  return sources_.empty() ? std::string("?") : sources_.back().files.front();
+  return main_file();
 }
+
+std::string Program::main_file() const { return sources_.empty() ? std::string("?") : sources_.back().files.front(); }
 
 Program::UniformProblems Program::uniform_problems() const {
   UniformProblems problems;

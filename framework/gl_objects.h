@@ -65,6 +65,9 @@ class Program {
   bool valid() const { return program_.get() != 0; }
   // Real paths of every file this program was assembled from (for hot reload).
   const std::vector<std::filesystem::path>& source_paths() const { return source_paths_; }
+  // How messages name the program's last top-level file: its fragment shader's (a
+  // compute program's shader), e.g. "labs/06-ibl/prefilter.frag"; "?" when empty.
+  std::string main_file() const;
 
   GLint location(const std::string& name) const;
   bool has(const std::string& name) const { return location(name) >= 0; }

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <optional>
 
 #include "error.h"
 #include "pass_clock.h"
@@ -45,12 +47,32 @@ Texture2D equirect_texture(const Image& image, bool mipmapped) {
   set_equirect_sampling(texture, mipmapped);
   return texture;
 }
+
+// Throws NonFiniteMapError when level `level` of `map` holds NaN or Inf, naming the
+// shader that wrote it and the first such texel as the shader saw it: (x, y) from the
+// bottom left (gl_FragCoord.xy - 0.5) and its v_uv. `one_level`: the map has no other level to name.
+void refuse_non_finite(const Texture2D& map, int level, const std::string& map_name, const Program& writer,
+                       bool one_level) {
+  const Image image = read_texture_level(map, level);
+  const std::optional<NonFinitePixel> first = first_non_finite(image);
+  if (!first) return;
+  const int x = first->x, y = image.height - 1 - first->y;  // GL's rows start at the bottom
+  char where[160];
+  std::snprintf(where, sizeof where, "texel (%d, %d) (v_uv = (%.4f, %.4f); %zu of its %d texels are NaN or Inf)", x, y,
+                (x + 0.5) / image.width, (y + 0.5) / image.height, count_non_finite(image), image.width * image.height);
+  const std::string value = std::isnan(first->value) ? "NaN" : first->value > 0.0f ? "+Inf" : "-Inf";
+  throw NonFiniteMapError(writer.main_file() + " wrote " + value + " into the " + map_name +
+                          (one_level ? std::string(", ") : ", level " + std::to_string(level) + ", ") + where +
+                          ". The frame would hide it (on llvmpipe ibl.frag's min(NaN, KIT_HDR_MAX) is KIT_HDR_MAX, "
+                          "a white pixel): look for a division by zero, normalize() of a zero vector, or sqrt() or "
+                          "log2() of a negative number");
+}
 }  // namespace
 
 bool operator==(const IblSettings& a, const IblSettings& b) {
   return a.prefilter_samples == b.prefilter_samples && a.prefilter_size == b.prefilter_size &&
          a.brdf_lut_samples == b.brdf_lut_samples && a.irradiance_size == b.irradiance_size &&
-         a.irradiance_source_width == b.irradiance_source_width;
+         a.irradiance_source_width == b.irradiance_source_width && a.refuse_non_finite == b.refuse_non_finite;
 }
 
 const std::vector<std::string>& kit_environment_names() {
@@ -162,6 +184,16 @@ void ImageBasedLighting::precompute(const Program& irradiance, const Program& pr
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   glFinish();
   precompute_seconds_ = seconds_since(start);
+
+  // The maps are small (32x16, 256x128 and its levels, 64x64): reading them back costs
+  // a few milliseconds (test_ibl measures it), far less than a NaN found in the frame.
+  if (!settings.refuse_non_finite) return;
+  const auto check_start = std::chrono::steady_clock::now();
+  refuse_non_finite(irradiance_, 0, "irradiance map", irradiance, true);
+  for (int level = 0; level < KIT_PREFILTER_LEVELS; ++level)
+    refuse_non_finite(prefiltered_, level, "prefiltered map", prefilter, false);
+  refuse_non_finite(brdf_lut_, 0, "BRDF table", brdf_lut, true);
+  finite_check_seconds_ = seconds_since(check_start);
 }
 
 void ImageBasedLighting::bind() const {

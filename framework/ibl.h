@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "error.h"
 #include "gl_objects.h"
 #include "image_io.h"
 
@@ -51,8 +52,20 @@ struct IblSettings {
   // texels of 2.8 degrees: a small sun moves by up to half of one (64 gave 14 % error
   // under the kit's sun where n.l is small, 128 gives 7 %; test_ibl measures it).
   int irradiance_source_width = 128;
+  // Every map is read back after the precompute and a NaN or infinite texel refused
+  // (NonFiniteMapError). In the frame it would hide: on llvmpipe ibl.frag's
+  // min(NaN, KIT_HDR_MAX) is KIT_HDR_MAX, a finite white pixel the NaN/Inf count never
+  // sees. Off (--check-maps off) only to show what such a map does to the image.
+  bool refuse_non_finite = true;
 };
 bool operator==(const IblSettings& a, const IblSettings& b);
+
+// A precompute shader wrote NaN or an infinity into a map: the message names the
+// shader's file, the map, the level and the texel. The shader is wrong, not the
+// renderer: the grader reports it as the lab's own mistake.
+struct NonFiniteMapError : Error {
+  using Error::Error;
+};
 
 // The environment on the GPU and the maps precomputed from it.
 class ImageBasedLighting {
@@ -61,12 +74,15 @@ class ImageBasedLighting {
   explicit ImageBasedLighting(const Image& environment);
 
   // Runs the lab's three precompute shaders into the maps (each program built from
-  // fullscreen.vert with the sampler units set). Throws kit::Error on a GL error.
+  // fullscreen.vert with the sampler units set). Throws kit::Error on a GL error, and
+  // NonFiniteMapError when a map holds NaN or Inf (IblSettings::refuse_non_finite).
   void precompute(const Program& irradiance, const Program& prefilter, const Program& brdf_lut,
                   const FullscreenTriangle& triangle, const IblSettings& settings);
-  // Seconds the last precompute took (after glFinish), and of them the irradiance map's.
+  // Seconds the last precompute took (after glFinish), and of them the irradiance map's;
+  // apart from them, reading the maps back for IblSettings::refuse_non_finite.
   double precompute_seconds() const { return precompute_seconds_; }
   double irradiance_seconds() const { return irradiance_seconds_; }
+  double finite_check_seconds() const { return finite_check_seconds_; }
   // Replaces the irradiance map with one made elsewhere (RGB or RGBA floats, rows
   // top-down, equirectangular like the environment, any size): kit-bench compares
   // irradiance.frag with other ways of making it. The next precompute replaces it again.
@@ -81,7 +97,7 @@ class ImageBasedLighting {
 
  private:
   Texture2D environment_, irradiance_, prefiltered_, brdf_lut_;
-  double precompute_seconds_ = 0.0, irradiance_seconds_ = 0.0;
+  double precompute_seconds_ = 0.0, irradiance_seconds_ = 0.0, finite_check_seconds_ = 0.0;
 };
 
 // The prefiltered map's levels read back, stacked top to bottom (level 0 first) in one

@@ -93,4 +93,13 @@ size_t count_non_finite(const Image& image) {
   return count;
 }
 
+std::optional<NonFinitePixel> first_non_finite(const Image& image) {
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    if (!std::isfinite(image.pixels[i])) {
+      const size_t pixel = i / static_cast<size_t>(image.channels), width = static_cast<size_t>(image.width);
+      return NonFinitePixel{static_cast<int>(pixel % width), static_cast<int>(pixel / width), image.pixels[i]};
+    }
+  return std::nullopt;
+}
+
 }  // namespace kit

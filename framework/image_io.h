@@ -1,6 +1,7 @@
 #pragma once
 // Float images in memory, their PNG/EXR files (through OpenImageIO), and
 // read-back of GL textures. Rows are stored top-down, as image files are.
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -30,5 +31,11 @@ Image read_texture_level(const Texture2D& texture, int level, bool depth = false
 
 // Counts pixels with a NaN or Inf in any channel.
 size_t count_non_finite(const Image& image);
+// The first pixel (rows top-down) with a NaN or Inf in a channel, and that value; none when all are finite.
+struct NonFinitePixel {
+  int x = 0, y = 0;
+  float value = 0.0f;
+};
+std::optional<NonFinitePixel> first_non_finite(const Image& image);
 
 }  // namespace kit

@@ -349,7 +349,8 @@ void Renderer::build_programs() {
 std::string Renderer::ibl_cache_key() const {
   std::string key = environment_or_default(settings_.environment);
   const IblSettings& s = settings_.ibl;
-  for (int v : {s.prefilter_samples, s.prefilter_size, s.brdf_lut_samples, s.irradiance_size, s.irradiance_source_width})
+  for (int v : {s.prefilter_samples, s.prefilter_size, s.brdf_lut_samples, s.irradiance_size, s.irradiance_source_width,
+                static_cast<int>(s.refuse_non_finite)})
     key += '\n' + std::to_string(v);
   for (const char* shader : {"fullscreen.vert", "irradiance.frag", "prefilter.frag", "brdf_lut.frag"})
     key += '\n' + library_.assemble(shader).text;

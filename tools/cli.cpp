@@ -35,6 +35,8 @@ const char* common_options_help() {
          "  --environment NAME|FILE\n"
          "                        stage 6's environment: studio (default) or sun, the kit's own, or an\n"
          "                        equirectangular .hdr/.exr file\n"
+         "  --check-maps on|off   stage 6: read the precomputed maps back and stop, naming the shader, map\n"
+         "                        and texel, at a NaN or Inf (default on; off shows what it does to the image)\n"
          "  --light-markers       a small sphere of each point and spot light's colour where the light is\n"
          "                        (lit stages; drawn forward, hidden by what is in front; kit-view's M key)\n"
          "  --look-at EX,EY,EZ,TX,TY,TZ[,FOV]\n"
@@ -125,6 +127,7 @@ void parse_options(int argc, char** argv, CommonOptions& o,
     else if (flag == "--no-default-lights") s.default_light_rig = false;
     else if (flag == "--light-markers") s.light_markers = true;
     else if (flag == "--environment") s.environment = value();
+    else if (flag == "--check-maps") s.ibl.refuse_non_finite = parse_on_off(value(), flag);
     else if (flag == "--look-at") o.look_at = parse_look_at(value(), flag);
     else {
       int used = extra ? extra(flag, next_value) : 0;

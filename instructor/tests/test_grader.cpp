@@ -283,6 +283,23 @@ TEST(Grader, UnmatchedVaryingNamesAreALinkError) {
   EXPECT_EQ(r.summary["labs"].size(), 1u) << "only the lab asked for";
 }
 
+// A lab 6 shader that writes NaN into a precomputed map (the BRDF table without its n.v
+// guards: 0/0 in its first column). The frame would hide it (ibl.h, IblSettings::
+// refuse_non_finite), so the lab is not graded, with a status of its own and a message
+// naming the file, the map and the texel.
+TEST(Grader, NanInAPrecomputedMapIsNamed) {
+  fs::path sub = kit::test::temp_dir("grader-nan-map");
+  copy_lab("solutions", 6, sub);
+  edit(sub / "06-ibl/brdf_lut.frag", "float n_dot_v = max(kit_brdf_lut_grid_value(v_uv.x), KIT_MIN_N_DOT_V);",
+       "float n_dot_v = kit_brdf_lut_grid_value(v_uv.x);");
+  edit(sub / "06-ibl/brdf_lut.frag", "float weight = g * v_dot_h / max(n_dot_h * n_dot_v, KIT_MIN_DENOMINATOR);",
+       "float weight = g * v_dot_h / (n_dot_h * n_dot_v);");
+  GradeRun r = grade(sub, "nan-map", "--labs 6");
+  expect_ran(r);
+  expect_zero(r, 6, "non_finite_map", "labs/06-ibl/brdf_lut.frag wrote NaN into the BRDF table, texel (0, ");
+  EXPECT_NE(read_file(r.out / "report.html").find("NaN or Inf in a precomputed map"), std::string::npos);
+}
+
 // Run B: a shader that writes nothing, an #include outside the allowed folders,
 // binary garbage and a wrong #version, with the solution in lab 4.
 TEST(Grader, BrokenLabsScoreZeroAndTheOthersFullMarksB) {

@@ -185,6 +185,10 @@ bool classify_child(const Outcome& o, const fs::path& dir, LabOutcome& lab) {
       lab.status = kGraderError;
       lab.message = "the grader could not render: " + trimmed(read_text(dir / "error.txt"));
       return false;
+    case kChildMapError:
+      lab.status = kNonFiniteMap;
+      lab.message = trimmed(read_text(dir / "error.txt"));
+      return false;
     case kChildRenderError:
       lab.status = kCrash;
       lab.message = "the frame could not be rendered: " + trimmed(read_text(dir / "error.txt"));

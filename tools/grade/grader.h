@@ -32,6 +32,7 @@ constexpr const char* kGraded = "graded";
 constexpr const char* kCompileError = "compile_error";
 constexpr const char* kTimeout = "timeout";
 constexpr const char* kCrash = "crash";
+constexpr const char* kNonFiniteMap = "non_finite_map";  // a lab 6 shader wrote NaN or Inf into a precomputed map
 constexpr const char* kMissingFiles = "missing_files";
 constexpr const char* kInvalidFiles = "invalid_files";
 constexpr const char* kGraderError = "error";  // the grader could not render (no context): exit status 2

@@ -108,6 +108,9 @@ int render_lab(const RenderJob& job) {
         ShaderLibrary library = spec->isolate_custom ? isolated_custom_library(stage, job.lab_root)
                                                      : stage_library(stage, job.lab_root);
         renderer = std::make_unique<Renderer>(stage, std::move(library), scene, settings, &ibl_cache);
+      } catch (const NonFiniteMapError& e) {
+        write_text(error_file, e.what());
+        return kChildMapError;
       } catch (const Error& e) {
         write_text(error_file, e.what());
         return kChildShaderError;
@@ -132,6 +135,9 @@ int render_lab(const RenderJob& job) {
       if (stage.lighting && spec->view != View::Hdr && !is_precomputed_map(spec->view))
         report["hdr_non_finite"][spec->id] = renderer->count_non_finite(View::Hdr);
       readback += seconds_since(t);
+    } catch (const NonFiniteMapError& e) {  // the maps of another environment, made for this render
+      write_text(error_file, e.what());
+      return kChildMapError;
     } catch (const Error& e) {
       write_text(error_file, std::string("while rendering ") + spec->scene + ": " + e.what());
       return kChildRenderError;

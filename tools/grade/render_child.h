@@ -22,6 +22,7 @@ constexpr int kChildOk = 0;
 constexpr int kChildShaderError = 2;       // a shader did not assemble, compile or link
 constexpr int kChildEnvironmentError = 3;  // no GL context or scene: the grader's problem
 constexpr int kChildRenderError = 4;       // a GL error while drawing
+constexpr int kChildMapError = 5;          // a lab 6 precompute shader wrote NaN or Inf into a map (ibl.h)
 
 struct RenderJob {
   int lab = 0;

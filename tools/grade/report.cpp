@@ -24,6 +24,7 @@ const char* status_words(const std::string& status) {
   if (status == kCompileError) return "compile error";
   if (status == kTimeout) return "timed out";
   if (status == kCrash) return "renderer crashed";
+  if (status == kNonFiniteMap) return "NaN or Inf in a precomputed map";
   if (status == kMissingFiles) return "files missing";
   if (status == kInvalidFiles) return "files refused";
   if (status == kGraderError) return "grader error";
