@@ -165,7 +165,9 @@ Camera chosen_camera(const Scene& scene, int index);
 // use (colour data as sRGB, normal and metallic-roughness data as linear).
 class SceneGpu {
  public:
-  explicit SceneGpu(const Scene& scene);
+  // `compress_large_textures`: textures of at least kLargeTextureTexels are uploaded as
+  // S3TC blocks (texture_prepare.h) where the context has them; smaller ones never are.
+  explicit SceneGpu(const Scene& scene, bool compress_large_textures = true);
   const Mesh& mesh(int primitive) const { return meshes_[static_cast<size_t>(primitive)]; }
   // Binds the material's textures to the KIT_UNIT_* material units (defaults when absent).
   const Texture2D& texture(int image, bool srgb) const;
