@@ -1183,6 +1183,18 @@ void set_bounds_from_vertices(Primitive& primitive) {
   }
 }
 
+void release_uploaded_data(Scene& scene) {
+  for (Primitive& p : scene.primitives) {
+    std::vector<Vertex>().swap(p.vertices);
+    std::vector<uint32_t>().swap(p.indices);
+  }
+  for (SceneImage& image : scene.images) {
+    std::vector<unsigned char>().swap(image.encoded);
+    image.decoded = ImageRgba8{};
+  }
+  malloc_trim(0);  // the freed blocks lie among others in the heap: give their pages back
+}
+
 void set_bounds_from_draws(Scene& scene) {
   bool first = true;
   for (const DrawItem& d : scene.draws) {

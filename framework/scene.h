@@ -149,6 +149,11 @@ void use_flat_normals(Primitive& primitive);
 
 // Primitive::bounds_min/max from its vertices' positions (every loader's primitives).
 void set_bounds_from_vertices(Primitive& primitive);
+// Frees what SceneGpu copies to GL and nothing reads afterwards: the primitives' vertices
+// and indices (bounds and materials stay) and the images' bytes, and hands the memory
+// back to the system. For a program that has built its one SceneGpu from `scene`
+// (kit-render): a SceneGpu made from it afterwards would be empty.
+void release_uploaded_data(Scene& scene);
 // Scene::bounds_min/max over every draw: the 8 corners of its primitive's bounds,
 // transformed by the draw's world matrix.
 void set_bounds_from_draws(Scene& scene);

@@ -87,6 +87,7 @@ int main(int argc, char** argv) {
     kit::Watchdog watchdog("kit-render", options.timeout);
     watchdog.arm("compiling the shaders of stage " + stage.name);
     kit::Renderer renderer(stage, kit::stage_library(stage, lab.root), scene, options.settings);
+    kit::release_uploaded_data(scene);
     kit::note_default_light_rig("kit-render", scene, stage, options.settings);
     auto t_compile = kit::seconds_since(t0);
     watchdog.relabel("rendering stage " + stage.name);
