@@ -1245,6 +1245,11 @@ constexpr size_t kMaxImagesDecodedAhead = 4;
 // normals) linear. An image no material uses is never decoded.
 struct ImageUse {
   bool srgb = false, linear = false;
+  // Read as a normal map: never compressed. BC1's 5:6:5 end points turn normals by
+  // 1.5 degrees on average (8 at most) at level 0 and 5.7 (21) in minified views
+  // (test_gbuffer's gbuffer_textures); BC5, made for normals, stores no z, and lab 4
+  // reads the texture's xyz.
+  bool normal_map = false;
 };
 std::vector<ImageUse> image_uses(const Scene& scene) {
   std::vector<ImageUse> uses(scene.images.size());
@@ -1257,6 +1262,8 @@ std::vector<ImageUse> image_uses(const Scene& scene) {
     use(m.emissive_image, true);
     use(m.metallic_roughness_image, false);
     use(m.normal_image, false);
+    if (m.normal_image >= 0 && static_cast<size_t>(m.normal_image) < uses.size())
+      uses[static_cast<size_t>(m.normal_image)].normal_map = true;
   }
   return uses;
 }
@@ -1297,13 +1304,13 @@ struct DecodedImage {
 };
 
 // Decodes an image and, when it is large, makes its mip chains (compressed when
-// `compress`): the work of a decode thread, so the GL thread only copies bytes.
+// `compress`, normal maps excepted): the work of a decode thread, so the GL thread only copies bytes.
 DecodedImage decode_image(const SceneImage& image, const ImageUse& use, bool compress) {
   DecodedImage decoded;
   decoded.pixels = decode_scene_image(image);
   if (!is_large_texture(decoded.pixels.width, decoded.pixels.height)) return decoded;
   if (use.srgb && use.linear) decoded.srgb = prepare_texture(decoded.pixels, true, compress);
-  if (use.linear) decoded.linear = prepare_texture(std::move(decoded.pixels), false, compress);
+  if (use.linear) decoded.linear = prepare_texture(std::move(decoded.pixels), false, compress && !use.normal_map);
   else decoded.srgb = prepare_texture(std::move(decoded.pixels), true, compress);
   decoded.pixels = ImageRgba8{};
   return decoded;
