@@ -207,7 +207,7 @@ std::vector<FloorPixel> visible_floor(const kit::Scene& scene, const CpuCamera& 
   return out;
 }
 
-double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+using kit::srgb_to_linear;  // texture_prepare.h
 
 json scene_json(const kit::Scene& scene) { return json::parse(kit::test::read_file(scene.path)); }
 
