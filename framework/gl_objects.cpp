@@ -254,6 +254,27 @@ Texture2D::Texture2D(int width, int height, TextureFormat fmt, const void* data,
   set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
 }
 
+Texture2D::Texture2D(TextureFormat fmt, bool compressed, const std::vector<TextureLevelData>& levels)
+    : width_(levels.at(0).width), height_(levels.at(0).height), format_(fmt) {
+  GLuint id = 0;
+  glGenTextures(1, &id);
+  texture_ = GlName<delete_texture>(id);
+  glBindTexture(GL_TEXTURE_2D, id);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  for (size_t level = 0; level < levels.size(); ++level) {
+    const TextureLevelData& l = levels[level];
+    if (compressed)
+      glCompressedTexImage2D(GL_TEXTURE_2D, static_cast<GLint>(level), fmt.internal_format, l.width, l.height, 0,
+                             static_cast<GLsizei>(l.bytes), l.data);
+    else
+      glTexImage2D(GL_TEXTURE_2D, static_cast<GLint>(level), static_cast<GLint>(fmt.internal_format), l.width, l.height,
+                   0, fmt.format, fmt.type, l.data);
+  }
+  set_max_level(static_cast<int>(levels.size()) - 1);
+  set_filter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
+  set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+}
+
 void Texture2D::bind(int unit) const {
   glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
   glBindTexture(GL_TEXTURE_2D, texture_.get());

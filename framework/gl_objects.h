@@ -111,11 +111,24 @@ struct TextureFormat {
   GLenum type;
 };
 
+// One mip level's texels as glTexImage2D, or glCompressedTexImage2D for a compressed
+// format, reads them.
+struct TextureLevelData {
+  int width = 0, height = 0;
+  const void* data = nullptr;
+  size_t bytes = 0;  // what glCompressedTexImage2D needs to be told
+};
+
 class Texture2D {
  public:
   Texture2D() = default;
   // Allocates storage (data may be null). Filtering defaults to nearest, clamp to edge.
+  // `mipmaps`: the chain is made by glGenerateMipmap and sampled trilinearly.
   Texture2D(int width, int height, TextureFormat fmt, const void* data = nullptr, bool mipmaps = false);
+  // A texture whose mip levels are all given (level 0 first, down to 1x1), sampled
+  // trilinearly, clamp to edge. `compressed`: fmt.internal_format is a block format
+  // (S3TC) and each level's bytes are its blocks; fmt.format and fmt.type are unused.
+  Texture2D(TextureFormat fmt, bool compressed, const std::vector<TextureLevelData>& levels);
   GLuint id() const { return texture_.get(); }
   int width() const { return width_; }
   int height() const { return height_; }

@@ -280,9 +280,9 @@ void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu
 }
 
 namespace {
-SceneGpu timed_scene_upload(const Scene& scene, double& seconds) {
+SceneGpu timed_scene_upload(const Scene& scene, bool compress_large_textures, double& seconds) {
   const auto start = std::chrono::steady_clock::now();
-  SceneGpu gpu(scene);
+  SceneGpu gpu(scene, compress_large_textures);
   glFinish();  // the upload's GL work is done, not only queued
   seconds = seconds_since(start);
   return gpu;
@@ -304,7 +304,7 @@ Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene
       library_(std::move(library)),
       scene_(scene),
       settings_(settings),
-      scene_gpu_(timed_scene_upload(scene, scene_upload_seconds_)),
+      scene_gpu_(timed_scene_upload(scene, settings.compress_large_textures, scene_upload_seconds_)),
       gbuffer_(settings.width, settings.height),
       ibl_cache_(ibl_cache) {
   blend_draws_ = has_blend_draws(scene_);

@@ -31,6 +31,9 @@ struct RenderSettings {
   glm::vec3 clear_color{0.02f, 0.02f, 0.025f};  // u_clear_color, linear HDR
   int extra_lights = 0;             // small point lights added around the scene (viewer slider, bench)
   bool frustum_culling = false;     // skip draws wholly outside the view (mesh_optimize.h); off by default
+  // Textures of at least kLargeTextureTexels (texture_prepare.h) uploaded as S3TC blocks
+  // (--compress-textures); smaller ones, every kit scene's, never are.
+  bool compress_large_textures = true;
   // A scene without lights gets default_light_rig's lights. The tools turn this on
   // (cli.h; --no-default-lights turns it off); the grader and the tests render
   // scenes as they are.

@@ -149,6 +149,11 @@ void use_flat_normals(Primitive& primitive);
 
 // Primitive::bounds_min/max from its vertices' positions (every loader's primitives).
 void set_bounds_from_vertices(Primitive& primitive);
+// Frees what SceneGpu copies to GL and nothing reads afterwards: the primitives' vertices
+// and indices (bounds and materials stay) and the images' bytes, and hands the memory
+// back to the system. For a program that has built its one SceneGpu from `scene`
+// (kit-render): a SceneGpu made from it afterwards would be empty.
+void release_uploaded_data(Scene& scene);
 // Scene::bounds_min/max over every draw: the 8 corners of its primitive's bounds,
 // transformed by the draw's world matrix.
 void set_bounds_from_draws(Scene& scene);
@@ -165,7 +170,9 @@ Camera chosen_camera(const Scene& scene, int index);
 // use (colour data as sRGB, normal and metallic-roughness data as linear).
 class SceneGpu {
  public:
-  explicit SceneGpu(const Scene& scene);
+  // `compress_large_textures`: textures of at least kLargeTextureTexels are uploaded as
+  // S3TC blocks (texture_prepare.h) where the context has them; smaller ones never are.
+  explicit SceneGpu(const Scene& scene, bool compress_large_textures = true);
   const Mesh& mesh(int primitive) const { return meshes_[static_cast<size_t>(primitive)]; }
   // Binds the material's textures to the KIT_UNIT_* material units (defaults when absent).
   const Texture2D& texture(int image, bool srgb) const;

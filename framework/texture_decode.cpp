@@ -3,7 +3,9 @@
 #include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <memory>
+#include <vector>
 
 #include "error.h"
 
@@ -50,19 +52,33 @@ ImageRgba8 decode_texture_image(const unsigned char* bytes, size_t size, const s
   const OIIO::ImageSpec& spec = in->spec();
   const size_t pixels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
   const int n = spec.nchannels;
-  std::vector<unsigned char> src(pixels * static_cast<size_t>(n));
-  if (!in->read_image(0, 0, 0, n, OIIO::TypeDesc::UINT8, src.data())) throw Error(what + ": " + in->geterror());
   ImageRgba8 out;
   out.width = spec.width;
   out.height = spec.height;
   out.pixels.resize(pixels * 4);
-  for (size_t p = 0; p < pixels; ++p) {
-    const unsigned char* s = &src[p * static_cast<size_t>(n)];
-    unsigned char* d = &out.pixels[p * 4];
-    d[0] = s[0];
-    d[1] = n >= 3 ? s[1] : s[0];
-    d[2] = n >= 3 ? s[2] : s[0];
-    d[3] = n == 4 ? s[3] : n == 2 ? s[1] : 255;
+  // Read a strip of rows at a time, in the file's own layout, into a small buffer, and
+  // spread each strip into RGBA. Asked for its native format (TypeUnknown: 8-bit files),
+  // OIIO reads straight into the buffer; asked for a conversion (16-bit PNG to 8 bits)
+  // it allocates a buffer of up to 64 MiB for every call, so such a file is read whole.
+  const bool native_8_bit = spec.format == OIIO::TypeDesc::UINT8;
+  const OIIO::TypeDesc read_as = native_8_bit ? OIIO::TypeDesc(OIIO::TypeDesc::UNKNOWN) : OIIO::TypeDesc::UINT8;
+  constexpr int kStripRows = 64;
+  const int strip_rows = native_8_bit ? std::min(kStripRows, spec.height) : spec.height;
+  const size_t row_bytes = static_cast<size_t>(spec.width) * static_cast<size_t>(n);
+  std::vector<unsigned char> strip(row_bytes * static_cast<size_t>(strip_rows));
+  for (int first = 0; first < spec.height; first += strip_rows) {
+    const int rows = std::min(strip_rows, spec.height - first);
+    if (!in->read_scanlines(0, 0, spec.y + first, spec.y + first + rows, 0, 0, n, read_as, strip.data()))
+      throw Error(what + ": " + in->geterror());
+    const size_t strip_pixels = static_cast<size_t>(rows) * static_cast<size_t>(spec.width);
+    unsigned char* d = &out.pixels[static_cast<size_t>(first) * static_cast<size_t>(spec.width) * 4];
+    for (size_t p = 0; p < strip_pixels; ++p, d += 4) {
+      const unsigned char* s = &strip[p * static_cast<size_t>(n)];
+      d[0] = s[0];
+      d[1] = n >= 3 ? s[1] : s[0];
+      d[2] = n >= 3 ? s[2] : s[0];
+      d[3] = n == 4 ? s[3] : n == 2 ? s[1] : 255;
+    }
   }
   return out;
 }

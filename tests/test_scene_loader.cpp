@@ -1294,6 +1294,50 @@ TEST(scene_loader_textures, EachImageIsUploadedInTheFormatItsSlotsNeed) {
   EXPECT_GT(checked, 0u);
 }
 
+// Textures of at least kLargeTextureTexels are uploaded with their CPU-made mip chain,
+// as S3TC blocks (BC1 opaque, BC3 with alpha; sRGB formats for colour) unless
+// compression is off; normal maps and smaller textures (every kit scene's) stay RGBA8.
+TEST(scene_loader_textures, LargeTexturesAreCompressedSmallOnesAndNormalMapsNot) {
+  constexpr GLenum kSrgbDxt1 = 0x8C4C, kSrgbAlphaDxt5 = 0x8C4F;  // GL_COMPRESSED_SRGB(_ALPHA)_S3TC_DXT1/5_EXT
+  constexpr int kLarge = 1024, kSmall = 256;
+  auto image = [](const char* what, int side, unsigned char alpha) {
+    kit::ImageRgba8 pixels{side, side, std::vector<unsigned char>(static_cast<size_t>(side) * static_cast<size_t>(side) * 4, 200)};
+    for (size_t i = 3; i < pixels.pixels.size(); i += 4) pixels.pixels[i] = alpha;
+    return kit::SceneImage{what, side, side, {}, pixels};
+  };
+  kit::Material opaque = kit::test::plain_material(0.5f), translucent = opaque, small = opaque;
+  opaque.base_color_image = 0;
+  opaque.normal_image = 3;
+  translucent.base_color_image = 1;
+  small.base_color_image = 2;
+  kit::Primitive quad = kit::test::quad_primitive({1, 0, 0}, {0, 1, 0}, {1, 1});
+  quad.material = 0;
+  kit::Scene scene = kit::test::tiny_scene({quad}, {opaque, translucent, small}, {{0, glm::mat4(1.0f)}}, {});
+  scene.images = {image("opaque", kLarge, 255), image("translucent", kLarge, 128), image("small", kSmall, 255),
+                  image("normals", kLarge, 255)};
+  kit::test::context();
+  auto level_format = [](const kit::Texture2D& texture, int level) {
+    GLint format = 0;
+    glBindTexture(GL_TEXTURE_2D, texture.id());
+    glGetTexLevelParameteriv(GL_TEXTURE_2D, level, GL_TEXTURE_INTERNAL_FORMAT, &format);
+    return static_cast<GLenum>(format);
+  };
+  const int last_level = 10;  // 1024 -> 1x1
+  {
+    const kit::SceneGpu gpu(scene);
+    EXPECT_EQ(level_format(gpu.texture(0, true), 0), kSrgbDxt1);
+    EXPECT_EQ(level_format(gpu.texture(0, true), last_level), kSrgbDxt1);
+    EXPECT_EQ(level_format(gpu.texture(1, true), 0), kSrgbAlphaDxt5);
+    EXPECT_EQ(level_format(gpu.texture(2, true), 0), static_cast<GLenum>(GL_SRGB8_ALPHA8));
+    EXPECT_EQ(level_format(gpu.texture(3, false), 0), static_cast<GLenum>(GL_RGBA8));
+    EXPECT_EQ(level_format(gpu.texture(3, false), last_level), static_cast<GLenum>(GL_RGBA8));
+  }
+  const kit::SceneGpu uncompressed(scene, false);
+  EXPECT_EQ(level_format(uncompressed.texture(0, true), 0), static_cast<GLenum>(GL_SRGB8_ALPHA8));
+  EXPECT_EQ(level_format(uncompressed.texture(0, true), last_level), static_cast<GLenum>(GL_SRGB8_ALPHA8));
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
 // glTF samplers reach the GL sampler each material texture is drawn with; a
 // texture without one gets glTF's default (repeat, trilinear for "auto").
 TEST(scene_loader_textures, SamplersSetWrapAndFilterOfEachTexture) {

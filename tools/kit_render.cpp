@@ -2,6 +2,7 @@
 //   kit-render --stage gbuffer --view normal --out normal.png [--view depth --out depth.exr ...]
 // It renders the student's labs/ (--solution: the reference solutions; --shaders: any lab folders).
 // Several --view/--out pairs share one context, scene load and shader compile.
+#include <malloc.h>
 #include <sys/resource.h>
 
 #include <chrono>
@@ -50,6 +51,11 @@ void usage() {
 
 int main(int argc, char** argv) {
   auto t0 = std::chrono::steady_clock::now();
+  // One malloc arena for every thread, set before any thread starts: a thread's own
+  // arena keeps the top of its heap when keep_freed_memory_for_reuse's trim threshold
+  // is not reached, and malloc_trim never trims it, so the texture decode threads'
+  // images (tens of MB) stayed resident through the frame.
+  mallopt(M_ARENA_MAX, 1);
   kit::CommonOptions options;
   std::vector<Output> outputs;
   kit::View pending = kit::View::Final;
@@ -87,6 +93,7 @@ int main(int argc, char** argv) {
     kit::Watchdog watchdog("kit-render", options.timeout);
     watchdog.arm("compiling the shaders of stage " + stage.name);
     kit::Renderer renderer(stage, kit::stage_library(stage, lab.root), scene, options.settings);
+    kit::release_uploaded_data(scene);
     kit::note_default_light_rig("kit-render", scene, stage, options.settings);
     auto t_compile = kit::seconds_since(t0);
     watchdog.relabel("rendering stage " + stage.name);

@@ -3,12 +3,15 @@
 // by pixel against ray casts through the scene's camera in double precision.
 #include <gtest/gtest.h>
 
+#include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <optional>
@@ -25,6 +28,7 @@
 #include "reference_frames.h"
 #include "shader_variants.h"
 #include "stages.h"
+#include "texture_prepare.h"
 #include "tiny_scenes.h"
 
 namespace fs = std::filesystem;
@@ -203,7 +207,7 @@ std::vector<FloorPixel> visible_floor(const kit::Scene& scene, const CpuCamera& 
   return out;
 }
 
-double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
+using kit::srgb_to_linear;  // texture_prepare.h
 
 json scene_json(const kit::Scene& scene) { return json::parse(kit::test::read_file(scene.path)); }
 
@@ -739,6 +743,172 @@ TEST(gbuffer_material_modes, DoubleSidedBackFaceNormalFacesTheViewer) {
   const kit::Scene single_sided = quad_scene(m);
   auto culled = render_quad("gbuffer", single_sided, camera);
   EXPECT_EQ(culled->read_view(kit::View::Material, true).at(x, y, 3), 0.0f);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+// ---------------------------------------------------------------------------
+// Large textures uploaded as S3TC blocks (framework/texture_prepare.h; from 1024 x
+// 1024 texels, --compress-textures on): the albedo the geometry pass writes from the
+// compressed texture against the same texture uploaded as RGBA8.
+
+constexpr int kLargeTextureSide = 1024;
+constexpr int kGridSpacing = 16;  // texels between the texture's dark grid lines
+constexpr int kNoiseAmplitude = 12;  // per-texel noise, +- codes
+
+// A base colour with detail at every scale: a smooth two-way gradient, a grid of one-texel
+// dark lines every kGridSpacing texels and per-texel noise; opaque, so BC1.
+kit::ImageRgba8 detailed_large_texture() {
+  kit::ImageRgba8 image{kLargeTextureSide, kLargeTextureSide, {}};
+  image.pixels.resize(static_cast<size_t>(kLargeTextureSide) * kLargeTextureSide * 4);
+  for (int y = 0; y < kLargeTextureSide; ++y)
+    for (int x = 0; x < kLargeTextureSide; ++x) {
+      const bool line = x % kGridSpacing == 0 || y % kGridSpacing == 0;
+      const uint32_t hash = (static_cast<uint32_t>(x) * 73856093u) ^ (static_cast<uint32_t>(y) * 19349663u);
+      const int noise = static_cast<int>(hash % (2 * kNoiseAmplitude + 1)) - kNoiseAmplitude;
+      const int base[3] = {40 + 180 * x / kLargeTextureSide, 200 - 150 * y / kLargeTextureSide, 60 + 120 * (x + y) / (2 * kLargeTextureSide)};
+      unsigned char* texel = &image.pixels[(static_cast<size_t>(y) * kLargeTextureSide + static_cast<size_t>(x)) * 4];
+      for (int c = 0; c < 3; ++c) texel[c] = static_cast<unsigned char>(std::clamp(line ? base[c] / 4 : base[c] + noise, 0, 255));
+      texel[3] = 255;
+    }
+  return image;
+}
+
+// Every 4 x 4 block replaced by the mean of its codes: an encoder that keeps one colour a block.
+kit::ImageRgba8 block_means(kit::ImageRgba8 image) {
+  constexpr int kBlock = 4;
+  for (int by = 0; by < image.height; by += kBlock)
+    for (int bx = 0; bx < image.width; bx += kBlock)
+      for (int c = 0; c < 4; ++c) {
+        int sum = 0;
+        for (int y = by; y < by + kBlock; ++y)
+          for (int x = bx; x < bx + kBlock; ++x) sum += image.pixels[(static_cast<size_t>(y) * static_cast<size_t>(image.width) + static_cast<size_t>(x)) * 4 + static_cast<size_t>(c)];
+        for (int y = by; y < by + kBlock; ++y)
+          for (int x = bx; x < bx + kBlock; ++x)
+            image.pixels[(static_cast<size_t>(y) * static_cast<size_t>(image.width) + static_cast<size_t>(x)) * 4 + static_cast<size_t>(c)] =
+                static_cast<unsigned char>((sum + kBlock * kBlock / 2) / (kBlock * kBlock));
+      }
+  return image;
+}
+
+// Per-channel mean and largest absolute difference of two albedo views, in 1/255 steps,
+// and the PSNR of their RGB; every pixel shows the quad.
+struct AlbedoDifference {
+  glm::dvec3 mean{0.0}, max{0.0};
+  double psnr_db = 0.0;
+};
+AlbedoDifference albedo_difference(const kit::Image& a, const kit::Image& b) {
+  AlbedoDifference d;
+  double squared = 0.0;
+  const size_t pixels = static_cast<size_t>(a.width) * static_cast<size_t>(a.height);
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const double e = 255.0 * std::fabs(a.at(x, y, c) - b.at(x, y, c));
+        d.mean[c] += e / static_cast<double>(pixels);
+        d.max[c] = std::max(d.max[c], e);
+        squared += e * e;
+      }
+  d.psnr_db = 10.0 * std::log10(255.0 * 255.0 / std::max(squared / static_cast<double>(3 * pixels), 1e-12));
+  return d;
+}
+
+kit::Image albedo_of(const kit::Scene& scene, const kit::FrameCamera& camera, bool compress) {
+  kit::RenderSettings settings = small_settings();
+  settings.compress_large_textures = compress;
+  auto renderer = kit::test::make_renderer("gbuffer", scene, settings);
+  renderer->render(camera);
+  return renderer->read_view(kit::View::Albedo, true);
+}
+
+TEST(gbuffer_textures, CompressedLargeTextureStaysNearTheUncompressedOne) {
+  kit::Material m = kit::test::plain_material(0.5f);
+  m.base_color_factor = glm::vec4(1.0f);
+  m.base_color_image = 0;
+  kit::Scene scene = quad_scene(m);
+  const kit::ImageRgba8 texture = detailed_large_texture();
+  scene.images.push_back({"detailed", texture.width, texture.height, {}, texture});
+  ASSERT_TRUE(kit::is_large_texture(texture.width, texture.height));
+  kit::Scene blocky = quad_scene(m);
+  blocky.images.push_back({"block means", texture.width, texture.height, {}, block_means(texture)});
+  // Bounds in 1/255 steps of the linear albedo (RGBA8), per channel, and dB over RGB.
+  struct View {
+    float eye_z;
+    double max_mean, max_error, min_psnr_db;
+  };
+  // 0.2 m away the quad fills the view and a texel covers more than a pixel (level 0):
+  // measured mean 2.1-2.4, max 16-19, 37.9 dB. 1.5 m away about 8 texels fall on a
+  // pixel (levels 2-3), averaging the blocks' errors out: 0.8-1.2, 7-10, 45.0 dB.
+  for (const View& view : {View{0.2f, 3.0, 24.0, 35.0}, View{1.5f, 2.0, 16.0, 40.0}}) {
+    const kit::FrameCamera camera = quad_camera(view.eye_z);
+    const kit::Image exact = albedo_of(scene, camera, false);
+    const AlbedoDifference compressed = albedo_difference(albedo_of(scene, camera, true), exact);
+    std::printf("eye %.1f m: compressed albedo mean (%.2f %.2f %.2f), max (%.1f %.1f %.1f) /255, PSNR %.1f dB\n",
+                view.eye_z, compressed.mean.r, compressed.mean.g, compressed.mean.b, compressed.max.r,
+                compressed.max.g, compressed.max.b, compressed.psnr_db);
+    for (int c = 0; c < 3; ++c) {
+      EXPECT_LE(compressed.mean[c], view.max_mean) << "eye " << view.eye_z << " channel " << c;
+      EXPECT_LE(compressed.max[c], view.max_error) << "eye " << view.eye_z << " channel " << c;
+    }
+    EXPECT_GE(compressed.psnr_db, view.min_psnr_db) << "eye " << view.eye_z;
+    // Witness: one colour a block (uploaded uncompressed, so only that loss differs) breaks
+    // the bounds (measured 25.9 and 34.8 dB, means 8.8-10.3 and 3.0-4.1).
+    const AlbedoDifference naive = albedo_difference(albedo_of(blocky, camera, false), exact);
+    std::printf("eye %.1f m: block means mean (%.2f %.2f %.2f), max (%.1f %.1f %.1f) /255, PSNR %.1f dB\n",
+                view.eye_z, naive.mean.r, naive.mean.g, naive.mean.b, naive.max.r, naive.max.g, naive.max.b,
+                naive.psnr_db);
+    EXPECT_LT(naive.psnr_db, view.min_psnr_db) << "eye " << view.eye_z;
+    for (int c = 0; c < 3; ++c) EXPECT_GT(naive.mean[c], view.max_mean) << "eye " << view.eye_z << " channel " << c;
+  }
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+// A tangent-space normal map with detail: two crossing waves of slope up to 0.4 and
+// per-texel noise, stored as (n + 1) / 2.
+kit::ImageRgba8 detailed_normal_map() {
+  constexpr double kSlope = 0.4, kNoiseSlope = 0.05;
+  constexpr double kWaveX = 37.0, kWaveY = 53.0;  // texels a wave, prime: no alignment with 4x4 blocks
+  kit::ImageRgba8 image{kLargeTextureSide, kLargeTextureSide, {}};
+  image.pixels.resize(static_cast<size_t>(kLargeTextureSide) * kLargeTextureSide * 4);
+  for (int y = 0; y < kLargeTextureSide; ++y)
+    for (int x = 0; x < kLargeTextureSide; ++x) {
+      const uint32_t hash = (static_cast<uint32_t>(x) * 83492791u) ^ (static_cast<uint32_t>(y) * 2654435761u);
+      const double noise = (static_cast<double>(hash % 1001) / 500.0 - 1.0) * kNoiseSlope;
+      const glm::dvec3 n = glm::normalize(glm::dvec3(kSlope * std::sin(2.0 * glm::pi<double>() * x / kWaveX) + noise,
+                                                     kSlope * std::cos(2.0 * glm::pi<double>() * y / kWaveY) - noise, 1.0));
+      unsigned char* texel = &image.pixels[(static_cast<size_t>(y) * kLargeTextureSide + static_cast<size_t>(x)) * 4];
+      for (int c = 0; c < 3; ++c) texel[c] = static_cast<unsigned char>(std::lround((n[c] + 1.0) * 0.5 * 255.0));
+      texel[3] = 255;
+    }
+  return image;
+}
+
+TEST(gbuffer_textures, LargeNormalMapsStayUncompressed) {
+  // BC1 turned this normal map's normals by 1.5 degrees on average (8.3 at most) 0.2 m
+  // away and by 5.7 (21) 1.5 m away, when SceneGpu still compressed normal maps: they
+  // stay RGBA8. The same material's large base colour is compressed (the witness that
+  // compression was on).
+  kit::Material m = kit::test::plain_material(0.5f);
+  m.base_color_factor = glm::vec4(1.0f);
+  m.normal_image = 0;
+  m.base_color_image = 1;
+  kit::Scene scene = quad_scene(m);
+  const kit::ImageRgba8 normals = detailed_normal_map(), colour = detailed_large_texture();
+  scene.images.push_back({"normals", normals.width, normals.height, {}, normals});
+  scene.images.push_back({"colour", colour.width, colour.height, {}, colour});
+  for (float eye_z : {0.2f, 1.5f}) {
+    const kit::FrameCamera camera = quad_camera(eye_z);
+    kit::Image normal[2], albedo[2];
+    for (int compress = 0; compress < 2; ++compress) {
+      kit::RenderSettings settings = small_settings();
+      settings.compress_large_textures = compress == 1;
+      auto renderer = kit::test::make_renderer("normalmap", scene, settings);
+      renderer->render(camera);
+      normal[compress] = renderer->read_view(kit::View::Normal, true);
+      albedo[compress] = renderer->read_view(kit::View::Albedo, true);
+    }
+    EXPECT_EQ(kit::test::max_abs_difference(normal[0], normal[1]), 0.0f) << "eye " << eye_z;
+    EXPECT_GT(kit::test::max_abs_difference(albedo[0], albedo[1]), 0.0f) << "eye " << eye_z;
+  }
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 

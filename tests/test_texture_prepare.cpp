@@ -1,0 +1,147 @@
+// Large textures' mip chains made on the CPU (framework/texture_prepare.h): the box
+// filter in linear light for sRGB colour and as stored for linear data, checked at
+// known texels against the same means computed in double with the sRGB formulas
+// themselves; odd sides, chain sizes and the S3TC block layout.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <vector>
+
+#include "texture_prepare.h"
+
+namespace {
+
+// The sRGB encoding (IEC 61966-2-1), the inverse of kit::srgb_to_linear, in double.
+double linear_to_srgb(double v) { return v <= 0.0031308 ? 12.92 * v : 1.055 * std::pow(v, 1.0 / 2.4) - 0.055; }
+
+// The 8-bit code a mean lands on: sRGB codes through linear light, or data as stored.
+unsigned char expected_mean(const std::vector<unsigned char>& codes, const std::vector<double>& weights, bool srgb) {
+  double sum = 0.0, total = 0.0;
+  for (size_t i = 0; i < codes.size(); ++i) {
+    sum += weights[i] * (srgb ? kit::srgb_to_linear(codes[i] / 255.0) : static_cast<double>(codes[i]));
+    total += weights[i];
+  }
+  const double mean = sum / total;
+  return static_cast<unsigned char>(std::lround(srgb ? 255.0 * linear_to_srgb(mean) : mean));
+}
+
+// A width x height image whose texel (x, y) channel c is `value(x, y, c)`.
+template <typename F>
+kit::ImageRgba8 image_of(int width, int height, F value) {
+  kit::ImageRgba8 image;
+  image.width = width;
+  image.height = height;
+  image.pixels.resize(static_cast<size_t>(width) * static_cast<size_t>(height) * 4);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int c = 0; c < 4; ++c)
+        image.pixels[(static_cast<size_t>(y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * 4 + static_cast<size_t>(c)] =
+            value(x, y, c);
+  return image;
+}
+
+unsigned char texel(const kit::ImageRgba8& image, int x, int y, int c) {
+  return image.pixels[(static_cast<size_t>(y) * static_cast<size_t>(image.width) + static_cast<size_t>(x)) * 4 + static_cast<size_t>(c)];
+}
+
+// Texels with detail everywhere: every 2x2 footprint holds four different codes.
+unsigned char detailed(int x, int y, int c) { return static_cast<unsigned char>((x * 67 + y * 151 + c * 89 + x * y * 13) % 256); }
+
+}  // namespace
+
+TEST(texture_prepare, SrgbColourIsAveragedInLinearLightAlphaAsStored) {
+  const kit::ImageRgba8 level = image_of(8, 6, detailed);
+  const kit::ImageRgba8 next = kit::next_mip_level(level, true);
+  ASSERT_EQ(next.width, 4);
+  ASSERT_EQ(next.height, 3);
+  size_t differs_from_code_mean = 0;
+  for (int y = 0; y < next.height; ++y)
+    for (int x = 0; x < next.width; ++x)
+      for (int c = 0; c < 4; ++c) {
+        const std::vector<unsigned char> codes = {texel(level, 2 * x, 2 * y, c), texel(level, 2 * x + 1, 2 * y, c),
+                                                  texel(level, 2 * x, 2 * y + 1, c), texel(level, 2 * x + 1, 2 * y + 1, c)};
+        const std::vector<double> equal(4, 1.0);
+        const bool colour = c < 3;
+        EXPECT_EQ(texel(next, x, y, c), expected_mean(codes, equal, colour)) << "texel (" << x << ", " << y << ") channel " << c;
+        // Witness: the mean of the codes themselves is another value for most colour texels.
+        if (colour && expected_mean(codes, equal, false) != texel(next, x, y, c)) ++differs_from_code_mean;
+      }
+  EXPECT_GT(differs_from_code_mean, 24u) << "of 36 colour values, too few tell linear light from stored codes";
+}
+
+TEST(texture_prepare, BlackAndWhiteMeetAtLinearMiddleGrey) {
+  // The classic case: half black, half white is 50 % of the light, sRGB code 188, not 128.
+  const kit::ImageRgba8 level = image_of(2, 2, [](int x, int, int) { return static_cast<unsigned char>(x == 0 ? 0 : 255); });
+  EXPECT_EQ(texel(kit::next_mip_level(level, true), 0, 0, 0), 188);
+  EXPECT_EQ(texel(kit::next_mip_level(level, false), 0, 0, 0), 128);  // linear data: 127.5, rounded half up
+  EXPECT_EQ(texel(kit::next_mip_level(level, true), 0, 0, 3), 128);   // alpha is data in either
+}
+
+TEST(texture_prepare, LinearDataIsAveragedAsStored) {
+  const kit::ImageRgba8 level = image_of(6, 4, detailed);
+  const kit::ImageRgba8 next = kit::next_mip_level(level, false);
+  for (int y = 0; y < next.height; ++y)
+    for (int x = 0; x < next.width; ++x)
+      for (int c = 0; c < 4; ++c) {
+        const std::vector<unsigned char> codes = {texel(level, 2 * x, 2 * y, c), texel(level, 2 * x + 1, 2 * y, c),
+                                                  texel(level, 2 * x, 2 * y + 1, c), texel(level, 2 * x + 1, 2 * y + 1, c)};
+        EXPECT_EQ(texel(next, x, y, c), expected_mean(codes, std::vector<double>(4, 1.0), false))
+            << "texel (" << x << ", " << y << ") channel " << c;
+      }
+}
+
+TEST(texture_prepare, AnOddSideIsBoxFilteredByTheCoveredParts) {
+  // 5 texels to 2: each covers 2.5 source texels, the middle one half each.
+  const kit::ImageRgba8 level = image_of(5, 1, detailed);
+  const kit::ImageRgba8 next = kit::next_mip_level(level, true);
+  ASSERT_EQ(next.width, 2);
+  ASSERT_EQ(next.height, 1);
+  for (int c = 0; c < 4; ++c) {
+    const bool colour = c < 3;
+    EXPECT_EQ(texel(next, 0, 0, c), expected_mean({texel(level, 0, 0, c), texel(level, 1, 0, c), texel(level, 2, 0, c)},
+                                                  {1.0, 1.0, 0.5}, colour)) << "channel " << c;
+    EXPECT_EQ(texel(next, 1, 0, c), expected_mean({texel(level, 2, 0, c), texel(level, 3, 0, c), texel(level, 4, 0, c)},
+                                                  {0.5, 1.0, 1.0}, colour)) << "channel " << c;
+  }
+  // 3 texels to 1 weighs them alike.
+  const kit::ImageRgba8 three = kit::next_mip_level(image_of(3, 3, detailed), false);
+  std::vector<unsigned char> codes;
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 3; ++x) codes.push_back(detailed(x, y, 1));
+  EXPECT_EQ(texel(three, 0, 0, 1), expected_mean(codes, std::vector<double>(9, 1.0), false));
+}
+
+TEST(texture_prepare, ChainGoesDownToOneTexelAndCompressesToBlocks) {
+  const kit::ImageRgba8 opaque = image_of(10, 3, [](int x, int y, int c) { return c == 3 ? 255 : detailed(x, y, c); });
+  const kit::PreparedTexture plain = kit::prepare_texture(opaque, true, false);
+  EXPECT_EQ(plain.encoding, kit::TexelEncoding::Rgba8);
+  const std::vector<std::pair<int, int>> sizes = {{10, 3}, {5, 1}, {2, 1}, {1, 1}};
+  ASSERT_EQ(plain.levels.size(), sizes.size());
+  for (size_t l = 0; l < sizes.size(); ++l) {
+    EXPECT_EQ(plain.levels[l].width, sizes[l].first) << "level " << l;
+    EXPECT_EQ(plain.levels[l].height, sizes[l].second) << "level " << l;
+    EXPECT_EQ(plain.levels[l].bytes.size(), static_cast<size_t>(sizes[l].first * sizes[l].second * 4)) << "level " << l;
+  }
+  EXPECT_EQ(plain.levels[0].bytes, opaque.pixels);
+  EXPECT_EQ(plain.levels[1].bytes, kit::next_mip_level(opaque, true).pixels);
+
+  // Compressed: BC1 when opaque (8 bytes a 4x4 block, sides padded to whole blocks), BC3 (16) with alpha.
+  const kit::PreparedTexture bc1 = kit::prepare_texture(opaque, true, true);
+  EXPECT_EQ(bc1.encoding, kit::TexelEncoding::Bc1);
+  const std::vector<size_t> bc1_bytes = {3 * 1 * 8, 2 * 1 * 8, 8, 8};
+  ASSERT_EQ(bc1.levels.size(), bc1_bytes.size());
+  for (size_t l = 0; l < bc1_bytes.size(); ++l) EXPECT_EQ(bc1.levels[l].bytes.size(), bc1_bytes[l]) << "level " << l;
+  kit::ImageRgba8 translucent = opaque;
+  translucent.pixels[3] = 254;
+  EXPECT_FALSE(kit::is_opaque(translucent));
+  const kit::PreparedTexture bc3 = kit::prepare_texture(translucent, true, true);
+  EXPECT_EQ(bc3.encoding, kit::TexelEncoding::Bc3);
+  EXPECT_EQ(bc3.levels[0].bytes.size(), 3u * 1u * 16u);
+}
+
+TEST(texture_prepare, OnlyLargeTexturesAreLarge) {
+  EXPECT_TRUE(kit::is_large_texture(1024, 1024));
+  EXPECT_TRUE(kit::is_large_texture(4096, 256));
+  EXPECT_FALSE(kit::is_large_texture(1024, 1023));
+  EXPECT_FALSE(kit::is_large_texture(256, 256));  // the kit scenes' textures
+}
