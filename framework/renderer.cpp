@@ -104,7 +104,8 @@ bool same_image_settings(const RenderSettings& a, const RenderSettings& b) {
   return a.gamma == b.gamma && a.attenuation_model == b.attenuation_model && a.postprocess == b.postprocess &&
          a.custom_effect == b.custom_effect && a.bloom_threshold == b.bloom_threshold &&
          a.blur_passes == b.blur_passes && a.clear_color == b.clear_color && a.extra_lights == b.extra_lights &&
-         a.frustum_culling == b.frustum_culling && a.default_light_rig == b.default_light_rig &&
+         a.frustum_culling == b.frustum_culling && a.compress_large_textures == b.compress_large_textures &&
+         a.default_light_rig == b.default_light_rig &&
          a.light_markers == b.light_markers && a.environment == b.environment && a.ibl == b.ibl;
 }
 
