@@ -7,6 +7,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include "error.h"
 #include "kit_test.h"
@@ -141,6 +142,44 @@ TEST(stages_determinism, TwoRendersAreBitwiseIdentical) {
     EXPECT_EQ(kit::test::first_difference(first, second), "");
   }
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+
+// The viewer renders a frame again only when same_image_settings says the settings
+// changed (tools/kit_view.cpp): every field that changes the image must count, and
+// only the size and u_time (which the viewer compares or animates itself) may not.
+TEST(stages_settings, EveryFieldThatChangesTheImageCounts) {
+  const kit::RenderSettings base;
+  EXPECT_TRUE(kit::same_image_settings(base, base));
+  kit::RenderSettings ignored = base;
+  ignored.width += 1;
+  ignored.height += 1;
+  ignored.time += 1.0f;
+  EXPECT_TRUE(kit::same_image_settings(base, ignored)) << "the size and u_time are the viewer's to compare";
+
+  using Change = void (*)(kit::RenderSettings&);
+  const std::pair<const char*, Change> changes[] = {
+      {"gamma", [](kit::RenderSettings& s) { s.gamma += 0.5f; }},
+      {"attenuation_model", [](kit::RenderSettings& s) { s.attenuation_model = 1 - s.attenuation_model; }},
+      {"postprocess", [](kit::RenderSettings& s) { s.postprocess = !s.postprocess; }},
+      {"custom_effect", [](kit::RenderSettings& s) { s.custom_effect = !s.custom_effect; }},
+      {"bloom_threshold", [](kit::RenderSettings& s) { s.bloom_threshold += 0.5f; }},
+      {"blur_passes", [](kit::RenderSettings& s) { s.blur_passes += 2; }},
+      {"clear_color", [](kit::RenderSettings& s) { s.clear_color.g += 0.1f; }},
+      {"extra_lights", [](kit::RenderSettings& s) { s.extra_lights += 1; }},
+      {"frustum_culling", [](kit::RenderSettings& s) { s.frustum_culling = !s.frustum_culling; }},
+      {"compress_large_textures", [](kit::RenderSettings& s) { s.compress_large_textures = !s.compress_large_textures; }},
+      {"default_light_rig", [](kit::RenderSettings& s) { s.default_light_rig = !s.default_light_rig; }},
+      {"light_markers", [](kit::RenderSettings& s) { s.light_markers = !s.light_markers; }},
+      {"environment", [](kit::RenderSettings& s) { s.environment = "sun"; }},
+      {"ibl.prefilter_samples", [](kit::RenderSettings& s) { s.ibl.prefilter_samples *= 2; }},
+      {"ibl.refuse_non_finite", [](kit::RenderSettings& s) { s.ibl.refuse_non_finite = !s.ibl.refuse_non_finite; }},
+  };
+  for (const auto& [field, change] : changes) {
+    kit::RenderSettings changed = base;
+    change(changed);
+    EXPECT_FALSE(kit::same_image_settings(base, changed)) << field << " changed, and the settings still compare equal";
+  }
 }
 
 }  // namespace
