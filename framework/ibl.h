@@ -50,7 +50,7 @@ struct IblSettings {
   int irradiance_size = 32;     // width of the irradiance map (height = width / 2)
   // The environment level irradiance.frag sums over: the first this narrow. 128 x 64
   // texels of 2.8 degrees: a small sun moves by up to half of one (64 gave 14 % error
-  // under the kit's sun where n.l is small, 128 gives 7 %; test_ibl measures it).
+  // under the kit's sun where n.l is small, 128 gives 2.2 %; test_ibl prints it).
   int irradiance_source_width = 128;
   // Every map is read back after the precompute and a NaN or infinite texel refused
   // (NonFiniteMapError). In the frame it would hide: on llvmpipe ibl.frag's
