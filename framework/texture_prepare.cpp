@@ -81,10 +81,6 @@ std::vector<Footprint> footprints(int source, int destination) {
   return result;
 }
 
-}  // namespace
-
-namespace {
-
 // next_mip_level for even sides, where every texel is the mean of a 2x2 square: the
 // same means without the general footprints' loops, on the path every power-of-two texture takes.
 void halve_even_sides(const ImageRgba8& level, bool srgb, ImageRgba8& out) {

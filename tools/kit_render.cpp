@@ -30,7 +30,6 @@ double peak_resident_mib() {
   return static_cast<double>(usage.ru_maxrss) / 1024.0;
 }
 
-
 void usage() {
   std::printf(
       "usage: kit-render --stage NAME [--view VIEW] --out FILE.png|FILE.exr [--view VIEW --out FILE ...] [options]\n"

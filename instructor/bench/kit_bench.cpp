@@ -159,7 +159,6 @@ void print_row(const kit::bench::Row& r) {
   std::fflush(stdout);
 }
 
-
 // The last frame's display image, the reference's, and |difference| x kDifferenceGain.
 void write_images(kit::bench::BenchRenderer& renderer, const kit::bench::Method& method,
                   const kit::bench::Reference& reference, const std::string& dir) {

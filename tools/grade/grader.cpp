@@ -44,7 +44,6 @@ std::string labs_list(const std::vector<int>& labs) {
   return out.empty() ? "none" : out;
 }
 
-
 // How much of a child's error file and log the messages quote.
 constexpr size_t kErrorBytes = 64 * 1024;
 constexpr size_t kLogTailBytes = 2 * 1024;
