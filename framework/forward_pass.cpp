@@ -95,7 +95,7 @@ Mesh enclosing_sphere_mesh(int subdivisions) {
     nearest_plane = std::min(nearest_plane, std::fabs(glm::dot(n, v[tri.x])));
   }
   std::vector<Vertex> vertices;
-  for (const glm::vec3& p : v) vertices.push_back({p / nearest_plane, p, glm::vec2(0.0f), glm::vec4(1, 0, 0, 1)});
+  for (const glm::vec3& p : v) vertices.push_back({p / nearest_plane, p, glm::vec2(0.0f), glm::vec2(0.0f), glm::vec4(1, 0, 0, 1)});
   std::vector<uint32_t> indices;
   for (const glm::uvec3& tri : f) indices.insert(indices.end(), {tri.x, tri.y, tri.z});  // CCW seen from outside
   return Mesh(vertices, indices);

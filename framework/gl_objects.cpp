@@ -365,6 +365,7 @@ Mesh::Mesh(const std::vector<Vertex>& vertices, const std::vector<uint32_t>& ind
   attribute(KIT_ATTR_POSITION, 3, offsetof(Vertex, position));
   attribute(KIT_ATTR_NORMAL, 3, offsetof(Vertex, normal));
   attribute(KIT_ATTR_TEXCOORD, 2, offsetof(Vertex, texcoord));
+  attribute(KIT_ATTR_TEXCOORD1, 2, offsetof(Vertex, texcoord1));
   attribute(KIT_ATTR_TANGENT, 4, offsetof(Vertex, tangent));
   attribute(KIT_ATTR_COLOR, 4, offsetof(Vertex, color), GL_UNSIGNED_SHORT, GL_TRUE);
   glBindVertexArray(0);

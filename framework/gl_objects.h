@@ -181,7 +181,8 @@ class Framebuffer {
 struct Vertex {
   glm::vec3 position;
   glm::vec3 normal;
-  glm::vec2 texcoord;
+  glm::vec2 texcoord;             // UV slot 0: the first UV set the material's textures read
+  glm::vec2 texcoord1{0.0f};      // UV slot 1: a second one, when they read two (else zero)
   glm::vec4 tangent;  // xyz unit tangent, w = handedness (+1 or -1)
   // glTF COLOR_0 (linear rgba; OBJ's `v x y z r g b`), white when absent, as
   // unsigned 16-bit normalized (c / 65535): 8 bytes a vertex instead of a vec4's 16

@@ -11,7 +11,7 @@ namespace {
 
 // Welding compares whole vertices byte for byte, so Vertex must have no
 // padding (uninitialised padding bytes would keep equal vertices apart).
-static_assert(sizeof(Vertex) == 12 * sizeof(float) + 4 * sizeof(uint16_t), "Vertex must be tightly packed for byte-wise welding");
+static_assert(sizeof(Vertex) == 14 * sizeof(float) + 4 * sizeof(uint16_t), "Vertex must be tightly packed for byte-wise welding");
 
 // How much the overdraw pass may worsen the vertex cache result (1.05: up to
 // 5% more vertex shader runs) in exchange for less overdraw; meshoptimizer's

@@ -245,6 +245,18 @@ void draw_item(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
   geometry.set("u_alpha_mode", m.alpha_mode);
   geometry.set("u_alpha_cutoff", m.alpha_cutoff);
   geometry.set("u_double_sided", m.double_sided);
+  // Each texture's UV slot and KHR_texture_transform, indexed by its unit (kit_texture_uv).
+  static const char* const kUvSlot[] = {"u_texture_uv_slot[0]", "u_texture_uv_slot[1]", "u_texture_uv_slot[2]",
+                                        "u_texture_uv_slot[3]"};
+  static const char* const kUvTransform[] = {"u_texture_uv_transform[0]", "u_texture_uv_transform[1]",
+                                             "u_texture_uv_transform[2]", "u_texture_uv_transform[3]"};
+  static_assert(KIT_UNIT_BASE_COLOR == 0 && KIT_UNIT_METALLIC_ROUGHNESS == 1 && KIT_UNIT_NORMAL_MAP == 2 &&
+                KIT_UNIT_EMISSIVE == 3, "u_texture_uv_* are indexed by the material texture units");
+  const TextureUv* const uvs[] = {&m.base_color_uv, &m.metallic_roughness_uv, &m.normal_uv, &m.emissive_uv};
+  for (int unit = 0; unit < 4; ++unit) {
+    geometry.set(kUvSlot[unit], uvs[unit]->slot);
+    geometry.set(kUvTransform[unit], uvs[unit]->transform);
+  }
   gpu.texture(m.base_color_image, true).bind(KIT_UNIT_BASE_COLOR);
   gpu.texture(m.metallic_roughness_image, false).bind(KIT_UNIT_METALLIC_ROUGHNESS);
   (m.normal_image >= 0 ? gpu.texture(m.normal_image, false) : gpu.flat_normal()).bind(KIT_UNIT_NORMAL_MAP);

@@ -456,42 +456,47 @@ class SceneBuilder {
     return out;
   }
 
-  // Material::texcoord_set and texcoord_transform from the material's texture
-  // references: the base colour texture's, else the first present one's.
+  // Each texture's TextureUv and Material::uv_set_of_slot: the UV sets the
+  // textures name go into the vertex's two UV slots, in the order the textures are
+  // listed; a third distinct set is refused, as a vertex carries two.
   void uv_mapping(const tinygltf::Material& m, Material& out) {
     struct Slot {
       const char* name;
       int index, texcoord;
       const tinygltf::ExtensionMap& extensions;
+      TextureUv& uv;
     };
     const auto& pbr = m.pbrMetallicRoughness;
     const Slot slots[] = {
-        {"baseColorTexture", pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions},
+        {"baseColorTexture", pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions,
+         out.base_color_uv},
         {"metallicRoughnessTexture", pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-         pbr.metallicRoughnessTexture.extensions},
-        {"normalTexture", m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions},
-        {"emissiveTexture", m.emissiveTexture.index, m.emissiveTexture.texCoord, m.emissiveTexture.extensions}};
+         pbr.metallicRoughnessTexture.extensions, out.metallic_roughness_uv},
+        {"normalTexture", m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions, out.normal_uv},
+        {"emissiveTexture", m.emissiveTexture.index, m.emissiveTexture.texCoord, m.emissiveTexture.extensions,
+         out.emissive_uv}};
     const std::string what = path_ + ": material '" + m.name + "'";
-    bool chosen = false;
-    const char* chosen_name = "";
+    out.uv_set_of_slot = {-1, -1};
     for (const Slot& slot : slots) {
       if (slot.index < 0) continue;
       int set = slot.texcoord;
-      glm::mat3 transform = texture_transform(slot.extensions, what + " " + slot.name, set);
+      slot.uv.transform = texture_transform(slot.extensions, what + " " + slot.name, set);
       if (set < 0 || set > kMaxTexcoordSet)
         throw Error(what + " " + slot.name + ": texCoord " + std::to_string(set) + " is not a UV set the kit reads (0 to " +
                     std::to_string(kMaxTexcoordSet) + ")");
-      if (!chosen) {
-        out.texcoord_set = set;
-        out.texcoord_transform = transform;
-        chosen = true;
-        chosen_name = slot.name;
-      } else if (set != out.texcoord_set || transform != out.texcoord_transform) {
-        scene_.warnings.push_back(what + ": " + slot.name + " asks for another UV set or texture transform than " +
-                                  chosen_name + "; the kit reads one UV per vertex, so it samples with " + chosen_name +
-                                  "'s");
+      if (out.uv_set_of_slot[0] < 0 || set == out.uv_set_of_slot[0]) {
+        out.uv_set_of_slot[0] = set;
+        slot.uv.slot = 0;
+      } else if (out.uv_set_of_slot[1] < 0 || set == out.uv_set_of_slot[1]) {
+        out.uv_set_of_slot[1] = set;
+        slot.uv.slot = 1;
+      } else {
+        throw Error(what + " " + slot.name + ": texCoord " + std::to_string(set) + " is a third UV set for one material (TEXCOORD_" +
+                    std::to_string(out.uv_set_of_slot[0]) + " and TEXCOORD_" + std::to_string(out.uv_set_of_slot[1]) +
+                    " are read already); a vertex carries two");
       }
     }
+    if (out.uv_set_of_slot[0] < 0) out.uv_set_of_slot[0] = 0;  // no texture: TEXCOORD_0, as a material without a file has
   }
 
   // KHR_texture_transform of a texture reference as the matrix the extension
@@ -569,21 +574,20 @@ class SceneBuilder {
     const bool flat = attr("NORMAL") < 0;
     std::vector<float> nrm = flat ? std::vector<float>(pos.size(), 0.0f) : read("NORMAL", TINYGLTF_TYPE_VEC3, 3, kDirectionFormats);
     if (nrm.size() / 3 != n) throw Error(path_ + ": " + what + ": NORMAL count differs from POSITION count");
-    std::vector<float> uv, tan;
+    std::vector<float> tan;
     const Material* material =
         p.material >= 0 && p.material < static_cast<int>(scene_.materials.size()) ? &scene_.materials[static_cast<size_t>(p.material)] : nullptr;
-    const std::string uv_name = "TEXCOORD_" + std::to_string(material ? material->texcoord_set : 0);
-    if (attr(uv_name) >= 0) {
-      uv = read(uv_name, TINYGLTF_TYPE_VEC2, 2, kTexcoordFormats);
-    } else if (material && material->texcoord_set != 0) {
-      throw Error(path_ + ": " + what + ": its material's textures read " + uv_name + ", which the primitive does not have");
-    }
-    if (material && material->texcoord_transform != glm::mat3(1.0f)) {
-      for (size_t i = 0; i + 1 < uv.size(); i += 2) {
-        const glm::vec3 t = material->texcoord_transform * glm::vec3(uv[i], uv[i + 1], 1.0f);
-        uv[i] = t.x;
-        uv[i + 1] = t.y;
-      }
+    // The UV sets its material's textures read, one per vertex UV slot. A missing
+    // TEXCOORD_0 reads as zero (a texture then shows one texel), another missing set is refused.
+    const std::array<int, 2> uv_sets = material ? material->uv_set_of_slot : std::array<int, 2>{0, -1};
+    std::array<std::vector<float>, 2> uv;
+    for (size_t slot = 0; slot < 2; ++slot) {
+      if (uv_sets[slot] < 0) continue;
+      const std::string uv_name = "TEXCOORD_" + std::to_string(uv_sets[slot]);
+      if (attr(uv_name) >= 0)
+        uv[slot] = read(uv_name, TINYGLTF_TYPE_VEC2, 2, kTexcoordFormats);
+      else if (uv_sets[slot] != 0)
+        throw Error(path_ + ": " + what + ": its material's textures read " + uv_name + ", which the primitive does not have");
     }
     if (attr("TANGENT") >= 0) tan = read("TANGENT", TINYGLTF_TYPE_VEC4, 4, kDirectionFormats);
     // COLOR_0 multiplies the base colour; VEC3 means alpha 1.
@@ -598,7 +602,7 @@ class SceneBuilder {
       color_components = acc.type == TINYGLTF_TYPE_VEC3 ? 3 : 4;
       color = read("COLOR_0", acc.type, static_cast<int>(color_components), kColorFormats);
     }
-    if ((!uv.empty() && uv.size() / 2 != n) || (!tan.empty() && tan.size() / 4 != n) ||
+    if ((!uv[0].empty() && uv[0].size() / 2 != n) || (!uv[1].empty() && uv[1].size() / 2 != n) || (!tan.empty() && tan.size() / 4 != n) ||
         (!color.empty() && color.size() / color_components != n))
       throw Error(path_ + ": " + what + ": attribute counts differ from POSITION count");
 
@@ -616,7 +620,8 @@ class SceneBuilder {
         throw Error(path_ + ": " + what + ": POSITION " + std::to_string(i) + " is not finite (NaN or Inf)");
       if (!std::isfinite(glm::dot(v.normal, v.normal)))
         throw Error(path_ + ": " + what + ": NORMAL " + std::to_string(i) + " is not finite (NaN or Inf)");
-      v.texcoord = uv.empty() ? glm::vec2(0.0f) : glm::vec2(uv[2 * i], uv[2 * i + 1]);
+      v.texcoord = uv[0].empty() ? glm::vec2(0.0f) : glm::vec2(uv[0][2 * i], uv[0][2 * i + 1]);
+      v.texcoord1 = uv[1].empty() ? glm::vec2(0.0f) : glm::vec2(uv[1][2 * i], uv[1][2 * i + 1]);
       v.tangent = tan.empty() ? glm::vec4(0.0f) : glm::vec4(tan[4 * i], tan[4 * i + 1], tan[4 * i + 2], tan[4 * i + 3]);
       for (size_t c = 0; c < color_components; ++c) {
         const float value = color[color_components * i + c];
@@ -646,11 +651,9 @@ class SceneBuilder {
     if (out.indices.size() % 3 != 0) throw Error(path_ + ": " + what + ": index count is not a multiple of 3");
     set_bounds_from_vertices(out);
     if (flat) use_flat_normals(out);
-    if (tan.empty() && !uv.empty()) {
-      generate_tangents(out.vertices, out.indices);
-      out.tangents_generated = true;
-    } else if (tan.empty()) {
-      generate_tangents(out.vertices, out.indices);  // no UVs: any frame around the normal
+    if (tan.empty()) {
+      // Along the UVs the normal texture samples; without UVs, any frame around the normal.
+      generate_tangents(out.vertices, out.indices, material ? material->normal_uv : TextureUv{});
       out.tangents_generated = true;
     }
     scene_.primitives.push_back(std::move(out));
@@ -1114,14 +1117,19 @@ Scene load_scene(const std::string& path) {
   }
 }
 
-void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t>& indices) {
+glm::vec2 TextureUv::of(const Vertex& v) const {
+  return glm::vec2(transform * glm::vec3(slot == 1 ? v.texcoord1 : v.texcoord, 1.0f));
+}
+
+void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t>& indices, const TextureUv& normal_uv) {
   std::vector<glm::vec3> tan(vertices.size(), glm::vec3(0.0f)), bitan(vertices.size(), glm::vec3(0.0f));
   for (size_t t = 0; t + 2 < indices.size(); t += 3) {
     const Vertex& a = vertices[indices[t]];
     const Vertex& b = vertices[indices[t + 1]];
     const Vertex& c = vertices[indices[t + 2]];
     glm::vec3 e1 = b.position - a.position, e2 = c.position - a.position;
-    glm::vec2 d1 = b.texcoord - a.texcoord, d2 = c.texcoord - a.texcoord;
+    const glm::vec2 uv_a = normal_uv.of(a);
+    glm::vec2 d1 = normal_uv.of(b) - uv_a, d2 = normal_uv.of(c) - uv_a;
     float det = d1.x * d2.y - d2.x * d1.y;
     // A triangle with (near) zero UV area has no defined tangent: it adds nothing.
     if (std::fabs(det) < 1e-12f) continue;

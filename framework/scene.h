@@ -3,6 +3,7 @@
 // flattened node hierarchy, generated tangents), then uploaded to GL.
 #include <glm/glm.hpp>
 
+#include <array>
 #include <optional>
 #include <string>
 #include <vector>
@@ -36,6 +37,16 @@ struct TextureSampler {
   GLenum wrap_s = GL_REPEAT, wrap_t = GL_REPEAT;
 };
 
+// How a material texture finds its UV, as glTF's texture reference says: its
+// texCoord picks a UV set, which the loader puts in one of the two UV slots a
+// Vertex carries (texcoord, texcoord1), and KHR_texture_transform maps it. The
+// geometry pass does the same per fragment (kit_texture_uv, material_uniforms.glsl).
+struct TextureUv {
+  int slot = 0;                // 0: Vertex::texcoord, 1: Vertex::texcoord1
+  glm::mat3 transform{1.0f};   // translation * rotation * scale, as the extension defines it
+  glm::vec2 of(const Vertex& v) const;  // the UV the texture samples at the vertex
+};
+
 struct Material {
   glm::vec4 base_color_factor{1.0f};
   float metallic_factor = 1.0f;
@@ -53,13 +64,11 @@ struct Material {
   int metallic_roughness_sampler = -1;
   int normal_sampler = -1;
   int emissive_sampler = -1;
-  // The UV set the material's textures read (TEXCOORD_n) and their
-  // KHR_texture_transform, both taken from its base colour texture (else its first
-  // texture): the loader bakes them into each primitive's UVs, since the G-buffer
-  // pass reads one UV per vertex. A texture that asks for another is named in
-  // Scene::warnings.
-  int texcoord_set = 0;
-  glm::mat3 texcoord_transform{1.0f};
+  // Each texture's UV: which of the vertex's two UV slots it reads and its
+  // KHR_texture_transform (TextureUv), and the glTF UV set (TEXCOORD_n) the loader
+  // puts in each slot: those the material's textures name, -1 for a slot none reads.
+  TextureUv base_color_uv, metallic_roughness_uv, normal_uv, emissive_uv;
+  std::array<int, 2> uv_set_of_slot{0, -1};
   std::string name;
 };
 
@@ -133,10 +142,11 @@ constexpr size_t kMaxSceneDraws = size_t{1} << 18;
 // message starts with the path and says what is wrong; nothing crashes.
 Scene load_scene(const std::string& path);
 
-// Fills Vertex::tangent from positions, normals and UVs (per-triangle UV
-// derivatives, Gram-Schmidt, handedness in w). Degenerate UVs still give a
-// unit tangent perpendicular to the normal.
-void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t>& indices);
+// Fills Vertex::tangent from positions, normals and the UVs the normal texture
+// samples (`normal_uv`): per-triangle UV derivatives, Gram-Schmidt, handedness in
+// w. Degenerate UVs still give a unit tangent perpendicular to the normal.
+void generate_tangents(std::vector<Vertex>& vertices, const std::vector<uint32_t>& indices,
+                       const TextureUv& normal_uv = {});
 
 // A vertex colour component (glTF COLOR_0, OBJ vertex colour; linear) as
 // Vertex::color stores it: clamped to [0, 1], then round(value * 65535).

@@ -1033,7 +1033,7 @@ TEST(scene_loader_valid, TangentsGeneratedOnlyWhereMissing) {
 
 // ---- generate_tangents on hand-made triangles ----
 
-kit::Vertex vertex(glm::vec3 p, glm::vec3 n, glm::vec2 uv) { return {p, n, uv, glm::vec4(0.0f)}; }
+kit::Vertex vertex(glm::vec3 p, glm::vec3 n, glm::vec2 uv) { return {p, n, uv, glm::vec2(0.0f), glm::vec4(0.0f)}; }
 
 void expect_valid_frame(const std::vector<kit::Vertex>& vertices, const std::string& what) {
   for (size_t i = 0; i < vertices.size(); ++i) {
@@ -1398,7 +1398,7 @@ TEST(scene_loader_textures, GeometryPassLeavesNoSamplerBound) {
   }
 }
 
-// ---- UV sets and KHR_texture_transform, baked into the vertices' UVs ----
+// ---- UV sets and KHR_texture_transform, each texture's own ----
 
 // The floor of the default scene: its mesh index and its material's JSON.
 struct FloorOfDefaultScene {
@@ -1411,75 +1411,122 @@ struct FloorOfDefaultScene {
   }
 };
 
-// The extension's matrix, translation * rotation * scale, written out in double.
-glm::dvec2 texture_transformed(glm::dvec2 uv, glm::dvec2 offset, double rotation, glm::dvec2 scale) {
-  const glm::dvec2 s = uv * scale;
-  return {std::cos(rotation) * s.x - std::sin(rotation) * s.y + offset.x,
-          std::sin(rotation) * s.x + std::cos(rotation) * s.y + offset.y};
-}
-
-TEST(scene_loader_uv, TextureTransformIsBakedIntoTheUvs) {
+// A floor texture's transform is its own: the vertices keep the file's UVs, and
+// TextureUv::of gives the extension's UV; the base colour's (untransformed) does not move.
+TEST(scene_loader_uv, TextureTransformBelongsToItsTexture) {
   SceneCopy copy("default", "texture_transform");
   const FloorOfDefaultScene floor(copy.doc);
   const glm::dvec2 offset(0.25, -0.5), scale(2.0, 3.0);
   const double rotation = 0.3;
-  copy.doc["materials"][floor.material]["pbrMetallicRoughness"]["baseColorTexture"]["extensions"] = {
-      {"KHR_texture_transform", {{"offset", {offset.x, offset.y}}, {"rotation", rotation}, {"scale", {scale.x, scale.y}}}}};
+  json& material = copy.doc["materials"][floor.material];
+  material["emissiveTexture"] = {
+      {"index", material["pbrMetallicRoughness"]["baseColorTexture"]["index"]},
+      {"extensions",
+       {{"KHR_texture_transform", {{"offset", {offset.x, offset.y}}, {"rotation", rotation}, {"scale", {scale.x, scale.y}}}}}}};
   copy.doc["extensionsUsed"].push_back("KHR_texture_transform");
   copy.save_json();
   const kit::Scene plain = kit::load_scene(kit::resolve_scene("default"));
   const kit::Scene moved = kit::load_scene(copy.gltf.string());
   const kit::Primitive &before = primitive_named(plain, "floor"), &after = primitive_named(moved, "floor");
+  const kit::Material& m = moved.materials[static_cast<size_t>(after.material)];
+  EXPECT_TRUE(moved.warnings.empty()) << moved.warnings.front();
+  EXPECT_EQ(m.emissive_uv.slot, 0);
+  EXPECT_EQ(m.base_color_uv.transform, glm::mat3(1.0f));
   ASSERT_EQ(before.vertices.size(), after.vertices.size());
   size_t changed = 0;
   for (size_t i = 0; i < after.vertices.size(); ++i) {
-    const glm::dvec2 expected = texture_transformed(glm::dvec2(before.vertices[i].texcoord), offset, rotation, scale);
-    EXPECT_NEAR(after.vertices[i].texcoord.x, expected.x, 1e-5) << "vertex " << i;
-    EXPECT_NEAR(after.vertices[i].texcoord.y, expected.y, 1e-5) << "vertex " << i;
+    EXPECT_EQ(after.vertices[i].texcoord, before.vertices[i].texcoord) << "vertex " << i;
+    EXPECT_EQ(m.base_color_uv.of(after.vertices[i]), before.vertices[i].texcoord) << "vertex " << i;
+    const glm::dvec2 expected = kit::test::texture_transformed(glm::dvec2(before.vertices[i].texcoord), offset, rotation, scale);
+    const glm::vec2 emissive = m.emissive_uv.of(after.vertices[i]);
+    EXPECT_NEAR(emissive.x, expected.x, 1e-5) << "vertex " << i;
+    EXPECT_NEAR(emissive.y, expected.y, 1e-5) << "vertex " << i;
     changed += glm::distance(expected, glm::dvec2(before.vertices[i].texcoord)) > 0.01;  // ignoring it would be wrong here
   }
   EXPECT_EQ(changed, after.vertices.size());
 }
 
-TEST(scene_loader_uv, TexCoordOneIsReadWhereTheTexturesAskForIt) {
-  SceneCopy copy("default", "texcoord_1");
-  const FloorOfDefaultScene floor(copy.doc);
+// The default floor with a TEXCOORD_1 of its own (distinct from TEXCOORD_0 at every vertex).
+std::vector<float> add_texcoord_1(SceneCopy& copy, const FloorOfDefaultScene& floor) {
   json& primitive = copy.doc["meshes"][floor.mesh]["primitives"][0];
   const size_t count = copy.doc["accessors"][primitive["attributes"]["POSITION"].get<size_t>()]["count"];
   std::vector<float> uv1;
   for (size_t i = 0; i < count; ++i) {
-    uv1.push_back(0.125f * static_cast<float>(i));
+    uv1.push_back(0.125f * static_cast<float>(i) + 3.0f);
     uv1.push_back(1.0f - 0.25f * static_cast<float>(i));
   }
   const int view = copy.add_view(bytes_of(uv1));
   primitive["attributes"]["TEXCOORD_1"] =
       copy.add_accessor({{"bufferView", view}, {"componentType", 5126}, {"count", count}, {"type", "VEC2"}});
-  copy.doc["materials"][floor.material]["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1;
+  return uv1;
+}
+
+TEST(scene_loader_uv, EachTextureReadsTheUvSetItNames) {
+  SceneCopy copy("default", "texcoord_1");
+  const FloorOfDefaultScene floor(copy.doc);
+  const std::vector<float> uv1 = add_texcoord_1(copy, floor);
+  json& material = copy.doc["materials"][floor.material];
+  material["emissiveTexture"] = {{"index", material["pbrMetallicRoughness"]["baseColorTexture"]["index"]}, {"texCoord", 1}};
   copy.save_json();
+  const kit::Scene plain = kit::load_scene(kit::resolve_scene("default"));
   const kit::Scene scene = kit::load_scene(copy.gltf.string());
   const kit::Primitive& p = primitive_named(scene, "floor");
-  ASSERT_EQ(p.vertices.size(), count);
-  for (size_t i = 0; i < count; ++i) {
-    EXPECT_EQ(p.vertices[i].texcoord.x, uv1[2 * i]) << "vertex " << i;
-    EXPECT_EQ(p.vertices[i].texcoord.y, uv1[2 * i + 1]) << "vertex " << i;
+  const kit::Material& m = scene.materials[static_cast<size_t>(p.material)];
+  EXPECT_EQ(m.uv_set_of_slot, (std::array<int, 2>{0, 1}));
+  EXPECT_EQ(m.base_color_uv.slot, 0);
+  EXPECT_EQ(m.emissive_uv.slot, 1);
+  const kit::Primitive& before = primitive_named(plain, "floor");
+  ASSERT_EQ(p.vertices.size(), uv1.size() / 2);
+  for (size_t i = 0; i < p.vertices.size(); ++i) {
+    EXPECT_EQ(m.base_color_uv.of(p.vertices[i]), before.vertices[i].texcoord) << "vertex " << i;
+    EXPECT_EQ(m.emissive_uv.of(p.vertices[i]), glm::vec2(uv1[2 * i], uv1[2 * i + 1])) << "vertex " << i;
   }
+
+  // A material whose only textures read TEXCOORD_1 puts it in slot 0.
+  material["pbrMetallicRoughness"]["baseColorTexture"]["texCoord"] = 1;
+  copy.save_json();
+  const kit::Scene only_1 = kit::load_scene(copy.gltf.string());
+  const kit::Primitive& q = primitive_named(only_1, "floor");
+  const kit::Material& m1 = only_1.materials[static_cast<size_t>(q.material)];
+  EXPECT_EQ(m1.uv_set_of_slot, (std::array<int, 2>{1, -1}));
+  for (size_t i = 0; i < q.vertices.size(); ++i)
+    EXPECT_EQ(q.vertices[i].texcoord, glm::vec2(uv1[2 * i], uv1[2 * i + 1])) << "vertex " << i;
+
   // A texture asking for a UV set the primitive lacks is refused by name.
-  primitive["attributes"].erase("TEXCOORD_1");
+  copy.doc["meshes"][floor.mesh]["primitives"][0]["attributes"].erase("TEXCOORD_1");
   copy.save_json();
   expect_error(copy.gltf, "its material's textures read TEXCOORD_1, which the primitive does not have");
 }
 
-TEST(scene_loader_uv, TexturesOfOneMaterialAskingForDifferentUvsAreNamed) {
-  SceneCopy copy("default", "mixed_uv_sets");
+// A vertex carries two UV slots: a material whose textures name three UV sets is
+// refused, naming the texture and the sets.
+TEST(scene_loader_uv, AThirdUvSetInOneMaterialIsRefusedByName) {
+  SceneCopy copy("default", "three_uv_sets");
   const FloorOfDefaultScene floor(copy.doc);
   json& material = copy.doc["materials"][floor.material];
-  material["emissiveTexture"] = {{"index", material["pbrMetallicRoughness"]["baseColorTexture"]["index"]}, {"texCoord", 0},
-                                 {"extensions", {{"KHR_texture_transform", {{"scale", {4.0, 4.0}}}}}}};
+  const json texture = material["pbrMetallicRoughness"]["baseColorTexture"]["index"];
+  material["emissiveTexture"] = {{"index", texture}, {"texCoord", 2}};
+  material["pbrMetallicRoughness"]["metallicRoughnessTexture"] = {{"index", texture}, {"texCoord", 1}};
   copy.save_json();
-  const kit::Scene scene = kit::load_scene(copy.gltf.string());
-  ASSERT_EQ(scene.warnings.size(), 1u);
-  EXPECT_NE(scene.warnings[0].find("emissiveTexture asks for another UV set or texture transform than baseColorTexture"),
-            std::string::npos) << scene.warnings[0];
+  expect_error(copy.gltf, "material '" + material.value("name", std::string()) +
+                              "' emissiveTexture: texCoord 2 is a third UV set for one material (TEXCOORD_0 and TEXCOORD_1");
+}
+
+// Generated tangents follow the UVs the normal texture samples: its transform
+// turning the UVs by 90 degrees turns the tangent with them.
+TEST(scene_loader_uv, GeneratedTangentsFollowTheNormalTexturesUv) {
+  const glm::vec3 n(0, 0, 1);
+  const std::vector<uint32_t> quad = {0, 1, 2, 0, 2, 3};
+  std::vector<kit::Vertex> v = {vertex({0, 0, 0}, n, {0, 1}), vertex({1, 0, 0}, n, {1, 1}), vertex({1, 1, 0}, n, {1, 0}),
+                                vertex({0, 1, 0}, n, {0, 0})};
+  kit::TextureUv turned;
+  turned.transform = glm::mat3(0, 1, 0, -1, 0, 0, 0, 0, 1);  // (u, v) -> (-v, u): rotation by 90 degrees
+  kit::generate_tangents(v, quad);
+  for (const kit::Vertex& vert : v) EXPECT_NEAR(vert.tangent.x, 1.0, kUnitTolerance) << "untransformed: T = +X";
+  kit::generate_tangents(v, quad, turned);
+  expect_valid_frame(v, "turned");
+  // u' = -v grows where v shrinks, that is up the quad (+Y).
+  for (const kit::Vertex& vert : v) EXPECT_NEAR(vert.tangent.y, 1.0, kUnitTolerance) << "turned: T = +Y";
 }
 
 }  // namespace

@@ -72,9 +72,10 @@
 // Vertex attribute locations.
 #define KIT_ATTR_POSITION 0
 #define KIT_ATTR_NORMAL 1
-#define KIT_ATTR_TEXCOORD 2
+#define KIT_ATTR_TEXCOORD 2   // UV slot 0 (Vertex::texcoord)
 #define KIT_ATTR_TANGENT 3
 #define KIT_ATTR_COLOR 4  // glTF COLOR_0 (linear rgba; white when the file has none)
+#define KIT_ATTR_TEXCOORD1 5  // UV slot 1 (Vertex::texcoord1; zero when no texture reads a second UV set)
 
 // Lights live in a uniform block bound at KIT_BLOCK_LIGHTS (lights.glsl), KIT_LIGHT_TEXELS
 // vec4 per light: 256 lights of 4 vec4 are 16 KiB, the uniform block size every GL 3.3

@@ -14,3 +14,20 @@ uniform sampler2D u_base_color_texture;          // sRGB format: sampling return
 uniform sampler2D u_metallic_roughness_texture;  // glTF: roughness in G, metallic in B (linear)
 uniform sampler2D u_normal_texture;              // tangent-space normal, stored as (n + 1) / 2
 uniform sampler2D u_emissive_texture;            // sRGB format
+
+// Each texture's UV, as its glTF texture reference says, indexed by the texture's
+// unit (KIT_UNIT_*): which of the vertex's two UV slots it reads (texCoord) and
+// its KHR_texture_transform. An untransformed texture gets the identity.
+uniform int u_texture_uv_slot[4];
+uniform mat3 u_texture_uv_transform[4];
+
+// The UV a material texture samples. `texcoords` holds both UV slots as the vertex
+// stage passes them on: .xy slot 0 (a_texcoord0), .zw slot 1 (a_texcoord1).
+vec2 kit_texture_uv(int unit, vec4 texcoords) {
+    vec2 uv = u_texture_uv_slot[unit] == 1 ? texcoords.zw : texcoords.xy;
+    return (u_texture_uv_transform[unit] * vec3(uv, 1.0)).xy;
+}
+vec2 kit_base_color_uv(vec4 texcoords) { return kit_texture_uv(KIT_UNIT_BASE_COLOR, texcoords); }
+vec2 kit_metallic_roughness_uv(vec4 texcoords) { return kit_texture_uv(KIT_UNIT_METALLIC_ROUGHNESS, texcoords); }
+vec2 kit_normal_uv(vec4 texcoords) { return kit_texture_uv(KIT_UNIT_NORMAL_MAP, texcoords); }
+vec2 kit_emissive_uv(vec4 texcoords) { return kit_texture_uv(KIT_UNIT_EMISSIVE, texcoords); }

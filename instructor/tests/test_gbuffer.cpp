@@ -694,7 +694,7 @@ TEST(gbuffer_material_modes, AlbedoIsFactorTimesTexelTimesVertexColour) {
   const kit::Image albedo = renderer->read_view(kit::View::Albedo, true);
   // Witness: the geometry pass without the vertex colour.
   const fs::path no_color = kit::test::variant_root(
-      "gbuffer_no_vertex_color", {{"01-gbuffer/gbuffer.frag", "v_texcoord) * v_color;", "v_texcoord);"}});
+      "gbuffer_no_vertex_color", {{"01-gbuffer/gbuffer.frag", "(v_texcoords)) * v_color;", "(v_texcoords));"}});
   auto naive = render_quad("gbuffer", scene, camera, no_color);
   const kit::Image naive_albedo = naive->read_view(kit::View::Albedo, true);
   size_t tested = 0;
@@ -710,6 +710,92 @@ TEST(gbuffer_material_modes, AlbedoIsFactorTimesTexelTimesVertexColour) {
     ++tested;
   }
   EXPECT_EQ(tested, 6u);
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+TEST(gbuffer_material_modes, EachTextureSamplesItsOwnUvSetAndTransform) {
+  // A linear 256 x 256 metallic-roughness texture: roughness (G) = column / 255 and
+  // metallic (B) = row / 255. Bilinear sampling of a ramp returns the ramp itself:
+  // inside the outer half texels, roughness = (256 u - 0.5) / 255 and metallic =
+  // (256 v - 0.5) / 255, so the material attachment shows the UV it was sampled at.
+  constexpr int kSize = 256;
+  kit::ImageRgba8 ramp{kSize, kSize, std::vector<unsigned char>(static_cast<size_t>(kSize) * kSize * 4, 255)};
+  for (int row = 0; row < kSize; ++row)
+    for (int column = 0; column < kSize; ++column) {
+      unsigned char* texel = &ramp.pixels[(static_cast<size_t>(row) * kSize + static_cast<size_t>(column)) * 4];
+      texel[1] = static_cast<unsigned char>(column);
+      texel[2] = static_cast<unsigned char>(row);
+    }
+  kit::Material m = kit::test::plain_material(1.0f);
+  m.metallic_factor = 1.0f;
+  m.metallic_roughness_image = 0;
+  m.metallic_roughness_sampler = 0;
+  kit::TextureSampler bilinear;
+  bilinear.min_filter = bilinear.mag_filter = GL_LINEAR;
+  bilinear.wrap_s = bilinear.wrap_t = GL_CLAMP_TO_EDGE;
+  // The quad's UV sets as functions of where a point lies on it, s = (x + 1) / 2 and
+  // t = (y + 1) / 2: TEXCOORD_0 as quad_primitive makes it, TEXCOORD_1 another affine map.
+  auto uv0_at = [](glm::dvec2 st) { return glm::dvec2(st.x, 1.0 - st.y); };
+  auto uv1_at = [](glm::dvec2 st) { return glm::dvec2(0.8 - 0.6 * st.x, 0.1 + 0.7 * st.y); };
+  kit::Scene scene = quad_scene(m);
+  for (kit::Vertex& v : scene.primitives[0].vertices) {
+    const glm::dvec2 st((v.position.x + 1.0) / 2.0, (v.position.y + 1.0) / 2.0);
+    ASSERT_EQ(glm::dvec2(v.texcoord), uv0_at(st));
+    v.texcoord1 = glm::vec2(uv1_at(st));
+  }
+  scene.images.push_back({"ramp", kSize, kSize, {}, ramp});
+  scene.samplers.push_back(bilinear);
+  const kit::FrameCamera camera = quad_camera(3.0);
+  // Witness: every texture sampled at UV slot 0 untransformed, as one UV per vertex would.
+  const fs::path one_uv = kit::test::variant_root(
+      "gbuffer_one_uv_for_every_texture",
+      {{"01-gbuffer/gbuffer.frag", "kit_metallic_roughness_uv(v_texcoords)", "v_texcoords.xy"}});
+  // llvmpipe's bilinear filter of 8-bit texels runs in fixed point: measured, its
+  // result lies up to 0.47 of a texel step (1/255) from the exact ramp, with the
+  // RGBA16F store's 2^-11 included. A step is 1/256 of the UV: a UV off by 2 % is 5 steps.
+  constexpr double kRampTolerance = 0.6 / 255.0;
+  struct Case {
+    const char* name;
+    int slot;
+    glm::dvec2 offset;
+    double rotation;
+    glm::dvec2 scale;
+  };
+  const Case cases[] = {{"TEXCOORD_0, transformed", 0, {0.3, 0.1}, -0.4, {0.6, 0.7}},
+                        {"TEXCOORD_1, transformed", 1, {0.15, 0.05}, 0.3, {0.9, 0.8}}};
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    // The loader's TextureUv for KHR_texture_transform {offset, rotation, scale}.
+    kit::TextureUv& uv = scene.materials[0].metallic_roughness_uv;
+    uv.slot = c.slot;
+    const float cos_r = static_cast<float>(std::cos(c.rotation)), sin_r = static_cast<float>(std::sin(c.rotation));
+    uv.transform = glm::mat3(1, 0, 0, 0, 1, 0, static_cast<float>(c.offset.x), static_cast<float>(c.offset.y), 1) *
+                   glm::mat3(cos_r, sin_r, 0, -sin_r, cos_r, 0, 0, 0, 1) *
+                   glm::mat3(static_cast<float>(c.scale.x), 0, 0, 0, static_cast<float>(c.scale.y), 0, 0, 0, 1);
+    auto renderer = render_quad("gbuffer", scene, camera);
+    auto naive = render_quad("gbuffer", scene, camera, one_uv);
+    const kit::Image material = renderer->read_view(kit::View::Material, true);
+    const kit::Image naive_material = naive->read_view(kit::View::Material, true);
+    size_t tested = 0, naive_wrong = 0;
+    for (double xw : {-0.7, -0.35, 0.0, 0.35, 0.7})
+      for (double yw : {-0.7, -0.35, 0.0, 0.35, 0.7}) {
+        const auto [x, y] = pixel_of(camera, {xw, yw, 0.0});
+        const glm::dvec3 hit = hit_on_z0(camera, x, y);
+        const glm::dvec2 st((hit.x + 1.0) / 2.0, (hit.y + 1.0) / 2.0);
+        const glm::dvec2 sampled =
+            kit::test::texture_transformed(c.slot == 1 ? uv1_at(st) : uv0_at(st), c.offset, c.rotation, c.scale);
+        const double inner_min = 1.5 / kSize, inner_max = 1.0 - 1.5 / kSize;
+        if (sampled.x < inner_min || sampled.x > inner_max || sampled.y < inner_min || sampled.y > inner_max) continue;
+        const double roughness = (kSize * sampled.x - 0.5) / 255.0, metallic = (kSize * sampled.y - 0.5) / 255.0;
+        EXPECT_NEAR(material.at(x, y, 0), metallic, kRampTolerance) << "pixel (" << x << ", " << y << ")";
+        EXPECT_NEAR(material.at(x, y, 1), roughness, kRampTolerance) << "pixel (" << x << ", " << y << ")";
+        naive_wrong += std::fabs(naive_material.at(x, y, 0) - metallic) > 10.0 * kRampTolerance ||
+                       std::fabs(naive_material.at(x, y, 1) - roughness) > 10.0 * kRampTolerance;
+        ++tested;
+      }
+    EXPECT_GE(tested, 20u);
+    EXPECT_EQ(naive_wrong, tested) << "one UV for every texture must show at every tested pixel";
+  }
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 

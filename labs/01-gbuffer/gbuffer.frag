@@ -6,7 +6,7 @@
 
 in vec3 v_world_position;
 in vec3 v_world_normal;
-in vec2 v_texcoord;
+in vec4 v_texcoords;  // both UV slots; kit_base_color_uv(v_texcoords) and the like pick a texture's own
 in vec4 v_color;  // linear rgba
 
 layout(location = KIT_GBUF_POSITION) out vec4 out_position;
@@ -16,6 +16,8 @@ layout(location = KIT_GBUF_MATERIAL) out vec4 out_material;
 layout(location = KIT_GBUF_EMISSION) out vec4 out_emission;
 
 void main() {
+    // Each texture is sampled at its own UV: kit_base_color_uv(v_texcoords) for the
+    // base colour texture, kit_metallic_roughness_uv and kit_emissive_uv for the others.
     // TODO(lab 1): base colour = u_base_color_factor * the base colour texture
     //              * the vertex colour, alpha included.
     vec4 base_color = u_base_color_factor;

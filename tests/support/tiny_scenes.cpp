@@ -1,5 +1,7 @@
 #include "tiny_scenes.h"
 
+#include <cmath>
+
 #include "gbuffer_layout.h"
 
 namespace kit::test {
@@ -69,6 +71,12 @@ Light point_light(glm::vec3 position, float candela) {
   l.position = position;
   l.intensity = candela;
   return l;
+}
+
+glm::dvec2 texture_transformed(glm::dvec2 uv, glm::dvec2 offset, double rotation, glm::dvec2 scale) {
+  const glm::dvec2 s = uv * scale;
+  return {std::cos(rotation) * s.x - std::sin(rotation) * s.y + offset.x,
+          std::sin(rotation) * s.x + std::cos(rotation) * s.y + offset.y};
 }
 
 }  // namespace kit::test

@@ -29,4 +29,8 @@ Material plain_material(float roughness);
 // A point light of `candela` at `position`.
 Light point_light(glm::vec3 position, float candela);
 
+// KHR_texture_transform applied to `uv` as the extension defines it (scale, then
+// rotation, then offset), written out in double: the tests' own evaluation.
+glm::dvec2 texture_transformed(glm::dvec2 uv, glm::dvec2 offset, double rotation, glm::dvec2 scale);
+
 }  // namespace kit::test

@@ -16,7 +16,7 @@ in vec3 v_world_position;
 in vec3 v_world_normal;
 in vec3 v_world_tangent;
 in vec3 v_world_bitangent;
-in vec2 v_texcoord;
+in vec4 v_texcoords;  // both UV slots; kit_base_color_uv(v_texcoords) and the like pick a texture's own
 in vec4 v_color;  // glTF COLOR_0
 
 struct SurfaceInputs {
@@ -43,7 +43,7 @@ vec3 mapped_normal(vec3 n) {
     vec3 b = v_world_bitangent - n * dot(n, v_world_bitangent) - t * dot(t, v_world_bitangent);
     float b_len2 = dot(b, b);
     b = b_len2 > KIT_MIN_TANGENT_LENGTH_SQUARED ? b * inversesqrt(b_len2) : cross(n, t);
-    vec3 texel = texture(u_normal_texture, v_texcoord).xyz;
+    vec3 texel = texture(u_normal_texture, kit_normal_uv(v_texcoords)).xyz;
     vec3 tangent_normal = (2.0 * texel - 1.0) * vec3(u_normal_scale, u_normal_scale, 1.0);
     vec3 world = mat3(t, b, n) * tangent_normal;
     float len2 = dot(world, world);
@@ -52,14 +52,14 @@ vec3 mapped_normal(vec3 n) {
 
 SurfaceInputs surface_inputs() {
     SurfaceInputs m;
-    vec4 base_color = u_base_color_factor * texture(u_base_color_texture, v_texcoord) * v_color;
-    vec4 metallic_roughness = texture(u_metallic_roughness_texture, v_texcoord);
+    vec4 base_color = u_base_color_factor * texture(u_base_color_texture, kit_base_color_uv(v_texcoords)) * v_color;
+    vec4 metallic_roughness = texture(u_metallic_roughness_texture, kit_metallic_roughness_uv(v_texcoords));
     kit_alpha_discard(base_color.a);
     m.albedo = base_color.rgb;
     m.alpha = base_color.a;
     m.metallic = u_metallic_factor * metallic_roughness.b;
     m.roughness = u_roughness_factor * metallic_roughness.g;
-    m.emission = u_emissive_factor * texture(u_emissive_texture, v_texcoord).rgb;
+    m.emission = u_emissive_factor * texture(u_emissive_texture, kit_emissive_uv(v_texcoords)).rgb;
     m.normal = normalize(v_world_normal);
     if (u_has_normal_texture) m.normal = mapped_normal(m.normal);
     m.normal = kit_facing_normal(m.normal);
