@@ -272,6 +272,9 @@ class ObjSceneBuilder {
     m.normal_image = texture(index, norm ? "norm" : "map_Bump", norm ? src.normal_texname : src.bump_texname);
     m.normal_scale = static_cast<float>(norm ? src.normal_texopt.bump_multiplier : src.bump_texopt.bump_multiplier);
     if (!std::isfinite(m.normal_scale)) throw Error(what + ": the -bm value is not finite");
+    m.base_color_uv = texture_uv(src.diffuse_texopt, what + ": map_Kd");
+    m.emissive_uv = texture_uv(src.emissive_texopt, what + ": map_Ke");
+    m.normal_uv = texture_uv(norm ? src.normal_texopt : src.bump_texopt, what + (norm ? ": norm" : ": map_Bump"));
 
     std::string unused;
     for (const auto& [keyword, name] : {std::pair<const char*, const std::string&>{"map_Ka", src.ambient_texname},
@@ -282,6 +285,22 @@ class ObjSceneBuilder {
     if (!unused.empty())
       scene_.warnings.push_back(what + ": " + unused + " not used (the kit reads map_Kd, map_Ke and norm or map_Bump)");
     return m;
+  }
+
+  // A map's -o (origin offset) and -s (scale) options as the TextureUv of the kit's
+  // UVs. MTL applies them to OBJ's UVs, whose v grows up: u' = s_u u + o_u in both,
+  // and with the kit's v = 1 - v_obj, v' = 1 - (s_v v_obj + o_v) = s_v v + (1 - s_v - o_v).
+  // The w components (3D textures) have no meaning for an image.
+  static TextureUv texture_uv(const tinyobj::texture_option_t& option, const std::string& what) {
+    for (int c = 0; c < 2; ++c)
+      if (!std::isfinite(option.origin_offset[c]) || !std::isfinite(option.scale[c]))
+        throw Error(what + ": an -o or -s value is not finite");
+    const float scale_u = static_cast<float>(option.scale[0]), scale_v = static_cast<float>(option.scale[1]);
+    const float offset_u = static_cast<float>(option.origin_offset[0]);
+    const float offset_v = 1.0f - scale_v - static_cast<float>(option.origin_offset[1]);
+    TextureUv uv;
+    uv.transform = glm::mat3(scale_u, 0, 0, 0, scale_v, 0, offset_u, offset_v, 1);  // column-major
+    return uv;
   }
 
   // The image a material's map names, loaded once per file: -1 when it names none, or
@@ -374,7 +393,7 @@ class ObjSceneBuilder {
                                     ": some faces have normals (vn) and some do not: flat normals for all of them");
         use_flat_normals(prim);
       }
-      generate_tangents(prim.vertices, prim.indices);
+      generate_tangents(prim.vertices, prim.indices, scene_.materials.at(static_cast<size_t>(material)).normal_uv);
       prim.tangents_generated = true;
       set_bounds_from_vertices(prim);
       scene_.primitives.push_back(std::move(prim));

@@ -227,6 +227,31 @@ TEST(ObjScene, TexturesLoadWithTheirOptions) {
   EXPECT_TRUE(warned);
 }
 
+// A map's -o and -s options (OBJ's UVs, v up) reach the texture as its transform of
+// the kit's UVs (v down): at each corner, the UV it samples is the option's, flipped.
+// Written with all three values, as exporters write them (tinyobjloader reads three).
+TEST(ObjScene, MapOffsetAndScaleBecomeTheTexturesTransform) {
+  REQUIRE_OBJ_SUPPORT();
+  fs::path dir = kit::test::temp_dir("obj_scene/texture_options");
+  kit::write_image((dir / "tile.png").string(), kit::Image(1, 1, 3));
+  kit::test::write_file(dir / "quad.obj", std::string(kQuadObj));
+  kit::test::write_file(dir / "quad.mtl", "newmtl paint\nKd 1 1 1\nmap_Kd -o 0.25 0.5 0 -s 2 3 1 tile.png\n"
+                                          "map_Ke tile.png\n");
+  const kit::Scene scene = kit::load_scene((dir / "quad.obj").string());
+  ASSERT_EQ(scene.materials.size(), 1u);
+  const kit::Material& m = scene.materials[0];
+  size_t checked = 0;
+  for (const kit::Vertex& v : scene.primitives.at(0).vertices) {
+    const double u_obj = v.texcoord.x, v_obj = 1.0 - v.texcoord.y;  // the file's vt
+    const glm::vec2 sampled = m.base_color_uv.of(v);
+    EXPECT_NEAR(sampled.x, 2.0 * u_obj + 0.25, kFloatTolerance);
+    EXPECT_NEAR(sampled.y, 1.0 - (3.0 * v_obj + 0.5), kFloatTolerance);
+    EXPECT_EQ(m.emissive_uv.of(v), v.texcoord) << "a map without options samples the vertex's UV";
+    ++checked;
+  }
+  EXPECT_EQ(checked, 4u);
+}
+
 TEST(ObjScene, TexturePathOutsideTheFolderIsRefused) {
   REQUIRE_OBJ_SUPPORT();
   fs::path root = kit::test::temp_dir("obj_scene/escape");
