@@ -1304,23 +1304,21 @@ GLenum compressed_format(TexelEncoding encoding, bool srgb) {
   return srgb ? kCompressedSrgbAlphaDxt5 : kCompressedRgbaDxt5;
 }
 
-// What a decode thread hands the GL thread for one image: a small image's pixels,
-// which GL mipmaps, or a large image's chains, one for each format it is sampled in.
+// What a decode thread hands the GL thread for one image: its mip chains, one for
+// each format it is sampled in.
 struct DecodedImage {
-  ImageRgba8 pixels;
   std::optional<PreparedTexture> srgb, linear;
 };
 
-// Decodes an image and, when it is large, makes its mip chains (compressed when
-// `compress`, normal maps excepted): the work of a decode thread, so the GL thread only copies bytes.
+// Decodes an image and makes its mip chains (a large one's compressed when `compress`,
+// normal maps excepted): the work of a decode thread, so the GL thread only copies bytes.
 DecodedImage decode_image(const SceneImage& image, const ImageUse& use, bool compress) {
   DecodedImage decoded;
-  decoded.pixels = decode_scene_image(image);
-  if (!is_large_texture(decoded.pixels.width, decoded.pixels.height)) return decoded;
-  if (use.srgb && use.linear) decoded.srgb = prepare_texture(decoded.pixels, true, compress);
-  if (use.linear) decoded.linear = prepare_texture(std::move(decoded.pixels), false, compress && !use.normal_map);
-  else decoded.srgb = prepare_texture(std::move(decoded.pixels), true, compress);
-  decoded.pixels = ImageRgba8{};
+  ImageRgba8 pixels = decode_scene_image(image);
+  compress = compress && is_large_texture(pixels.width, pixels.height);
+  if (use.srgb && use.linear) decoded.srgb = prepare_texture(pixels, true, compress);
+  if (use.linear) decoded.linear = prepare_texture(std::move(pixels), false, compress && !use.normal_map);
+  else decoded.srgb = prepare_texture(std::move(pixels), true, compress);
   return decoded;
 }
 
@@ -1459,14 +1457,6 @@ SceneGpu::SceneGpu(const Scene& scene, bool compress_large_textures) {
         // when uploaded as-is: GL's first row is then sampled at v = 0.
         if (decoded.srgb) srgb_[i] = upload_prepared(*decoded.srgb, true);
         if (decoded.linear) linear_[i] = upload_prepared(*decoded.linear, false);
-        const ImageRgba8& img = decoded.pixels;
-        if (img.pixels.empty()) return;
-        if (uses[i].srgb)
-          srgb_[i] = Texture2D(img.width, img.height, TextureFormat{GL_SRGB8_ALPHA8, GL_RGBA, GL_UNSIGNED_BYTE},
-                               img.pixels.data(), true);
-        if (uses[i].linear)
-          linear_[i] = Texture2D(img.width, img.height, TextureFormat{GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE},
-                                 img.pixels.data(), true);
       });
   // The decode threads' arenas keep what they freed (keep_freed_memory_for_reuse's
   // thresholds): tens of MB of decoded images nothing will allocate again.
