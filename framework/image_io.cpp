@@ -18,13 +18,14 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 }  // namespace
 
-void write_image(const std::string& path, const Image& image) {
+void write_image(const std::string& path, const Image& image, PngEffort effort) {
   bool exr = ends_with(path, ".exr");
   if (!exr && !ends_with(path, ".png")) throw Error(path + ": output must end in .png or .exr");
   auto out = OIIO::ImageOutput::create(path);
   if (!out) throw Error(path + ": cannot create image writer: " + OIIO::geterror());
   OIIO::ImageSpec spec(image.width, image.height, image.channels, exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   if (exr) spec.attribute("compression", "zip");
+  if (!exr && effort == PngEffort::Fastest) spec.attribute("png:compressionLevel", 1);
   if (!out->open(path, spec)) throw Error(path + ": cannot open for writing: " + out->geterror());
   bool ok;
   if (exr) {

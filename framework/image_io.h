@@ -19,9 +19,15 @@ struct Image {
   float at(int x, int y, int c) const { return pixels[(static_cast<size_t>(y) * width + x) * channels + c]; }
 };
 
+// How hard a PNG's zlib stream is squeezed: Smallest is zlib's default level (6),
+// for files that are kept (handout images, kit-render's output); Fastest is level 1,
+// for the grader's report images, 138 a submission: on those, zlib takes a quarter of
+// the time (0.11 s against 0.43 s) for files 20 % larger (2.3 MB against 1.9 MB).
+enum class PngEffort { Smallest, Fastest };
+
 // .exr keeps 32-bit floats; .png stores 8 bits per channel, values clamped to
 // [0,1] and rounded to nearest. Throws kit::Error.
-void write_image(const std::string& path, const Image& image);
+void write_image(const std::string& path, const Image& image, PngEffort effort = PngEffort::Smallest);
 Image read_image(const std::string& path);
 
 // Reads a colour texture (any format) as RGBA floats, or a depth texture as one channel.

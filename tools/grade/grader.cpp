@@ -206,17 +206,17 @@ void write_report_images(const Run& run, const fs::path& result_dir, const Check
   c.reference = base + ".ref.png";
   c.diff = base + ".diff.png";
   Metric shown = check.metric == Metric::Changes ? Metric::Ldr : check.metric;
-  write_image((result_dir / c.image).string(), display_image(shown, image, reference));
-  write_image((result_dir / c.diff).string(), c.comparison.diff);
+  write_image((result_dir / c.image).string(), display_image(shown, image, reference), PngEffort::Fastest);
+  write_image((result_dir / c.diff).string(), c.comparison.diff, PngEffort::Fastest);
   if (check.metric == Metric::Changes) {  // its "reference" is the submission's own render
-    write_image((result_dir / c.reference).string(), display_image(shown, reference, reference));
+    write_image((result_dir / c.reference).string(), display_image(shown, reference, reference), PngEffort::Fastest);
     return;
   }
   // A reference looks the same in every submission's report: encoded once per run, then copied.
   fs::path cached = run.temp / "reference-png" / (check.reference + "." + metric_name(check.metric) + ".png");
   if (!fs::exists(cached)) {
     fs::create_directories(cached.parent_path());
-    write_image(cached.string(), display_image(shown, reference, reference));
+    write_image(cached.string(), display_image(shown, reference, reference), PngEffort::Fastest);
   }
   fs::copy_file(cached, result_dir / c.reference, fs::copy_options::overwrite_existing);
 }
