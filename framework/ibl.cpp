@@ -10,6 +10,7 @@
 
 #include "error.h"
 #include "pass_clock.h"
+#include "texture_prepare.h"
 #include "stages.h"
 #include "gbuffer_layout.h"
 
@@ -37,13 +38,19 @@ Texture2D equirect_texture(const Image& image, bool mipmapped) {
   if (image.channels < 3) throw Error("an equirectangular map needs RGB channels");
   const int width = image.width, height = image.height;
   // GL's row 0 is the image's bottom row (environment.glsl: t = 0 is the nadir).
-  std::vector<float> rgba(static_cast<size_t>(width) * static_cast<size_t>(height) * 4, 1.0f);
+  Image rgba(width, height, 4);
   for (int y = 0; y < height; ++y)
-    for (int x = 0; x < width; ++x)
-      for (int c = 0; c < 3; ++c)
-        rgba[(static_cast<size_t>(height - 1 - y) * static_cast<size_t>(width) + static_cast<size_t>(x)) * 4 +
-             static_cast<size_t>(c)] = image.at(x, y, c);
-  Texture2D texture(width, height, kRadianceFormat, rgba.data(), mipmapped);
+    for (int x = 0; x < width; ++x) {
+      for (int c = 0; c < 3; ++c) rgba.at(x, height - 1 - y, c) = image.at(x, y, c);
+      rgba.at(x, height - 1 - y, 3) = 1.0f;
+    }
+  // The mip chain is box-filtered here rather than by glGenerateMipmap, which on
+  // llvmpipe JIT-compiles a blit for the format in every process (texture_prepare.h).
+  std::vector<Image> chain{std::move(rgba)};
+  while (mipmapped && (chain.back().width > 1 || chain.back().height > 1)) chain.push_back(next_mip_level(chain.back()));
+  std::vector<TextureLevelData> levels;
+  for (const Image& level : chain) levels.push_back({level.width, level.height, level.pixels.data(), 0});
+  Texture2D texture(kRadianceFormat, false, levels);
   set_equirect_sampling(texture, mipmapped);
   return texture;
 }
@@ -161,8 +168,13 @@ void ImageBasedLighting::precompute(const Program& irradiance, const Program& pr
   irradiance_seconds_ = seconds_since(start);
 
   // Prefiltered radiance: level k for roughness k / (levels - 1).
-  prefiltered_ = Texture2D(settings.prefilter_size, settings.prefilter_size / 2, kRadianceFormat, nullptr, true);
-  prefiltered_.set_max_level(KIT_PREFILTER_LEVELS - 1);
+  // Its levels allocated one by one (levels 0 to KIT_PREFILTER_LEVELS - 1, each
+  // rendered below), not by glGenerateMipmap (equirect_texture says why).
+  std::vector<TextureLevelData> prefiltered_levels;
+  for (int level = 0; level < KIT_PREFILTER_LEVELS; ++level)
+    prefiltered_levels.push_back(
+        {std::max(settings.prefilter_size >> level, 1), std::max((settings.prefilter_size / 2) >> level, 1), nullptr, 0});
+  prefiltered_ = Texture2D(kRadianceFormat, false, prefiltered_levels);
   set_equirect_sampling(prefiltered_, true);
   prefilter.use();
   prefilter.set("u_sample_count", settings.prefilter_samples);

@@ -142,6 +142,26 @@ ImageRgba8 next_mip_level(const ImageRgba8& level, bool srgb) {
   return out;
 }
 
+Image next_mip_level(const Image& level) {
+  Image out(std::max(1, level.width / 2), std::max(1, level.height / 2), level.channels);
+  const std::vector<Footprint> columns = footprints(level.width, out.width), rows = footprints(level.height, out.height);
+  std::vector<double> sum(static_cast<size_t>(level.channels));
+  for (int y = 0; y < out.height; ++y) {
+    const Footprint& row = rows[static_cast<size_t>(y)];
+    for (int x = 0; x < out.width; ++x) {
+      const Footprint& column = columns[static_cast<size_t>(x)];
+      std::fill(sum.begin(), sum.end(), 0.0);
+      for (int j = 0; j < row.count; ++j)
+        for (int i = 0; i < column.count; ++i) {
+          const double weight = row.weight[static_cast<size_t>(j)] * column.weight[static_cast<size_t>(i)];
+          for (int c = 0; c < level.channels; ++c) sum[static_cast<size_t>(c)] += weight * level.at(column.first + i, row.first + j, c);
+        }
+      for (int c = 0; c < level.channels; ++c) out.at(x, y, c) = static_cast<float>(sum[static_cast<size_t>(c)]);
+    }
+  }
+  return out;
+}
+
 bool is_opaque(const ImageRgba8& image) {
   for (size_t i = 3; i < image.pixels.size(); i += kChannels)
     if (image.pixels[i] != 255) return false;

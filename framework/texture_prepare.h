@@ -1,19 +1,20 @@
 #pragma once
-// Large scene textures made ready for upload on SceneGpu's decode threads: the mip
-// chain filtered on the CPU and, when allowed, the levels compressed to S3TC (BC)
-// blocks, so that the GL thread only copies bytes. On llvmpipe glGenerateMipmap
-// runs on the GL thread (about 90 ms and 10 MB a 2048x2048 texture), and a BC1
-// chain holds an eighth of RGBA8's bytes. Small textures (every kit scene's) keep
-// RGBA8 and glGenerateMipmap, so the grader's images do not move.
+// Scene textures made ready for upload on SceneGpu's decode threads: the mip chain
+// filtered on the CPU and, for large ones when allowed, the levels compressed to S3TC
+// (BC) blocks, so that the GL thread only copies bytes. On llvmpipe glGenerateMipmap
+// runs on the GL thread (about 90 ms and 10 MB a 2048x2048 texture) and JIT-compiles
+// a blit per format in each process (0.1-0.2 s for a kit scene's three 256x256
+// textures, paid by every grader child); a BC1 chain holds an eighth of RGBA8's bytes.
 #include <cstddef>
 #include <vector>
 
+#include "image_io.h"
 #include "scene.h"
 
 namespace kit {
 
-// A texture of at least this many texels (1024x1024) is large: its mip chain is made
-// here and it is compressed unless compression is turned off (--compress-textures).
+// A texture of at least this many texels (1024x1024) is large: it is compressed
+// unless compression is turned off (--compress-textures).
 constexpr size_t kLargeTextureTexels = size_t{1024} * 1024;
 bool is_large_texture(int width, int height);
 
@@ -44,6 +45,10 @@ struct PreparedTexture {
 // again, as GL filters sRGB textures; alpha and linear data are averaged as stored.
 // Rounded to the nearest 8-bit value.
 ImageRgba8 next_mip_level(const ImageRgba8& level, bool srgb);
+
+// The next mip level of a float image of any channel count: next_mip_level's box
+// filter, summed in double, nothing encoded (the environment maps' chains, ibl.cpp).
+Image next_mip_level(const Image& level);
 
 // Whether every texel's alpha is 255: BC1 then keeps it, else BC3 is needed.
 bool is_opaque(const ImageRgba8& image);

@@ -111,6 +111,29 @@ TEST(texture_prepare, AnOddSideIsBoxFilteredByTheCoveredParts) {
   EXPECT_EQ(texel(three, 0, 0, 1), expected_mean(codes, std::vector<double>(9, 1.0), false));
 }
 
+// The float chain (environment maps): the same box filter, values as stored, HDR
+// values above 1 kept; an even side averages 2 x 2, an odd one by the covered parts.
+TEST(texture_prepare, FloatLevelsAreBoxFilteredAsStored) {
+  kit::Image level(5, 2, 3);
+  for (int y = 0; y < 2; ++y)
+    for (int x = 0; x < 5; ++x)
+      for (int c = 0; c < 3; ++c) level.at(x, y, c) = static_cast<float>(0.37 * x * x + 11.0 * y + 2.5 * c);  // up to 22
+  const kit::Image next = kit::next_mip_level(level);
+  ASSERT_EQ(next.width, 2);
+  ASSERT_EQ(next.height, 1);
+  ASSERT_EQ(next.channels, 3);
+  for (int c = 0; c < 3; ++c) {
+    auto column_mean = [&](int x) { return (double{level.at(x, 0, c)} + double{level.at(x, 1, c)}) / 2.0; };
+    const double left = (column_mean(0) + column_mean(1) + 0.5 * column_mean(2)) / 2.5;
+    const double right = (0.5 * column_mean(2) + column_mean(3) + column_mean(4)) / 2.5;
+    EXPECT_NEAR(next.at(0, 0, c), left, 1e-5 * left) << "channel " << c;
+    EXPECT_NEAR(next.at(1, 0, c), right, 1e-5 * right) << "channel " << c;
+  }
+  const kit::Image one = kit::next_mip_level(kit::next_mip_level(next));
+  EXPECT_EQ(one.width, 1);
+  EXPECT_EQ(one.height, 1);
+}
+
 TEST(texture_prepare, ChainGoesDownToOneTexelAndCompressesToBlocks) {
   const kit::ImageRgba8 opaque = image_of(10, 3, [](int x, int y, int c) { return c == 3 ? 255 : detailed(x, y, c); });
   const kit::PreparedTexture plain = kit::prepare_texture(opaque, true, false);
