@@ -6,6 +6,7 @@ find_package(nlohmann_json 3 REQUIRED)
 # calls the very functions kit-grade does.
 set(kit_grade_submission_sources ${CMAKE_CURRENT_LIST_DIR}/grade/submission.cpp ${CMAKE_CURRENT_LIST_DIR}/grade/sandbox.cpp)
 add_library(kit_grade_submission STATIC ${kit_grade_submission_sources})
+set_target_properties(kit_grade_submission PROPERTIES UNITY_BUILD ${KIT_UNITY_BUILD} UNITY_BUILD_BATCH_SIZE 0)
 target_include_directories(kit_grade_submission PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
 target_link_libraries(kit_grade_submission PUBLIC kitcore PkgConfig::OIIO)
 if(KIT_FUZZ)
@@ -16,6 +17,7 @@ list(REMOVE_ITEM kit_grade_sources ${kit_grade_submission_sources} ${CMAKE_CURRE
 # Everything but main(): the checks, comparisons, scoring and reports, so
 # instructor/tests/test_grader calls the very code kit-grade runs.
 add_library(kit_grade_core STATIC ${kit_grade_sources})
+set_target_properties(kit_grade_core PROPERTIES UNITY_BUILD ${KIT_UNITY_BUILD} UNITY_BUILD_BATCH_SIZE 0)
 target_include_directories(kit_grade_core PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
 target_link_libraries(kit_grade_core PUBLIC kit_grade_submission kitcore PkgConfig::OIIO nlohmann_json::nlohmann_json)
 add_executable(kit-grade-main ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
