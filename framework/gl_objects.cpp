@@ -2,7 +2,6 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
-#include <regex>
 #include <sstream>
 
 #include "error.h"
@@ -188,12 +187,11 @@ bool accepts(GLenum declared, GLenum set_as) {
 }  // namespace
 
 std::string Program::declaration_site(const std::string& uniform) const {
-  const std::regex declaration("\\buniform\\b[^;]*\\b" + uniform + "\\b");
   for (const AssembledShader& source : sources_) {
     std::istringstream lines(source.text);
     std::string line;
     for (size_t n = 0; std::getline(lines, line); ++n) {
-      if (n >= source.lines.size() || !std::regex_search(line, declaration)) continue;
+      if (n >= source.lines.size() || !declares_uniform(line, uniform)) continue;
       const SourceLine& at = source.lines[n];
       return source.files[static_cast<size_t>(at.file)] + ":" + std::to_string(at.line);
     }

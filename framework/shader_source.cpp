@@ -120,7 +120,28 @@ bool log_location(const std::string& line, int* number, std::string* column, siz
   return true;
 }
 
+// Whether a word starts or ends at `i` in `s` (regex's \b): a word character on one side only.
+bool word_boundary(const std::string& s, size_t i) {
+  return (i > 0 && is_word(s[i - 1])) != (i < s.size() && is_word(s[i]));
+}
+
+// Whether `word` stands at `i` in `s` with a word boundary on both sides (\bWORD\b).
+bool whole_word_at(const std::string& s, size_t i, const std::string& word) {
+  return s.compare(i, word.size(), word) == 0 && word_boundary(s, i) && word_boundary(s, i + word.size());
+}
+
 }  // namespace
+
+bool declares_uniform(const std::string& line, const std::string& name) {
+  static const std::string kUniform = "uniform";
+  for (size_t u = line.find(kUniform); u != std::string::npos; u = line.find(kUniform, u + 1)) {
+    if (!whole_word_at(line, u, kUniform)) continue;
+    const size_t from = u + kUniform.size(), to = std::min(line.find(';', from), line.size());
+    for (size_t j = from; j <= to; ++j)
+      if (whole_word_at(line, j, name)) return true;
+  }
+  return false;
+}
 
 bool is_plain_shader_name(const std::string& name) {
   if (name.empty() || name.size() > 128 || name[0] == '.') return false;

@@ -73,6 +73,11 @@ class ShaderLibrary {
 // naming `display`.
 std::string read_shader_text(const std::filesystem::path& path, const std::string& display);
 
+// Whether `line` declares the uniform `name`: the word "uniform", then further on with
+// no ';' between them the word `name` (what the regex \buniform\b[^;]*\bNAME\b found,
+// scanned by hand like the shader assembler's lines; words are [A-Za-z0-9_] runs).
+bool declares_uniform(const std::string& line, const std::string& name);
+
 // True when `name` is a plain file name the resolver accepts.
 bool is_plain_shader_name(const std::string& name);
 

@@ -374,6 +374,20 @@ TEST(shader_source_log, HostileLogLinesMapWithoutThrowing) {
   EXPECT_EQ(s.map_log("0:1(2)"), "lab/main.frag:1:2\n");
 }
 
+// Where a uniform the framework never sets is reported (Program::declaration_site):
+// the first line with the word "uniform" and later, before any ';', the uniform's name
+// as a whole word. It was the regex \buniform\b[^;]*\bNAME\b; these are its answers.
+TEST(shader_source_uniform, DeclarationLinesAreFoundByWholeWords) {
+  for (const std::string line : {"uniform float u_x;", "  uniform vec3 u_a, u_x;", "layout(std140) uniform\tvec4 u_x[2];",
+                                 "uniform sampler2D u_x", "uniform float u_y; uniform float u_x;", "x uniform u_x"})
+    EXPECT_TRUE(kit::declares_uniform(line, "u_x")) << line;
+  for (const std::string line : {"uniform float u_xy;", "uniform float u_y; float u_x;", "uniforms float u_x;",
+                                 "my_uniform float u_x;", "float u_x; // uniform", "uniform float u_x2;", "", "u_x uniform"})
+    EXPECT_FALSE(kit::declares_uniform(line, "u_x")) << line;
+  EXPECT_TRUE(kit::declares_uniform("uniform Light u_lights[4];", "u_lights"));
+  EXPECT_FALSE(kit::declares_uniform(std::string(100000, 'u') + " uniform", "u_x"));
+}
+
 // Compile and link errors need a GL context.
 class ShaderProgramTest : public ShaderSourceTest {
  protected:

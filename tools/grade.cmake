@@ -2,22 +2,27 @@
 # needs kitcore (which brings OpenImageIO for the comparisons) and the scenes.
 find_package(nlohmann_json 3 REQUIRED)
 # How a submission is found, sanitized and fingerprinted (submission.cpp, with the
-# sandbox it runs unzip in): a library of its own, so tests/test_submission_layouts
-# calls the very functions kit-grade does.
+# sandbox it runs unzip in): tests/test_submission_layouts calls the very functions
+# kit-grade does, through the target kit_grade_submission.
 set(kit_grade_submission_sources ${CMAKE_CURRENT_LIST_DIR}/grade/submission.cpp ${CMAKE_CURRENT_LIST_DIR}/grade/sandbox.cpp)
-add_library(kit_grade_submission STATIC ${kit_grade_submission_sources})
-target_include_directories(kit_grade_submission PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
-target_link_libraries(kit_grade_submission PUBLIC kitcore PkgConfig::OIIO)
 if(KIT_FUZZ)
-  return()  # the fuzz build fuzzes the library (instructor/fuzz/fuzz_zip_listing.cpp), not kit-grade
+  # The fuzz build fuzzes the submission code alone (instructor/fuzz/fuzz_zip_listing.cpp), not kit-grade.
+  add_library(kit_grade_submission STATIC ${kit_grade_submission_sources})
+  target_include_directories(kit_grade_submission PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
+  target_link_libraries(kit_grade_submission PUBLIC kitcore PkgConfig::OIIO)
+  return()
 endif()
+# Everything but main(): the submission code, checks, comparisons, scoring and reports,
+# so instructor/tests/test_grader calls the very code kit-grade runs. One library, the
+# submission code in it, so that a unity build (KIT_UNITY_BUILD) compiles the headers
+# they share once; kit_grade_submission names the same library.
 file(GLOB kit_grade_sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/grade/*.cpp)
-list(REMOVE_ITEM kit_grade_sources ${kit_grade_submission_sources} ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
-# Everything but main(): the checks, comparisons, scoring and reports, so
-# instructor/tests/test_grader calls the very code kit-grade runs.
+list(REMOVE_ITEM kit_grade_sources ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
 add_library(kit_grade_core STATIC ${kit_grade_sources})
+set_target_properties(kit_grade_core PROPERTIES UNITY_BUILD ${KIT_UNITY_BUILD} UNITY_BUILD_BATCH_SIZE 0)
 target_include_directories(kit_grade_core PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
-target_link_libraries(kit_grade_core PUBLIC kit_grade_submission kitcore PkgConfig::OIIO nlohmann_json::nlohmann_json)
+target_link_libraries(kit_grade_core PUBLIC kitcore PkgConfig::OIIO nlohmann_json::nlohmann_json)
+add_library(kit_grade_submission ALIAS kit_grade_core)
 add_executable(kit-grade-main ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
 target_link_libraries(kit-grade-main PRIVATE kit_grade_core)
 # kit-grade itself is a launcher that links only the C library: it turns on glibc's
