@@ -235,21 +235,9 @@ Program::UniformProblems Program::uniform_problems() const {
   return problems;
 }
 
-Texture2D::Texture2D(int width, int height, TextureFormat fmt, const void* data, bool mipmaps)
-    : width_(width), height_(height), format_(fmt) {
-  GLuint id = 0;
-  glGenTextures(1, &id);
-  texture_ = GlName<delete_texture>(id);
-  glBindTexture(GL_TEXTURE_2D, id);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTexImage2D(GL_TEXTURE_2D, 0, static_cast<GLint>(fmt.internal_format), width, height, 0, fmt.format, fmt.type, data);
-  if (mipmaps) {
-    glGenerateMipmap(GL_TEXTURE_2D);
-    set_filter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
-  } else {
-    set_filter(GL_NEAREST, GL_NEAREST);
-  }
-  set_wrap(GL_CLAMP_TO_EDGE, GL_CLAMP_TO_EDGE);
+Texture2D::Texture2D(int width, int height, TextureFormat fmt, const void* data)
+    : Texture2D(fmt, false, {TextureLevelData{width, height, data, 0}}) {
+  set_filter(GL_NEAREST, GL_NEAREST);
 }
 
 Texture2D::Texture2D(TextureFormat fmt, bool compressed, const std::vector<TextureLevelData>& levels)

@@ -122,11 +122,12 @@ struct TextureLevelData {
 class Texture2D {
  public:
   Texture2D() = default;
-  // Allocates storage (data may be null). Filtering defaults to nearest, clamp to edge.
-  // `mipmaps`: the chain is made by glGenerateMipmap and sampled trilinearly.
-  Texture2D(int width, int height, TextureFormat fmt, const void* data = nullptr, bool mipmaps = false);
-  // A texture whose mip levels are all given (level 0 first, down to 1x1), sampled
-  // trilinearly, clamp to edge. `compressed`: fmt.internal_format is a block format
+  // Allocates storage for one level (data may be null). Filtering defaults to nearest,
+  // clamp to edge. (No glGenerateMipmap: on llvmpipe it JIT-compiles a blit per
+  // format in every process; chains are made on the CPU, texture_prepare.h.)
+  Texture2D(int width, int height, TextureFormat fmt, const void* data = nullptr);
+  // A texture of the given mip levels (level 0 first; the last given is its max
+  // level, and data may be null), sampled trilinearly, clamp to edge. `compressed`: fmt.internal_format is a block format
   // (S3TC) and each level's bytes are its blocks; fmt.format and fmt.type are unused.
   Texture2D(TextureFormat fmt, bool compressed, const std::vector<TextureLevelData>& levels);
   GLuint id() const { return texture_.get(); }
