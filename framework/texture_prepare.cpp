@@ -81,6 +81,29 @@ std::vector<Footprint> footprints(int source, int destination) {
   return result;
 }
 
+// The box filter from a source_width x source_height level to the next level's size:
+// for each destination texel and channel, the sum of texel(x, y, c) over the source
+// texels its area covers, weighted by the parts covered (footprints), handed to
+// store(x, y, c, sum).
+template <typename Texel, typename Store>
+void box_filter(int source_width, int source_height, int width, int height, int channels, Texel texel, Store store) {
+  const std::vector<Footprint> columns = footprints(source_width, width), rows = footprints(source_height, height);
+  std::vector<double> sum(static_cast<size_t>(channels));
+  for (int y = 0; y < height; ++y) {
+    const Footprint& row = rows[static_cast<size_t>(y)];
+    for (int x = 0; x < width; ++x) {
+      const Footprint& column = columns[static_cast<size_t>(x)];
+      std::fill(sum.begin(), sum.end(), 0.0);
+      for (int j = 0; j < row.count; ++j)
+        for (int i = 0; i < column.count; ++i) {
+          const double weight = row.weight[static_cast<size_t>(j)] * column.weight[static_cast<size_t>(i)];
+          for (int c = 0; c < channels; ++c) sum[static_cast<size_t>(c)] += weight * texel(column.first + i, row.first + j, c);
+        }
+      for (int c = 0; c < channels; ++c) store(x, y, c, sum[static_cast<size_t>(c)]);
+    }
+  }
+}
+
 // next_mip_level for even sides, where every texel is the mean of a 2x2 square: the
 // same means without the general footprints' loops, on the path every power-of-two texture takes.
 void halve_even_sides(const ImageRgba8& level, bool srgb, ImageRgba8& out) {
@@ -115,50 +138,25 @@ ImageRgba8 next_mip_level(const ImageRgba8& level, bool srgb) {
     halve_even_sides(level, srgb, out);
     return out;
   }
-  const std::vector<Footprint> columns = footprints(level.width, out.width), rows = footprints(level.height, out.height);
   const SrgbTables& tables = srgb_tables();
-  for (int y = 0; y < out.height; ++y) {
-    const Footprint& row = rows[static_cast<size_t>(y)];
-    for (int x = 0; x < out.width; ++x) {
-      const Footprint& column = columns[static_cast<size_t>(x)];
-      std::array<double, kChannels> sum{};
-      for (int j = 0; j < row.count; ++j)
-        for (int i = 0; i < column.count; ++i) {
-          const double weight = row.weight[static_cast<size_t>(j)] * column.weight[static_cast<size_t>(i)];
-          const unsigned char* texel =
-              &level.pixels[(static_cast<size_t>(row.first + j) * static_cast<size_t>(level.width) +
-                             static_cast<size_t>(column.first + i)) * kChannels];
-          for (int c = 0; c < kChannels; ++c)
-            sum[static_cast<size_t>(c)] += weight * (srgb && c < 3 ? tables.to_linear[texel[c]] : static_cast<double>(texel[c]));
-        }
-      unsigned char* dest = &out.pixels[(static_cast<size_t>(y) * static_cast<size_t>(out.width) + static_cast<size_t>(x)) * kChannels];
-      for (int c = 0; c < kChannels; ++c) {
-        const double value = sum[static_cast<size_t>(c)];
-        dest[c] = srgb && c < 3 ? tables.encode(value)
-                                : static_cast<unsigned char>(std::clamp(std::floor(value + 0.5), 0.0, 255.0));
-      }
-    }
-  }
+  auto texel = [&](int x, int y, int c) {
+    const unsigned char code = level.pixels[(static_cast<size_t>(y) * static_cast<size_t>(level.width) + static_cast<size_t>(x)) * kChannels +
+                                           static_cast<size_t>(c)];
+    return srgb && c < 3 ? tables.to_linear[code] : static_cast<double>(code);
+  };
+  auto store = [&](int x, int y, int c, double value) {
+    out.pixels[(static_cast<size_t>(y) * static_cast<size_t>(out.width) + static_cast<size_t>(x)) * kChannels + static_cast<size_t>(c)] =
+        srgb && c < 3 ? tables.encode(value) : static_cast<unsigned char>(std::clamp(std::floor(value + 0.5), 0.0, 255.0));
+  };
+  box_filter(level.width, level.height, out.width, out.height, kChannels, texel, store);
   return out;
 }
 
 Image next_mip_level(const Image& level) {
   Image out(std::max(1, level.width / 2), std::max(1, level.height / 2), level.channels);
-  const std::vector<Footprint> columns = footprints(level.width, out.width), rows = footprints(level.height, out.height);
-  std::vector<double> sum(static_cast<size_t>(level.channels));
-  for (int y = 0; y < out.height; ++y) {
-    const Footprint& row = rows[static_cast<size_t>(y)];
-    for (int x = 0; x < out.width; ++x) {
-      const Footprint& column = columns[static_cast<size_t>(x)];
-      std::fill(sum.begin(), sum.end(), 0.0);
-      for (int j = 0; j < row.count; ++j)
-        for (int i = 0; i < column.count; ++i) {
-          const double weight = row.weight[static_cast<size_t>(j)] * column.weight[static_cast<size_t>(i)];
-          for (int c = 0; c < level.channels; ++c) sum[static_cast<size_t>(c)] += weight * level.at(column.first + i, row.first + j, c);
-        }
-      for (int c = 0; c < level.channels; ++c) out.at(x, y, c) = static_cast<float>(sum[static_cast<size_t>(c)]);
-    }
-  }
+  box_filter(level.width, level.height, out.width, out.height, level.channels,
+             [&](int x, int y, int c) { return static_cast<double>(level.at(x, y, c)); },
+             [&](int x, int y, int c, double value) { out.at(x, y, c) = static_cast<float>(value); });
   return out;
 }
 
