@@ -395,4 +395,22 @@ void FullscreenTriangle::pass(const Program& program, const Framebuffer& target,
   if (additive) glDisable(GL_BLEND);
 }
 
+void FullscreenTriangle::pass_over_surfaces(const Program& program, const Framebuffer& target, int width,
+                                            int height) const {
+  target.bind();
+  glViewport(0, 0, width, height);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_GREATER);
+  glDepthMask(GL_FALSE);
+  glDepthRange(1.0, 1.0);
+  program.use();
+  draw();
+  glDepthRange(0.0, 1.0);
+  glDepthMask(GL_TRUE);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_DEPTH_TEST);
+}
+
 }  // namespace kit

@@ -220,6 +220,11 @@ class FullscreenTriangle {
   // depth test and culling off, uses `program` and draws. Blending is off, or with
   // `additive` the colour is added to the target's (its alpha kept).
   void pass(const Program& program, const Framebuffer& target, int width, int height, bool additive = false) const;
+  // The same, but only over the pixels where `target`'s depth attachment holds a
+  // surface (depth < 1): the triangle is put at depth 1 (glDepthRange(1, 1)) and
+  // tested GL_GREATER without writing, so the rasteriser drops every pixel no geometry
+  // covered before its fragment shader runs. Those pixels keep what `target` held.
+  void pass_over_surfaces(const Program& program, const Framebuffer& target, int width, int height) const;
 
  private:
   GlName<delete_vertex_array> vao_;

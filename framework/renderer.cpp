@@ -197,6 +197,17 @@ std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const Re
 }
 
 LightBuffers::LightBuffers(const std::vector<Light>& lights) {
+  auto all_of_type = [&](int type) {
+    return !lights.empty() &&
+           std::all_of(lights.begin(), lights.end(), [type](const Light& l) { return l.type == type; });
+  };
+  const bool without_range =
+      std::none_of(lights.begin(), lights.end(), [](const Light& l) { return l.range > 0.0f; });
+  defines_ = {{kLightsInTexture, lights.size() > size_t{KIT_LIGHT_BLOCK_CAPACITY}},
+              {kLightsAllPoint, all_of_type(KIT_LIGHT_POINT)},
+              {kLightsAllSpot, all_of_type(KIT_LIGHT_SPOT)},
+              {kLightsAllDirectional, all_of_type(KIT_LIGHT_DIRECTIONAL)},
+              {kLightsWithoutRange, without_range}};
   const size_t rows = std::max(lights.size(), size_t{KIT_LIGHT_BLOCK_CAPACITY});
   std::vector<float> texels(rows * KIT_LIGHT_TEXELS * 4, 0.0f);
   for (size_t i = 0; i < lights.size(); ++i) {
@@ -218,6 +229,8 @@ LightBuffers::LightBuffers(const std::vector<Light>& lights) {
   glBufferData(GL_UNIFORM_BUFFER, static_cast<GLsizeiptr>(texels.size() * sizeof(float)), texels.data(), GL_STATIC_DRAW);
   glBindBuffer(GL_UNIFORM_BUFFER, 0);
 }
+
+bool LightBuffers::apply_defines(ShaderLibrary& library) const { return library.set_defines(defines_); }
 
 void LightBuffers::bind() const {
   if (in_texture())
@@ -424,6 +437,11 @@ void Renderer::allocate_targets() {
     if (!reason.empty()) throw Error("render target incomplete: " + reason);
   };
   target(hdr_, hdr_fbo_, kHdrFormat);
+  lighting_fbo_.attach_color(0, hdr_);
+  lighting_fbo_.attach_depth(gbuffer_.depth());
+  lighting_fbo_.set_draw_buffers(1);
+  if (std::string reason = lighting_fbo_.incomplete_reason(); !reason.empty())
+    throw Error("lighting pass target incomplete: " + reason);
   target(bloom_[0], bloom_fbo_[0], kHdrFormat);
   target(bloom_[1], bloom_fbo_[1], kHdrFormat);
   target(composite_, composite_fbo_, kLdrFormat);
@@ -445,10 +463,9 @@ void Renderer::upload_lights() {
   frame_lights_ = frame_lights(scene_, stage_, settings_);
   light_count_ = static_cast<int>(frame_lights_.size());
   lights_ = LightBuffers(frame_lights_);
-  if (lights_.in_texture() != library_.has_define(kLightsInTexture)) {
-    library_.set_define(kLightsInTexture, lights_.in_texture());
-    if (programs_) build_programs();
-  }
+  const bool lights_changed = lights_.apply_defines(library_);
+  const bool model_changed = apply_attenuation_model_define(library_, settings_.attenuation_model);
+  if ((lights_changed || model_changed) && programs_) build_programs();
   lights_extra_ = settings_.extra_lights;
   lights_default_rig_ = settings_.default_light_rig;
   lights_attenuation_model_ = settings_.attenuation_model;
@@ -493,6 +510,26 @@ void Renderer::set_frame_uniforms(const Program& p) const {
 
 void Renderer::fullscreen_pass(const Program& program, const Framebuffer& target, int width, int height) const {
   triangle_.pass(program, target, width, height);
+}
+
+bool apply_attenuation_model_define(ShaderLibrary& library, int model) {
+  return library.set_defines({{"KIT_ATTENUATION_MODEL_PHYSICAL", model == 0}, {"KIT_ATTENUATION_MODEL_SIMPLE", model == 1}});
+}
+
+bool skips_background_pixels(const Stage& stage) {
+  return stage.lighting && std::find(stage.files.begin(), stage.files.end(), "lighting.frag") == stage.files.end();
+}
+
+void Renderer::lighting_pass(const Program& lighting) const {
+  if (!skips_background_pixels(stage_)) {
+    fullscreen_pass(lighting, hdr_fbo_, settings_.width, settings_.height);
+    return;
+  }
+  // What lighting.frag writes where its coverage mask is 0, given before the pass.
+  lighting_fbo_.bind();
+  glClearColor(settings_.clear_color.r, settings_.clear_color.g, settings_.clear_color.b, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT);
+  triangle_.pass_over_surfaces(lighting, lighting_fbo_, settings_.width, settings_.height);
 }
 
 void Renderer::render(const FrameCamera& camera, PassTimes* pass_times) {
@@ -542,7 +579,7 @@ void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
   gbuffer_.bind_textures();
   lights_.bind();
   set_frame_uniforms(p.lighting);
-  fullscreen_pass(p.lighting, hdr_fbo_, settings_.width, settings_.height);
+  lighting_pass(p.lighting);
   check_gl("lighting pass");
   clock.lap("lighting");
 

@@ -109,9 +109,31 @@ bool uses_default_light_rig(const Scene& scene, const Stage& stage, const Render
 // RenderSettings::extra_lights spawned ones.
 std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings);
 
+// Defines KIT_ATTENUATION_MODEL_PHYSICAL (model 0) or KIT_ATTENUATION_MODEL_SIMPLE (1)
+// in `library` and no other, so uniforms.glsl declares u_attenuation_model as that
+// constant; true when that changed the defines (programs must be built again).
+bool apply_attenuation_model_define(ShaderLibrary& library, int model);
+
+// Whether `stage`'s lighting pass runs only where the G-buffer's depth holds a surface
+// (FullscreenTriangle::pass_over_surfaces), the background cleared to the clear colour
+// before it: at every lit stage but lab 2's own, whose lighting.frag decides by the
+// coverage mask, pixel by pixel, what is background (that branch is the lab's to write,
+// and a mistake in it must show). On the crowd scene, 71 % of whose pixels are
+// background, skipping them before the shader runs saves about a tenth of the pass
+// (handouts/02-lighting.md, "Speed").
+bool skips_background_pixels(const Stage& stage);
+
 // Defined in every shader (ShaderLibrary::set_define) when a frame has more lights
 // than the uniform block holds: lights.glsl then reads them all from the texture.
 constexpr const char* kLightsInTexture = "KIT_LIGHTS_IN_TEXTURE";
+// Defined when every light of a frame has that one type, and when none has a glTF range:
+// kit_light() then returns the type and range as constants, and the shader compiler
+// removes the branches for the types the frame does not have (lights.glsl says why that
+// pays on llvmpipe). The values the shaders see are the same either way.
+constexpr const char* kLightsAllPoint = "KIT_LIGHTS_ALL_POINT";
+constexpr const char* kLightsAllSpot = "KIT_LIGHTS_ALL_SPOT";
+constexpr const char* kLightsAllDirectional = "KIT_LIGHTS_ALL_DIRECTIONAL";
+constexpr const char* kLightsWithoutRange = "KIT_LIGHTS_WITHOUT_RANGE";
 // The lights every lighting shader reads (lights.glsl), KIT_LIGHT_TEXELS vec4 per light,
 // light i in row i: up to KIT_LIGHT_BLOCK_CAPACITY in a uniform buffer (always its full
 // size: std140 reads past the lights given are zeros, never unbacked), more in an
@@ -123,12 +145,16 @@ class LightBuffers {
   // Whether the lights are in the texture: the programs that read them must be
   // compiled with kLightsInTexture defined exactly then.
   bool in_texture() const { return texture_.id() != 0; }
+  // Sets the defines above in `library` as these lights need them; true when any changed
+  // (programs assembled from `library` must then be built again).
+  bool apply_defines(ShaderLibrary& library) const;
   // The texture on KIT_UNIT_LIGHTS, or the buffer at KIT_BLOCK_LIGHTS.
   void bind() const;
 
  private:
   Texture2D texture_;
   GlName<delete_buffer> block_;
+  std::vector<std::pair<std::string, bool>> defines_;  // every define above, on or off
 };
 
 // Which draws a geometry pass draws: every one (stage 1, which has no forward
@@ -242,6 +268,7 @@ class Renderer {
   void upload_lights();
   void set_frame_uniforms(const Program& program) const;
   void fullscreen_pass(const Program& program, const Framebuffer& target, int width, int height) const;
+  void lighting_pass(const Program& lighting) const;
   void allocate_targets();
   // Stage 6: the maps for settings_.environment and settings_.ibl, from the cache or
   // made (loading the environment when it is another than ibl_'s).
@@ -274,6 +301,9 @@ class Renderer {
   bool lights_default_rig_ = false;
   Texture2D hdr_, bloom_[2], composite_, final_;
   Framebuffer hdr_fbo_, bloom_fbo_[2], composite_fbo_, final_fbo_, debug_fbo_;
+  // The HDR target with the G-buffer's depth, for a lighting pass drawn only over
+  // surfaces (skips_background_pixels).
+  Framebuffer lighting_fbo_;
   Texture2D debug_target_;
   FrameCamera camera_;
   std::vector<const Program*> used_;  // the programs the last frame drew with, in order

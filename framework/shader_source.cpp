@@ -234,6 +234,15 @@ bool ShaderLibrary::has_define(const std::string& name) const {
   return std::find(defines_.begin(), defines_.end(), name) != defines_.end();
 }
 
+bool ShaderLibrary::set_defines(const std::vector<std::pair<std::string, bool>>& defines) {
+  bool changed = false;
+  for (const auto& [name, on] : defines) {
+    changed = changed || has_define(name) != on;
+    set_define(name, on);
+  }
+  return changed;
+}
+
 void ShaderLibrary::append(const std::string& name, AssembledShader& out,
                            std::vector<std::string>& included, int depth, bool top_level) const {
   if (depth > kMaxIncludeDepth) throw Error("#include nesting deeper than " + std::to_string(kMaxIncludeDepth) + " at \"" + name + "\"");

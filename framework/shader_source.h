@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace kit {
@@ -60,6 +61,8 @@ class ShaderLibrary {
   // shader assembled while it is set (errors still name the student's files and lines).
   void set_define(const std::string& name, bool on);
   bool has_define(const std::string& name) const;
+  // set_define for each (name, on); true when any of them changed.
+  bool set_defines(const std::vector<std::pair<std::string, bool>>& defines);
 
  private:
   void append(const std::string& name, AssembledShader& out, std::vector<std::string>& included,

@@ -40,10 +40,29 @@ Light kit_light(int i) {
     vec4 t3 = u_light_block[k + 3];
 #endif
     Light light;
+    // When every light of the frame has one type, or none has a range, the framework says
+    // so (LightBuffers::apply_defines) and they become constants here: the compiler then
+    // drops the other types' branches and the range window. llvmpipe runs both sides of
+    // every branch on its 8 pixels at once, and reads each light field it needs from the
+    // block once per pixel, so code and fields no light uses still cost: on the crowd
+    // scene's 32 point lights this took the lighting pass from 6.3 to about 5.8 ns per
+    // covered pixel and light (handouts/02-lighting.md, "Speed").
+#if defined(KIT_LIGHTS_ALL_POINT)
+    light.type = KIT_LIGHT_POINT;
+#elif defined(KIT_LIGHTS_ALL_SPOT)
+    light.type = KIT_LIGHT_SPOT;
+#elif defined(KIT_LIGHTS_ALL_DIRECTIONAL)
+    light.type = KIT_LIGHT_DIRECTIONAL;
+#else
     light.type = int(t0.w + 0.5);
+#endif
     light.position = t0.xyz;
     light.direction = t1.xyz;
+#ifdef KIT_LIGHTS_WITHOUT_RANGE
+    light.range = 0.0;
+#else
     light.range = t1.w;
+#endif
     light.color = t2.rgb;
     light.intensity = t2.w;
     light.cos_inner = t3.x;

@@ -193,7 +193,7 @@ BenchRenderer::BenchRenderer(const Scene& scene, std::vector<Light> lights, cons
       scene_gpu_(scene),
       volume_sphere_(enclosing_sphere_mesh(kVolumeSphereSubdivisions)),
       light_buffers_(lights_) {
-  library_.set_define(kLightsInTexture, light_buffers_.in_texture());
+  light_buffers_.apply_defines(library_);
   settings_.postprocess = true;     // composite.frag adds the bloom only with the toggle on
   settings_.custom_effect = false;  // the free-choice effect is no method
   const int w = settings_.width, h = settings_.height;
