@@ -11,5 +11,7 @@ if(TARGET kit-grade AND TARGET kit-render)
                    $<TARGET_FILE:kit-grade> $<TARGET_FILE:kit-render> ${CMAKE_BINARY_DIR}/test-tmp/progress_report)
   set_tests_properties(progress_report PROPERTIES
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
-    TIMEOUT 300)
+    TIMEOUT 300
+    # It takes about 15 s: started first, as kit_test's SLOW suites are.
+    COST 100)
 endif()

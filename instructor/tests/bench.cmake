@@ -10,4 +10,6 @@ test -s \"$out/$f\" || { echo \"missing $out/$f\"; exit 1; }; done"
     $<TARGET_FILE:kit-bench> ${CMAKE_BINARY_DIR}/test-tmp/bench_quick)
 set_tests_properties(bench_quick PROPERTIES
   ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
-  TIMEOUT 300)
+  TIMEOUT 300
+  # About 15 s: started first, as kit_test's SLOW suites are (cmake/gtest_suites.cmake).
+  COST 100)
