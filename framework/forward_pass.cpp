@@ -11,6 +11,12 @@
 namespace kit {
 
 namespace {
+// The forward pass's two programs.
+constexpr const char* kBlendVertex = "fullscreen.vert";
+constexpr const char* kBlendFragment = "blend_layer.frag";
+constexpr const char* kMarkerVertex = "light_marker.vert";
+constexpr const char* kMarkerFragment = "light_marker.frag";
+
 glm::vec3 box_corner(const glm::vec3& lo, const glm::vec3& hi, int c) {
   return {(c & 1) ? hi.x : lo.x, (c & 2) ? hi.y : lo.y, (c & 4) ? hi.z : lo.z};
 }
@@ -116,10 +122,15 @@ ForwardPass::ForwardPass(const ShaderLibrary& library, int width, int height)
     : width_(width),
       height_(height),
       layer_(width, height),
-      blend_(make_program(library, "fullscreen.vert", "blend_layer.frag")),
-      marker_(make_program(library, "light_marker.vert", "light_marker.frag")),
+      blend_(make_program(library, kBlendVertex, kBlendFragment)),
+      marker_(make_program(library, kMarkerVertex, kMarkerFragment)),
       marker_sphere_(enclosing_sphere_mesh(1)) {
   allocate();
+}
+
+bool ForwardPass::built_from(const ShaderLibrary& library) const {
+  return blend_.built_from(library, kBlendVertex, kBlendFragment) &&
+         marker_.built_from(library, kMarkerVertex, kMarkerFragment);
 }
 
 void ForwardPass::allocate() {

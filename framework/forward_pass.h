@@ -69,6 +69,8 @@ class ForwardPass {
   // `library` is the stage's: blend_layer.frag and the marker shaders come from
   // framework/shaders.
   ForwardPass(const ShaderLibrary& library, int width, int height);
+  // Whether its programs are what `library` would build now (Program::built_from).
+  bool built_from(const ShaderLibrary& library) const;
   void resize(int width, int height);
 
   // The BLEND draws over `hdr_fbo` (colour: the HDR target). `geometry` and

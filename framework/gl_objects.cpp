@@ -89,6 +89,11 @@ Program::Program(const ShaderLibrary& library, const std::string& vertex, const 
   sources_ = {std::move(vs), std::move(fs)};
 }
 
+bool Program::built_from(const ShaderLibrary& library, const std::string& vertex, const std::string& fragment) const {
+  return valid() && sources_.size() == 2 && library.assemble(vertex).text == sources_[0].text &&
+         library.assemble(fragment).text == sources_[1].text;
+}
+
 Program::Program(const ShaderLibrary& library, const std::string& compute) {
   AssembledShader cs = library.assemble(compute);
   source_paths_ = cs.paths;

@@ -63,6 +63,9 @@ class Program {
   GLuint id() const { return program_.get(); }
   void use() const { glUseProgram(program_.get()); }
   bool valid() const { return program_.get() != 0; }
+  // Whether `library` assembles `vertex` and `fragment` to the very texts this program was
+  // built from: building them again would make the same program.
+  bool built_from(const ShaderLibrary& library, const std::string& vertex, const std::string& fragment) const;
   // Real paths of every file this program was assembled from (for hot reload).
   const std::vector<std::filesystem::path>& source_paths() const { return source_paths_; }
   // How messages name the program's last top-level file: its fragment shader's (a

@@ -344,32 +344,50 @@ Renderer::~Renderer() = default;
 
 void Renderer::build_programs() {
   check_stage_interfaces(stage_, library_);
+  // A program whose shaders assemble to the same texts as the current one's is kept, so
+  // a define change (the lights, the attenuation model) or a hot reload builds only the
+  // programs it reaches. Kept ones move over only once every other one compiled and
+  // linked: a failure leaves the current set whole.
   auto p = std::make_unique<Programs>();
-  p->geometry = make_program(library_, "gbuffer.vert", "gbuffer.frag");
+  std::vector<Program Programs::*> kept;
+  auto build = [&](Program Programs::*slot, const char* vertex, const char* fragment) {
+    if (programs_ && ((*programs_).*slot).built_from(library_, vertex, fragment))
+      kept.push_back(slot);
+    else
+      (*p).*slot = make_program(library_, vertex, fragment);
+  };
+  build(&Programs::geometry, "gbuffer.vert", "gbuffer.frag");
   if (stage_.lighting) {
-    p->lighting = make_program(library_, "fullscreen.vert", "lighting.frag");
-    p->display = make_program(library_, "fullscreen.vert", "display.frag");
+    build(&Programs::lighting, "fullscreen.vert", "lighting.frag");
+    build(&Programs::display, "fullscreen.vert", "display.frag");
   }
   if (stage_.postprocess) {
-    p->bright = make_program(library_, "fullscreen.vert", "bright.frag");
-    p->blur = make_program(library_, "fullscreen.vert", "blur.frag");
-    p->composite = make_program(library_, "fullscreen.vert", "composite.frag");
-    p->custom = make_program(library_, "fullscreen.vert", "custom_effect.frag");
+    build(&Programs::bright, "fullscreen.vert", "bright.frag");
+    build(&Programs::blur, "fullscreen.vert", "blur.frag");
+    build(&Programs::composite, "fullscreen.vert", "composite.frag");
+    build(&Programs::custom, "fullscreen.vert", "custom_effect.frag");
   }
-  p->debug = make_program(library_, "fullscreen.vert", "debug_view.frag");
+  build(&Programs::debug, "fullscreen.vert", "debug_view.frag");
   if (stage_.ibl) {
-    p->irradiance = make_program(library_, "fullscreen.vert", "irradiance.frag");
-    p->prefilter = make_program(library_, "fullscreen.vert", "prefilter.frag");
-    p->brdf_lut = make_program(library_, "fullscreen.vert", "brdf_lut.frag");
-    p->ibl = make_program(library_, "fullscreen.vert", "ibl.frag");
-    p->background = make_program(library_, "fullscreen.vert", "environment_background.frag");
+    build(&Programs::irradiance, "fullscreen.vert", "irradiance.frag");
+    build(&Programs::prefilter, "fullscreen.vert", "prefilter.frag");
+    build(&Programs::brdf_lut, "fullscreen.vert", "brdf_lut.frag");
+    build(&Programs::ibl, "fullscreen.vert", "ibl.frag");
+    build(&Programs::background, "fullscreen.vert", "environment_background.frag");
   }
+  const bool keep_forward = forward_ && forward_->built_from(library_);
   std::unique_ptr<ForwardPass> forward;
-  if (stage_.lighting) forward = std::make_unique<ForwardPass>(library_, settings_.width, settings_.height);
-  programs_ = std::move(p);  // replaced only once everything compiled and linked
-  forward_ = std::move(forward);
+  if (stage_.lighting && !keep_forward)
+    forward = std::make_unique<ForwardPass>(library_, settings_.width, settings_.height);
+  for (Program Programs::*slot : kept) (*p).*slot = std::move((*programs_).*slot);
+  auto was_kept = [&](Program Programs::*slot) { return std::find(kept.begin(), kept.end(), slot) != kept.end(); };
+  // The maps are made by the precompute programs alone: kept, they would come out the same.
+  const bool maps_current = ibl_ && was_kept(&Programs::irradiance) && was_kept(&Programs::prefilter) &&
+                            was_kept(&Programs::brdf_lut);
+  programs_ = std::move(p);
+  if (!keep_forward) forward_ = std::move(forward);
   used_.clear();
-  if (stage_.ibl) update_ibl();
+  if (stage_.ibl && !maps_current) update_ibl();
 }
 
 std::string Renderer::ibl_cache_key() const {

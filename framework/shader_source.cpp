@@ -130,6 +130,13 @@ bool whole_word_at(const std::string& s, size_t i, const std::string& word) {
   return s.compare(i, word.size(), word) == 0 && word_boundary(s, i) && word_boundary(s, i + word.size());
 }
 
+// Whether `word` stands anywhere in `text` as a whole word.
+bool names_word(const std::string& text, const std::string& word) {
+  for (size_t i = text.find(word); i != std::string::npos; i = text.find(word, i + 1))
+    if (whole_word_at(text, i, word)) return true;
+  return false;
+}
+
 }  // namespace
 
 bool declares_uniform(const std::string& line, const std::string& name) {
@@ -218,6 +225,7 @@ AssembledShader ShaderLibrary::assemble(const std::string& name) const {
   // counted as that line for error messages.
   const size_t after_version = out.text.find('\n') + 1;
   for (const std::string& define : defines_) {
+    if (!names_word(out.text, define)) continue;
     out.text.insert(after_version, "#define " + define + "\n");
     out.lines.insert(out.lines.begin() + 1, out.lines.front());
   }

@@ -58,7 +58,9 @@ class ShaderLibrary {
   // Reads a top-level shader and everything it includes; throws kit::Error.
   AssembledShader assemble(const std::string& name) const;
   // The framework's own switches: `#define NAME` right after the #version line of every
-  // shader assembled while it is set (errors still name the student's files and lines).
+  // shader assembled while it is set that names it somewhere (errors still name the
+  // student's files and lines). A shader that never names NAME cannot depend on it, so its
+  // text, and the program built from it, stay the same when NAME changes.
   void set_define(const std::string& name, bool on);
   bool has_define(const std::string& name) const;
   // set_define for each (name, on); true when any of them changed.

@@ -426,6 +426,29 @@ TEST_F(shader_source_gl, CompileErrorNamesTheIncludedFileAndLine) {
   EXPECT_EQ(ok.source_paths().size(), 6u);  // fullscreen.vert; main.frag, uniforms, layout, brdf, math
 }
 
+// A framework define reaches only the shaders that name it: the others assemble to the
+// same text with or without it, so a define change (the lights, the attenuation model)
+// rebuilds only the programs it can change (Program::built_from).
+TEST_F(shader_source_gl, DefinesReachOnlyTheShadersThatNameThem) {
+  write("lab", "uses.frag", kVersion + "out vec4 c;\nvoid main() {\n#ifdef KIT_TEST_SWITCH\n  c = vec4(1.0);\n#else\n"
+                                       "  c = vec4(0.0);\n#endif\n}\n");
+  write("lab", "ignores.frag", kVersion + "out vec4 c;\n// KIT_TEST_SWITCHES is another word\nvoid main() { c = vec4(0.5); }\n");
+  ShaderLibrary lib = lab_then_kit();
+  const kit::Program uses(lib, "fullscreen.vert", "uses.frag");
+  const kit::Program ignores(lib, "fullscreen.vert", "ignores.frag");
+  const std::string ignores_before = lib.assemble("ignores.frag").text;
+  lib.set_define("KIT_TEST_SWITCH", true);
+  EXPECT_NE(lib.assemble("uses.frag").text.find("#define KIT_TEST_SWITCH\n"), std::string::npos);
+  EXPECT_EQ(lib.assemble("ignores.frag").text, ignores_before);
+  EXPECT_FALSE(uses.built_from(lib, "fullscreen.vert", "uses.frag"));
+  EXPECT_TRUE(ignores.built_from(lib, "fullscreen.vert", "ignores.frag"));
+  lib.set_define("KIT_TEST_SWITCH", false);
+  EXPECT_TRUE(uses.built_from(lib, "fullscreen.vert", "uses.frag"));
+  // An edit is a change too (the viewer's hot reload rebuilds what it reaches).
+  write("lab", "ignores.frag", kVersion + "out vec4 c;\nvoid main() { c = vec4(0.25); }\n");
+  EXPECT_FALSE(ignores.built_from(lib, "fullscreen.vert", "ignores.frag"));
+}
+
 // Below kMaxShaderLineBytes a long line is an ordinary line: a 4000-byte
 // expression compiles and links (the witness that the limit refuses nothing real).
 TEST_F(shader_source_gl, LongLineUnderTheLimitCompiles) {

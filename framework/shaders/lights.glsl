@@ -9,6 +9,18 @@
 
 uniform sampler2D u_light_texture;
 uniform int u_light_count;
+// Lab 3's falloff: 0 physical (seed 000), 1 simple 1/(1+d^2) (seed 002). The renderer
+// compiles the model in (renderer.h, apply_attenuation_model_define): a constant lets the
+// compiler drop the other model's branch, which llvmpipe would otherwise run beside it for
+// every light. Declared here, not in uniforms.glsl, so that only the shaders that light
+// (those that include this file) are built again when the model changes.
+#if defined(KIT_ATTENUATION_MODEL_PHYSICAL)
+const int u_attenuation_model = 0;
+#elif defined(KIT_ATTENUATION_MODEL_SIMPLE)
+const int u_attenuation_model = 1;
+#else
+uniform int u_attenuation_model;
+#endif
 layout(std140) uniform KitLightBlock {
     vec4 u_light_block[KIT_LIGHT_BLOCK_CAPACITY * KIT_LIGHT_TEXELS];
 };

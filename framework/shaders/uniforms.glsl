@@ -21,16 +21,7 @@ uniform vec2 u_resolution;             // target size in pixels
 
 uniform vec3 u_clear_color;            // linear HDR colour for pixels with mask 0
 uniform float u_gamma;                 // display gamma for tonemap.glsl
-// 0: physical (seed 000), 1: simple 1/(1+d^2) (seed 002). The renderer compiles the model
-// in (renderer.h, apply_attenuation_model_define): a constant lets the compiler drop the
-// other model's branch, which llvmpipe would otherwise run beside it for every light.
-#if defined(KIT_ATTENUATION_MODEL_PHYSICAL)
-const int u_attenuation_model = 0;
-#elif defined(KIT_ATTENUATION_MODEL_SIMPLE)
-const int u_attenuation_model = 1;
-#else
-uniform int u_attenuation_model;
-#endif
+// u_attenuation_model (0 physical, 1 simple) is declared in lights.glsl, beside the lights it applies to.
 uniform float u_bloom_threshold;       // bright-pass luminance threshold
 uniform bool u_postprocess_enabled;    // the P toggle
 uniform bool u_custom_enabled;         // the free-choice effect's toggle
