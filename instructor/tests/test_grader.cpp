@@ -512,6 +512,28 @@ TEST(GraderVerdicts, WideFaintOffsetFailsTheMeanErrorAndAFewPixelsPass) {
   EXPECT_FALSE(h.passed) << h.summary;
 }
 
+// A run finds each reference's background once (reference_background) and passes it in:
+// the same covered pixels and verdict as compare_images finding it itself. The background
+// is the HDR reference's top third as compared (c / (1 + c) of 0.1); the witness, a wrong
+// background, counts other pixels as covered.
+TEST(GraderVerdicts, ReferenceBackgroundFoundOnceIsTheOneCompareFinds) {
+  const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Hdr);
+  kit::Image reference = synthetic_ldr();
+  for (float& v : reference.pixels) v *= 2.0f;
+  const kit::Image image = with_offset(reference, 0.01f, kPixels / 5);
+  const kit::grade::Background background = kit::grade::reference_background(Metric::Hdr, reference);
+  EXPECT_FLOAT_EQ(background[0], 0.1f / 1.1f);
+  EXPECT_FLOAT_EQ(background[3], 2.0f) << "alpha as it is";
+  const kit::grade::Comparison found = kit::grade::compare_images(Metric::Hdr, tol, image, reference);
+  const kit::grade::Comparison given = kit::grade::compare_images(Metric::Hdr, tol, image, reference, &background);
+  EXPECT_EQ(given.covered_pixels, found.covered_pixels);
+  EXPECT_EQ(given.covered_mean_error, found.covered_mean_error);
+  EXPECT_EQ(given.passed, found.passed);
+  EXPECT_EQ(found.covered_pixels, static_cast<size_t>(kW) * static_cast<size_t>(kH - kH / 3));
+  const kit::grade::Background wrong{0.0f, 0.0f, 0.0f, 0.0f};
+  EXPECT_EQ(kit::grade::compare_images(Metric::Hdr, tol, image, reference, &wrong).covered_pixels, kPixels);
+}
+
 // The HDR hard_fail is not "off": compressed values lie in (-1, 1), so a pixel
 // whose sign differs from the reference's can differ by more than 1. The message
 // says which criterion failed, with pixel counts, never a passing share alone.

@@ -131,7 +131,7 @@ NormalStats compare_normals(const Image& a, const Image& b, const Tolerance& tol
 // display image, zeros in a G-buffer attachment); the smallest such value on a tie.
 // The pixels are sorted and equal runs counted (a std::map of them took 3 % of a
 // whole grading run's CPU); the copies compared here hold no NaN (finite_copy zeroes them).
-std::array<float, 4> most_common_pixel(const Image& image) {
+Background most_common_pixel(const Image& image) {
   std::vector<std::array<float, 4>> pixels;
   pixels.reserve(static_cast<size_t>(image.width) * static_cast<size_t>(image.height));
   for (int y = 0; y < image.height; ++y)
@@ -169,6 +169,12 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
 
 std::string psnr_text(double psnr) { return std::isfinite(psnr) ? format("%.1f dB", psnr) : "inf (identical)"; }
 
+// An image as it is compared under `metric`: NaN and Inf zeroed, HDR compressed.
+Image compared_copy(Metric metric, const Image& image) {
+  Image copy = finite_copy(image);
+  return metric == Metric::Hdr ? compress_hdr(copy) : copy;
+}
+
 }  // namespace
 
 double largest_possible_difference(Metric metric) {
@@ -188,7 +194,12 @@ size_t allowed_failing_pixels(const Tolerance& tolerance, size_t pixels) {
   return static_cast<size_t>(std::floor(tolerance.fail_percent / 100.0 * static_cast<double>(pixels) + 1e-9));
 }
 
-Comparison compare_images(Metric metric, const Tolerance& tol, const Image& image, const Image& reference) {
+Background reference_background(Metric metric, const Image& reference) {
+  return most_common_pixel(compared_copy(metric, reference));
+}
+
+Comparison compare_images(Metric metric, const Tolerance& tol, const Image& image, const Image& reference,
+                          const Background* background) {
   Comparison r;
   // The framework fixes every size (the grading size, lab 6's maps their own), so
   // sizes that differ mean references made by another version of the kit.
@@ -204,11 +215,7 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
     return r;
   }
   r.non_finite = count_non_finite(image);
-  Image a = finite_copy(image), b = finite_copy(reference);
-  if (metric == Metric::Hdr) {
-    a = compress_hdr(a);
-    b = compress_hdr(b);
-  }
+  const Image a = compared_copy(metric, image), b = compared_copy(metric, reference);
   const double pixels = static_cast<double>(image.width) * image.height;
   OIIO::ImageBuf wa = wrap(a), wb = wrap(b);
   Image error(a.width, a.height, 1);        // for the diff image
@@ -254,12 +261,12 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
   // counts at most fail_threshold: pixels over it are the failing share's business, so
   // the few it allows (a flipped silhouette pixel) cannot fail this criterion instead.
   if (metric != Metric::Changes) {
-    const std::array<float, 4> background = most_common_pixel(b);
+    const Background found = background ? *background : most_common_pixel(b);
     const double cap = tol.fail_threshold;
     double sum = 0.0;
     for (int y = 0; y < a.height; ++y)
       for (int x = 0; x < a.width; ++x)
-        if (shows(a, x, y, background) || shows(b, x, y, background)) {
+        if (shows(a, x, y, found) || shows(b, x, y, found)) {
           ++r.covered_pixels;
           sum += std::min(static_cast<double>(pixel_error.at(x, y, 0)), cap);
         }

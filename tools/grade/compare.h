@@ -2,6 +2,7 @@
 // Comparing a submission's render with its reference, idiff-style
 // (OpenImageIO's ImageBufAlgo::compare for the per-channel metrics; the angle
 // between normals for Metric::Normal), and the images the report shows.
+#include <array>
 #include <string>
 
 #include "checks.h"
@@ -36,11 +37,21 @@ double largest_possible_difference(Metric metric);
 // The most pixels of `pixels` that may fail the per-pixel threshold: fail_percent of them, rounded down.
 size_t allowed_failing_pixels(const Tolerance& tolerance, size_t pixels);
 
+// A reference's background: the value of the pixels where nothing is drawn, as
+// compare_images finds it (the reference's most common pixel as compared under the
+// metric: NaN zeroed, HDR compressed; the smallest such value on a tie).
+using Background = std::array<float, 4>;
+// Every pixel of `reference` sorted: a run finds each reference's once and passes it to
+// compare_images, rather than sorting the same reference again for every submission.
+Background reference_background(Metric metric, const Image& reference);
+
 // Compares `image` (the submission's) with `reference` under `metric`: it fails when
 // more than allowed_failing_pixels() pixels are over fail_threshold, when one pixel
 // differs by more than hard_fail, when the mean error over the covered pixels is over
-// max_mean_error, or when the image holds NaN/Inf.
-Comparison compare_images(Metric metric, const Tolerance& tolerance, const Image& image, const Image& reference);
+// max_mean_error, or when the image holds NaN/Inf. `background`: the reference's, when
+// already found (reference_background); otherwise it is found here.
+Comparison compare_images(Metric metric, const Tolerance& tolerance, const Image& image, const Image& reference,
+                          const Background* background = nullptr);
 
 // The image as the report shows it (RGB, [0,1]): G-buffer vectors as (v+1)/2,
 // positions over the reference's bounds, HDR through Reinhard and gamma 2.2,

@@ -57,6 +57,8 @@ struct Run {
   Config config;
   std::map<std::string, Scene> scenes;
   std::map<std::string, Image> references;
+  // Each reference's background as its checks compare it (reference_background), found once.
+  std::map<std::pair<std::string, Metric>, Background> backgrounds;
   std::map<std::string, Image>* collect = nullptr;  // --update-references: keep the raw renders instead
   fs::path temp;
   // --check-references and --update-references render only the kit's own files:
@@ -255,8 +257,10 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
   for (CheckOutcome& c : lab.checks) {
     const Check& check = *c.check;
     const Image& image = renders.at(check.image);
-    const Image& reference = check.metric == Metric::Changes ? renders.at(check.reference) : run.references.at(check.reference);
-    c.comparison = compare_images(check.metric, run.config.tolerance(check.metric), image, reference);
+    const bool own = check.metric == Metric::Changes;  // its "reference" is the submission's own render
+    const Image& reference = own ? renders.at(check.reference) : run.references.at(check.reference);
+    const Background* background = own ? nullptr : &run.backgrounds.at({check.reference, check.metric});
+    c.comparison = compare_images(check.metric, run.config.tolerance(check.metric), image, reference, background);
     size_t hdr_bad = child.contains("hdr_non_finite") ? child["hdr_non_finite"].value(check.image, size_t{0}) : 0;
     if (hdr_bad > 0 && check.metric != Metric::Changes) {
       c.comparison.passed = false;
@@ -444,9 +448,15 @@ void remove_stale_run_temps(const fs::path& base) {
 }
 
 Run make_run(const Options& options, bool need_references) {
-  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, nullptr, {}};
-  if (need_references)
+  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, nullptr, {}};
+  if (need_references) {
     run.references = load_references(options.references.empty() ? default_references_dir() : options.references, options.labs);
+    for (int lab : options.labs)
+      for (const Check* check : lab_checks(lab))
+        if (check->metric != Metric::Changes && run.references.count(check->reference))
+          run.backgrounds.try_emplace({check->reference, check->metric},
+                                      reference_background(check->metric, run.references.at(check->reference)));
+  }
   run.scenes = load_scenes(options.labs);
   const char* tmp = std::getenv("TMPDIR");
   fs::path base = fs::absolute(tmp && *tmp ? tmp : "/tmp");
