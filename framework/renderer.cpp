@@ -385,6 +385,7 @@ void Renderer::build_programs() {
   const bool maps_current = ibl_ && was_kept(&Programs::irradiance) && was_kept(&Programs::prefilter) &&
                             was_kept(&Programs::brdf_lut);
   programs_ = std::move(p);
+  programs_defines_ = library_.defines();
   if (!keep_forward) forward_ = std::move(forward);
   used_.clear();
   if (stage_.ibl && !maps_current) update_ibl();
@@ -481,9 +482,9 @@ void Renderer::upload_lights() {
   frame_lights_ = frame_lights(scene_, stage_, settings_);
   light_count_ = static_cast<int>(frame_lights_.size());
   lights_ = LightBuffers(frame_lights_);
-  const bool lights_changed = lights_.apply_defines(library_);
-  const bool model_changed = apply_attenuation_model_define(library_, settings_.attenuation_model);
-  if ((lights_changed || model_changed) && programs_) build_programs();
+  lights_.apply_defines(library_);
+  apply_attenuation_model_define(library_, settings_.attenuation_model);
+  if (programs_ && library_.defines() != programs_defines_) build_programs();
   lights_extra_ = settings_.extra_lights;
   lights_default_rig_ = settings_.default_light_rig;
   lights_attenuation_model_ = settings_.attenuation_model;

@@ -284,6 +284,9 @@ class Renderer {
   GBuffer gbuffer_;
   FullscreenTriangle triangle_;
   std::unique_ptr<Programs> programs_;
+  // The library's defines programs_ were built with: when a build fails, the defines have
+  // changed and the programs have not, and the next frame builds again.
+  std::vector<std::string> programs_defines_;
   // The forward pass (BLEND draws, light markers): stages with a lighting pass only.
   std::unique_ptr<ForwardPass> forward_;
   // Stage 6's environment and maps, and the environment and settings they were made for.

@@ -233,13 +233,15 @@ AssembledShader ShaderLibrary::assemble(const std::string& name) const {
 }
 
 void ShaderLibrary::set_define(const std::string& name, bool on) {
-  auto it = std::find(defines_.begin(), defines_.end(), name);
-  if (on && it == defines_.end()) defines_.push_back(name);
-  if (!on && it != defines_.end()) defines_.erase(it);
+  // Kept sorted: the same set of defines always assembles to the same text.
+  auto it = std::lower_bound(defines_.begin(), defines_.end(), name);
+  const bool present = it != defines_.end() && *it == name;
+  if (on && !present) defines_.insert(it, name);
+  if (!on && present) defines_.erase(it);
 }
 
 bool ShaderLibrary::has_define(const std::string& name) const {
-  return std::find(defines_.begin(), defines_.end(), name) != defines_.end();
+  return std::binary_search(defines_.begin(), defines_.end(), name);
 }
 
 bool ShaderLibrary::set_defines(const std::vector<std::pair<std::string, bool>>& defines) {

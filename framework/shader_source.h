@@ -63,6 +63,7 @@ class ShaderLibrary {
   // text, and the program built from it, stay the same when NAME changes.
   void set_define(const std::string& name, bool on);
   bool has_define(const std::string& name) const;
+  const std::vector<std::string>& defines() const { return defines_; }  // sorted
   // set_define for each (name, on); true when any of them changed.
   bool set_defines(const std::vector<std::pair<std::string, bool>>& defines);
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "error.h"
 #include "kit_test.h"
 #include "shader_variants.h"
 #include "stages.h"
@@ -131,6 +132,38 @@ TEST(lighting_pass_constants, ConstantTypeRangeAndModelChangeNoPixel) {
       }
     }
   }
+}
+
+// A program that fails to build under a new define (here: only under the simple
+// attenuation model) fails every frame until it builds, and the frame never falls back to
+// the programs built for the old model. Witness: with the rebuild keyed on whether the
+// defines changed, the second frame saw nothing to change and drew with the physical
+// model's programs.
+TEST(lighting_pass_constants, AFailedRebuildIsTriedAgainNotSkipped) {
+  kit::test::context();
+  const kit::Stage& stage = kit::find_stage("attenuation");
+  const auto root = kit::test::variant_root(
+      "lighting_pass_failed_rebuild",
+      {{"03-attenuation/attenuation.glsl", "float spot_cone_factor(Light light, vec3 p) {",
+        "#ifdef KIT_ATTENUATION_MODEL_SIMPLE\n#error the simple model does not compile here\n#endif\n"
+        "float spot_cone_factor(Light light, vec3 p) {"}});
+  const kit::Scene& scene = kit::test::scene("sphere");
+  kit::Renderer renderer(stage, kit::test::full_root_library(stage, root), scene, small_settings(0));
+  const kit::FrameCamera camera =
+      kit::frame_camera(scene.camera ? *scene.camera : kit::framing_camera(scene), static_cast<float>(kWidth) / kHeight);
+  renderer.render(camera);
+  renderer.settings().attenuation_model = 1;
+  for (int frame = 0; frame < 2; ++frame) {
+    SCOPED_TRACE("frame " + std::to_string(frame));
+    try {
+      renderer.render(camera);
+      ADD_FAILURE() << "rendered with the simple model although its program does not compile";
+    } catch (const kit::Error& e) {
+      EXPECT_NE(std::string(e.what()).find("the simple model does not compile here"), std::string::npos) << e.what();
+    }
+  }
+  renderer.settings().attenuation_model = 0;
+  EXPECT_NO_THROW(renderer.render(camera));
 }
 
 // From stage 3 on the lighting pass runs only over surfaces. Witness: a lighting.frag
