@@ -57,8 +57,9 @@ Light kit_light(int i) {
     // drops the other types' branches and the range window. llvmpipe runs both sides of
     // every branch on its 8 pixels at once, and reads each light field it needs from the
     // block once per pixel, so code and fields no light uses still cost: on the crowd
-    // scene's 32 point lights this took the lighting pass from 6.3 to about 5.8 ns per
-    // covered pixel and light (handouts/02-lighting.md, "Speed").
+    // scene's 32 point lights this and the attenuation model's constant took the stage 3
+    // lighting pass from 7.2 to 5.9 ns per covered pixel and light (handouts/02-lighting.md,
+    // "Speed").
 #if defined(KIT_LIGHTS_ALL_POINT)
     light.type = KIT_LIGHT_POINT;
 #elif defined(KIT_LIGHTS_ALL_SPOT)
