@@ -230,7 +230,7 @@ LightBuffers::LightBuffers(const std::vector<Light>& lights) {
   glBindBuffer(GL_UNIFORM_BUFFER, 0);
 }
 
-bool LightBuffers::apply_defines(ShaderLibrary& library) const { return library.set_defines(defines_); }
+void LightBuffers::apply_defines(ShaderLibrary& library) const { library.set_defines(defines_); }
 
 void LightBuffers::bind() const {
   if (in_texture())
@@ -531,8 +531,8 @@ void Renderer::fullscreen_pass(const Program& program, const Framebuffer& target
   triangle_.pass(program, target, width, height);
 }
 
-bool apply_attenuation_model_define(ShaderLibrary& library, int model) {
-  return library.set_defines({{"KIT_ATTENUATION_MODEL_PHYSICAL", model == 0}, {"KIT_ATTENUATION_MODEL_SIMPLE", model == 1}});
+void apply_attenuation_model_define(ShaderLibrary& library, int model) {
+  library.set_defines({{"KIT_ATTENUATION_MODEL_PHYSICAL", model == 0}, {"KIT_ATTENUATION_MODEL_SIMPLE", model == 1}});
 }
 
 bool skips_background_pixels(const Stage& stage) {

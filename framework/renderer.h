@@ -110,9 +110,8 @@ bool uses_default_light_rig(const Scene& scene, const Stage& stage, const Render
 std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings);
 
 // Defines KIT_ATTENUATION_MODEL_PHYSICAL (model 0) or KIT_ATTENUATION_MODEL_SIMPLE (1)
-// in `library` and no other, so uniforms.glsl declares u_attenuation_model as that
-// constant; true when that changed the defines (programs must be built again).
-bool apply_attenuation_model_define(ShaderLibrary& library, int model);
+// in `library` and no other, so lights.glsl declares u_attenuation_model as that constant.
+void apply_attenuation_model_define(ShaderLibrary& library, int model);
 
 // Whether `stage`'s lighting pass runs only where the G-buffer's depth holds a surface
 // (FullscreenTriangle::pass_over_surfaces), the background cleared to the clear colour
@@ -145,9 +144,9 @@ class LightBuffers {
   // Whether the lights are in the texture: the programs that read them must be
   // compiled with kLightsInTexture defined exactly then.
   bool in_texture() const { return texture_.id() != 0; }
-  // Sets the defines above in `library` as these lights need them; true when any changed
-  // (programs assembled from `library` must then be built again).
-  bool apply_defines(ShaderLibrary& library) const;
+  // Sets the defines above in `library` as these lights need them (programs assembled from
+  // `library` before must then be built again).
+  void apply_defines(ShaderLibrary& library) const;
   // The texture on KIT_UNIT_LIGHTS, or the buffer at KIT_BLOCK_LIGHTS.
   void bind() const;
 

@@ -244,13 +244,8 @@ bool ShaderLibrary::has_define(const std::string& name) const {
   return std::binary_search(defines_.begin(), defines_.end(), name);
 }
 
-bool ShaderLibrary::set_defines(const std::vector<std::pair<std::string, bool>>& defines) {
-  bool changed = false;
-  for (const auto& [name, on] : defines) {
-    changed = changed || has_define(name) != on;
-    set_define(name, on);
-  }
-  return changed;
+void ShaderLibrary::set_defines(const std::vector<std::pair<std::string, bool>>& defines) {
+  for (const auto& [name, on] : defines) set_define(name, on);
 }
 
 void ShaderLibrary::append(const std::string& name, AssembledShader& out,

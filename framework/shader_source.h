@@ -64,8 +64,8 @@ class ShaderLibrary {
   void set_define(const std::string& name, bool on);
   bool has_define(const std::string& name) const;
   const std::vector<std::string>& defines() const { return defines_; }  // sorted
-  // set_define for each (name, on); true when any of them changed.
-  bool set_defines(const std::vector<std::pair<std::string, bool>>& defines);
+  // set_define for each (name, on).
+  void set_defines(const std::vector<std::pair<std::string, bool>>& defines);
 
  private:
   void append(const std::string& name, AssembledShader& out, std::vector<std::string>& included,

@@ -99,8 +99,10 @@ TEST(lighting_pass_constants, EachFrameGetsTheDefinesItsLightsAllow) {
   kit::LightBuffers(std::vector<Light>(KIT_LIGHT_BLOCK_CAPACITY + 1, light_of_type(KIT_LIGHT_POINT)))
       .apply_defines(library);
   EXPECT_TRUE(library.has_define(kit::kLightsInTexture));
-  EXPECT_TRUE(kit::apply_attenuation_model_define(library, 1));
-  EXPECT_FALSE(kit::apply_attenuation_model_define(library, 1));
+  kit::apply_attenuation_model_define(library, 0);
+  EXPECT_TRUE(library.has_define("KIT_ATTENUATION_MODEL_PHYSICAL"));
+  EXPECT_FALSE(library.has_define("KIT_ATTENUATION_MODEL_SIMPLE"));
+  kit::apply_attenuation_model_define(library, 1);
   EXPECT_TRUE(library.has_define("KIT_ATTENUATION_MODEL_SIMPLE"));
   EXPECT_FALSE(library.has_define("KIT_ATTENUATION_MODEL_PHYSICAL"));
 }
