@@ -203,7 +203,8 @@ LightBuffers::LightBuffers(const std::vector<Light>& lights) {
   };
   const bool without_range =
       std::none_of(lights.begin(), lights.end(), [](const Light& l) { return l.range > 0.0f; });
-  defines_ = {{kLightsInTexture, lights.size() > size_t{KIT_LIGHT_BLOCK_CAPACITY}},
+  const bool in_texture = lights.size() > size_t{KIT_LIGHT_BLOCK_CAPACITY};
+  defines_ = {{kLightsInTexture, in_texture},
               {kLightsAllPoint, all_of_type(KIT_LIGHT_POINT)},
               {kLightsAllSpot, all_of_type(KIT_LIGHT_SPOT)},
               {kLightsAllDirectional, all_of_type(KIT_LIGHT_DIRECTIONAL)},
@@ -218,7 +219,7 @@ LightBuffers::LightBuffers(const std::vector<Light>& lights) {
                            std::cos(l.inner_cone), std::cos(l.outer_cone), light_flux(l), 0.0f};
     std::copy(row, row + 16, &texels[i * KIT_LIGHT_TEXELS * 4]);
   }
-  if (lights.size() > size_t{KIT_LIGHT_BLOCK_CAPACITY}) {
+  if (in_texture) {
     texture_ = Texture2D(KIT_LIGHT_TEXELS, static_cast<int>(rows), {GL_RGBA32F, GL_RGBA, GL_FLOAT}, texels.data());
     return;
   }
