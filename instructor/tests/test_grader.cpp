@@ -283,6 +283,20 @@ TEST(Grader, UnmatchedVaryingNamesAreALinkError) {
   EXPECT_EQ(r.summary["labs"].size(), 1u) << "only the lab asked for";
 }
 
+// A run reads a lab's references only once one of its children has rendered (so the
+// first children start at once). A reference it cannot read then is the grader's problem
+// for that lab alone: status "error", exit status 2, the file named, the other lab graded.
+TEST(Grader, UnreadableReferenceIsAGraderErrorOfItsLabAlone) {
+  const fs::path references = kit::test::temp_dir("grader-bad-reference");
+  fs::copy(kit::kit_root() / "tools/grade/references", references, fs::copy_options::recursive);
+  write_file(references / "lab2-default-final.png", "not a PNG");
+  GradeRun r = grade(kit::kit_root() / "solutions", "bad-reference", "--labs 1,2 --references " + quoted(references));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  expect_full_marks(r, 1);
+  expect_zero(r, 2, "error", "could not read this lab's references: ");
+  expect_zero(r, 2, "error", "lab2-default-final.png");
+}
+
 // A lab 6 shader that writes NaN into a precomputed map (the BRDF table without its n.v
 // guards: 0/0 in its first column). The frame would hide it (ibl.h, IblSettings::
 // refuse_non_finite), so the lab is not graded, with a status of its own and a message

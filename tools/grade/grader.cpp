@@ -56,8 +56,12 @@ struct Run {
   const Options& options;
   Config config;
   std::map<std::string, Scene> scenes;
+  fs::path references_dir;  // "" when the run compares with none (--update-references)
+  // The references of the labs compared so far (load_references_of), each with its
+  // background as its checks compare it (reference_background), found once; per lab
+  // loaded, "" or why its references could not be read.
+  std::map<int, std::string> reference_problems;
   std::map<std::string, Image> references;
-  // Each reference's background as its checks compare it (reference_background), found once.
   std::map<std::pair<std::string, Metric>, Background> backgrounds;
   std::map<std::string, Image>* collect = nullptr;  // --update-references: keep the raw renders instead
   fs::path temp;
@@ -221,6 +225,26 @@ void write_report_images(const Run& run, const fs::path& result_dir, const Check
     write_image(cached.string(), display_image(shown, reference, reference), PngEffort::Fastest);
   }
   fs::copy_file(cached, result_dir / c.reference, fs::copy_options::overwrite_existing);
+}
+
+// Loads a lab's references the first time one of its children has rendered: the
+// run's first children start at once, and a lab whose shaders do not compile needs none.
+// Returns "" or why they could not be read (the same for every submission of the run).
+std::string load_references_of(Run& run, int lab) {
+  if (run.references_dir.empty()) return "";
+  auto [problem, first] = run.reference_problems.try_emplace(lab);
+  if (!first) return problem->second;
+  try {
+    for (auto& [id, image] : load_lab_references(run.references_dir, lab)) run.references.emplace(id, std::move(image));
+  } catch (const Error& e) {
+    problem->second = e.what();
+    return problem->second;
+  }
+  for (const Check* check : lab_checks(lab))
+    if (check->metric != Metric::Changes)
+      run.backgrounds.try_emplace({check->reference, check->metric},
+                                  reference_background(check->metric, run.references.at(check->reference)));
+  return "";
 }
 
 // Compares every check of a lab whose child rendered it.
@@ -404,7 +428,15 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
       lab.child_seconds = o.wall_seconds;
       lab.child_cpu_seconds = o.cpu_seconds;
       lab.child_max_rss_kib = o.max_rss_kib;
-      if (classify_child(o, done.dir, lab)) compare_lab(run, done.dir, e.result_dir, lab);
+      if (classify_child(o, done.dir, lab)) {
+        const std::string problem = load_references_of(run, lab.lab);
+        if (problem.empty()) {
+          compare_lab(run, done.dir, e.result_dir, lab);
+        } else {
+          lab.status = kGraderError;
+          lab.message = "the grader could not read this lab's references: " + problem;
+        }
+      }
       std::ifstream child_report(done.dir / "child.json");
       if (child_report) {
         try {
@@ -448,14 +480,10 @@ void remove_stale_run_temps(const fs::path& base) {
 }
 
 Run make_run(const Options& options, bool need_references) {
-  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, nullptr, {}};
+  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}};
   if (need_references) {
-    run.references = load_references(options.references.empty() ? default_references_dir() : options.references, options.labs);
-    for (int lab : options.labs)
-      for (const Check* check : lab_checks(lab))
-        if (check->metric != Metric::Changes && run.references.count(check->reference))
-          run.backgrounds.try_emplace({check->reference, check->metric},
-                                      reference_background(check->metric, run.references.at(check->reference)));
+    run.references_dir = options.references.empty() ? default_references_dir() : options.references;
+    require_current_references(run.references_dir);
   }
   run.scenes = load_scenes(options.labs);
   const char* tmp = std::getenv("TMPDIR");
@@ -649,7 +677,7 @@ int grade_submission(const fs::path& submission, const Options& options) {
   remove_run_temp(run);
   if (!completed) return 130;
   if (grader_error) {
-    std::fprintf(stderr, "kit-grade: the grader could not render (see %s)\n", (options.out / "summary.json").c_str());
+    std::fprintf(stderr, "kit-grade: the grader could not grade every lab (see %s)\n", (options.out / "summary.json").c_str());
     return 2;
   }
   return 0;

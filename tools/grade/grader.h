@@ -35,7 +35,7 @@ constexpr const char* kCrash = "crash";
 constexpr const char* kNonFiniteMap = "non_finite_map";  // a lab 6 shader wrote NaN or Inf into a precomputed map
 constexpr const char* kMissingFiles = "missing_files";
 constexpr const char* kInvalidFiles = "invalid_files";
-constexpr const char* kGraderError = "error";  // the grader could not render (no context): exit status 2
+constexpr const char* kGraderError = "error";  // the grader could not render (no context) or read a reference: exit status 2
 
 struct CheckOutcome {
   const Check* check = nullptr;

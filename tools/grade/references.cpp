@@ -106,20 +106,20 @@ std::vector<std::string> manifest_differences(const fs::path& dir) {
   return out;
 }
 
-std::map<std::string, Image> load_references(const fs::path& dir, const std::vector<int>& labs) {
+void require_current_references(const fs::path& dir) {
   std::vector<std::string> problems = manifest_differences(dir);
-  if (!problems.empty()) {
-    std::string text;
-    for (const std::string& p : problems) text += "\n  " + p;
-    throw Error("references in " + dir.string() + " are stale (run kit-grade --update-references):" + text);
-  }
+  if (problems.empty()) return;
+  std::string text;
+  for (const std::string& p : problems) text += "\n  " + p;
+  throw Error("references in " + dir.string() + " are stale (run kit-grade --update-references):" + text);
+}
+
+std::map<std::string, Image> load_lab_references(const fs::path& dir, int lab) {
   std::map<std::string, Image> out;
-  for (int lab : labs) {
-    for (const Check* check : lab_checks(lab)) {
-      if (check->metric == Metric::Changes || out.count(check->reference)) continue;
-      const RenderSpec& spec = find_render(check->reference);
-      out[spec.id] = read_image((dir / (spec.id + "." + reference_extension(spec))).string());
-    }
+  for (const Check* check : lab_checks(lab)) {
+    if (check->metric == Metric::Changes || out.count(check->reference)) continue;
+    const RenderSpec& spec = find_render(check->reference);
+    out[spec.id] = read_image((dir / (spec.id + "." + reference_extension(spec))).string());
   }
   return out;
 }

@@ -1,5 +1,5 @@
 #pragma once
-// The reference renders of the solutions (tests/reference/): one PNG (display
+// The reference renders of the solutions (tools/grade/references/): one PNG (display
 // images, exact 8-bit values) or EXR (float G-buffer attachments and HDR
 // buffers) per reference render, and manifest.json recording the size and the
 // settings each was rendered with. `kit-grade --update-references` writes them;
@@ -17,7 +17,7 @@
 
 namespace kit::grade {
 
-std::filesystem::path default_references_dir();  // <kit root>/tests/reference
+std::filesystem::path default_references_dir();  // <kit root>/tools/grade/references
 
 // The manifest's "images" entry for a render: what it was rendered with.
 nlohmann::json manifest_entry(const RenderSpec& spec);
@@ -30,8 +30,13 @@ void write_references(const std::filesystem::path& dir, const std::map<std::stri
 // (empty when they agree). Throws kit::Error when the manifest is missing.
 std::vector<std::string> manifest_differences(const std::filesystem::path& dir);
 
-// Loads the references the given labs' checks compare with. Throws kit::Error
-// (naming --update-references) when the manifest is missing, stale, or a file is.
-std::map<std::string, Image> load_references(const std::filesystem::path& dir, const std::vector<int>& labs);
+// Throws kit::Error (naming --update-references) when the manifest is missing or
+// stale, or a file is: a run checks this before it renders anything.
+void require_current_references(const std::filesystem::path& dir);
+
+// Loads the references one lab's checks compare with (require_current_references
+// first). A run loads a lab's when its first render child has finished, so the
+// children start without waiting for them. Throws kit::Error when a file cannot be read.
+std::map<std::string, Image> load_lab_references(const std::filesystem::path& dir, int lab);
 
 }  // namespace kit::grade
