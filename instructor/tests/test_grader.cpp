@@ -548,6 +548,27 @@ TEST(GraderVerdicts, ReferenceBackgroundFoundOnceIsTheOneCompareFinds) {
   EXPECT_EQ(kit::grade::compare_images(Metric::Hdr, tol, image, reference, &wrong).covered_pixels, kPixels);
 }
 
+// The background is the most common pixel, whichever way it is found: the one-pass
+// majority of the top-left pixel's value, or the sort when that value is not over half.
+TEST(GraderVerdicts, ReferenceBackgroundIsTheMostCommonPixelWhereverTheCornerIs) {
+  auto image_of = [](const std::vector<float>& values) {  // one grey pixel per value, in a row
+    kit::Image image(static_cast<int>(values.size()), 1, 4);
+    for (size_t x = 0; x < values.size(); ++x)
+      for (int c = 0; c < 4; ++c) image.at(static_cast<int>(x), 0, c) = values[x];
+    return image;
+  };
+  auto grey = [](const kit::grade::Background& b) { return b[0]; };
+  // The corner's value over half: it.
+  EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of({0.5f, 0.5f, 0.5f, 0.2f, 0.2f}))), 0.5f);
+  // The corner's value the most common but not over half: the sort finds it all the same.
+  EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of({0.5f, 0.5f, 0.2f, 0.3f, 0.4f}))), 0.5f);
+  // Another value the most common: not the corner's.
+  EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of({0.5f, 0.2f, 0.2f, 0.2f, 0.5f, 0.1f}))), 0.2f);
+  // Exactly half each: a tie, so the smaller, whichever is in the corner.
+  EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of({0.5f, 0.5f, 0.2f, 0.2f}))), 0.2f);
+  EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of({0.2f, 0.2f, 0.5f, 0.5f}))), 0.2f);
+}
+
 // The HDR hard_fail is not "off": compressed values lie in (-1, 1), so a pixel
 // whose sign differs from the reference's can differ by more than 1. The message
 // says which criterion failed, with pixel counts, never a passing share alone.

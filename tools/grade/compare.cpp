@@ -129,8 +129,11 @@ NormalStats compare_normals(const Image& a, const Image& b, const Tolerance& tol
 
 // The reference's background: its most common pixel value (the clear colour of a
 // display image, zeros in a G-buffer attachment); the smallest such value on a tie.
-// The pixels are sorted and equal runs counted (a std::map of them took 3 % of a
-// whole grading run's CPU); the copies compared here hold no NaN (finite_copy zeroes them).
+// When the top-left pixel's value covers more than half of the image, it is the one
+// (a strict majority has no tie), found in one pass; otherwise the pixels are sorted
+// and equal runs counted (a std::map of them took 3 % of a whole grading run's CPU,
+// the sort alone 6 % before the majority pass). The copies compared here hold no NaN
+// (finite_copy zeroes them), so == is an equivalence.
 Background most_common_pixel(const Image& image) {
   std::vector<std::array<float, 4>> pixels;
   pixels.reserve(static_cast<size_t>(image.width) * static_cast<size_t>(image.height));
@@ -140,6 +143,9 @@ Background most_common_pixel(const Image& image) {
       for (int c = 0; c < std::min(image.channels, 4); ++c) v[static_cast<size_t>(c)] = image.at(x, y, c);
       pixels.push_back(v);
     }
+  if (pixels.empty()) return {0.0f, 0.0f, 0.0f, 0.0f};
+  const std::array<float, 4> corner = pixels.front();
+  if (2 * static_cast<size_t>(std::count(pixels.begin(), pixels.end(), corner)) > pixels.size()) return corner;
   std::sort(pixels.begin(), pixels.end());
   std::array<float, 4> best{0.0f, 0.0f, 0.0f, 0.0f};
   size_t most = 0;
