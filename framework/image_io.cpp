@@ -12,6 +12,9 @@ namespace kit {
 
 namespace {
 
+// libpng's PNG_FILTER_SUB (png.h), which OpenImageIO's "png:filter" passes on.
+constexpr int kPngFilterSub = 0x10;
+
 bool ends_with(const std::string& s, const std::string& suffix) {
   return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
 }
@@ -25,7 +28,10 @@ void write_image(const std::string& path, const Image& image, PngEffort effort) 
   if (!out) throw Error(path + ": cannot create image writer: " + OIIO::geterror());
   OIIO::ImageSpec spec(image.width, image.height, image.channels, exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   if (exr) spec.attribute("compression", "zip");
-  if (!exr && effort == PngEffort::Fastest) spec.attribute("png:compressionLevel", 1);
+  if (!exr && effort == PngEffort::Fastest) {
+    spec.attribute("png:compressionLevel", 1);
+    spec.attribute("png:filter", kPngFilterSub);
+  }
   if (!out->open(path, spec)) throw Error(path + ": cannot open for writing: " + out->geterror());
   bool ok;
   if (exr) {

@@ -23,6 +23,9 @@ struct Image {
 // for files that are kept (handout images, kit-render's output); Fastest is level 1,
 // for the grader's report images, 138 a submission: on those, zlib takes a quarter of
 // the time (0.11 s against 0.43 s) for files 20 % larger (2.3 MB against 1.9 MB).
+// Fastest also filters every row with libpng's Sub alone rather than letting it try
+// all five per row: 0.86 ms an image against 1.40 ms, files 4 % larger (138 of a
+// submission's report images re-encoded both ways, 2.27 MB against 2.18 MB).
 enum class PngEffort { Smallest, Fastest };
 
 // .exr keeps 32-bit floats; .png stores 8 bits per channel, values clamped to

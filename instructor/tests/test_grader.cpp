@@ -569,6 +569,23 @@ TEST(GraderVerdicts, ReferenceBackgroundIsTheMostCommonPixelWhereverTheCornerIs)
   EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of({0.2f, 0.2f, 0.5f, 0.5f}))), 0.2f);
 }
 
+// The report's PNGs are written fast (zlib level 1, every row Sub-filtered) and still
+// hold exactly the 8-bit values the other effort writes: round to nearest, clamped.
+TEST(GraderVerdicts, FastestPngsHoldTheSameBytes) {
+  kit::Image image(97, 31, 3);
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    image.pixels[i] = static_cast<float>((i * 7919) % 1021) / 1000.0f - 0.01f;  // a little under 0 and over 1
+  const fs::path dir = kit::test::temp_dir("grader-fastest-png");
+  kit::write_image((dir / "smallest.png").string(), image, kit::PngEffort::Smallest);
+  kit::write_image((dir / "fastest.png").string(), image, kit::PngEffort::Fastest);
+  const kit::Image smallest = kit::read_image((dir / "smallest.png").string());
+  const kit::Image fastest = kit::read_image((dir / "fastest.png").string());
+  ASSERT_EQ(fastest.pixels.size(), image.pixels.size());
+  EXPECT_EQ(fastest.pixels, smallest.pixels);
+  for (size_t i = 0; i < image.pixels.size(); ++i)
+    ASSERT_EQ(std::lround(fastest.pixels[i] * 255.0f), std::lround(std::clamp(image.pixels[i], 0.0f, 1.0f) * 255.0f)) << i;
+}
+
 // The HDR hard_fail is not "off": compressed values lie in (-1, 1), so a pixel
 // whose sign differs from the reference's can differ by more than 1. The message
 // says which criterion failed, with pixel counts, never a passing share alone.
