@@ -499,6 +499,12 @@ TEST(GradeSandbox, KitGradeKeepsMesasShaderCachePrivate) {
     return files;
   };
   EXPECT_FALSE(private_cache_files().empty());
+  // Mesa's single-file cache (a few files to copy per submission), not its default of
+  // a file per program (the witness above: kit-render's cache is that folder).
+  const std::vector<std::string> files = private_cache_files();
+  EXPECT_NE(std::find(files.begin(), files.end(), "foz_cache.foz"), files.end());
+  for (const auto& entry : fs::recursive_directory_iterator(dir / "tmp"))
+    EXPECT_FALSE(contains(entry.path().string(), "/mesa-shader-cache/mesa_shader_cache/")) << entry.path();
 
   // With a seed (what --check-references writes from the solutions), the private
   // cache starts as a copy of it, and grading writes nothing into the seed.
