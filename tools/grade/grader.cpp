@@ -220,8 +220,8 @@ void write_report_images(const Run& run, const fs::path& result_dir, const Check
   }
   // A reference looks the same in every submission's report: encoded once per run, then
   // linked (copied where the result folder is on another file system): a new file costs
-  // more than its bytes (on ext4, finding a free inode among those the run's temporary
-  // files just freed was about 5 % of the grading process's CPU profile).
+  // more than its bytes (creating files was a fifth of the grading process's CPU profile on
+  // ext4, which looks for a free inode past those the run had just freed).
   fs::path cached = run.temp / "reference-png" / (check.reference + "." + metric_name(check.metric) + ".png");
   if (!fs::exists(cached)) {
     fs::create_directories(cached.parent_path());
