@@ -21,6 +21,14 @@ bool ends_with(const std::string& s, const std::string& suffix) {
 
 }  // namespace
 
+unsigned char to_unorm8(float v) {
+  v = std::isfinite(v) ? std::min(std::max(v, 0.0f), 1.0f) : 0.0f;
+  const float scaled = v * 255.0f;
+  const int whole = static_cast<int>(scaled);  // floor: scaled >= 0
+  // scaled - whole is exact (both below 2^24), so the comparison decides the half exactly.
+  return static_cast<unsigned char>(whole + (scaled - static_cast<float>(whole) >= 0.5f ? 1 : 0));
+}
+
 void write_image(const std::string& path, const Image& image, PngEffort effort) {
   bool exr = ends_with(path, ".exr");
   if (!exr && !ends_with(path, ".png")) throw Error(path + ": output must end in .png or .exr");
@@ -39,11 +47,7 @@ void write_image(const std::string& path, const Image& image, PngEffort effort) 
   } else {
     // Explicit round-to-nearest so PNGs are identical whatever OIIO's conversion does.
     std::vector<unsigned char> bytes(image.pixels.size());
-    for (size_t i = 0; i < bytes.size(); ++i) {
-      float v = image.pixels[i];
-      v = std::isfinite(v) ? std::min(std::max(v, 0.0f), 1.0f) : 0.0f;
-      bytes[i] = static_cast<unsigned char>(std::lround(v * 255.0f));
-    }
+    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = to_unorm8(image.pixels[i]);
     ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
   }
   if (!ok || !out->close()) throw Error(path + ": write failed: " + out->geterror());

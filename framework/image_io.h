@@ -28,8 +28,15 @@ struct Image {
 // submission's report images re-encoded both ways, 2.27 MB against 2.18 MB).
 enum class PngEffort { Smallest, Fastest };
 
+// The 8-bit value a PNG stores for `v`: clamped to [0,1] (NaN and infinities as 0),
+// times 255, rounded to nearest with halves away from zero, exactly as std::lround
+// (checked on every float in [0,1]) but without its library call: lroundf was 3 % of
+// the grader's CPU profile. floor(v * 255 + 0.5) is not the same: it rounds
+// v = 0.0019607842 (0.49999997 after scaling) up.
+unsigned char to_unorm8(float v);
+
 // .exr keeps 32-bit floats; .png stores 8 bits per channel, values clamped to
-// [0,1] and rounded to nearest. Throws kit::Error.
+// [0,1] and rounded to nearest (to_unorm8). Throws kit::Error.
 void write_image(const std::string& path, const Image& image, PngEffort effort = PngEffort::Smallest);
 Image read_image(const std::string& path);
 

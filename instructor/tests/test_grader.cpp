@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cstdint>
+#include <cstring>
 #include <fstream>
 #include <map>
 #include <set>
@@ -584,6 +586,36 @@ TEST(GraderVerdicts, FastestPngsHoldTheSameBytes) {
   EXPECT_EQ(fastest.pixels, smallest.pixels);
   for (size_t i = 0; i < image.pixels.size(); ++i)
     ASSERT_EQ(std::lround(fastest.pixels[i] * 255.0f), std::lround(std::clamp(image.pixels[i], 0.0f, 1.0f) * 255.0f)) << i;
+}
+
+// to_unorm8 is std::lround of the clamped value times 255, without the library call:
+// checked around every value k/255 and every half (k + 0.5)/255, where rounding decides,
+// and over [0,1] at a stride (the whole range was checked once, in 5 s).
+TEST(GraderVerdicts, Unorm8RoundsAsLroundDoes) {
+  auto expected = [](float v) {
+    v = std::isfinite(v) ? std::clamp(v, 0.0f, 1.0f) : 0.0f;
+    return static_cast<unsigned char>(std::lround(v * 255.0f));
+  };
+  // Witness: floor(v * 255 + 0.5) rounds this one up (0.49999997 after scaling).
+  const float witness = 0.0019607842f;
+  ASSERT_NE(static_cast<int>(std::floor(witness * 255.0f + 0.5f)), expected(witness));
+  EXPECT_EQ(kit::to_unorm8(witness), expected(witness));
+  size_t checked = 0;
+  for (int k = 0; k <= 510; ++k) {
+    const float centre = static_cast<float>(k) / 510.0f;  // k/255 and (k + 0.5)/255
+    float below = centre, above = centre;
+    for (int step = 0; step < 256; ++step, below = std::nextafter(below, -1.0f), above = std::nextafter(above, 2.0f)) {
+      for (float v : {below, above}) ASSERT_EQ(kit::to_unorm8(v), expected(v)) << v;
+      checked += 2;
+    }
+  }
+  for (uint32_t bits = 0; bits <= 0x3f800000u; bits += 997) {
+    float v;
+    std::memcpy(&v, &bits, sizeof v);
+    ASSERT_EQ(kit::to_unorm8(v), expected(v)) << v;
+  }
+  for (float v : {-1.0f, 2.0f, std::nanf(""), INFINITY, -INFINITY}) EXPECT_EQ(kit::to_unorm8(v), expected(v)) << v;
+  EXPECT_GT(checked, 200000u);
 }
 
 // The HDR hard_fail is not "off": compressed values lie in (-1, 1), so a pixel
