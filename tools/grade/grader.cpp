@@ -220,8 +220,7 @@ void write_report_images(const Run& run, const fs::path& result_dir, const Check
   }
   // A reference looks the same in every submission's report: encoded once per run, then
   // linked (copied where the result folder is on another file system): a new file costs
-  // more than its bytes (creating files was a fifth of the grading process's CPU profile on
-  // ext4, which looks for a free inode past those the run had just freed).
+  // more than its bytes (kSingleFileCacheVariable says why).
   fs::path cached = run.temp / "reference-png" / (check.reference + "." + metric_name(check.metric) + ".png");
   if (!fs::exists(cached)) {
     fs::create_directories(cached.parent_path());
@@ -383,7 +382,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
   for (size_t i = 0; i < entries.size(); ++i) {
     entries[i].labs_left = run.options.labs.size();
     // The last lab first: each stage runs every earlier stage's passes and adds its own
-    // (lab 6 precomputes its maps, half of its child's time), so the longest child starts
+    // (lab 6 precomputes its maps, over half of its child's time), so the longest child starts
     // first and the short ones fill in beside it (median of nine runs at --jobs 2:
     // 1.51 s against 1.57 s in lab order).
     for (auto lab = run.options.labs.rbegin(); lab != run.options.labs.rend(); ++lab) queue.push_back({i, *lab});
