@@ -9,8 +9,9 @@
 #      proportional set sizes of all kit-grade processes, sampled every 10 ms);
 #   2. batch throughput for 20 submissions (10 solutions, 10 starters) at --jobs 2;
 #   3. where the time goes: the parent's fixed cost (an empty submission renders
-#      nothing), and per lab the child's context, compile, render and read-back
-#      and the parent's comparison (from summary.json).
+#      nothing), the CPU of the grading process against its render children's, and
+#      per lab the child's context, compile, render and read-back and the parent's
+#      comparison (from summary.json).
 # BUILD_DIR defaults to build/default. Prints a report; leaves nothing behind.
 set -euo pipefail
 
@@ -109,11 +110,20 @@ echo
 echo "3. where the time goes"
 mkdir -p "$WORK/empty"
 measure "parent only (empty folder)" "$GRADE" "$WORK/empty" --out "$WORK/empty-out" --jobs 1
-"$PY" - "$WORK/one-warm-1/summary.json" "$WORK/one-cold-1/summary.json" <<'EOF'
-import json, sys
-for path, label in zip(sys.argv[1:], ["warm cache, --jobs 1", "cold cache, --jobs 1"]):
+"$PY" - "$WORK/one-warm-1/summary.json" "$WORK/time-warm-cache-jobs1" "$WORK/one-cold-1/summary.json" "$WORK/time-cold-cache-jobs1" <<'EOF'
+import json, re, sys
+def total_cpu(time_file):
+    t = open(time_file).read()
+    return sum(float(re.search(name + r":\s*(\S+)", t).group(1)) for name in ("User time \\(seconds\\)", "System time \\(seconds\\)"))
+args = sys.argv[1:]
+for (path, time_file), label in zip(zip(args[0::2], args[1::2]), ["warm cache, --jobs 1", "cold cache, --jobs 1"]):
     s = json.load(open(path))
-    print(f"  {label}: execution {s['execution_time']:.2f} s")
+    children = sum(lab["seconds"]["child_cpu"] for lab in s["labs"].values())
+    cpu = total_cpu(time_file)
+    # The grading process's own CPU (start-up, references, comparisons, report): all of
+    # kit-grade's CPU less its render children's (wait4's, in summary.json).
+    print(f"  {label}: execution {s['execution_time']:.2f} s; CPU {cpu:.2f} s: grading process {cpu - children:.2f} s, "
+          f"render children {children:.2f} s")
     print("    lab  child wall  cpu    context compile render readback | compare  rss MB  vm peak MB")
     for n, lab in sorted(s["labs"].items()):
         t, sec = lab["child_timings"], lab["seconds"]
