@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <utility>
 #include <vector>
 
 #include "renderer.h"
@@ -39,15 +40,14 @@ Image finite_copy(const Image& image) {
 
 // HDR compared after c / (1 + |c|): a tolerance of t is absolute near 0 and
 // relative (about t (1 + c)^2 / 1) for bright pixels, which matches how far a
-// tone-mapped display would show the difference.
-Image compress_hdr(const Image& image) {
-  Image out = image;
-  for (size_t i = 0; i < out.pixels.size(); ++i) {
+// tone-mapped display would show the difference. In place: it is given a copy.
+Image compress_hdr(Image image) {
+  for (size_t i = 0; i < image.pixels.size(); ++i) {
     if (image.channels == 4 && i % 4 == 3) continue;  // alpha as it is
-    float v = out.pixels[i];
-    out.pixels[i] = v / (1.0f + std::fabs(v));
+    float v = image.pixels[i];
+    image.pixels[i] = v / (1.0f + std::fabs(v));
   }
-  return out;
+  return image;
 }
 
 bool is_uniform(const Image& image) {
@@ -201,7 +201,8 @@ std::string psnr_text(double psnr) { return std::isfinite(psnr) ? format("%.1f d
 // An image as it is compared under `metric`: NaN and Inf zeroed, HDR compressed.
 Image compared_copy(Metric metric, const Image& image) {
   Image copy = finite_copy(image);
-  return metric == Metric::Hdr ? compress_hdr(copy) : copy;
+  if (metric == Metric::Hdr) return compress_hdr(std::move(copy));
+  return copy;
 }
 
 }  // namespace

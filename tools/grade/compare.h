@@ -41,8 +41,8 @@ size_t allowed_failing_pixels(const Tolerance& tolerance, size_t pixels);
 // compare_images finds it (the reference's most common pixel as compared under the
 // metric: NaN zeroed, HDR compressed; the smallest such value on a tie).
 using Background = std::array<float, 4>;
-// Every pixel of `reference` sorted: a run finds each reference's once and passes it to
-// compare_images, rather than sorting the same reference again for every submission.
+// Every pixel of `reference` counted: a run finds each reference's once and passes it to
+// compare_images, rather than counting the same reference again for every submission.
 Background reference_background(Metric metric, const Image& reference);
 
 // Compares `image` (the submission's) with `reference` under `metric`: it fails when
