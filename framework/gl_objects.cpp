@@ -383,12 +383,19 @@ void FullscreenTriangle::draw() const {
   glDrawArrays(GL_TRIANGLES, 0, 3);
 }
 
-void FullscreenTriangle::pass(const Program& program, const Framebuffer& target, int width, int height,
-                              bool additive) const {
+namespace {
+// What every fullscreen pass starts with: `target` bound, the viewport its size, culling off.
+void begin_fullscreen_pass(const Framebuffer& target, int width, int height) {
   target.bind();
   glViewport(0, 0, width, height);
-  glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
+}
+}  // namespace
+
+void FullscreenTriangle::pass(const Program& program, const Framebuffer& target, int width, int height,
+                              bool additive) const {
+  begin_fullscreen_pass(target, width, height);
+  glDisable(GL_DEPTH_TEST);
   if (additive) {
     glEnable(GL_BLEND);
     glBlendFuncSeparate(GL_ONE, GL_ONE, GL_ZERO, GL_ONE);
@@ -402,9 +409,7 @@ void FullscreenTriangle::pass(const Program& program, const Framebuffer& target,
 
 void FullscreenTriangle::pass_over_surfaces(const Program& program, const Framebuffer& target, int width,
                                             int height) const {
-  target.bind();
-  glViewport(0, 0, width, height);
-  glDisable(GL_CULL_FACE);
+  begin_fullscreen_pass(target, width, height);
   glDisable(GL_BLEND);
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_GREATER);
