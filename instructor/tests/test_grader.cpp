@@ -19,6 +19,8 @@
 #include "config.h"
 #include "grader.h"
 #include "kit_test.h"
+#include "references.h"
+#include "render_child.h"
 #include "report.h"
 #include "stages.h"
 
@@ -573,6 +575,62 @@ TEST(GraderVerdicts, ReferenceBackgroundIsTheMostCommonPixelWhereverTheCornerIs)
 
 // The report's PNGs are written fast (zlib level 1, every row Sub-filtered) and still
 // hold exactly the 8-bit values the other effort writes: round to nearest, clamped.
+// A run's references are decoded once and kept in the reference cache
+// (load_lab_references). Witnesses that the cache is what is read, and that it is only a
+// cache: a cached image that was altered comes back altered; a truncated one is decoded
+// again and rewritten; a reference file that changes gets new cache files, and its old
+// version's go. A background file of the wrong size is found again.
+TEST(GraderVerdicts, CachedReferencesAreTheDecodedOnes) {
+  const fs::path references = kit::test::temp_dir("grader-reference-cache-files");
+  fs::copy(kit::kit_root() / "tools/grade/references", references, fs::copy_options::recursive);
+  const fs::path cache = kit::test::temp_dir("grader-reference-cache");
+  const std::string id = "lab2-default-final";
+  auto load = [&] { return kit::grade::load_lab_references(references, 2, cache).at(id); };
+  auto same_pixels = [](const kit::Image& a, const kit::Image& b) {
+    return a.width == b.width && a.height == b.height && a.channels == b.channels &&
+           std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
+  };
+  const kit::Image decoded = kit::read_image((references / (id + ".png")).string());
+  const kit::grade::LoadedReference first = load();
+  EXPECT_TRUE(same_pixels(first.image, decoded));
+  fs::path raw = first.cache_stem;
+  raw += ".raw";
+  ASSERT_TRUE(fs::is_regular_file(raw));
+  EXPECT_EQ(first.cache_stem.parent_path(), cache);
+  const uintmax_t raw_size = fs::file_size(raw);
+
+  kit::Image altered = decoded;
+  altered.pixels[0] = 0.25f;
+  kit::grade::write_raw_image(raw, altered);
+  EXPECT_TRUE(same_pixels(load().image, altered)) << "the cache is read";
+  fs::resize_file(raw, raw_size / 2);
+  EXPECT_TRUE(same_pixels(load().image, decoded)) << "a damaged cache file is passed over";
+  EXPECT_EQ(fs::file_size(raw), raw_size) << "and written again";
+
+  const Metric metric = Metric::Ldr;
+  const kit::grade::Background found = kit::grade::reference_background(metric, decoded);
+  EXPECT_EQ(kit::grade::cached_background(first, metric), found);
+  fs::path background = first.cache_stem;
+  background += ".ldr.background";
+  ASSERT_TRUE(fs::is_regular_file(background));
+  write_file(background, "bad");
+  EXPECT_EQ(kit::grade::cached_background(first, metric), found);
+  EXPECT_EQ(fs::file_size(background), sizeof(kit::grade::Background));
+
+  kit::write_image((references / (id + ".png")).string(), altered);
+  const kit::grade::LoadedReference changed = load();
+  EXPECT_NE(changed.cache_stem, first.cache_stem);
+  EXPECT_TRUE(same_pixels(changed.image, kit::read_image((references / (id + ".png")).string())));
+  EXPECT_FALSE(fs::exists(raw)) << "the old version's files are removed";
+  EXPECT_FALSE(fs::exists(background));
+  // An id that begins another's (lab2-default-final-x) is not taken for an old version of it.
+  fs::path other_id = cache / ("lab2-default-final-x-" + std::string(40, 'a') + ".raw");
+  write_file(other_id, "x");
+  kit::write_image((references / (id + ".png")).string(), decoded);
+  load();
+  EXPECT_TRUE(fs::exists(other_id));
+}
+
 TEST(GraderVerdicts, FastestPngsHoldTheSameBytes) {
   kit::Image image(97, 31, 3);
   for (size_t i = 0; i < image.pixels.size(); ++i)

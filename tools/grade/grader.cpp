@@ -61,13 +61,16 @@ struct Run {
   // background as its checks compare it (reference_background), found once; per lab
   // loaded, "" or why its references could not be read.
   std::map<int, std::string> reference_problems;
-  std::map<std::string, Image> references;
+  std::map<std::string, LoadedReference> references;
   std::map<std::pair<std::string, Metric>, Background> backgrounds;
   std::map<std::string, Image>* collect = nullptr;  // --update-references: keep the raw renders instead
   fs::path temp;
   // --check-references and --update-references render only the kit's own files:
   // their children write the shader cache seed that graded submissions start from.
   bool writes_cache_seed = false;
+  // Where the decoded references and what is made from them are kept
+  // (reference_cache_dir(): between runs, else in this run's temporary folder).
+  fs::path reference_cache;
 };
 
 struct Entry {
@@ -218,15 +221,19 @@ void write_report_images(const Run& run, const fs::path& result_dir, const Check
     write_image((result_dir / c.reference).string(), display_image(shown, reference, reference), PngEffort::Fastest);
     return;
   }
-  // A reference looks the same in every submission's report: encoded once per run, then
-  // linked (copied where the result folder is on another file system): a new file costs
-  // more than its bytes (kSingleFileCacheVariable says why).
-  fs::path cached = run.temp / "reference-png" / (check.reference + "." + metric_name(check.metric) + ".png");
-  if (!fs::exists(cached)) {
-    fs::create_directories(cached.parent_path());
-    write_image(cached.string(), display_image(shown, reference, reference), PngEffort::Fastest);
-  }
+  // A reference looks the same in every submission's report: encoded once, kept in the
+  // reference cache beside the reference, then linked (copied where the result folder is
+  // on another file system): a new file costs more than its bytes
+  // (kSingleFileCacheVariable says why).
+  fs::path cached = run.references.at(check.reference).cache_stem;
+  cached += std::string(".") + metric_name(check.metric) + ".png";
   std::error_code ec;
+  if (!fs::exists(cached, ec)) {
+    fs::path temp = cached;
+    temp += ".tmp-" + std::to_string(getpid()) + ".png";
+    write_image(temp.string(), display_image(shown, reference, reference), PngEffort::Fastest);
+    fs::rename(temp, cached);  // a run beside this one links the whole file or writes its own
+  }
   fs::remove(result_dir / c.reference, ec);
   fs::create_hard_link(cached, result_dir / c.reference, ec);
   if (ec) fs::copy_file(cached, result_dir / c.reference, fs::copy_options::overwrite_existing);
@@ -240,15 +247,16 @@ std::string load_references_of(Run& run, int lab) {
   auto [problem, first] = run.reference_problems.try_emplace(lab);
   if (!first) return problem->second;
   try {
-    for (auto& [id, image] : load_lab_references(run.references_dir, lab)) run.references.emplace(id, std::move(image));
+    for (auto& [id, reference] : load_lab_references(run.references_dir, lab, run.reference_cache))
+      run.references.emplace(id, std::move(reference));
   } catch (const Error& e) {
     problem->second = e.what();
     return problem->second;
   }
   for (const Check* check : lab_checks(lab))
-    if (check->metric != Metric::Changes)
-      run.backgrounds.try_emplace({check->reference, check->metric},
-                                  reference_background(check->metric, run.references.at(check->reference)));
+    if (check->metric != Metric::Changes && !run.backgrounds.count({check->reference, check->metric}))
+      run.backgrounds.emplace(std::make_pair(check->reference, check->metric),
+                              cached_background(run.references.at(check->reference), check->metric));
   return "";
 }
 
@@ -287,7 +295,7 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
     const Check& check = *c.check;
     const Image& image = renders.at(check.image);
     const bool own = check.metric == Metric::Changes;  // its "reference" is the submission's own render
-    const Image& reference = own ? renders.at(check.reference) : run.references.at(check.reference);
+    const Image& reference = own ? renders.at(check.reference) : run.references.at(check.reference).image;
     const Background* background = own ? nullptr : &run.backgrounds.at({check.reference, check.metric});
     c.comparison = compare_images(check.metric, run.config.tolerance(check.metric), image, reference, background);
     size_t hdr_bad = child.contains("hdr_non_finite") ? child["hdr_non_finite"].value(check.image, size_t{0}) : 0;
@@ -305,14 +313,33 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
   lab.compare_seconds = seconds_since(t0);
 }
 
-// Mesa's shader cache as the kit's own renders leave it (solutions/ and
-// framework/shaders/ only, never a submission's file): $XDG_CACHE_HOME (else
-// ~/.cache) /kit-grade/mesa-shader-cache. "" when there is no home to put it in.
-fs::path shader_cache_seed() {
+// kit-grade's caches: $XDG_CACHE_HOME (else ~/.cache) /kit-grade. "" when there is
+// no home to put them in. Only this process writes there, never a render child.
+fs::path grader_cache_dir() {
   const char* xdg = std::getenv("XDG_CACHE_HOME");
   const char* home = std::getenv("HOME");
   fs::path base = xdg && *xdg ? fs::path(xdg) : home && *home ? fs::path(home) / ".cache" : fs::path();
-  return base.empty() ? base : base / "kit-grade" / "mesa-shader-cache";
+  return base.empty() ? base : base / "kit-grade";
+}
+
+// Mesa's shader cache as the kit's own renders leave it (solutions/ and
+// framework/shaders/ only, never a submission's file).
+fs::path shader_cache_seed() {
+  fs::path cache = grader_cache_dir();
+  return cache.empty() ? cache : cache / "mesa-shader-cache";
+}
+
+// The decoded references (load_lab_references), their backgrounds and display images:
+// kept between runs where the cache can be made, else in the run's temporary folder.
+fs::path reference_cache_dir(const fs::path& run_temp) {
+  const fs::path cache = grader_cache_dir();
+  if (!cache.empty()) {
+    std::error_code ec;
+    fs::create_directories(cache / "references", ec);
+    if (!ec && access((cache / "references").c_str(), W_OK) == 0) return cache / "references";
+  }
+  fs::create_directories(run_temp / "references");
+  return run_temp / "references";
 }
 
 // The render children's cache is Mesa's single-file one (a Fossilize database, its
@@ -504,7 +531,7 @@ void remove_stale_run_temps(const fs::path& base) {
 }
 
 Run make_run(const Options& options, bool need_references) {
-  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}};
+  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}};
   if (need_references) {
     run.references_dir = options.references.empty() ? default_references_dir() : options.references;
     require_current_references(run.references_dir);
@@ -515,6 +542,7 @@ Run make_run(const Options& options, bool need_references) {
   remove_stale_run_temps(base);
   // Named with this process's id, so a later run can tell when it is gone.
   run.temp = make_temp_dir(base, kRunTempPrefix + std::to_string(getpid()) + "-");
+  if (need_references) run.reference_cache = reference_cache_dir(run.temp);
   return run;
 }
 

@@ -1,10 +1,15 @@
 #include "references.h"
 
+#include <unistd.h>
+
 #include <fstream>
 #include <set>
 
 #include "error.h"
+#include "render_child.h"
+#include "report.h"
 #include "stages.h"
+#include "submission.h"
 
 namespace fs = std::filesystem;
 
@@ -29,6 +34,30 @@ nlohmann::json read_manifest(const fs::path& dir) {
     return nlohmann::json::parse(in);
   } catch (const nlohmann::json::exception& e) {
     throw Error((dir / kManifestName).string() + ": not valid JSON (" + e.what() + ")");
+  }
+}
+
+// `path` with `suffix` added to its file name.
+fs::path suffixed(fs::path path, const std::string& suffix) {
+  path += suffix;
+  return path;
+}
+
+// Removes the cache files of `id`'s other versions: "<id>-<40 hex digits>.<what>" with
+// other digits (a bare prefix match would take lab5-default-custom-on-off's files for
+// lab5-default-custom-on's).
+void remove_older_versions(const fs::path& cache, const std::string& id, const std::string& digest) {
+  constexpr size_t kDigits = 40;
+  std::error_code ec;
+  for (fs::directory_iterator it(cache, ec), end; !ec && it != end; it.increment(ec)) {
+    const std::string name = it->path().filename().string();
+    if (name.size() <= id.size() + 1 + kDigits || name.compare(0, id.size() + 1, id + "-") != 0) continue;
+    const std::string digits = name.substr(id.size() + 1, kDigits);
+    if (name[id.size() + 1 + kDigits] != '.' || digits == digest ||
+        digits.find_first_not_of("0123456789abcdef") != std::string::npos)
+      continue;
+    std::error_code remove_ec;
+    fs::remove(it->path(), remove_ec);
   }
 }
 
@@ -114,14 +143,48 @@ void require_current_references(const fs::path& dir) {
   throw Error("references in " + dir.string() + " are stale (run kit-grade --update-references):" + text);
 }
 
-std::map<std::string, Image> load_lab_references(const fs::path& dir, int lab) {
-  std::map<std::string, Image> out;
+std::map<std::string, LoadedReference> load_lab_references(const fs::path& dir, int lab, const fs::path& cache) {
+  std::map<std::string, LoadedReference> out;
   for (const Check* check : lab_checks(lab)) {
     if (check->metric == Metric::Changes || out.count(check->reference)) continue;
     const RenderSpec& spec = find_render(check->reference);
-    out[spec.id] = read_image((dir / (spec.id + "." + reference_extension(spec))).string());
+    const fs::path file = dir / (spec.id + "." + reference_extension(spec));
+    const std::string digest = file_digest(file, true);
+    if (digest.empty()) throw Error(file.string() + ": cannot read the reference");
+    LoadedReference& reference = out[spec.id];
+    reference.cache_stem = cache / (spec.id + "-" + digest);
+    const fs::path raw = suffixed(reference.cache_stem, ".raw");
+    try {
+      reference.image = read_raw_image(raw);
+      continue;
+    } catch (const Error&) {  // not cached yet, or damaged: decoded below
+    }
+    reference.image = read_image(file.string());
+    remove_older_versions(cache, spec.id, digest);
+    try {
+      const fs::path temp = suffixed(raw, ".tmp-" + std::to_string(getpid()));
+      write_raw_image(temp, reference.image);
+      fs::rename(temp, raw);  // a run beside this one reads the whole file or none
+    } catch (const std::exception&) {  // Error, or filesystem_error: the cache is only a cache
+    }
   }
   return out;
+}
+
+Background cached_background(const LoadedReference& reference, Metric metric) {
+  const fs::path path = suffixed(reference.cache_stem, std::string(".") + metric_name(metric) + ".background");
+  Background background{};
+  {
+    std::ifstream in(path, std::ios::binary);
+    if (in.read(reinterpret_cast<char*>(background.data()), sizeof background) && in.peek() == EOF) return background;
+  }
+  background = reference_background(metric, reference.image);
+  std::string bytes(reinterpret_cast<const char*>(background.data()), sizeof background);
+  try {
+    write_file_atomic(path, bytes);
+  } catch (const std::exception&) {
+  }
+  return background;
 }
 
 }  // namespace kit::grade

@@ -583,6 +583,11 @@ void list_all(const fs::path& dir, const std::string& prefix, std::vector<std::p
 
 }  // namespace
 
+std::string file_digest(const fs::path& file, bool follow_links) {
+  OIIO::SHA1 sha;
+  return hash_file(sha, file, follow_links) ? lower(sha.digest()) : "";
+}
+
 std::string content_hash(const fs::path& submission) {
   OIIO::SHA1 sha;
   // Length-prefixed fields, so no two different trees feed the same bytes.

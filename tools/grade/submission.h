@@ -97,6 +97,9 @@ constexpr rlim_t kMaxZipListingMiB = 64;
 // hidden entries and __MACOSX are left out, as the grader ignores them. A batch
 // stores it in summary.json and regrades a submission whose fingerprint changed.
 std::string content_hash(const std::filesystem::path& submission);
+// A regular file's SHA-1 in 40 lower-case hex digits, "" when it cannot be read
+// (links followed only when `follow_links`).
+std::string file_digest(const std::filesystem::path& file, bool follow_links);
 
 // How a lab's file is named in messages: "labs/02-lighting/brdf.glsl" (the
 // folder label kit::stage_library gives the private lab root).
