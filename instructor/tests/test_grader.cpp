@@ -3,6 +3,7 @@
 // at test time). Each kit-grade run is shared by many assertions, and several
 // broken labs that do not interact sit in one submission, so the suite stays
 // well under two minutes.
+#include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
 #include <nlohmann/json.hpp>
 
@@ -575,6 +576,57 @@ TEST(GraderVerdicts, ReferenceBackgroundIsTheMostCommonPixelWhereverTheCornerIs)
 
 // The report's PNGs are written fast (zlib level 1, every row Sub-filtered) and still
 // hold exactly the 8-bit values the other effort writes: round to nearest, clamped.
+// compare_images computes idiff's statistics itself and maps the diff through a table of
+// OpenImageIO's inferno map: both checked against OpenImageIO's own ImageBufAlgo::compare
+// and color_map on an image pair with scattered errors, some over the threshold, and two
+// pixels tied for the largest (the first in rows is the one named).
+TEST(GraderVerdicts, StatisticsAndDiffColoursAreOpenImageIOs) {
+  const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Ldr);
+  kit::Image reference = synthetic_ldr();
+  kit::Image image = reference;
+  for (size_t i = 0; i < image.pixels.size(); i += 7) image.pixels[i] += static_cast<float>((i * 7919) % 101) / 2000.0f;
+  reference.at(200, 150, 1) = 0.25f;
+  image.at(200, 150, 1) = 1.0f;
+  reference.at(10, 100, 2) = 1.0f;
+  image.at(10, 100, 2) = 0.25f;  // the same difference, earlier in rows
+  auto wrap = [](const kit::Image& i) {
+    return OIIO::ImageBuf(OIIO::ImageSpec(i.width, i.height, i.channels, OIIO::TypeDesc::FLOAT),
+                          const_cast<float*>(i.pixels.data()));
+  };
+  const float threshold = static_cast<float>(tol.fail_threshold);
+  const OIIO::ImageBufAlgo::CompareResults oiio =
+      OIIO::ImageBufAlgo::compare(wrap(image), wrap(reference), threshold, threshold);
+  const kit::grade::Comparison r = kit::grade::compare_images(Metric::Ldr, tol, image, reference);
+  ASSERT_GT(oiio.nfail, 0u);
+  EXPECT_EQ(r.failing_pixels, oiio.nfail);
+  EXPECT_EQ(r.max_error, oiio.maxerror);
+  EXPECT_EQ(r.max_x, oiio.maxx);
+  EXPECT_EQ(r.max_y, oiio.maxy);
+  EXPECT_EQ(r.max_x, 10);
+  EXPECT_EQ(r.mean_error, oiio.meanerror);
+  EXPECT_EQ(r.psnr, oiio.PSNR);
+  // Normals: the PSNR of their xyz values.
+  const OIIO::ImageBufAlgo::CompareResults xyz =
+      OIIO::ImageBufAlgo::compare(wrap(image), wrap(reference), 1.0f, 1.0f, OIIO::ROI(0, kW, 0, kH, 0, 1, 0, 3));
+  EXPECT_EQ(kit::grade::compare_images(Metric::Normal, grading_config().tolerance(Metric::Normal), image, reference).psnr,
+            xyz.PSNR);
+
+  kit::Image scaled(kW, kH, 1);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      float d = 0.0f;
+      for (int c = 0; c < 4; ++c) d = std::max(d, std::fabs(image.at(x, y, c) - reference.at(x, y, c)));
+      scaled.at(x, y, 0) = std::min(d * kit::grade::kDiffScale, 1.0f);
+    }
+  kit::Image colours(kW, kH, 3);
+  OIIO::ImageBufAlgo::color_map(wrap(scaled), 0, "inferno")
+      .get_pixels(OIIO::ROI(0, kW, 0, kH, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, colours.pixels.data());
+  ASSERT_EQ(r.diff.pixels.size(), colours.pixels.size());
+  float largest = 0.0f;
+  for (size_t i = 0; i < colours.pixels.size(); ++i) largest = std::max(largest, std::fabs(r.diff.pixels[i] - colours.pixels[i]));
+  EXPECT_LT(largest, 1e-6f);
+}
+
 // A run's references are decoded once and kept in the reference cache
 // (load_lab_references). Witnesses that the cache is what is read, and that it is only a
 // cache: a cached image that was altered comes back altered; a truncated one is decoded

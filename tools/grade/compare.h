@@ -1,7 +1,7 @@
 #pragma once
-// Comparing a submission's render with its reference, idiff-style
-// (OpenImageIO's ImageBufAlgo::compare for the per-channel metrics; the angle
-// between normals for Metric::Normal), and the images the report shows.
+// Comparing a submission's render with its reference, idiff-style (the statistics
+// of OpenImageIO's ImageBufAlgo::compare for the per-channel metrics, computed here in
+// one pass; the angle between normals for Metric::Normal), and the images the report shows.
 #include <array>
 #include <string>
 
