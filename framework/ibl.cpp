@@ -1,7 +1,5 @@
 #include "ibl.h"
 
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -9,6 +7,8 @@
 #include <optional>
 
 #include "error.h"
+#include "image_codecs.h"
+#include "openimageio_formats.h"
 #include "pass_clock.h"
 #include "texture_prepare.h"
 #include "stages.h"
@@ -98,30 +98,35 @@ std::string resolve_environment(const std::string& name_or_path) {
 }
 
 Image load_environment(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw Error(path + ": cannot read the environment: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width < 2 || spec.height < 1 || spec.width > kMaxEnvironmentWidth || spec.height > kMaxEnvironmentWidth / 2)
-    throw Error(path + ": the environment is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) +
-                " texels (an equirectangular image of at most " + std::to_string(kMaxEnvironmentWidth) + "x" +
-                std::to_string(kMaxEnvironmentWidth / 2) + ")");
-  if (spec.nchannels != 1 && spec.nchannels < 3)
-    throw Error(path + ": the environment has " + std::to_string(spec.nchannels) +
+  // EXR (the kit's own environments) through OpenEXR; any other format OpenImageIO reads
+  // (Radiance .hdr, ...) through its module. Larger is refused before the texels are read.
+  const int max_width = kMaxEnvironmentWidth, max_height = kMaxEnvironmentWidth / 2;
+  Image read;
+  try {
+    read = has_extension(path, ".exr") ? read_exr(path, max_width, max_height)
+                                   : openimageio_formats().read_image(path, max_width, max_height);
+  } catch (const Error& e) {
+    throw Error(std::string("cannot read the environment: ") + e.what());
+  }
+  if (read.width < 2 || read.height < 1)
+    throw Error(path + ": the environment is " + std::to_string(read.width) + "x" + std::to_string(read.height) +
+                " texels (an equirectangular image of at most " + std::to_string(max_width) + "x" +
+                std::to_string(max_height) + ")");
+  if (read.channels != 1 && read.channels < 3)
+    throw Error(path + ": the environment has " + std::to_string(read.channels) +
                 " channels (it needs RGB, or 1 for grey)");
   // The sizes are bounded above, so the products fit in size_t.
-  const size_t texels = static_cast<size_t>(spec.width) * static_cast<size_t>(spec.height);
-  std::vector<float> read(texels * static_cast<size_t>(spec.nchannels));
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, read.data()))
-    throw Error(path + ": cannot decode the environment: " + in->geterror());
-  Image image(spec.width, spec.height, 3);
+  const size_t texels = static_cast<size_t>(read.width) * static_cast<size_t>(read.height);
+  const size_t n = static_cast<size_t>(read.channels);
+  Image image(read.width, read.height, 3);
   for (size_t t = 0; t < texels; ++t) {
-    for (int c = 0; c < 3; ++c) {
-      const float value = read[t * static_cast<size_t>(spec.nchannels) + (spec.nchannels == 1 ? 0 : c)];
+    for (size_t c = 0; c < 3; ++c) {
+      const float value = read.pixels[t * n + (n == 1 ? 0 : c)];
       if (!std::isfinite(value) || value < 0.0f)
-        throw Error(path + ": texel (" + std::to_string(t % static_cast<size_t>(spec.width)) + ", " +
-                    std::to_string(t / static_cast<size_t>(spec.width)) + ") has radiance " + std::to_string(value) +
+        throw Error(path + ": texel (" + std::to_string(t % static_cast<size_t>(read.width)) + ", " +
+                    std::to_string(t / static_cast<size_t>(read.width)) + ") has radiance " + std::to_string(value) +
                     " (radiance must be finite and not negative)");
-      image.pixels[t * 3 + static_cast<size_t>(c)] = value;
+      image.pixels[t * 3 + c] = value;
     }
   }
   return image;

@@ -1,25 +1,13 @@
 #include "image_io.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imageio.h>
-
 #include <algorithm>
 #include <cmath>
 
 #include "error.h"
+#include "image_codecs.h"
+#include "openimageio_formats.h"
 
 namespace kit {
-
-namespace {
-
-// libpng's PNG_FILTER_SUB (png.h), which OpenImageIO's "png:filter" passes on.
-constexpr int kPngFilterSub = 0x10;
-
-bool ends_with(const std::string& s, const std::string& suffix) {
-  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
-}
-
-}  // namespace
 
 unsigned char to_unorm8(float v) {
   v = std::isfinite(v) ? std::min(std::max(v, 0.0f), 1.0f) : 0.0f;
@@ -30,37 +18,15 @@ unsigned char to_unorm8(float v) {
 }
 
 void write_image(const std::string& path, const Image& image, PngEffort effort) {
-  bool exr = ends_with(path, ".exr");
-  if (!exr && !ends_with(path, ".png")) throw Error(path + ": output must end in .png or .exr");
-  auto out = OIIO::ImageOutput::create(path);
-  if (!out) throw Error(path + ": cannot create image writer: " + OIIO::geterror());
-  OIIO::ImageSpec spec(image.width, image.height, image.channels, exr ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
-  if (exr) spec.attribute("compression", "zip");
-  if (!exr && effort == PngEffort::Fastest) {
-    spec.attribute("png:compressionLevel", 1);
-    spec.attribute("png:filter", kPngFilterSub);
-  }
-  if (!out->open(path, spec)) throw Error(path + ": cannot open for writing: " + out->geterror());
-  bool ok;
-  if (exr) {
-    ok = out->write_image(OIIO::TypeDesc::FLOAT, image.pixels.data());
-  } else {
-    // Explicit round-to-nearest so PNGs are identical whatever OIIO's conversion does.
-    std::vector<unsigned char> bytes(image.pixels.size());
-    for (size_t i = 0; i < bytes.size(); ++i) bytes[i] = to_unorm8(image.pixels[i]);
-    ok = out->write_image(OIIO::TypeDesc::UINT8, bytes.data());
-  }
-  if (!ok || !out->close()) throw Error(path + ": write failed: " + out->geterror());
+  if (has_extension(path, ".exr")) return write_exr(path, image);
+  if (has_extension(path, ".png")) return write_png(path, image, effort);
+  throw Error(path + ": output must end in .png or .exr");
 }
 
 Image read_image(const std::string& path) {
-  auto in = OIIO::ImageInput::open(path);
-  if (!in) throw Error(path + ": cannot read image: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  Image image(spec.width, spec.height, spec.nchannels);
-  if (!in->read_image(0, 0, 0, spec.nchannels, OIIO::TypeDesc::FLOAT, image.pixels.data()))
-    throw Error(path + ": cannot decode image: " + in->geterror());
-  return image;
+  if (has_extension(path, ".png")) return read_png(path);
+  if (has_extension(path, ".exr")) return read_exr(path);
+  return openimageio_formats().read_image(path, kMaxImageSide, kMaxImageSide);
 }
 
 Image read_texture(const Texture2D& texture, bool depth) { return read_texture_level(texture, 0, depth); }

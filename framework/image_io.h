@@ -1,5 +1,6 @@
 #pragma once
-// Float images in memory, their PNG/EXR files (through OpenImageIO), and
+// Float images in memory, their PNG/EXR files (image_codecs.h; other formats are read
+// through OpenImageIO, openimageio_formats.h), and
 // read-back of GL textures. Rows are stored top-down, as image files are.
 #include <optional>
 #include <string>

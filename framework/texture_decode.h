@@ -1,6 +1,6 @@
 #pragma once
-// Texture images of every scene format (glTF, OBJ/MTL): PNG or JPEG bytes decoded
-// by OpenImageIO into RGBA8, the one form SceneGpu uploads.
+// Texture images of every scene format (glTF, OBJ/MTL): PNG bytes decoded by libpng,
+// JPEG bytes by OpenImageIO (openimageio_formats.h), into RGBA8, the one form SceneGpu uploads.
 #include <cstddef>
 #include <string>
 

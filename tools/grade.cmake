@@ -1,6 +1,8 @@
 # kit-grade: the autograder (tools/grade/). Included from tools/CMakeLists.txt;
-# needs kitcore (which brings OpenImageIO for the comparisons) and the scenes.
+# needs kitcore and the scenes, and OpenSSL for SHA-1. A grading run never loads
+# OpenImageIO (framework/openimageio_formats.h says why).
 find_package(nlohmann_json 3 REQUIRED)
+find_package(OpenSSL REQUIRED)
 # How a submission is found, sanitized and fingerprinted (submission.cpp, with the
 # sandbox it runs unzip in): tests/test_submission_layouts calls the very functions
 # kit-grade does, through the target kit_grade_submission.
@@ -9,7 +11,7 @@ if(KIT_FUZZ)
   # The fuzz build fuzzes the submission code alone (instructor/fuzz/fuzz_zip_listing.cpp), not kit-grade.
   add_library(kit_grade_submission STATIC ${kit_grade_submission_sources})
   target_include_directories(kit_grade_submission PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
-  target_link_libraries(kit_grade_submission PUBLIC kitcore PkgConfig::OIIO)
+  target_link_libraries(kit_grade_submission PUBLIC kitcore OpenSSL::Crypto)
   return()
 endif()
 # Everything but main(): the submission code, checks, comparisons, scoring and reports,
@@ -21,7 +23,7 @@ list(REMOVE_ITEM kit_grade_sources ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
 add_library(kit_grade_core STATIC ${kit_grade_sources})
 set_target_properties(kit_grade_core PROPERTIES UNITY_BUILD ${KIT_UNITY_BUILD} UNITY_BUILD_BATCH_SIZE 0)
 target_include_directories(kit_grade_core PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
-target_link_libraries(kit_grade_core PUBLIC kitcore PkgConfig::OIIO nlohmann_json::nlohmann_json)
+target_link_libraries(kit_grade_core PUBLIC kitcore OpenSSL::Crypto nlohmann_json::nlohmann_json)
 add_library(kit_grade_submission ALIAS kit_grade_core)
 add_executable(kit-grade-main ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
 target_link_libraries(kit-grade-main PRIVATE kit_grade_core)

@@ -1,8 +1,5 @@
 #include "compare.h"
 
-#include <OpenImageIO/imagebuf.h>
-#include <OpenImageIO/imagebufalgo.h>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -23,11 +20,6 @@ constexpr float kMinNormalLength = 1e-3f;
 constexpr double kRadiansToDegrees = 57.29577951308232;
 // Display gamma for HDR and the report's other linear images.
 constexpr float kDisplayGamma = 2.2f;
-
-OIIO::ImageBuf wrap(const Image& image) {
-  OIIO::ImageSpec spec(image.width, image.height, image.channels, OIIO::TypeDesc::FLOAT);
-  return OIIO::ImageBuf(spec, const_cast<float*>(image.pixels.data()));
-}
 
 // The statistics of idiff and OpenImageIO's ImageBufAlgo::compare over the first
 // `channels` channels, with its definitions and its summation order (pixels in rows,
@@ -115,35 +107,41 @@ std::string pixel_text(const Image& image) {
   return out + ")";
 }
 
-// OpenImageIO's "inferno" map at kColourMapSteps + 1 evenly spaced values of [0, 1],
-// made once; between them it is interpolated. The map itself is linear between 17
-// knots, and 4096 steps fall on every knot, so the table gives the same colours to
-// within float rounding (a PNG byte at most one apart) for a fraction of ImageBuf's cost.
-constexpr int kColourMapSteps = 4096;
-
-const std::vector<float>& inferno_table() {
-  static const std::vector<float> table = [] {
-    Image ramp(kColourMapSteps + 1, 1, 1);
-    for (int i = 0; i <= kColourMapSteps; ++i) ramp.pixels[static_cast<size_t>(i)] = static_cast<float>(i) / kColourMapSteps;
-    OIIO::ImageBuf mapped = OIIO::ImageBufAlgo::color_map(wrap(ramp), 0, "inferno");
-    std::vector<float> rgb(static_cast<size_t>(kColourMapSteps + 1) * 3);
-    mapped.get_pixels(OIIO::ROI(0, kColourMapSteps + 1, 0, 1, 0, 1, 0, 3), OIIO::TypeDesc::FLOAT, rgb.data());
-    return rgb;
-  }();
-  return table;
-}
+// The diff's colour map: OpenImageIO's "inferno" (matplotlib's map, as the linear values
+// OpenImageIO interpolates between) at its 17 evenly spaced knots. Written here so that
+// grading never loads OpenImageIO (openimageio_formats.h); test_grader checks the
+// colours against OpenImageIO's own color_map.
+constexpr int kInfernoKnots = 17;
+constexpr float kInferno[kInfernoKnots][3] = {
+    {0.000113f, 0.000036f, 0.001073f},
+    {0.003275f, 0.002178f, 0.017634f},
+    {0.015183f, 0.003697f, 0.068760f},
+    {0.046307f, 0.002834f, 0.130327f},
+    {0.095494f, 0.005137f, 0.154432f},
+    {0.163601f, 0.009920f, 0.156097f},
+    {0.253890f, 0.016282f, 0.143715f},
+    {0.367418f, 0.024893f, 0.119982f},
+    {0.500495f, 0.038279f, 0.089117f},
+    {0.642469f, 0.061553f, 0.057555f},
+    {0.776190f, 0.102517f, 0.031141f},
+    {0.883568f, 0.169990f, 0.012559f},
+    {0.951614f, 0.271639f, 0.002704f},
+    {0.972636f, 0.413571f, 0.005451f},
+    {0.943272f, 0.599923f, 0.035112f},
+    {0.884900f, 0.822282f, 0.140466f},
+    {0.973729f, 0.996282f, 0.373522f},
+};
 
 // One channel of per-pixel error -> RGB through the inferno map, scaled by kDiffScale.
 Image colour_mapped(const Image& error) {
-  const std::vector<float>& table = inferno_table();
   Image out(error.width, error.height, 3);
   for (size_t i = 0; i < error.pixels.size(); ++i) {
-    const float t = std::min(std::max(error.pixels[i] * kDiffScale, 0.0f), 1.0f) * kColourMapSteps;
-    const size_t step = std::min(static_cast<size_t>(t), static_cast<size_t>(kColourMapSteps - 1));
-    const float f = t - static_cast<float>(step);
-    for (size_t c = 0; c < 3; ++c) {
-      const float lo = table[step * 3 + c], hi = table[(step + 1) * 3 + c];
-      out.pixels[i * 3 + c] = lo + (hi - lo) * f;
+    const float t = std::min(std::max(error.pixels[i] * kDiffScale, 0.0f), 1.0f) * (kInfernoKnots - 1);
+    const int knot = std::min(static_cast<int>(t), kInfernoKnots - 2);
+    const float f = t - static_cast<float>(knot);
+    for (int c = 0; c < 3; ++c) {
+      const float lo = kInferno[knot][c], hi = kInferno[knot + 1][c];
+      out.pixels[i * 3 + static_cast<size_t>(c)] = lo + (hi - lo) * f;
     }
   }
   return out;

@@ -1,6 +1,5 @@
 #include "grader.h"
 
-#include <OpenImageIO/imageio.h>
 #include <nlohmann/json.hpp>
 #include <fcntl.h>
 #include <signal.h>
@@ -97,14 +96,6 @@ struct Running {
 };
 
 using Finished = std::function<void(Entry&)>;
-
-// The parent forks render children: OpenImageIO and OpenEXR must work in the
-// calling thread, so no worker of theirs can hold a lock at a fork (the images
-// are small; threads would not pay for themselves anyway).
-void single_threaded_image_io() {
-  OIIO::attribute("threads", 1);
-  OIIO::attribute("exr_threads", -1);
-}
 
 // A run's temporary folder: kRunTempPrefix, the process id, '-' and mkdtemp's six characters.
 constexpr const char* kRunTempPrefix = "kit-grade-";
@@ -710,7 +701,6 @@ bool SubmissionOutcome::grader_error() const {
 }
 
 int grade_submission(const fs::path& submission, const Options& options) {
-  single_threaded_image_io();
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(submission, ec))) throw Error(submission.string() + ": no such folder or file");
   std::string why;
@@ -736,7 +726,6 @@ int grade_submission(const fs::path& submission, const Options& options) {
 }
 
 int grade_batch(const fs::path& folder, const Options& options) {
-  single_threaded_image_io();
   std::error_code ec;
   if (!fs::is_directory(folder, ec)) throw Error(folder.string() + ": not a folder of submissions");
   std::string why;
@@ -836,7 +825,6 @@ int grade_batch(const fs::path& folder, const Options& options) {
 }
 
 int update_references(const Options& options) {
-  single_threaded_image_io();
   Options o = options;
   o.labs.clear();
   for (const Stage& s : stages()) o.labs.push_back(s.number);
@@ -864,7 +852,6 @@ int update_references(const Options& options) {
 }
 
 int check_references(const Options& options) {
-  single_threaded_image_io();
   Options o = options;
   // The labs whose solutions this kit holds: every lab in the instructor's kit, the
   // released ones in a student copy (whose references are checked all the same).

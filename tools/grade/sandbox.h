@@ -12,14 +12,13 @@
 // a signal or failure with its peak address space at the limit) ends as
 // Outcome::Kind::OutOfMemory, not as a crash.
 //
-// Render children are fork()ed without exec(): kit-grade-main links OpenImageIO,
-// whose ~260 shared libraries cost ~0.3 s of CPU and ~130 MB of RSS per exec
-// (measured by instructor/grading/measure.sh), more than rendering a lab. What makes
-// that safe: the parent never creates a GL context, does all its own work in
-// one thread (OpenImageIO "threads" = 1, OpenEXR without a pool; the only other
-// threads are log4cplus's idle pool, started when a dependency of OpenImageIO
-// loads, and never used), and a child only renders with a fresh context, writes
-// raw files and leaves with _exit(), running none of the parent's destructors.
+// Render children are fork()ed without exec(): the scenes are loaded once, in the
+// parent, and a child starts rendering at once. What makes that safe: the parent never
+// creates a GL context, does all its own work in one thread (OpenEXR without worker
+// threads; OpenImageIO, whose dependencies start threads of their own, is never loaded
+// by a grading run: openimageio_formats.h), and a child only renders with a fresh
+// context, writes raw files and leaves with _exit(), running none of the parent's
+// destructors.
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/types.h>

@@ -91,9 +91,9 @@ constexpr size_t kMaxZipEntries = 10000;
 // a longer list refuses the whole zip, since only a complete list can be checked.
 constexpr rlim_t kMaxZipListingMiB = 64;
 
-// A fingerprint of what a submission holds, "sha1:<40 hex digits>" (OpenImageIO's
-// SHA-1): a zip's bytes, or for a folder the sorted relative paths of its entries
-// with each regular file's bytes and each symbolic link's target (never followed);
+// A fingerprint of what a submission holds, "sha1:<40 hex digits>" (OpenSSL's SHA-1):
+// a zip's bytes, or for a folder the sorted relative paths of its entries with each
+// regular file's bytes and each symbolic link's target (never followed);
 // hidden entries and __MACOSX are left out, as the grader ignores them. A batch
 // stores it in summary.json and regrades a submission whose fingerprint changed.
 std::string content_hash(const std::filesystem::path& submission);

@@ -8,9 +8,8 @@
 // llvmpipe's buffers. With the tunable glibc's malloc asks for transparent huge
 // pages (madvise), one fault per 2 MiB instead of per 4 KiB: about a third less
 // CPU for a whole submission. glibc reads the tunable only when a process
-// starts, and kit-grade-main loads OpenImageIO's ~260 libraries before main(),
-// so it cannot set it for itself without paying that start-up twice; this
-// program links nothing but the C library.
+// starts, so kit-grade-main cannot set it for itself without starting twice
+// (loading its libraries again); this program links nothing but the C library.
 #include <limits.h>
 #include <stdlib.h>
 #include <string.h>
