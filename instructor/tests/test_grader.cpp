@@ -319,6 +319,30 @@ TEST(Grader, NanInAPrecomputedMapIsNamed) {
   EXPECT_NE(read_file(r.out / "report.html").find("NaN or Inf in a precomputed map"), std::string::npos);
 }
 
+// Checks that read other views of one frame (the same scene and settings) share it: lab 1's
+// twelve G-buffer checks read three frames (one a scene), lab 4's four checks two, and every
+// check still gets full marks against references that were rendered one by one.
+TEST(Grader, ChecksOfOneFrameReadIt) {
+  GradeRun r = grade(kit::kit_root() / "solutions", "one-frame", "--labs 1,4 --keep-temp");
+  expect_ran(r);
+  expect_full_marks(r, 1);
+  expect_full_marks(r, 4);
+  const std::string marker = "temporary files kept in ";
+  const size_t at = r.output.find(marker);
+  ASSERT_NE(at, std::string::npos) << r.output;
+  fs::path kept = r.output.substr(at + marker.size());
+  kept = kept.string().substr(0, kept.string().find('\n'));
+  fs::path submission;
+  for (const auto& entry : fs::directory_iterator(kept))
+    if (entry.path().filename().string().rfind("submission-", 0) == 0) submission = entry.path();
+  ASSERT_FALSE(submission.empty()) << kept;
+  const json lab1 = read_json(submission / "lab1" / "child.json");
+  const json lab4 = read_json(submission / "lab4" / "child.json");
+  EXPECT_EQ(lab1["seconds"]["render_each"].size(), 3u) << lab1.dump();
+  EXPECT_EQ(lab4["seconds"]["render_each"].size(), 2u) << lab4.dump();
+  fs::remove_all(kept);
+}
+
 // Run B: a shader that writes nothing, an #include outside the allowed folders,
 // binary garbage and a wrong #version, with the solution in lab 4.
 TEST(Grader, BrokenLabsScoreZeroAndTheOthersFullMarksB) {
