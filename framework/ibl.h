@@ -11,8 +11,9 @@
 // framework loads the environment, runs them into its textures, and draws the
 // environment behind the scene.
 //
-// Environments are equirectangular (environment.glsl states the mapping): .hdr or .exr
-// through OpenImageIO, or one of the kit's own, generated at build time.
+// Environments are equirectangular (environment.glsl states the mapping): .exr (through
+// OpenEXR), .hdr or another format OpenImageIO reads (openimageio_formats.h), or one of the
+// kit's own, generated at build time.
 #include <string>
 #include <vector>
 
