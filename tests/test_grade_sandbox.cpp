@@ -102,7 +102,13 @@ void copy_endless_starters(const fs::path& root) {
     } else {
       continue;
     }
-    text.insert(at, "\n    float kit_x = 1.0;\n    while (kit_x > 0.0) kit_x += gl_FragCoord.x;  // never ends\n"
+    // llvmpipe ends a shader's loops after 65535 iterations in all (its guard against
+    // hangs), so a loop "that never ends" is only slow there: with a bare addition, 0.6 s
+    // of CPU for a frame of lab 1, whose three frames stayed under --cpu-limit 2. Each
+    // iteration here costs several times that (two transcendentals); kit_x only grows.
+    text.insert(at, "\n    float kit_x = 1.0;\n"
+                    "    while (kit_x > 0.0) kit_x += gl_FragCoord.x * (1.0 + abs(sin(kit_x)) + abs(cos(0.5 * kit_x)));"
+                    "  // never ends\n"
                     "    if (kit_x < 0.0) discard;\n");
     write_file(path, text);
     return;
