@@ -14,7 +14,6 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
-#include <limits>
 
 #include "error.h"
 
@@ -58,7 +57,10 @@ struct PngRead {
   PngRead(const unsigned char* bytes, size_t size) : reader{bytes, size, 0} {
     png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &errors, keep_error_and_jump, ignore_warning);
     if (png) info = png_create_info_struct(png);
-    if (!png || !info) throw Error("out of memory for libpng");
+    if (!png || !info) {
+      png_destroy_read_struct(&png, &info, nullptr);
+      throw Error("out of memory for libpng");
+    }
     png_set_read_fn(png, &reader, read_from_memory);
   }
   ~PngRead() { png_destroy_read_struct(&png, &info, nullptr); }
@@ -72,7 +74,7 @@ struct PngPixels {
   std::vector<unsigned char> bytes;
 };
 
-// libpng's part of decode_png: the setjmp is here, and what it fills lives in the
+// libpng's part of read_png_header: the setjmp is here, and what it fills lives in the
 // caller's frame (a local changed after setjmp would be indeterminate after the jump).
 bool read_header(PngRead& r, PngHeader& header) {
   if (setjmp(png_jmpbuf(r.png))) return false;
@@ -85,6 +87,7 @@ bool read_header(PngRead& r, PngHeader& header) {
   return true;
 }
 
+// libpng's part of decode_png (the setjmp is here, as in read_header).
 bool decode_rows(PngRead& r, PngPixels& out, std::vector<png_bytep>& rows, int max_side, bool to_8_bits) {
   if (setjmp(png_jmpbuf(r.png))) return false;
   // Refused while the header is read, before any row is allocated.

@@ -222,8 +222,14 @@ void write_report_images(const Run& run, const fs::path& result_dir, const Check
   if (!fs::exists(cached, ec)) {
     fs::path temp = cached;
     temp += ".tmp-" + std::to_string(getpid()) + ".png";
-    write_image(temp.string(), display_image(shown, reference, reference), PngEffort::Fastest);
-    fs::rename(temp, cached);  // a run beside this one links the whole file or writes its own
+    try {
+      write_image(temp.string(), display_image(shown, reference, reference), PngEffort::Fastest);
+      fs::rename(temp, cached);  // a run beside this one links the whole file or writes its own
+    } catch (const std::exception&) {  // the cache is only a cache: the report gets its own file
+      fs::remove(temp, ec);
+      write_image((result_dir / c.reference).string(), display_image(shown, reference, reference), PngEffort::Fastest);
+      return;
+    }
   }
   fs::remove(result_dir / c.reference, ec);
   fs::create_hard_link(cached, result_dir / c.reference, ec);

@@ -161,11 +161,13 @@ std::map<std::string, LoadedReference> load_lab_references(const fs::path& dir, 
     }
     reference.image = read_image(file.string());
     remove_older_versions(cache, spec.id, digest);
+    const fs::path temp = suffixed(raw, ".tmp-" + std::to_string(getpid()));
     try {
-      const fs::path temp = suffixed(raw, ".tmp-" + std::to_string(getpid()));
       write_raw_image(temp, reference.image);
       fs::rename(temp, raw);  // a run beside this one reads the whole file or none
     } catch (const std::exception&) {  // Error, or filesystem_error: the cache is only a cache
+      std::error_code ec;
+      fs::remove(temp, ec);
     }
   }
   return out;
