@@ -34,7 +34,8 @@ struct ChannelStats {
   size_t failing = 0;       // pixels with a channel over `threshold`
 };
 
-ChannelStats channel_stats(const Image& a, const Image& b, int channels, float threshold) {
+// With `largest`, also each pixel's largest channel difference (the diff image's input).
+ChannelStats channel_stats(const Image& a, const Image& b, int channels, float threshold, Image* largest = nullptr) {
   constexpr size_t kBatchPixels = 4096;
   ChannelStats s;
   const size_t stride = static_cast<size_t>(a.channels);
@@ -47,9 +48,12 @@ ChannelStats channel_stats(const Image& a, const Image& b, int channels, float t
       const float* pa = a.pixels.data() + p * stride;
       const float* pb = b.pixels.data() + p * stride;
       bool failed = false;
+      float pixel_largest = 0.0f;
       for (int c = 0; c < channels; ++c) {
         largest_value = std::max(largest_value, std::max(pa[c], pb[c]));
-        const double f = std::fabs(pa[c] - pb[c]);
+        const float difference = std::fabs(pa[c] - pb[c]);
+        pixel_largest = std::max(pixel_largest, difference);
+        const double f = difference;
         batch += f;
         batch_squares += f * f;
         if (f > s.max_error) {
@@ -60,6 +64,7 @@ ChannelStats channel_stats(const Image& a, const Image& b, int channels, float t
         failed = failed || f > threshold;
       }
       s.failing += failed;
+      if (largest) largest->pixels[p] = pixel_largest;
     }
     total += batch;
     total_squares += batch_squares;
@@ -335,19 +340,13 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
       r.note = format("%.2f%% of the normals differ in length from the reference's by more than %.3g "
                       "(normalise the normal)", 100.0 * static_cast<double>(s.not_unit) / pixels, tol.length_tolerance);
   } else {
-    const ChannelStats cs = channel_stats(a, b, a.channels, static_cast<float>(tol.fail_threshold));
+    const ChannelStats cs = channel_stats(a, b, a.channels, static_cast<float>(tol.fail_threshold), &error);
     r.max_error = cs.max_error;
     r.max_x = cs.max_x;
     r.max_y = cs.max_y;
     r.mean_error = cs.mean_error;
     r.failing_pixels = cs.failing;
     r.psnr = cs.psnr;
-    for (int y = 0; y < a.height; ++y)
-      for (int x = 0; x < a.width; ++x) {
-        float d = 0.0f;
-        for (int c = 0; c < a.channels; ++c) d = std::max(d, std::fabs(a.at(x, y, c) - b.at(x, y, c)));
-        error.at(x, y, 0) = d;
-      }
     pixel_error = error;
   }
   r.failing_percent = 100.0 * static_cast<double>(r.failing_pixels) / pixels;
