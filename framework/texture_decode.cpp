@@ -18,20 +18,13 @@ void require_png_or_jpeg(const unsigned char* bytes, size_t size, const std::str
   if (!is_png(bytes, size) && !is_jpeg(bytes, size)) throw Error(what + " is neither PNG nor JPEG");
 }
 
-void check_size(int width, int height, int channels, const std::string& what) {
-  if (width <= 0 || height <= 0 || width > kMaxTextureSide || height > kMaxTextureSide || channels < 1 || channels > 4)
-    throw Error(what + " is " + std::to_string(width) + "x" + std::to_string(height) + " with " +
-                std::to_string(channels) + " channels (at most " + std::to_string(kMaxTextureSide) +
-                " pixels a side and 4 channels)");
-}
-
 }  // namespace
 
 TextureHeader read_texture_header(const unsigned char* bytes, size_t size, const std::string& what) {
   require_png_or_jpeg(bytes, size, what);
   if (is_jpeg(bytes, size)) return openimageio_formats().jpeg_header(bytes, size, what);
   const PngHeader header = read_png_header(bytes, size, what);
-  check_size(header.width, header.height, header.channels, what);
+  check_texture_size(header.width, header.height, header.channels, what);
   return {header.width, header.height};
 }
 
@@ -39,7 +32,7 @@ ImageRgba8 decode_texture_image(const unsigned char* bytes, size_t size, const s
   require_png_or_jpeg(bytes, size, what);
   Pixels8 in = is_jpeg(bytes, size) ? openimageio_formats().decode_jpeg(bytes, size, what)
                                           : decode_png8(bytes, size, what, kMaxTextureSide);
-  check_size(in.width, in.height, in.channels, what);
+  check_texture_size(in.width, in.height, in.channels, what);
   const size_t pixels = static_cast<size_t>(in.width) * static_cast<size_t>(in.height);
   const int n = in.channels;
   ImageRgba8 out;

@@ -4,6 +4,7 @@
 #include <cstddef>
 #include <string>
 
+#include "error.h"
 #include "scene.h"
 
 namespace kit {
@@ -13,6 +14,16 @@ constexpr int kMaxTextureSide = 16384;  // pixels per side of a decoded texture
 struct TextureHeader {
   int width = 0, height = 0;
 };
+
+// Throws kit::Error starting with `what` when a texture's header says it is larger than
+// kMaxTextureSide a side or has other than 1 to 4 channels; checked before any pixel is
+// decoded. Inline: OpenImageIO's module (openimageio_formats.h) checks JPEGs with it too.
+inline void check_texture_size(int width, int height, int channels, const std::string& what) {
+  if (width <= 0 || height <= 0 || width > kMaxTextureSide || height > kMaxTextureSide || channels < 1 || channels > 4)
+    throw Error(what + " is " + std::to_string(width) + "x" + std::to_string(height) + " with " +
+                std::to_string(channels) + " channels (at most " + std::to_string(kMaxTextureSide) +
+                " pixels a side and 4 channels)");
+}
 // Checks PNG or JPEG bytes as decode_texture_image does, reading only the header:
 // scenes are checked at load, and decoded later, once, by SceneGpu.
 TextureHeader read_texture_header(const unsigned char* bytes, size_t size, const std::string& what);

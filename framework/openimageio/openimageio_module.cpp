@@ -35,12 +35,7 @@ std::unique_ptr<OIIO::ImageInput> open_jpeg(OIIO::Filesystem::IOMemReader& reade
   config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &proxy);
   auto in = OIIO::ImageInput::open("image.jpg", &config, &reader);
   if (!in) throw Error(what + " could not be decoded: " + OIIO::geterror());
-  const OIIO::ImageSpec& spec = in->spec();
-  if (spec.width <= 0 || spec.height <= 0 || spec.width > kit::kMaxTextureSide || spec.height > kit::kMaxTextureSide ||
-      spec.nchannels < 1 || spec.nchannels > 4)
-    throw Error(what + " is " + std::to_string(spec.width) + "x" + std::to_string(spec.height) + " with " +
-                std::to_string(spec.nchannels) + " channels (at most " + std::to_string(kit::kMaxTextureSide) +
-                " pixels a side and 4 channels)");
+  kit::check_texture_size(in->spec().width, in->spec().height, in->spec().nchannels, what);
   return in;
 }
 
