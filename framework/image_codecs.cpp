@@ -12,10 +12,9 @@
 #include <csetjmp>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 
 #include "error.h"
+#include "safe_file.h"
 
 namespace kit {
 
@@ -145,12 +144,6 @@ bool write_rows(png_structp png, png_infop info, std::FILE* file, const Image& i
   return true;
 }
 
-std::vector<unsigned char> file_bytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path + ": cannot open: " + std::strerror(errno));
-  return std::vector<unsigned char>(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 // The channels read_exr takes from a file, in order.
 std::vector<std::string> exr_channels(const Imf::ChannelList& list, const std::string& path) {
   std::vector<std::string> names;
@@ -212,7 +205,11 @@ Pixels8 decode_png8(const unsigned char* bytes, size_t size, const std::string& 
 }
 
 Image read_png(const std::string& path) {
-  const std::vector<unsigned char> bytes = file_bytes(path);
+  // The largest a PNG within the side limit holds uncompressed (16-bit RGBA): 2 GiB.
+  constexpr std::uintmax_t kMaxPngBytes = static_cast<std::uintmax_t>(kMaxImageSide) * kMaxImageSide * 8;
+  SafeOpen how;
+  how.follow_link = true;  // a path the person running the tool named
+  const std::vector<unsigned char> bytes = read_regular_file(path, kMaxPngBytes, how);
   const PngPixels decoded = decode_png(bytes.data(), bytes.size(), path, kMaxImageSide, false);
   Image image(decoded.width, decoded.height, decoded.channels);
   if (decoded.bits == 16) {

@@ -1,9 +1,8 @@
 #include "obj_scene.h"
 
-#include <cctype>
-
 #include "error.h"
 #include "gbuffer_layout.h"
+#include "image_codecs.h"
 
 #if KIT_HAS_OBJ
 #include <tiny_obj_loader.h>
@@ -24,12 +23,7 @@
 
 namespace kit {
 
-bool is_obj_path(const std::string& path) {
-  if (path.size() < 4) return false;
-  std::string extension = path.substr(path.size() - 4);
-  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return extension == ".obj";
-}
+bool is_obj_path(const std::string& path) { return has_extension(path, ".obj"); }
 
 #if !KIT_HAS_OBJ
 
