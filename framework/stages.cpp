@@ -30,6 +30,12 @@ const Stage& find_stage(const std::string& name_or_number) {
   throw Error("unknown stage '" + name_or_number + "' (stages: " + names + ")");
 }
 
+const Stage& find_stage(int number) {
+  for (const Stage& s : stages())
+    if (s.number == number) return s;
+  throw Error("unknown stage " + std::to_string(number) + " (stages: 1-" + std::to_string(stages().size()) + ")");
+}
+
 fs::path kit_root() {
   const char* env = std::getenv("KIT_ROOT");
   return fs::path(env && *env ? env : KIT_SOURCE_DIR);

@@ -70,7 +70,7 @@ std::string kit_grade(const std::string& args) { return kit::test::tool("kit-gra
 
 // The lab rendered here: the first this kit can grade from labs/ (lab 1 in the
 // instructor's kit, lab N in a student copy for lab N).
-const kit::Stage& starter_stage() { return kit::find_stage(std::to_string(kit::gradable_labs().front())); }
+const kit::Stage& starter_stage() { return kit::find_stage(kit::gradable_labs().front()); }
 std::string lab_key() { return std::to_string(starter_stage().number); }
 std::string labs_flag() { return " --labs " + lab_key() + " "; }
 

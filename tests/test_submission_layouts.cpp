@@ -44,7 +44,7 @@ std::string joined(const std::vector<std::string>& lines) {
 // Lab `lab`'s files in `folder` (relative to `root`), each a line of GLSL naming
 // where it was written, so a test can tell which copy the grader took.
 void write_lab(const fs::path& root, const std::string& folder, int lab = 2) {
-  for (const std::string& file : kit::find_stage(std::to_string(lab)).files)
+  for (const std::string& file : kit::find_stage(lab).files)
     write_file(root / folder / file, "// " + folder + (folder.empty() ? "" : "/") + file + "\n");
 }
 
@@ -70,7 +70,7 @@ PreparedSubmission prepare(const fs::path& submission, const std::vector<int>& l
 
 // `root` as a folder and as a zip: each must give lab `lab` from `folder`, with every file.
 void expect_taken_from(const fs::path& root, const std::string& folder, int lab = 2, bool loose = false) {
-  const kit::Stage& stage = kit::find_stage(std::to_string(lab));
+  const kit::Stage& stage = kit::find_stage(lab);
   for (const fs::path& submission : {root, as_zip(root)}) {
     SCOPED_TRACE(submission.string());
     PreparedSubmission p = prepare(submission, {lab});
@@ -105,7 +105,7 @@ void expect_refused(const fs::path& root, const std::vector<int>& labs, int lab,
     EXPECT_EQ(files.status, "invalid_files") << files.message;
     EXPECT_EQ(files.folder, "");
     for (const std::string& part : parts) EXPECT_TRUE(contains(files.message, part)) << files.message;
-    EXPECT_FALSE(fs::exists(p.lab_root / kit::find_stage(std::to_string(lab)).folder))
+    EXPECT_FALSE(fs::exists(p.lab_root / kit::find_stage(lab).folder))
         << "nothing is copied for a refused layout";
   }
 }
@@ -120,7 +120,7 @@ json read_json(const fs::path& path) {
 
 // The first lab this kit can grade: lab 1 in the instructor's kit, a student
 // copy's own lab there (its starters are in labs/, earlier labs' are not).
-const kit::Stage& graded_stage() { return kit::find_stage(std::to_string(kit::gradable_labs().at(0))); }
+const kit::Stage& graded_stage() { return kit::find_stage(kit::gradable_labs().at(0)); }
 std::string graded_lab() { return std::to_string(graded_stage().number); }
 // Its folder name upper-cased ("01-GBUFFER"),
 // as a student's file manager might leave it.

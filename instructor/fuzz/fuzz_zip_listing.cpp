@@ -63,7 +63,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   std::set<std::string> keys;
   for (int lab : labs) {
-    const kit::Stage& stage = kit::find_stage(std::to_string(lab));
+    const kit::Stage& stage = kit::find_stage(lab);
     for (const std::string& f : stage.files) keys.insert(stage.folder + "/" + f);
   }
   for (const kit::grade::ZipPick& pick : result.picks) {

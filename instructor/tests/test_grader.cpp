@@ -68,7 +68,7 @@ GradeRun grade(const fs::path& submission, const std::string& name, const std::s
 
 // Copies a lab folder (NN-name) of solutions/ or labs/ into `root`.
 void copy_lab(const std::string& from, int lab, const fs::path& root) {
-  const std::string folder = kit::find_stage(std::to_string(lab)).folder;
+  const std::string folder = kit::find_stage(lab).folder;
   fs::create_directories(root / folder);
   fs::copy(kit::kit_root() / from / folder, root / folder,
            fs::copy_options::recursive | fs::copy_options::overwrite_existing);

@@ -201,7 +201,7 @@ int main(int argc, char** argv) {
     // is refused here, with what is missing, rather than failing in every submission.
     if (options.labs.empty()) options.labs = kit::gradable_labs();
     if (mode == Mode::Grade || mode == Mode::Batch)
-      for (int lab : options.labs) kit::require_earlier_solutions(kit::find_stage(std::to_string(lab)));
+      for (int lab : options.labs) kit::require_earlier_solutions(kit::find_stage(lab));
     switch (mode) {
       case Mode::Update: return kit::grade::update_references(options);
       case Mode::Check: return kit::grade::check_references(options);

@@ -79,7 +79,7 @@ nlohmann::json manifest_entry(const RenderSpec& spec) {
                           {"bloom_threshold", spec.bloom_threshold},
                           {"isolate_custom", spec.isolate_custom}};
   // Only where an environment lights the stage: the other entries stay as they were.
-  if (find_stage(std::to_string(spec.stage)).ibl) entry["environment"] = environment_name(spec);
+  if (find_stage(spec.stage).ibl) entry["environment"] = environment_name(spec);
   return entry;
 }
 

@@ -80,7 +80,7 @@ Image read_raw_image(const fs::path& path) {
 
 int render_lab(const RenderJob& job) {
   const fs::path error_file = job.out_dir / "error.txt";
-  const Stage& stage = find_stage(std::to_string(job.lab));
+  const Stage& stage = find_stage(job.lab);
   nlohmann::json report;
   auto t0 = Clock::now();
   std::unique_ptr<GlContext> context;

@@ -103,7 +103,7 @@ double rounded(double v) { return std::round(v * 1000.0) / 1000.0; }
 }  // namespace
 
 std::string lab_title(int lab) {
-  const Stage& s = find_stage(std::to_string(lab));
+  const Stage& s = find_stage(lab);
   return "lab " + std::to_string(s.number) + " " + s.name;
 }
 
@@ -221,7 +221,7 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
       checks[c.check->key] = entry;
     }
     labs[std::to_string(number)] = {
-        {"name", find_stage(std::to_string(number)).name},
+        {"name", find_stage(number).name},
         {"score", points_value(lab.score())},
         {"max_score", points_value(lab.max_score())},
         {"status", lab.status},

@@ -438,7 +438,7 @@ std::string list_zip(const fs::path& zip, const fs::path& temp, const Limits& li
 // Where each graded lab's files come from, decided on the tree.
 std::map<int, LabSource> lab_sources(const Tree& tree, const std::vector<int>& labs) {
   std::map<int, LabSource> sources;
-  for (int lab : labs) sources[lab] = find_lab_source(tree, find_stage(std::to_string(lab)), labs.size());
+  for (int lab : labs) sources[lab] = find_lab_source(tree, find_stage(lab), labs.size());
   return sources;
 }
 
@@ -447,7 +447,7 @@ std::vector<ZipPick> zip_picks(const Tree& tree, const std::map<int, LabSource>&
   std::vector<ZipPick> picks;
   for (const auto& [lab, source] : sources) {
     if (!source.found || !source.problem.empty()) continue;
-    const Stage& stage = find_stage(std::to_string(lab));
+    const Stage& stage = find_stage(lab);
     for (const std::string& file : stage.files) {
       auto it = tree.entries.find(join(plus(source.folder, file)));
       if (it != tree.entries.end() && !it->second.zip_name.empty())
@@ -709,7 +709,7 @@ PreparedSubmission prepare_submission(const fs::path& submission, const std::vec
     for (const auto& [lab, source] : sources) {
       any = any || source.found || !source.problem.empty();
       if (!source.found) continue;
-      const Stage& stage = find_stage(std::to_string(lab));
+      const Stage& stage = find_stage(lab);
       out.notes.push_back("lab " + std::to_string(lab) + " " + stage.name + ": " +
                           (source.loose ? "loose files taken from " + shown_place(source.folder)
                                         : "files taken from '" + join(source.folder) + "/'"));
@@ -732,7 +732,7 @@ PreparedSubmission prepare_submission(const fs::path& submission, const std::vec
       files.message = out.problem + "\n";
       continue;
     }
-    prepare_lab(find_stage(std::to_string(lab)), top, sources[lab], out, files);
+    prepare_lab(find_stage(lab), top, sources[lab], out, files);
   }
   return out;
 }
