@@ -5,7 +5,19 @@
 //
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
+#if KIT_HAS_OSMESA
+// Mesa 25's GL/osmesa.h declares its functions with GLAPI and APIENTRY, which only
+// GL/gl.h defines, and glad's header (first, above) keeps GL/gl.h out: "expected
+// initializer before OSMesaCreateContext" on Debian 13 (libosmesa6-dev 25.0). Mesa
+// 22's header defines them itself. Defined as GL/gl.h would on Linux.
+#ifndef GLAPI
+#define GLAPI extern
+#endif
+#ifndef APIENTRY
+#define APIENTRY
+#endif
 #include <GL/osmesa.h>
+#endif
 
 #include <malloc.h>
 
@@ -17,7 +29,12 @@
 namespace kit {
 
 Backend parse_backend(const std::string& name) {
-  if (name == "osmesa") return Backend::OSMesa;
+  if (name == "osmesa") {
+    if (!kHasOSMesa)
+      throw Error("--backend osmesa: this build of the kit has no OSMesa (libosmesa6-dev was not installed when it "
+                  "was configured, or Mesa 25.1 and later, which removed OSMesa); use --backend egl, the default here");
+    return Backend::OSMesa;
+  }
   if (name == "egl") return Backend::EGL;
   if (name == "window") return Backend::Window;
   throw Error("unknown backend '" + name + "' (expected osmesa, egl or window)");
@@ -57,6 +74,7 @@ void load_gl(GlProcLoader get_proc, const char* backend) {
 
 namespace {
 
+#if KIT_HAS_OSMESA
 class OSMesaContextImpl : public GlContext {
  public:
   OSMesaContextImpl() {
@@ -79,6 +97,7 @@ class OSMesaContextImpl : public GlContext {
   OSMesaContext context_ = nullptr;
   std::vector<unsigned char> pixels_ = std::vector<unsigned char>(4);
 };
+#endif
 
 class EglContextImpl : public GlContext {
  public:
@@ -166,7 +185,12 @@ void keep_freed_memory_for_reuse() {
 std::unique_ptr<GlContext> create_headless_context(Backend backend) {
   keep_freed_memory_for_reuse();
   switch (backend) {
-    case Backend::OSMesa: return std::make_unique<OSMesaContextImpl>();
+    case Backend::OSMesa:
+#if KIT_HAS_OSMESA
+      return std::make_unique<OSMesaContextImpl>();
+#else
+      throw Error("osmesa: this build of the kit has no OSMesa backend (use egl)");
+#endif
     case Backend::EGL: return std::make_unique<EglContextImpl>();
     case Backend::Window: break;
   }

@@ -62,7 +62,7 @@ wait_all() {
 render() {
   local shaders="$1" stage="$2" scene="$3"
   shift 3
-  local args=(--backend osmesa --size "$SIZE")
+  local args=(--size "$SIZE")
   while (($#)); do
     if [[ "$1" == --out ]]; then
       args+=(--out "$RAW/$2"); shift 2

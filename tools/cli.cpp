@@ -21,7 +21,7 @@ const char* common_options_help() {
          "                        highlight, materials) or a .gltf/.glb/.obj file\n"
          "  --camera N            the scene file's camera N, counted from 0 in the order of its node tree\n"
          "                        (default: its first camera, else one that frames the scene)\n"
-         "  --backend NAME        osmesa (default) | egl\n"
+         "  --backend NAME        osmesa | egl (default: osmesa where this build has it, else egl)\n"
          "  --size WxH            image size (default 640x480)\n"
          "  --gamma G             display gamma (default 2.2)\n"
          "  --attenuation MODEL   physical (seed 000, default) | simple (seed 002, 1/(1+d^2))\n"

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "context.h"
 #include "look_at.h"
 #include "renderer.h"
 #include "watchdog.h"
@@ -18,7 +19,7 @@ struct CommonOptions {
   bool solution = false;         // --solution: the reference solutions (solutions/) instead of labs/
   std::string scene = "default"; // scene name or .gltf/.glb/.obj path
   int camera = -1;               // --camera N: the scene file's camera N (kit::chosen_camera); -1: its first
-  std::string backend = "osmesa";
+  std::string backend = default_headless_backend_name();  // osmesa where built, else egl
   double timeout = kDefaultTimeoutSeconds;  // --timeout: seconds of GL work before the watchdog ends the run; 0: none
   std::optional<LookAt> look_at;  // --look-at: the camera; absent: the scene's, else one framing the bounds
   RenderSettings settings;        // default_light_rig on; --no-default-lights turns it off

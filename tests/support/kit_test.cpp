@@ -20,7 +20,7 @@ std::string scene_load_error(const std::filesystem::path& path) {
 }
 
 GlContext& context() {
-  static std::unique_ptr<GlContext> ctx = create_headless_context(Backend::OSMesa);
+  static std::unique_ptr<GlContext> ctx = create_headless_context(kDefaultHeadlessBackend);
   return *ctx;
 }
 

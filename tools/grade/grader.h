@@ -18,7 +18,7 @@ struct Options {
   std::vector<int> labs;               // --labs (default: every lab)
   std::filesystem::path out;           // --out
   int jobs = 1;                        // --jobs: labs rendered at the same time
-  Backend backend = Backend::OSMesa;   // --backend
+  Backend backend = kDefaultHeadlessBackend;   // --backend
   Limits limits;                       // --timeout, --cpu-limit, --memory-limit
   std::filesystem::path config;        // --config (default tools/grade/grading.json)
   std::filesystem::path references;    // --references (default tools/grade/references)

@@ -43,7 +43,7 @@ void usage() {
       "  --labs SPEC           labs to grade (default: every lab this kit can grade), 1-3, 2, 1,3,5 or names (lighting)\n"
       "  --out DIR             result folder (default out/grade/<submission name>)\n"
       "  --jobs N              labs (and batch submissions) rendered at once (default: cores, at most %d)\n"
-      "  --backend NAME        osmesa (default) | egl\n"
+      "  --backend NAME        osmesa | egl (default: osmesa where this build has it, else egl)\n"
       "  --cpu-limit S         the time limit: CPU seconds a lab's renderer may use, all its threads together\n"
       "                        (RLIMIT_CPU, default %lu); CPU time does not grow when the machine is busy\n"
       "  --timeout S           wall-clock backstop per lab (default %.0f): a renderer still running after S s is\n"

@@ -28,7 +28,7 @@ struct RenderJob {
   int lab = 0;
   std::filesystem::path lab_root;  // the sanitized copy of the submission's lab files
   std::filesystem::path out_dir;   // where the child writes its files
-  Backend backend = Backend::OSMesa;
+  Backend backend = kDefaultHeadlessBackend;
   const std::map<std::string, Scene>* scenes = nullptr;  // loaded by the parent before forking
 };
 
