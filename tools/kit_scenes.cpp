@@ -18,6 +18,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_precision.hpp>  // u8vec4
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -28,6 +29,7 @@
 #include <iostream>
 #include <stdexcept>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -166,7 +168,12 @@ void write_png(const fs::path& path, const Image8& img) {
   auto out = OIIO::ImageOutput::create(path.string());
   if (!out)
     throw std::runtime_error("no PNG writer for " + path.string() + ": " + OIIO::geterror());
-  const OIIO::ImageSpec spec(img.width, img.height, img.channels, OIIO::TypeDesc::UINT8);
+  OIIO::ImageSpec spec(img.width, img.height, img.channels, OIIO::TypeDesc::UINT8);
+  // The bytes are PNG's own, colour not multiplied by alpha: without this OpenImageIO takes
+  // them for premultiplied and divides colour by alpha on the way out, rounding differently
+  // by version (alpha_ramp.png's 128 greys came out 127 in places with Debian 12's 2.4 and 128
+  // with Debian 13's 2.5). Written as given, the file is the same on every version.
+  spec.attribute("oiio:UnassociatedAlpha", 1);
   if (!out->open(path.string(), spec) ||
       !out->write_image(OIIO::TypeDesc::UINT8, img.pixels.data()) || !out->close())
     throw std::runtime_error("cannot write " + path.string() + ": " + out->geterror());
@@ -524,9 +531,13 @@ class SceneBuilder {
     tinygltf::TinyGLTF writer;
     // The PNGs are already written: keep tinygltf's own (stb) image writer out of it. The
     // callback must still hand back the uri, or tinygltf writes an image with no source.
+    // The callback's arguments differ by version: tinygltf 2.8 (Debian 12, Ubuntu 24.04)
+    // passes (..., std::string* out_uri, void* user) to a function pointer; 2.9 (Debian 13)
+    // puts FsCallbacks* and URICallbacks* before those two and takes a std::function. A
+    // generic lambda converts to either; out_uri is the next to last argument in both.
     writer.SetImageWriter(
-        [](const std::string*, const std::string*, const tinygltf::Image* image, bool,
-           std::string* out_uri, void*) {
+        [](const std::string*, const std::string*, const tinygltf::Image* image, bool, auto... rest) {
+          std::string* out_uri = std::get<sizeof...(rest) - 2>(std::forward_as_tuple(rest...));
           *out_uri = image->uri;
           return true;
         },
@@ -536,6 +547,33 @@ class SceneBuilder {
                                      /*embedBuffers=*/false, /*prettyPrint=*/true,
                                      /*writeBinary=*/false))
       throw std::runtime_error("cannot write " + gltf.string());
+    check_written(gltf);
+  }
+
+  // Reads the written file back as JSON and checks that the writer kept what the kit put in:
+  // every array's length, and each light attached to a node. A tinygltf that drops a part
+  // (2.9 dropped the nodes' lights, see set_node_light) then fails the build by name instead
+  // of leaving scenes that render differently on one distribution.
+  void check_written(const fs::path& gltf) const {
+    std::ifstream in(gltf);
+    const nlohmann::json doc = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    if (doc.is_discarded()) throw std::runtime_error(gltf.string() + ": the file written is not JSON");
+    auto length = [&](const char* key) { return doc.contains(key) ? doc[key].size() : size_t{0}; };
+    const std::pair<const char*, size_t> arrays[] = {
+        {"nodes", model_.nodes.size()},         {"meshes", model_.meshes.size()},
+        {"materials", model_.materials.size()}, {"textures", model_.textures.size()},
+        {"images", model_.images.size()},       {"cameras", model_.cameras.size()}};
+    for (const auto& [key, expected] : arrays)
+      if (length(key) != expected)
+        throw std::runtime_error(gltf.string() + ": tinygltf wrote " + std::to_string(length(key)) + " " + key +
+                                 " of the " + std::to_string(expected) + " the scene has");
+    size_t attached = 0;
+    for (const nlohmann::json& node : doc.value("nodes", nlohmann::json::array()))
+      if (node.contains("extensions") && node["extensions"].contains("KHR_lights_punctual")) ++attached;
+    if (attached != model_.lights.size())
+      throw std::runtime_error(gltf.string() + ": tinygltf wrote " + std::to_string(attached) +
+                               " nodes with a KHR_lights_punctual light, and the scene has " +
+                               std::to_string(model_.lights.size()) + " lights");
   }
 
  private:
@@ -567,10 +605,23 @@ class SceneBuilder {
   void attach_light(const tinygltf::Light& light, const NodeDesc& node) {
     model_.lights.push_back(light);
     const int index = add_node(node);
-    tinygltf::Value::Object ext{{"light", tinygltf::Value(int(model_.lights.size()) - 1)}};
+    const int light_index = int(model_.lights.size()) - 1;
+    tinygltf::Value::Object ext{{"light", tinygltf::Value(light_index)}};
     model_.nodes[index].extensions["KHR_lights_punctual"] = tinygltf::Value(ext);
+    set_node_light(model_.nodes[index], light_index, 0);
     use_extension("KHR_lights_punctual");
   }
+
+  // tinygltf 2.9 (Debian 13) has Node::light and writes a node's KHR_lights_punctual from
+  // it alone: with light = -1 it erases the extension written above, and every scene's
+  // lights were left attached to no node (so lit stages used the default rig instead).
+  // tinygltf 2.8 (Debian 12, Ubuntu 24.04) has no such field and writes the extension.
+  template <typename Node>
+  static auto set_node_light(Node& node, int light, int) -> decltype(node.light = light, void()) {
+    node.light = light;
+  }
+  template <typename Node>
+  static void set_node_light(Node&, int, long) {}
 
   void use_extension(const std::string& ext) {
     auto& used = model_.extensionsUsed;
