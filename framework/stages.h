@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "no_dangling.h"
 #include "shader_source.h"
 
 namespace kit {
@@ -22,10 +23,10 @@ struct Stage {
 
 const std::vector<Stage>& stages();
 // By name ("lighting") or number ("2"); throws kit::Error listing the valid names.
-const Stage& find_stage(const std::string& name_or_number);
+KIT_NO_DANGLING const Stage& find_stage(const std::string& name_or_number);
 // The stage numbered `number` (1-6). Taking the int itself, not std::to_string(number):
 // GCC 14's -Wdangling-reference warns at every reference bound from a call given a temporary.
-const Stage& find_stage(int number);
+KIT_NO_DANGLING const Stage& find_stage(int number);
 
 // The kit's source tree (holds framework/shaders/, labs/, solutions/). Taken from
 // $KIT_ROOT when set, else the path compiled in.

@@ -5,6 +5,7 @@
 // pixel's ray); and the viewer's light markers.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>

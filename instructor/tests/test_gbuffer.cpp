@@ -160,7 +160,7 @@ bool is_mesh(const kit::Scene& scene, const kit::DrawItem& d, const std::string&
   return scene.primitives[static_cast<size_t>(d.primitive)].name.find("('" + mesh_name + "')") != std::string::npos;
 }
 
-const kit::DrawItem& draw_of(const kit::Scene& scene, const std::string& mesh_name) {
+KIT_NO_DANGLING const kit::DrawItem& draw_of(const kit::Scene& scene, const std::string& mesh_name) {
   for (const kit::DrawItem& d : scene.draws)
     if (is_mesh(scene, d, mesh_name)) return d;
   throw std::runtime_error("no draw of mesh '" + mesh_name + "' in " + scene.path);
@@ -212,7 +212,7 @@ using kit::srgb_to_linear;  // texture_prepare.h
 json scene_json(const kit::Scene& scene) { return json::parse(kit::test::read_file(scene.path)); }
 
 // The glTF material (JSON) of the node named `node_name`'s first primitive.
-const json& material_of_node(const json& doc, const std::string& node_name) {
+KIT_NO_DANGLING const json& material_of_node(const json& doc, const std::string& node_name) {
   for (const json& node : doc["nodes"])
     if (node.value("name", "") == node_name && node.contains("mesh"))
       return doc["materials"][doc["meshes"][node["mesh"].get<size_t>()]["primitives"][0]["material"].get<size_t>()];

@@ -24,6 +24,7 @@
 #include "error.h"
 #include "gbuffer_layout.h"
 #include "ibl.h"
+#include "no_dangling.h"
 #include "ibl_reference.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
@@ -38,7 +39,7 @@ namespace ref = kit::reference;
 using ref::dvec2;
 using ref::dvec3;
 
-const Image& environment(const std::string& name) {
+KIT_NO_DANGLING const Image& environment(const std::string& name) {
   static std::map<std::string, Image> loaded;
   auto it = loaded.find(name);
   if (it == loaded.end()) it = loaded.emplace(name, load_environment(resolve_environment(name))).first;

@@ -9,6 +9,7 @@
 
 #include "context.h"
 #include "image_io.h"
+#include "no_dangling.h"
 #include "renderer.h"
 
 namespace kit::test {
@@ -17,7 +18,7 @@ namespace kit::test {
 GlContext& context();
 
 // A kit scene by name ("default", "sphere", ...) or a path, loaded once per process.
-const Scene& scene(const std::string& name_or_path);
+KIT_NO_DANGLING const Scene& scene(const std::string& name_or_path);  // cached: lives as long as the program
 
 // The kit::Error message loading the scene file `path` throws; fails the test when it loads.
 std::string scene_load_error(const std::filesystem::path& path);
