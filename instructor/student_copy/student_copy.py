@@ -21,7 +21,9 @@ their own lab with the same checks as the instructor's grader.
 
 DIR must not exist or be empty. It becomes a git repository with one commit, ready
 to push to a template repository or zip. leak_check.py then searches the copy for
-every solution line of labs N and later; any hit fails the command and removes DIR.
+every solution line of labs N and later, and doc_check.py checks that every relative
+Markdown link resolves inside the copy and that no student document names
+instructor/ or an instructor command; any finding fails the command and removes DIR.
 """
 import argparse
 import os
@@ -175,6 +177,11 @@ def main():
         if leaks.returncode != 0:
             sys.stderr.write(leaks.stdout + leaks.stderr)
             raise RuntimeError("the copy holds solution lines of labs it must not (listed above); nothing written")
+        docs = subprocess.run([sys.executable, str(HERE / "doc_check.py"), str(dest)], capture_output=True, text=True)
+        if docs.returncode != 0:
+            sys.stderr.write(docs.stdout + docs.stderr)
+            raise RuntimeError("the copy's documents have dead links or name instructor files or commands "
+                               "(listed above); nothing written")
 
         if not args.no_git:
             env = dict(os.environ)
@@ -194,7 +201,7 @@ def main():
     starters = [str(n) for n, folder in labs if n >= args.lab and folder not in held]
     say(f"{copied} files for lab {args.lab}: starters of labs {', '.join(starters)}, "
         f"solutions of labs {', '.join(str(n) for n in numbers if n < args.lab) or 'none'}; "
-        f"no solution line of labs >= {args.lab} found in it")
+        f"no solution line of labs >= {args.lab} found in it, every Markdown link resolves in it")
     print(dest)
     return 0
 
