@@ -1,6 +1,6 @@
 // Lab 6's environment and the maps the lab precomputes from it (framework/ibl.h).
 //
-// Equirectangular convention (instructor/reference/ibl_reference.h mirrors it):
+// Equirectangular convention (the instructors' CPU reference of lab 6 mirrors it):
 // u runs with the azimuth phi = (u - 0.5) 2 pi, u = 0.5 looking along -Z and
 // u = 0.75 along +X; the polar angle from +Y is theta = (1 - t) pi, where t is GL's
 // texture coordinate, so the image's top row (uploaded last) is the sky overhead.

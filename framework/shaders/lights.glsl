@@ -1,15 +1,15 @@
 // The scene's lights, as the framework uploads them: KIT_LIGHT_TEXELS vec4 per light,
 // light i in row i of a uniform block of KIT_LIGHT_BLOCK_CAPACITY lights, or with more
 // lights of an RGBA32F texture. The block is the fast path: a light read from it is a few loads
-// where four texelFetch calls are four texture lookups, which on llvmpipe made the
-// lighting pass about a fifth slower (handouts/02-lighting.md, "Speed"). Only with more
+// where four texelFetch calls are four texture lookups (why it matters on llvmpipe:
+// handouts/02-lighting.md, "Speed"; what it gave: docs/performance.md). Only with more
 // lights than the block holds does the framework define KIT_LIGHTS_IN_TEXTURE (and
 // rebuild its programs): choosing per light inside the loop costs llvmpipe both reads.
 #include "gbuffer_layout.h"
 
 uniform sampler2D u_light_texture;
 uniform int u_light_count;
-// Lab 3's falloff: 0 physical (seed 000), 1 simple 1/(1+d^2) (seed 002). The renderer
+// Lab 3's falloff: 0 physical (the lecture's inverse square), 1 simple 1/(1+d^2). The renderer
 // compiles the model in (renderer.h, apply_attenuation_model_define): a constant lets the
 // compiler drop the other model's branch, which llvmpipe would otherwise run beside it for
 // every light. Declared here, not in uniforms.glsl, so that only the shaders that light
@@ -56,10 +56,10 @@ Light kit_light(int i) {
     // so (LightBuffers::apply_defines) and they become constants here: the compiler then
     // drops the other types' branches and the range window. llvmpipe runs both sides of
     // every branch on its 8 pixels at once, and reads each light field it needs from the
-    // block once per pixel, so code and fields no light uses still cost: on the crowd
-    // scene's 32 point lights this and the attenuation model's constant took the stage 3
-    // lighting pass from 7.2 to 5.9 ns per covered pixel and light (handouts/02-lighting.md,
-    // "Speed").
+    // block once per pixel, so code and fields no light uses still cost, and constants
+    // let the compiler drop them (why it matters on llvmpipe: handouts/02-lighting.md,
+    // "Speed"; what it gave on the crowd scene: docs/performance.md, "The lighting pass
+    // on the crowd scene").
 #if defined(KIT_LIGHTS_ALL_POINT)
     light.type = KIT_LIGHT_POINT;
 #elif defined(KIT_LIGHTS_ALL_SPOT)

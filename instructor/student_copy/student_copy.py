@@ -8,13 +8,22 @@ files, so build/ and out/ never do) except
   * solutions/NN-name for NN >= N (stage N is assembled on the solutions of the
     labs before it, so those stay),
   * labs/NN-name for NN < N (those labs are over; their solutions are in),
+  * the instructors' documents outside instructor/ (INSTRUCTOR_FILES: the grading
+    notes handouts/instructors.md and the overview handouts/README.md),
 and the README is replaced by one written for students (README.student.md here).
+In every Markdown file the copy keeps, what lies between the markers
+`<!-- instructors -->` and `<!-- /instructors -->` (whole lines or inside a line) is
+left out: a handout or a docs/ page can name the instructors' tests, commands and
+results there, for the instructors who read the full kit, and the students never
+see it. A marker without its partner fails the copy.
 The grader's reference images (tools/grade/references/) go in: a student grades
 their own lab with the same checks as the instructor's grader.
 
 DIR must not exist or be empty. It becomes a git repository with one commit, ready
 to push to a template repository or zip. leak_check.py then searches the copy for
-every solution line of labs N and later; any hit fails the command and removes DIR.
+every solution line of labs N and later, and doc_check.py checks that every relative
+Markdown link resolves inside the copy and that no student document names
+instructor/ or an instructor command; any finding fails the command and removes DIR.
 """
 import argparse
 import os
@@ -26,6 +35,15 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 HERE = Path(__file__).resolve().parent
+
+# Instructors' documents that live outside instructor/ (the kit's own tests read
+# handouts/instructors.md where it is): never in a copy.
+INSTRUCTOR_FILES = {"handouts/instructors.md", "handouts/README.md"}
+# What a copy leaves out of the Markdown files it keeps (see the docstring).
+INSTRUCTORS_BEGIN, INSTRUCTORS_END = "<!-- instructors -->", "<!-- /instructors -->"
+_WHOLE_LINES = re.compile(r"^[ \t]*" + re.escape(INSTRUCTORS_BEGIN) + r"(?:(?!" + re.escape(INSTRUCTORS_END)
+                          + r").)*" + re.escape(INSTRUCTORS_END) + r"[ \t]*(?:\n|\Z)", re.MULTILINE | re.DOTALL)
+_INLINE = re.compile(re.escape(INSTRUCTORS_BEGIN) + r".*?" + re.escape(INSTRUCTORS_END), re.DOTALL)
 
 
 def say(message):
@@ -75,7 +93,7 @@ def starters_held_back(lab, labs):
 
 def wanted(rel, lab, held):
     parts = Path(rel).parts
-    if parts[0] == "instructor":
+    if parts[0] == "instructor" or rel in INSTRUCTOR_FILES:
         return False
     if parts[0] in ("solutions", "labs") and len(parts) > 1:
         m = re.match(r"^(\d+)-", parts[1])
@@ -85,6 +103,16 @@ def wanted(rel, lab, held):
                 return n < lab
             return n >= lab and parts[1] not in held
     return rel != "README.md"
+
+
+def without_instructor_sections(text, rel):
+    """The Markdown `text` less its instructors' sections (whole lines, then inside lines)."""
+    text = _INLINE.sub("", _WHOLE_LINES.sub("", text))
+    for marker in (INSTRUCTORS_BEGIN, INSTRUCTORS_END):
+        if marker in text:
+            line = text[:text.index(marker)].count("\n") + 1
+            raise RuntimeError(f"{rel}:{line}: {marker} without its partner (nothing written)")
+    return text
 
 
 def student_readme(lab, labs, held):
@@ -136,6 +164,11 @@ def main():
             target = dest / rel
             target.parent.mkdir(parents=True, exist_ok=True)
             shutil.copy2(src, target)
+            if target.suffix.lower() == ".md":
+                text = src.read_text(encoding="utf-8")
+                stripped = without_instructor_sections(text, rel)
+                if stripped != text:
+                    target.write_text(stripped, encoding="utf-8")
             copied += 1
         (dest / "README.md").write_text(student_readme(args.lab, labs, held), encoding="utf-8")
 
@@ -144,6 +177,11 @@ def main():
         if leaks.returncode != 0:
             sys.stderr.write(leaks.stdout + leaks.stderr)
             raise RuntimeError("the copy holds solution lines of labs it must not (listed above); nothing written")
+        docs = subprocess.run([sys.executable, str(HERE / "doc_check.py"), str(dest)], capture_output=True, text=True)
+        if docs.returncode != 0:
+            sys.stderr.write(docs.stdout + docs.stderr)
+            raise RuntimeError("the copy's documents have dead links or name instructor files or commands "
+                               "(listed above); nothing written")
 
         if not args.no_git:
             env = dict(os.environ)
@@ -163,7 +201,7 @@ def main():
     starters = [str(n) for n, folder in labs if n >= args.lab and folder not in held]
     say(f"{copied} files for lab {args.lab}: starters of labs {', '.join(starters)}, "
         f"solutions of labs {', '.join(str(n) for n in numbers if n < args.lab) or 'none'}; "
-        f"no solution line of labs >= {args.lab} found in it")
+        f"no solution line of labs >= {args.lab} found in it, every Markdown link resolves in it")
     print(dest)
     return 0
 

@@ -18,9 +18,10 @@ print("%g/%g %s" % (lab["score"], lab["max_score"], lab["status"]))
 PY
 }
 
-# 1. A copy for every lab of the stage table (its labs/NN-name folders): written, and no
-#    solution line of that lab or later in it (student_copy.py runs leak_check.py and
-#    fails on a hit).
+# 1. A copy for every lab of the stage table (its labs/NN-name folders): written, no
+#    solution line of that lab or later in it, every Markdown link resolving inside it
+#    and no student document naming instructor/ or an instructor command
+#    (student_copy.py runs leak_check.py and doc_check.py and fails on a finding).
 LABS=$(ls "$ROOT/labs" | sed -n 's/^0*\([0-9][0-9]*\)-.*/\1/p')
 for n in $LABS; do
   if "$ROOT/kit" student-copy "$n" "$WORK/copy$n" >"$WORK/copy$n.log" 2>&1; then
@@ -31,6 +32,10 @@ for n in $LABS; do
 done
 for n in $LABS; do
   [ -d "$WORK/copy$n/instructor" ] && fail "copy $n holds instructor/"
+  for doc in handouts/instructors.md handouts/README.md; do
+    [ -e "$WORK/copy$n/$doc" ] && fail "copy $n holds the instructors' $doc"
+  done
+  grep -rl --include='*.md' -e "<!-- /\?instructors -->" "$WORK/copy$n" && fail "copy $n kept an instructors' marker"
   ls -d "$WORK/copy$n"/labs/"$(printf '%02d' "$n")"-* >/dev/null 2>&1 || fail "copy $n lacks the starters of lab $n"
   for d in "$WORK/copy$n"/solutions/*/; do
     [ -d "$d" ] || continue
@@ -55,6 +60,22 @@ rm -rf "$WORK/planted" && cp -r "$WORK/copy2" "$WORK/planted" && cp -r "$ROOT/so
 "$PY" "$ROOT/instructor/student_copy/leak_check.py" "$WORK/planted" 2 >"$WORK/planted.log" 2>&1 \
   && fail "witness: solutions/03-attenuation in a copy for lab 2 was not reported" \
   || pass "witness: an unreleased solution folder is reported"
+rm -rf "$WORK/planted"
+# doc_check.py: a dead image link and an instructor command planted in a handout, and
+# an instructor path in a shader comment, are each reported by file.
+cp -r "$WORK/copy2" "$WORK/planted"
+printf '\n![chart](../instructor/bench/results/ibl_speed_accuracy.png)\n\nRun `./kit bench --ibl-only`.\n' \
+  >>"$WORK/planted/handouts/06-ibl.md"
+printf '// see instructor/reference/ibl_reference.h\n' >>"$WORK/planted/framework/shaders/environment.glsl"
+if "$PY" "$ROOT/instructor/student_copy/doc_check.py" "$WORK/planted" >"$WORK/planted.log" 2>&1; then
+  fail "witness: a dead link and instructor names planted in the copy were not reported"
+else
+  for expected in "handouts/06-ibl.md:.*is not in the copy" "handouts/06-ibl.md:.*instructor command" \
+                  "framework/shaders/environment.glsl:.*instructor/ folder"; do
+    grep -q "$expected" "$WORK/planted.log" && pass "witness: doc_check reports '$expected'" \
+      || fail "witness: doc_check does not report '$expected': $(head -3 "$WORK/planted.log")"
+  done
+fi
 rm -rf "$WORK/planted"
 
 # 3. The copy for lab 2 from a fresh clone: the README's two commands.

@@ -1,4 +1,4 @@
-// Lab 2 - the Cook-Torrance BRDF (seed 000). See handouts/02-lighting.md.
+// Lab 2 - the Cook-Torrance BRDF (the lecture's). See handouts/02-lighting.md.
 // Use the named guards from guards.glsl wherever a value can reach 0 in a denominator.
 #include "guards.glsl"
 #include "math.glsl"

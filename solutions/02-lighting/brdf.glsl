@@ -1,4 +1,4 @@
-// Cook-Torrance BRDF (seed 000). Every guard is a named constant in guards.glsl.
+// Cook-Torrance BRDF (the lecture's). Every guard is a named constant in guards.glsl.
 #include "guards.glsl"
 #include "math.glsl"
 

@@ -1,4 +1,4 @@
-// Light falloff (seed 000, with seed 002's simple model selectable).
+// Light falloff: the lecture's inverse square, with the simple 1/(1 + d^2) model selectable.
 // Intensity units: see handouts/03-attenuation.md. Spot falloff: smoothstep
 // between the outer (penumbra) and inner (umbra) cone.
 #include "lights.glsl"
@@ -25,7 +25,7 @@ vec3 light_radiance(Light light, vec3 p) {
     float r2 = max(dot(to_light, to_light), KIT_MIN_DISTANCE_SQUARED);
     float intensity;
     if (u_attenuation_model == 1) {
-        intensity = light.intensity / (1.0 + r2);  // seed 002: 1 / (1 + d^2)
+        intensity = light.intensity / (1.0 + r2);  // the simple model: 1 / (1 + d^2)
     } else if (light.type == KIT_LIGHT_SPOT) {
         // I = flux / (2 pi r^2 (1 - (cos umbra + cos penumbra) / 2))
         float solid = max(1.0 - 0.5 * (light.cos_inner + light.cos_outer), KIT_MIN_SPOT_SOLID_ANGLE);

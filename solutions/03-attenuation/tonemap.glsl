@@ -1,4 +1,4 @@
-// Reinhard tone mapping, then gamma (seed 002).
+// Reinhard tone mapping, then gamma (as in LearnOpenGL's HDR chapter).
 #include "uniforms.glsl"
 
 vec3 tonemap(vec3 hdr) {
