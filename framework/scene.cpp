@@ -499,8 +499,8 @@ class SceneBuilder {
     if (out.uv_set_of_slot[0] < 0) out.uv_set_of_slot[0] = 0;  // no texture: TEXCOORD_0, as a material without a file has
   }
 
-  // KHR_texture_transform of a texture reference as the matrix the extension
-  // defines (translation * rotation * scale), and its texCoord override into `set`.
+  // KHR_texture_transform of a texture reference as its matrix
+  // (texture_transform_matrix), and its texCoord override into `set`.
   static glm::mat3 texture_transform(const tinygltf::ExtensionMap& extensions, const std::string& what, int& set) {
     auto ext = extensions.find("KHR_texture_transform");
     if (ext == extensions.end()) return glm::mat3(1.0f);
@@ -525,12 +525,7 @@ class SceneBuilder {
                     std::to_string(kMaxTexcoordSet) + ")");
       set = static_cast<int>(texcoord);
     }
-    // Column-major, as the extension writes it in GLSL.
-    const glm::mat3 translation(1, 0, 0, 0, 1, 0, offset.x, offset.y, 1);
-    const glm::mat3 rotation_matrix(std::cos(rotation), std::sin(rotation), 0, -std::sin(rotation), std::cos(rotation), 0,
-                                    0, 0, 1);
-    const glm::mat3 scale_matrix(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
-    return translation * rotation_matrix * scale_matrix;
+    return texture_transform_matrix(offset, rotation, scale);
   }
 
   // glTF's alphaMode string; tinygltf fills in "OPAQUE" when it is absent.
@@ -1115,6 +1110,20 @@ Scene load_scene(const std::string& path) {
   } catch (const std::exception& e) {
     throw Error(path + ": the scene could not be loaded: " + e.what());
   }
+}
+
+glm::mat3 texture_transform_matrix(glm::vec2 offset, float rotation, glm::vec2 scale) {
+  // Column-major: translation * rotation * scale. The rotation's columns are
+  // (cos, -sin) and (sin, cos): in glTF's v-down UV space this is the direction
+  // the Khronos sample models (TextureTransformTest, TextureTransformMultiTest)
+  // check and the sample viewer, three.js and Babylon draw. The README's GLSL
+  // listing has the transpose, (cos, sin) and (-sin, cos), which turns the UVs the
+  // opposite way (glTF issue #1563); tests/test_texture_transform.cpp shows which.
+  const float c = std::cos(rotation), s = std::sin(rotation);
+  const glm::mat3 translation(1, 0, 0, 0, 1, 0, offset.x, offset.y, 1);
+  const glm::mat3 rotation_matrix(c, -s, 0, s, c, 0, 0, 0, 1);
+  const glm::mat3 scale_matrix(scale.x, 0, 0, 0, scale.y, 0, 0, 0, 1);
+  return translation * rotation_matrix * scale_matrix;
 }
 
 glm::vec2 TextureUv::of(const Vertex& v) const {

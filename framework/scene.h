@@ -43,9 +43,17 @@ struct TextureSampler {
 // geometry pass does the same per fragment (kit_texture_uv, material_uniforms.glsl).
 struct TextureUv {
   int slot = 0;                // 0: Vertex::texcoord, 1: Vertex::texcoord1
-  glm::mat3 transform{1.0f};   // translation * rotation * scale, as the extension defines it
+  glm::mat3 transform{1.0f};   // KHR_texture_transform's matrix (texture_transform_matrix)
   glm::vec2 of(const Vertex& v) const;  // the UV the texture samples at the vertex
 };
+
+// KHR_texture_transform's {offset, rotation, scale} as the matrix TextureUv holds
+// (column-major; the UV is scaled, then rotated, then offset), in the direction the
+// Khronos sample models and viewers turn it in glTF's UV space, whose v grows down
+// the image:
+//   u' = ox + cos(r) sx u + sin(r) sy v,   v' = oy - sin(r) sx u + cos(r) sy v.
+// The GLSL listing in the extension's README turns the other way (glTF issue #1563).
+glm::mat3 texture_transform_matrix(glm::vec2 offset, float rotation, glm::vec2 scale);
 
 struct Material {
   glm::vec4 base_color_factor{1.0f};

@@ -17,7 +17,10 @@ uniform sampler2D u_emissive_texture;            // sRGB format
 
 // Each texture's UV, as its glTF texture reference says, indexed by the texture's
 // unit (KIT_UNIT_*): which of the vertex's two UV slots it reads (texCoord) and
-// its KHR_texture_transform. An untransformed texture gets the identity.
+// its KHR_texture_transform as the loader's matrix (kit::texture_transform_matrix,
+// which turns the UVs the way the Khronos sample models do, not the way the
+// extension README's GLSL listing does: glTF issue #1563). An untransformed
+// texture gets the identity.
 uniform int u_texture_uv_slot[4];
 uniform mat3 u_texture_uv_transform[4];
 

@@ -75,8 +75,8 @@ Light point_light(glm::vec3 position, float candela) {
 
 glm::dvec2 texture_transformed(glm::dvec2 uv, glm::dvec2 offset, double rotation, glm::dvec2 scale) {
   const glm::dvec2 s = uv * scale;
-  return {std::cos(rotation) * s.x - std::sin(rotation) * s.y + offset.x,
-          std::sin(rotation) * s.x + std::cos(rotation) * s.y + offset.y};
+  return {std::cos(rotation) * s.x + std::sin(rotation) * s.y + offset.x,
+          -std::sin(rotation) * s.x + std::cos(rotation) * s.y + offset.y};
 }
 
 }  // namespace kit::test

@@ -29,8 +29,12 @@ Material plain_material(float roughness);
 // A point light of `candela` at `position`.
 Light point_light(glm::vec3 position, float candela);
 
-// KHR_texture_transform applied to `uv` as the extension defines it (scale, then
-// rotation, then offset), written out in double: the tests' own evaluation.
+// KHR_texture_transform applied to `uv` (scale, then rotation, then offset), written
+// out in double in the Khronos sample models' direction for glTF's v-down UVs:
+// u' = ox + cos(r) sx u + sin(r) sy v, v' = oy - sin(r) sx u + cos(r) sy v (the
+// extension README's GLSL listing turns the other way: glTF issue #1563). It restates
+// the convention rather than checking it; test_texture_transform checks the
+// direction against a texel table worked out by hand.
 glm::dvec2 texture_transformed(glm::dvec2 uv, glm::dvec2 offset, double rotation, glm::dvec2 scale);
 
 }  // namespace kit::test
