@@ -806,7 +806,7 @@ std::map<std::string, glm::dmat4> world_matrices(const json& doc) {
 
 json scene_json(const std::string& name) { return json::parse(kit::test::read_file(kit::resolve_scene(name))); }
 
-const kit::Primitive& primitive_named(const kit::Scene& scene, const std::string& mesh_name) {
+KIT_NO_DANGLING const kit::Primitive& primitive_named(const kit::Scene& scene, const std::string& mesh_name) {
   for (const kit::Primitive& p : scene.primitives)
     if (p.name.find("('" + mesh_name + "')") != std::string::npos) return p;
   throw std::runtime_error("no primitive of mesh '" + mesh_name + "' in " + scene.path);

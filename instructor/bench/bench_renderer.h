@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bench_gbuffer.h"
+#include "no_dangling.h"
 #include "renderer.h"
 
 namespace kit::bench {
@@ -39,7 +40,7 @@ struct Method {
 // Every method kit-bench knows, the reference first.
 const std::vector<Method>& methods();
 // By name; throws kit::Error listing the names.
-const Method& find_method(const std::string& name);
+KIT_NO_DANGLING const Method& find_method(const std::string& name);  // a row of the method table
 // The GPU reference: RGBA32F position and normal, full-screen loop, RGBA32F HDR.
 const Method& reference_method();
 // What the labs run: seed 002's G-buffer and the full-screen loop.
