@@ -559,6 +559,114 @@ TEST(GraderVerdicts, WideFaintOffsetFailsTheMeanErrorAndAFewPixelsPass) {
 // the same covered pixels and verdict as compare_images finding it itself. The background
 // is the HDR reference's top third as compared (c / (1 + c) of 0.1); the witness, a wrong
 // background, counts other pixels as covered.
+// A scene with a vertical edge at column `edge`: a lit gradient on the left, background on
+// the right, as a silhouette looks. RGBA, like the display images.
+kit::Image edge_scene(int edge, float darken_inside = 0.0f) {
+  kit::Image image(kW, kH, 4);
+  for (int y = 0; y < kH; ++y)
+    for (int x = 0; x < kW; ++x) {
+      const bool inside = x < edge;
+      for (int c = 0; c < 3; ++c)
+        image.at(x, y, c) = inside ? 0.3f + 0.4f * static_cast<float>(y) / kH - (x < edge / 2 ? darken_inside : 0.0f)
+                                   : 0.05f;
+      image.at(x, y, 3) = 1.0f;
+    }
+  return image;
+}
+
+// Pixels with a channel more than `threshold` apart: the plain comparison, without the
+// edge tolerance, as the grader counted them before.
+size_t plainly_failing(const kit::Image& a, const kit::Image& b, double threshold) {
+  size_t count = 0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      bool fails = false;
+      for (int c = 0; c < a.channels; ++c) fails = fails || std::fabs(a.at(x, y, c) - b.at(x, y, c)) > threshold;
+      count += fails;
+    }
+  return count;
+}
+
+// GL leaves a triangle edge's sub-pixel placement to the implementation: a silhouette
+// drawn one pixel over is correct there. Witness: the plain comparison fails a whole
+// column of 192 pixels (24 allowed). The kit's passes it, and still fails the edge moved
+// three pixels, or the inside of the surface darkened.
+TEST(GraderVerdicts, AnEdgeOnePixelOverPassesAndMovedOrInteriorChangesFail) {
+  const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Ldr);
+  const kit::Image reference = edge_scene(100);
+  const kit::Image one_over = edge_scene(101);
+  EXPECT_EQ(plainly_failing(one_over, reference, tol.fail_threshold), static_cast<size_t>(kH));
+  EXPECT_GT(plainly_failing(one_over, reference, tol.fail_threshold), kit::grade::allowed_failing_pixels(tol, kPixels));
+
+  kit::grade::Comparison shifted = kit::grade::compare_images(Metric::Ldr, tol, one_over, reference);
+  EXPECT_TRUE(shifted.passed) << shifted.summary;
+  EXPECT_EQ(shifted.failing_pixels, 0u);
+  EXPECT_EQ(shifted.edge_pixels, static_cast<size_t>(kH)) << "the column the edge moved into";
+  EXPECT_NE(shifted.summary.find("192 pixels at edges of the reference are within its values one pixel over"),
+            std::string::npos) << shifted.summary;
+
+  kit::grade::Comparison moved = kit::grade::compare_images(Metric::Ldr, tol, edge_scene(103), reference);
+  EXPECT_FALSE(moved.passed) << moved.summary;
+  EXPECT_EQ(moved.failing_pixels, 2u * kH) << "the two columns beyond the neighbourhood";
+
+  kit::grade::Comparison darker = kit::grade::compare_images(Metric::Ldr, tol, edge_scene(100, 0.03f), reference);
+  EXPECT_FALSE(darker.passed) << darker.summary;
+  EXPECT_EQ(darker.failing_pixels, 50u * kH) << "the darkened half of the inside, none of it at an edge";
+
+  // The same for normals: a silhouette of the +Z facing surface one pixel over passes.
+  const kit::grade::Tolerance& normal_tol = grading_config().tolerance(Metric::Normal);
+  auto normals = [](int edge) {
+    kit::Image image(kW, kH, 4);
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < edge; ++x) image.at(x, y, 2) = 1.0f;
+    return image;
+  };
+  kit::grade::Comparison normal_shift = kit::grade::compare_images(Metric::Normal, normal_tol, normals(101), normals(100));
+  EXPECT_TRUE(normal_shift.passed) << normal_shift.summary;
+  EXPECT_EQ(normal_shift.edge_pixels, static_cast<size_t>(kH));
+  EXPECT_FALSE(kit::grade::compare_images(Metric::Normal, normal_tol, normals(103), normals(100)).passed);
+}
+
+// Metric::Same compares two renders of one submission, made on one machine: exact, with
+// no edge tolerance. One pixel one 8-bit step off fails it.
+TEST(GraderVerdicts, SameIsExactAndIgnoresEdges) {
+  const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Same);
+  const kit::Image image = edge_scene(100);
+  EXPECT_TRUE(kit::grade::compare_images(Metric::Same, tol, image, image).passed);
+  kit::Image step = image;
+  step.at(10, 10, 0) += 1.0f / 255.0f;
+  EXPECT_FALSE(kit::grade::compare_images(Metric::Same, tol, step, image).passed);
+  kit::grade::Comparison shifted = kit::grade::compare_images(Metric::Same, tol, edge_scene(101), image);
+  EXPECT_FALSE(shifted.passed) << "a ripple that moves the image by a pixel is not the image";
+  EXPECT_EQ(shifted.edge_pixels, 0u);
+}
+
+// grading.json names the implementations its tolerances were measured on, and a check may
+// carry its own tolerance (the fields given replace its metric's).
+TEST(GraderVerdicts, MeasuredImplementationsAndCheckTolerancesComeFromGradingJson) {
+  const kit::grade::Config& config = grading_config();
+  EXPECT_TRUE(config.measured_on_renderer("osmesa: llvmpipe (LLVM 15.0.6, 256 bits) / 4.5 (Core Profile) Mesa 22.3.6"));
+  EXPECT_TRUE(config.measured_on_renderer(
+      "egl: llvmpipe (LLVM 19.1.7, 256 bits) / 4.5 (Core Profile) Mesa 25.0.7-2+deb13u1"));
+  EXPECT_TRUE(config.measured_on_renderer("osmesa: softpipe / 3.3 (Core Profile) Mesa 22.3.6"));
+  EXPECT_FALSE(config.measured_on_renderer("egl: llvmpipe (LLVM 17.0.6, 256 bits) / 4.5 (Core Profile) Mesa 24.2.8"));
+  EXPECT_FALSE(config.measured_on_renderer("egl: NVIDIA H100 80GB HBM3/PCIe/SSE2 / 4.6.0 NVIDIA 580.65.06"));
+  EXPECT_FALSE(config.measured_on_renderer(""));
+  EXPECT_NE(config.measured_on_text().find("softpipe, Mesa 22.3"), std::string::npos);
+
+  const kit::grade::Check* highlight = nullptr;
+  const kit::grade::Check* studio = nullptr;
+  for (const kit::grade::Check* c : kit::grade::lab_checks(6)) {
+    if (c->key == "highlight-sun-hdr") highlight = c;
+    if (c->key == "default-studio-hdr") studio = c;
+  }
+  ASSERT_TRUE(highlight && studio);
+  const kit::grade::Tolerance& hdr = config.tolerance(Metric::Hdr);
+  EXPECT_GT(config.tolerance(*highlight).fail_percent, hdr.fail_percent);
+  EXPECT_EQ(config.tolerance(*highlight).fail_threshold, hdr.fail_threshold) << "a field not given is the metric's";
+  EXPECT_EQ(&config.tolerance(*studio), &hdr) << "a check without its own tolerance has its metric's";
+}
+
 TEST(GraderVerdicts, ReferenceBackgroundFoundOnceIsTheOneCompareFinds) {
   const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Hdr);
   kit::Image reference = synthetic_ldr();
@@ -606,13 +714,16 @@ TEST(GraderVerdicts, ReferenceBackgroundIsTheMostCommonPixelWhereverTheCornerIs)
 // pixels tied for the largest (the first in rows is the one named).
 TEST(GraderVerdicts, StatisticsAndDiffColoursAreOpenImageIOs) {
   const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Ldr);
+  // A reference with no edge (every row covered, a gentle gradient): the counted error is
+  // then the plain difference everywhere, as OpenImageIO's compare measures it.
   kit::Image reference = synthetic_ldr();
+  for (int y = 0; y < kH / 3; ++y)
+    for (int x = 0; x < kW; ++x)
+      for (int c = 0; c < 4; ++c) reference.at(x, y, c) = reference.at(x, kH / 3, c);
   kit::Image image = reference;
   for (size_t i = 0; i < image.pixels.size(); i += 7) image.pixels[i] += static_cast<float>((i * 7919) % 101) / 2000.0f;
-  reference.at(200, 150, 1) = 0.25f;
-  image.at(200, 150, 1) = 1.0f;
-  reference.at(10, 100, 2) = 1.0f;
-  image.at(10, 100, 2) = 0.25f;  // the same difference, earlier in rows
+  image.at(200, 150, 1) = reference.at(200, 150, 1) + 0.75f;
+  image.at(10, 100, 2) = reference.at(10, 100, 2) - 0.75f;  // the same difference, earlier in rows
   auto wrap = [](const kit::Image& i) {
     return OIIO::ImageBuf(OIIO::ImageSpec(i.width, i.height, i.channels, OIIO::TypeDesc::FLOAT),
                           const_cast<float*>(i.pixels.data()));
@@ -758,20 +869,27 @@ TEST(GraderVerdicts, Unorm8RoundsAsLroundDoes) {
 TEST(GraderVerdicts, MessagesNameTheCriterionThatFailed) {
   const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Hdr);
   ASSERT_LT(tol.hard_fail, kit::grade::largest_possible_difference(Metric::Hdr));
+  // A 3x3 patch of radiance 3 with its sign flipped: its centre is not at an edge of the
+  // reference (compare.cpp, is_edge), so it is measured in full; the eight around it are
+  // measured from their neighbourhood and still fail the threshold.
   kit::Image reference = synthetic_ldr();
-  for (int c = 0; c < 3; ++c) reference.at(10, 100, c) = 3.0f;
   kit::Image flipped = reference;
-  for (int c = 0; c < 3; ++c) flipped.at(10, 100, c) = -3.0f;  // 0.75 vs -0.75 compressed
+  for (int y = 99; y <= 101; ++y)
+    for (int x = 9; x <= 11; ++x)
+      for (int c = 0; c < 3; ++c) {
+        reference.at(x, y, c) = 3.0f;
+        flipped.at(x, y, c) = -3.0f;  // 0.75 vs -0.75 compressed
+      }
   kit::grade::Comparison c = kit::grade::compare_images(Metric::Hdr, tol, flipped, reference);
   EXPECT_FALSE(c.passed);
-  EXPECT_EQ(c.failing_pixels, 1u);
+  EXPECT_EQ(c.failing_pixels, 9u);
   EXPECT_NEAR(c.max_error, 1.5, 1e-6);
   EXPECT_LE(c.covered_mean_error, tol.max_mean_error);
   EXPECT_EQ(c.summary.rfind("Over the limit: the largest difference is 1.5 at (10, 100), over the limit of 1", 0), 0u)
       << c.summary;
   EXPECT_NE(c.summary.find("sign differs"), std::string::npos) << c.summary;
   EXPECT_EQ(c.summary.find("more than the 24"), std::string::npos) << "the share passed: " << c.summary;
-  EXPECT_NE(c.summary.find("1 of 49152 pixels (0.002%) differ by more than 0.01 (at most 24 (0.05%) may)"),
+  EXPECT_NE(c.summary.find("9 of 49152 pixels (0.018%) differ by more than 0.01 (at most 24 (0.05%) may)"),
             std::string::npos)
       << c.summary;
 

@@ -32,8 +32,12 @@ enum class Metric {
   Albedo,    // G-buffer base colour: |a - b|
   Material,  // G-buffer metallic, roughness, (unused), mask: |a - b|
   Changes,   // must differ from another render of the submission (custom-effect toggle)
+  Same,      // must equal another render of the submission (display images): both come from
+             // the same machine, so the right answer is exact on every OpenGL implementation
 };
 const char* metric_name(Metric metric);  // "ldr", "hdr", ... (the keys in grading.json)
+// Changes and Same compare two renders of the submission: no reference file, no edges.
+inline bool compares_own_renders(Metric metric) { return metric == Metric::Changes || metric == Metric::Same; }
 
 struct RenderSpec {
   std::string id;     // unique; also the reference's file name (without extension)
@@ -60,7 +64,7 @@ struct Check {
   std::string title;      // "default scene, HDR" (results.json name: "lab 2 lighting: default scene, HDR")
   Metric metric;
   std::string image;      // RenderSpec id rendered from the submission
-  std::string reference;  // RenderSpec id: the solution's render (Changes: another render of the submission)
+  std::string reference;  // RenderSpec id: the solution's render (Changes, Same: another render of the submission)
 };
 
 const std::vector<RenderSpec>& renders();

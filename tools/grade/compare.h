@@ -19,6 +19,8 @@ struct Comparison {
   double failing_percent = 0.0;  // pixels over the per-pixel threshold (Changes: pixels changed)
   size_t failing_pixels = 0;     // the same as a count
   size_t allowed_failing_pixels = 0;  // the most that may fail (fail_percent of the image, rounded down)
+  size_t edge_pixels = 0;        // pixels at the reference's edges over the threshold that its neighbourhood
+                                 // explains (a renderer may draw an edge one pixel over: compare.cpp, is_edge)
   size_t covered_pixels = 0;     // pixels where the reference or the submission shows more than the background
   double covered_mean_error = 0.0;  // mean per-pixel error over them (largest channel difference; Normal: degrees),
                                     // each pixel's capped at fail_threshold
@@ -46,7 +48,8 @@ using Background = std::array<float, 4>;
 Background reference_background(Metric metric, const Image& reference);
 
 // Compares `image` (the submission's) with `reference` under `metric`: it fails when
-// more than allowed_failing_pixels() pixels are over fail_threshold, when one pixel
+// more than allowed_failing_pixels() pixels are over fail_threshold (at the reference's
+// edges, measured from the range of its 3x3 neighbourhood: compare.cpp says why), when one pixel
 // differs by more than hard_fail, when the mean error over the covered pixels is over
 // max_mean_error, or when the image holds NaN/Inf. `background`: the reference's, when
 // already found (reference_background); otherwise it is found here.

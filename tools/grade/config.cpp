@@ -29,6 +29,7 @@ const RequiredFields kRequired[] = {
     {Metric::Albedo, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
     {Metric::Material, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
     {Metric::Changes, {"fail_threshold", "min_changed_percent"}},
+    {Metric::Same, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
 };
 
 double number(const nlohmann::json& object, const char* key, const std::string& where) {
@@ -45,6 +46,35 @@ const Tolerance& Config::tolerance(Metric metric) const {
   auto it = tolerances.find(metric_name(metric));
   if (it == tolerances.end()) throw Error(path.string() + ": no tolerance for metric " + metric_name(metric));
   return it->second;
+}
+
+// "osmesa: llvmpipe (LLVM 15.0.6, 256 bits) / 4.5 (Core Profile) Mesa 22.3.6" -> "llvmpipe, Mesa 22.3":
+// GL_RENDERER's first word and the Mesa version's major.minor ("" where it is not Mesa).
+std::string implementation_of(const std::string& description) {
+  const size_t colon = description.find(": ");
+  const size_t start = colon == std::string::npos ? 0 : colon + 2;
+  const std::string renderer = description.substr(start, description.find_first_of(" /", start) - start);
+  const size_t mesa = description.find("Mesa ");
+  if (renderer.empty() || mesa == std::string::npos) return "";
+  const size_t dot = description.find('.', mesa + 5);
+  const size_t end = dot == std::string::npos ? std::string::npos : description.find_first_not_of("0123456789", dot + 1);
+  return renderer + ", Mesa " + description.substr(mesa + 5, end == std::string::npos ? std::string::npos : end - mesa - 5);
+}
+
+bool Config::measured_on_renderer(const std::string& description) const {
+  const std::string implementation = implementation_of(description);
+  return !implementation.empty() && std::find(measured_on.begin(), measured_on.end(), implementation) != measured_on.end();
+}
+
+std::string Config::measured_on_text() const {
+  std::string text;
+  for (const std::string& m : measured_on) text += (text.empty() ? "" : "; ") + m;
+  return text;
+}
+
+const Tolerance& Config::tolerance(const Check& check) const {
+  auto it = check_tolerances.find({check.lab, check.key});
+  return it != check_tolerances.end() ? it->second : tolerance(check.metric);
 }
 
 double Config::lab_points(int lab) const {
@@ -148,6 +178,37 @@ Config load_config(const fs::path& path) {
       else if (f == "min_changed_percent") tol.min_changed_percent = v;
     }
     config.tolerances[key] = tol;
+  }
+  if (doc.contains("measured_on")) {
+    if (!doc["measured_on"].is_array()) throw Error(name + ": \"measured_on\" must be a list of strings");
+    for (const auto& m : doc["measured_on"]) {
+      if (!m.is_string()) throw Error(name + ": \"measured_on\" must be a list of strings");
+      config.measured_on.push_back(m.get<std::string>());
+    }
+  }
+  // Each lab's own tolerances for some of its checks: the fields given replace the metric's.
+  for (const auto& [lab_key, lab] : doc["labs"].items()) {
+    if (!lab.contains("tolerances")) continue;
+    const int lab_number = find_stage(lab_key).number;
+    const std::string where = name + ": labs." + lab_key + ".tolerances";
+    if (!lab["tolerances"].is_object()) throw Error(where + " must be an object");
+    for (const auto& [check_key, fields] : lab["tolerances"].items()) {
+      auto known = lab_checks(lab_number);
+      auto check = std::find_if(known.begin(), known.end(), [&](const Check* c) { return c->key == check_key; });
+      if (check == known.end()) throw Error(where + ": unknown check \"" + check_key + "\"");
+      if (!fields.is_object()) throw Error(where + "." + check_key + " must be an object");
+      Tolerance tol = config.tolerance((*check)->metric);
+      for (const auto& [field, value] : fields.items()) {
+        if (field == "why") continue;  // the measurement it comes from, for people
+        const double v = number(fields, field.c_str(), where + "." + check_key);
+        if (field == "fail_threshold") tol.fail_threshold = v;
+        else if (field == "fail_percent") tol.fail_percent = v;
+        else if (field == "hard_fail") tol.hard_fail = v;
+        else if (field == "max_mean_error") tol.max_mean_error = v;
+        else throw Error(where + "." + check_key + ": unknown field \"" + field + "\"");
+      }
+      config.check_tolerances[{lab_number, check_key}] = tol;
+    }
   }
   return config;
 }

@@ -34,8 +34,20 @@ struct Config {
   std::map<int, double> weight;                         // lab -> its maximum score
   std::map<int, std::map<std::string, double>> points;  // lab -> check key -> points
   std::map<std::string, Tolerance> tolerances;          // metric_name() -> tolerance
+  // A check's own tolerance where grading.json gives one (labs.N.tolerances.KEY: the
+  // fields that differ from its metric's), for a check whose correct renders lie further
+  // apart across OpenGL implementations than its metric's tolerance allows.
+  std::map<std::pair<int, std::string>, Tolerance> check_tolerances;  // (lab, check key) -> tolerance
+
+  // The OpenGL implementations the tolerances were measured on (grading.json's
+  // "measured_on": renderer family and Mesa version, "llvmpipe, Mesa 22.3"): the envelope
+  // in which a correct lab keeps full marks (handouts/instructors.md, Portable verdicts).
+  std::vector<std::string> measured_on;
+  bool measured_on_renderer(const std::string& description) const;  // a GlContext::describe() text
+  std::string measured_on_text() const;                              // "llvmpipe, Mesa 22.3; ..."
 
   const Tolerance& tolerance(Metric metric) const;
+  const Tolerance& tolerance(const Check& check) const;  // its own, else its metric's
   double lab_points(int lab) const;  // sum of the lab's check points
   // The share of the lab's weight one check is worth: weight * points / lab_points,
   // in integer thousandths of a point (the precision results.json carries),

@@ -70,6 +70,7 @@ struct Run {
   // Where the decoded references and what is made from them are kept
   // (reference_cache_dir(): between runs, else in this run's temporary folder).
   fs::path reference_cache;
+  std::string references_renderer;  // what rendered the references (their manifest's "renderer")
 };
 
 struct Entry {
@@ -205,10 +206,10 @@ void write_report_images(const Run& run, const fs::path& result_dir, const Check
   c.image = base + ".png";
   c.reference = base + ".ref.png";
   c.diff = base + ".diff.png";
-  Metric shown = check.metric == Metric::Changes ? Metric::Ldr : check.metric;
+  Metric shown = compares_own_renders(check.metric) ? Metric::Ldr : check.metric;
   write_image((result_dir / c.image).string(), display_image(shown, image, reference), PngEffort::Fastest);
   write_image((result_dir / c.diff).string(), c.comparison.diff, PngEffort::Fastest);
-  if (check.metric == Metric::Changes) {  // its "reference" is the submission's own render
+  if (compares_own_renders(check.metric)) {  // its "reference" is the submission's own render
     write_image((result_dir / c.reference).string(), display_image(shown, reference, reference), PngEffort::Fastest);
     return;
   }
@@ -251,7 +252,7 @@ std::string load_references_of(Run& run, int lab) {
     return problem->second;
   }
   for (const Check* check : lab_checks(lab))
-    if (check->metric != Metric::Changes && !run.backgrounds.count({check->reference, check->metric}))
+    if (!compares_own_renders(check->metric) && !run.backgrounds.count({check->reference, check->metric}))
       run.backgrounds.emplace(std::make_pair(check->reference, check->metric),
                               cached_background(run.references.at(check->reference), check->metric));
   return "";
@@ -291,12 +292,12 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
   for (CheckOutcome& c : lab.checks) {
     const Check& check = *c.check;
     const Image& image = renders.at(check.image);
-    const bool own = check.metric == Metric::Changes;  // its "reference" is the submission's own render
+    const bool own = compares_own_renders(check.metric);  // its "reference" is the submission's own render
     const Image& reference = own ? renders.at(check.reference) : run.references.at(check.reference).image;
     const Background* background = own ? nullptr : &run.backgrounds.at({check.reference, check.metric});
-    c.comparison = compare_images(check.metric, run.config.tolerance(check.metric), image, reference, background);
+    c.comparison = compare_images(check.metric, run.config.tolerance(check), image, reference, background);
     size_t hdr_bad = child.contains("hdr_non_finite") ? child["hdr_non_finite"].value(check.image, size_t{0}) : 0;
-    if (hdr_bad > 0 && check.metric != Metric::Changes) {
+    if (hdr_bad > 0 && !compares_own_renders(check.metric)) {
       c.comparison.passed = false;
       c.comparison.note = "the HDR buffer behind this image holds " + std::to_string(hdr_bad) +
                           " NaN or Inf pixels: " + kNonFiniteAdvice;
@@ -489,6 +490,9 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
       if (child_report) {
         try {
           e.outcome.renderer = nlohmann::json::parse(child_report).value("renderer", "");
+          e.outcome.references_renderer = run.references_renderer;
+          e.outcome.measured_on = run.config.measured_on_text();
+          e.outcome.within_measured = run.config.measured_on_renderer(e.outcome.renderer);
         } catch (const nlohmann::json::exception&) {
         }
       }
@@ -528,10 +532,11 @@ void remove_stale_run_temps(const fs::path& base) {
 }
 
 Run make_run(const Options& options, bool need_references) {
-  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}};
+  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}};
   if (need_references) {
     run.references_dir = options.references.empty() ? default_references_dir() : options.references;
     require_current_references(run.references_dir);
+    run.references_renderer = references_renderer(run.references_dir);
   }
   run.scenes = load_scenes(options.labs);
   const char* tmp = std::getenv("TMPDIR");
@@ -869,6 +874,7 @@ int check_references(const Options& options) {
     write_cache_seed(run);
     // Stale means: any pixel of a solution over its per-pixel threshold (no share of failing pixels allowed).
     for (auto& [metric, tolerance] : run.config.tolerances) tolerance.fail_percent = 0.0;
+    for (auto& [check, tolerance] : run.config.check_tolerances) tolerance.fail_percent = 0.0;
     std::vector<Entry> entries(1);
     entries[0].source = kit_root() / "solutions";
     entries[0].result_dir = run.temp / "result";

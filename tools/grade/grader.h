@@ -71,6 +71,9 @@ struct SubmissionOutcome {
   std::string content_hash;         // content_hash() of the submission when it was graded
   std::map<int, LabOutcome> labs;
   std::string renderer;             // GL_RENDERER of the children
+  std::string references_renderer;  // what rendered the references they were compared with
+  std::string measured_on;          // the implementations the tolerances were measured on (Config)
+  bool within_measured = true;      // `renderer` is one of them: else the report says so
   double seconds = 0.0;
   Thousandths total() const;
   Thousandths max_total() const;

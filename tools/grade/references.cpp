@@ -111,6 +111,11 @@ void write_references(const fs::path& dir, const std::map<std::string, Image>& r
   if (!out) throw Error((dir / kManifestName).string() + ": cannot write");
 }
 
+std::string references_renderer(const fs::path& dir) {
+  const nlohmann::json manifest = read_manifest(dir);
+  return manifest.contains("renderer") && manifest["renderer"].is_string() ? manifest["renderer"].get<std::string>() : "";
+}
+
 std::vector<std::string> manifest_differences(const fs::path& dir) {
   nlohmann::json stored = read_manifest(dir);
   std::vector<std::string> out;
@@ -146,7 +151,7 @@ void require_current_references(const fs::path& dir) {
 std::map<std::string, LoadedReference> load_lab_references(const fs::path& dir, int lab, const fs::path& cache) {
   std::map<std::string, LoadedReference> out;
   for (const Check* check : lab_checks(lab)) {
-    if (check->metric == Metric::Changes || out.count(check->reference)) continue;
+    if (compares_own_renders(check->metric) || out.count(check->reference)) continue;
     const RenderSpec& spec = find_render(check->reference);
     const fs::path file = dir / (spec.id + "." + reference_extension(spec));
     const std::string digest = file_digest(file, true);

@@ -27,6 +27,9 @@ nlohmann::json manifest_entry(const RenderSpec& spec);
 void write_references(const std::filesystem::path& dir, const std::map<std::string, Image>& renders,
                       const std::string& renderer);
 
+// What rendered the references: the manifest's "renderer" ("" when it names none).
+std::string references_renderer(const std::filesystem::path& dir);
+
 // Differences between the stored manifest and the code's check list, in words
 // (empty when they agree). Throws kit::Error when the manifest is missing.
 std::vector<std::string> manifest_differences(const std::filesystem::path& dir);

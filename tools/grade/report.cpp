@@ -20,6 +20,15 @@ namespace {
 constexpr size_t kMaxMessageBytes = 8 * 1024;
 constexpr const char* kLeaderboardName = "render time (ms)";
 
+// Said where a submission was rendered outside the implementations the tolerances were
+// measured on: its verdict is likely right, but not checked there.
+std::string outside_measured_note(const SubmissionOutcome& s) {
+  return "Rendered outside the OpenGL implementations the tolerances were measured on (" +
+         (s.measured_on.empty() ? std::string("none listed") : s.measured_on) +
+         "): a correct lab is expected to keep full marks here too, but that was not measured "
+         "(docs/grading.md, The same grade on any computer).";
+}
+
 const char* status_words(const std::string& status) {
   if (status == kCompileError) return "compile error";
   if (status == kTimeout) return "timed out";
@@ -177,6 +186,7 @@ nlohmann::json results_json(const SubmissionOutcome& s) {
   }
   std::string output = "**Total: " + format_points(s.total()) + " / " + format_points(s.max_total()) + "**";
   if (!s.renderer.empty()) output += " (rendered with " + md_escape(s.renderer) + ")";
+  if (!s.renderer.empty() && !s.within_measured) output += "\n\n" + md_escape(outside_measured_note(s));
   output += "\n\n| Lab | Score | Result |\n|---|---|---|\n";
   for (const auto& [number, lab] : s.labs) {
     std::string result = lab.status == kGraded ? std::to_string(lab.passed_checks()) + " of " +
@@ -215,6 +225,7 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
         entry["allowed_failing_pixels"] = c.comparison.allowed_failing_pixels;
         entry["covered_pixels"] = c.comparison.covered_pixels;
         entry["covered_mean_error"] = c.comparison.covered_mean_error;
+        entry["edge_pixels"] = c.comparison.edge_pixels;
         entry["psnr"] = std::isfinite(c.comparison.psnr) ? nlohmann::json(c.comparison.psnr) : nlohmann::json(nullptr);
         entry["non_finite"] = c.comparison.non_finite;
       }
@@ -244,6 +255,9 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
           {"notes", s.notes},
           {"content_hash", s.content_hash},
           {"renderer", s.renderer},
+          {"references_renderer", s.references_renderer},
+          {"tolerances_measured_on", s.measured_on},
+          {"within_measured_implementations", s.within_measured},
           {"execution_time", rounded(s.seconds)}};
 }
 
@@ -264,6 +278,9 @@ std::string report_html(const SubmissionOutcome& s) {
        std::to_string(kGradeWidth) + "x" + std::to_string(kGradeHeight) + " in " + format_score(s.seconds) +
        " s. Hover a submission image to see the reference; the diff shows |submission - reference| &times; " +
        format_score(kDiffScale) + ".</p>\n";
+  h += "<p>References rendered with " + html_escape(s.references_renderer.empty() ? "(unknown)" : s.references_renderer) +
+       "; tolerances measured on " + html_escape(s.measured_on.empty() ? "(none listed)" : s.measured_on) + ".</p>\n";
+  if (!s.renderer.empty() && !s.within_measured) h += "<p class=\"note\">" + html_escape(outside_measured_note(s)) + "</p>\n";
   if (!s.problem.empty()) h += "<h2>The submission could not be graded</h2>\n<pre>" + html_escape(s.problem) + "</pre>\n";
   if (!s.notes.empty()) {
     h += "<ul>\n";
