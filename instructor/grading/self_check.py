@@ -154,6 +154,11 @@ def write_submission(folder, lab_name, files):
         (folder / lab_name / name).write_text(text, encoding="utf-8")
 
 
+def cpu_limit_args(args):
+    """kit-grade's --cpu-limit where one was given (softpipe needs minutes for lab 6's maps)."""
+    return ["--cpu-limit", str(args.cpu_limit), "--timeout", str(2 * args.cpu_limit)] if args.cpu_limit else []
+
+
 def run_kit_grade(cmd, timeout):
     """(exit status, output tail) of one kit-grade run; status None when it ran over `timeout`."""
     try:
@@ -173,7 +178,7 @@ def grade_lab_batch(lab, jobs, args, work):
         write_submission(batch / row.id, lab_name, files)
     out.mkdir(parents=True)
     cmd = [str(args.kit_grade), "--batch", str(batch), "--labs", str(lab), "--out", str(out),
-           "--jobs", str(args.jobs)]
+           "--jobs", str(args.jobs)] + cpu_limit_args(args)
     status, tail = run_kit_grade(cmd, args.timeout + 10 * len(jobs))
     for row, _, _ in jobs:
         judge(row, out / row.id, status, tail, args, batch / row.id)
@@ -186,6 +191,7 @@ def grade_one(row, files, lab_name, args, work):
     out = folder / "result"
     out.mkdir(parents=True)
     cmd = [str(args.kit_grade), str(folder / "submission"), "--labs", str(row.lab), "--out", str(out), "--jobs", "1"]
+    cmd += cpu_limit_args(args)
     status, tail = run_kit_grade(cmd, args.timeout)
     judge(row, out, status, tail, args, folder / "submission")
 
@@ -319,6 +325,9 @@ def main(argv=None):
     parser.add_argument("--validate", action="store_true",
                         help="only check the catalogue against the solutions (no grading, no kit-grade needed)")
     parser.add_argument("--no-baseline", action="store_true", help="skip grading the unchanged solutions")
+    parser.add_argument("--cpu-limit", type=int, default=0, metavar="S",
+                        help="kit-grade's --cpu-limit for each lab (default: kit-grade's own); softpipe "
+                             "(GALLIUM_DRIVER=softpipe) takes minutes of CPU for lab 6's maps")
     parser.add_argument("--timeout", type=int, default=300,
                         help="seconds one kit-grade run may take, plus 10 s per entry in a batch (default 300)")
     parser.add_argument("--keep", action="store_true", help="keep the submissions and results (paths are printed)")
