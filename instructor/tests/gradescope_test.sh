@@ -184,11 +184,19 @@ cp -r "$ROOT"/solutions/01-gbuffer "$AG/submission/"
 RUN_ENV=(KIT_GRADE_BIN="$TMP/no-such-kit-grade")
 run_case "autograder not built" zero "not built"
 
-# 6. setup.sh on an image whose Mesa renders differently from the one the shipped
-#    references came from (simulated: one reference brightened by 8/255). Witness
-#    first: graded against that reference, the solution of lab 2 loses points.
-#    Then setup.sh renders the references again on this image and proves full marks.
+# 6. setup.sh on an image where the solutions lose points with the shipped references
+#    (simulated: one reference brightened by 8/255, as references older than the solutions
+#    or an implementation outside the measured ones would). Witness first: graded against
+#    that reference, the solution of lab 2 loses points. Then setup.sh says so, renders the
+#    references again on this image and proves full marks. First, with the references as
+#    shipped, it keeps them.
 REFS="$AG/source/kit/tools/grade/references"
+if (cd "$AG/source" && env KIT_GRADE_BIN="$GRADER" ./setup.sh) >"$TMP/setup-kept.log" 2>&1 &&
+   grep -q "with the shipped references on this image: they are kept" "$TMP/setup-kept.log"; then
+  pass "setup.sh: the solutions get full marks with the shipped references, which are kept"
+else
+  fail "setup.sh did not keep the shipped references (log below)"; sed 's/^/    /' "$TMP/setup-kept.log" | tail -20
+fi
 oiiotool "$REFS/lab2-default-final.png" --addc 0.03 -o "$REFS/lab2-default-final.png"
 witness="$(env KIT_ROOT="$AG/source/kit" "$GRADER" "$ROOT/solutions/02-lighting" --labs 2 --out "$TMP/witness" 2>&1)" || true
 if "$PY" -c 'import json,sys; s=json.load(open(sys.argv[1]))["labs"]["2"]; sys.exit(0 if s["score"] < s["max_score"] else 1)' \
@@ -198,7 +206,7 @@ else
   fail "witness: the brightened reference did not cost the solution of lab 2 anything"; echo "$witness" | tail -5
 fi
 if (cd "$AG/source" && env KIT_GRADE_BIN="$GRADER" ./setup.sh) >"$TMP/setup.log" 2>&1; then
-  if grep -q "renders the solutions differently" "$TMP/setup.log" && grep -q "ready: labs" "$TMP/setup.log"; then
+  if grep -q "lose points with the shipped references" "$TMP/setup.log" && grep -q "ready: labs" "$TMP/setup.log"; then
     pass "setup.sh: saw the stale reference, rendered the references on this image, full marks"
   else
     fail "setup.sh passed without reporting the stale reference (log below)"; sed 's/^/    /' "$TMP/setup.log" | tail -20
