@@ -30,7 +30,7 @@ grep -q "this build of the kit has no OSMesa" <<<"$output" || fail "--backend os
 "$main/tools/kit-render" "${args[@]}" --out "$work/main.png" >/dev/null 2>&1 || fail "the main build's kit-render failed"
 cmp -s "$work/default.png" "$work/main.png" || fail "EGL without OSMesa and the main build's render differ"
 
-"$build/tools/kit-grade-main" solutions --labs 1-3 --out "$work/grade" \
+"$build/tools/kit-grade-main" "$src/solutions" --labs 1-3 --out "$work/grade" \
   >"$work/grade.log" 2>&1 || { cat "$work/grade.log"; fail "kit-grade failed"; }
 grep -q "^total: 30/30" "$work/grade.log" || { cat "$work/grade.log"; fail "the solutions of labs 1-3 lost points"; }
 echo "no_osmesa: built without OSMesa; EGL by default, osmesa refused, the same image, labs 1-3 at 30/30"
