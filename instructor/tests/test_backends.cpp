@@ -68,7 +68,7 @@ float value_range(const kit::Image& image) {
 }
 
 // With OSMesa in the build, both backends write the same bytes. Without it (Mesa 25.1 and
-// later; -DKIT_OSMESA=OFF, as tests/no_osmesa_test.sh builds), --backend osmesa is refused
+// later; -DKIT_OSMESA=OFF, as instructor/tests/no_osmesa_test.sh builds), --backend osmesa is refused
 // by name and EGL, the default, renders.
 TEST(backends, OsmesaAndEglImagesAreBitIdenticalOrOsmesaIsRefused) {
   fs::path dir = kit::test::temp_dir("backends/identical");

@@ -1,6 +1,7 @@
-# The kit built without OSMesa (tests/no_osmesa_test.sh): a second, grading-only build
+# The kit built without OSMesa (no_osmesa_test.sh): a second, grading-only build
 # configured with -DKIT_OSMESA=OFF, as on a distribution whose Mesa (25.1 and later) has
-# none. Included from tests/CMakeLists.txt.
+# none. It renders and grades the reference solutions, so it is the instructors' (a
+# student copy lacks the later ones). Included from instructor/tests/CMakeLists.txt.
 if(TARGET kit-render AND TARGET kit-grade)
   add_test(NAME no_osmesa
            COMMAND ${CMAKE_CURRENT_LIST_DIR}/no_osmesa_test.sh ${PROJECT_SOURCE_DIR} ${CMAKE_BINARY_DIR}
