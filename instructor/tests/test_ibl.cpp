@@ -339,7 +339,9 @@ TEST(IblStability, GrazingViewInTheBrdfTable) {
   const size_t kit_broken = count_non_finite(kit->read_view(View::BrdfLut, true));
   const size_t naive_broken = count_non_finite(naive->read_view(View::BrdfLut, true));
   std::printf("[ ibl ] n.v = 0: %zu non-finite table texels with the floor, %zu without\n", kit_broken, naive_broken);
-  EXPECT_GE(naive_broken, size_t(KIT_BRDF_LUT_SIZE / 2)) << "witness: the n.v = 0 column is 0/0";
+  // How many of the column's texels come out NaN is the implementation's: Mesa 22's llvmpipe
+  // gives half the column, Mesa 25's (LLVM 19) one texel. One is enough to break the frame.
+  EXPECT_GE(naive_broken, 1u) << "witness: the n.v = 0 column is 0/0";
   EXPECT_EQ(kit_broken, 0u);
 }
 
@@ -384,7 +386,7 @@ TEST(IblStability, NanInAMapIsNamedNotHidden) {
   std::printf("[ ibl ] NaN in the BRDF table: %zu non-finite texels in the table, %zu non-finite pixels in the frame's "
               "views, %zu HDR pixels at KIT_HDR_MAX (%zu with the solution's table)\n",
               table_broken, frame_broken, naive_white, kit_white);
-  ASSERT_GE(table_broken, size_t(KIT_BRDF_LUT_SIZE / 2)) << "witness: the n.v = 0 column is 0/0";
+  ASSERT_GE(table_broken, 1u) << "witness: the n.v = 0 column is 0/0 (one texel or half the column: GrazingViewInTheBrdfTable)";
   EXPECT_EQ(frame_broken, 0u) << "witness: the frame does not show the NaN as NaN";
   EXPECT_GT(naive_white, kit_white) << "witness: min(NaN, KIT_HDR_MAX) gave KIT_HDR_MAX";
 
