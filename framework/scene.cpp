@@ -14,6 +14,7 @@
 #include <functional>
 #include <limits>
 #include <map>
+#include <type_traits>
 #include <mutex>
 #include <new>
 #include <optional>
@@ -999,6 +1000,10 @@ std::vector<unsigned char> glb_with_json(const std::vector<unsigned char>& glb, 
 // regular files only, never blocking, size-limited (safe_file.h).
 struct SceneFolder {
   std::filesystem::path folder;
+  // tinygltf 2.9 asks a file's size before it reads it (GetFileSizeInBytes): the size is
+  // found by reading the file the safe way, and the bytes are kept here for the read
+  // that follows, so no file is read twice.
+  std::map<std::string, std::vector<unsigned char>> read_ahead;
 };
 
 bool scene_file_exists(const std::string& path, void*) {
@@ -1009,12 +1014,52 @@ bool scene_file_exists(const std::string& path, void*) {
 std::string scene_file_path(const std::string& path, void*) { return path; }  // no ~ or $VAR expansion
 
 bool read_scene_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* user) {
+  SceneFolder& folder = *static_cast<SceneFolder*>(user);
+  auto ahead = folder.read_ahead.find(path);
+  if (ahead != folder.read_ahead.end()) {
+    *out = std::move(ahead->second);
+    folder.read_ahead.erase(ahead);
+    return true;
+  }
   try {
-    *out = read_file_inside(path, static_cast<SceneFolder*>(user)->folder, kMaxSceneFileBytes);
+    *out = read_file_inside(path, folder.folder, kMaxSceneFileBytes);
     return true;
   } catch (const Error& e) {
     if (err) *err += std::string(e.what()) + "\n";
     return false;
+  }
+}
+
+// tinygltf 2.9's GetFileSizeInBytes: through read_scene_file's checks (a regular file
+// inside the scene's folder, at most kMaxSceneFileBytes), never tinygltf's own, which
+// opens any path it is given (a FIFO there waits forever).
+bool scene_file_size(size_t* size, std::string* err, const std::string& path, void* user) {
+  std::vector<unsigned char> bytes;
+  if (!read_scene_file(&bytes, err, path, user)) return false;
+  *size = bytes.size();
+  static_cast<SceneFolder*>(user)->read_ahead[path] = std::move(bytes);
+  return true;
+}
+
+// Debian 12's tinygltf 2.7 has four file callbacks and SetFsCallbacks returns
+// nothing; Debian 13's 2.9 adds GetFileSizeInBytes, and SetFsCallbacks refuses callbacks
+// without it (returning false) and keeps its own, which read any file: checked here,
+// whichever the version.
+template <typename Callbacks>
+auto set_file_size_callback(Callbacks& files, int) -> decltype(files.GetFileSizeInBytes = scene_file_size, void()) {
+  files.GetFileSizeInBytes = scene_file_size;
+}
+template <typename Callbacks>
+void set_file_size_callback(Callbacks&, long) {}
+
+template <typename Loader, typename Callbacks>
+void install_file_callbacks(Loader& loader, const Callbacks& files, const std::string& path) {
+  if constexpr (std::is_same_v<decltype(loader.SetFsCallbacks(files)), bool>) {
+    std::string err;
+    if (!loader.SetFsCallbacks(files, &err))
+      throw Error(path + ": tinygltf refused the kit's file callbacks (" + err + ")");
+  } else {
+    loader.SetFsCallbacks(files);
   }
 }
 
@@ -1066,7 +1111,7 @@ Scene load_scene_unguarded(const std::string& path) {
     else bytes.assign(json->begin(), json->end());
   }
 
-  SceneFolder folder{std::filesystem::absolute(path).parent_path()};
+  SceneFolder folder{std::filesystem::absolute(path).parent_path(), {}};
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keep_encoded_image, nullptr);
@@ -1075,8 +1120,9 @@ Scene load_scene_unguarded(const std::string& path) {
   files.ExpandFilePath = scene_file_path;
   files.ReadWholeFile = read_scene_file;
   files.WriteWholeFile = refuse_write;
+  set_file_size_callback(files, 0);
   files.user_data = &folder;
-  loader.SetFsCallbacks(files);
+  install_file_callbacks(loader, files, path);
   std::string err, warn;
   const std::string base = folder.folder.string();
   bool ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), static_cast<unsigned>(bytes.size()), base)
