@@ -388,7 +388,13 @@ TEST(IblStability, NanInAMapIsNamedNotHidden) {
               table_broken, frame_broken, naive_white, kit_white);
   ASSERT_GE(table_broken, 1u) << "witness: the n.v = 0 column is 0/0 (one texel or half the column: GrazingViewInTheBrdfTable)";
   EXPECT_EQ(frame_broken, 0u) << "witness: the frame does not show the NaN as NaN";
-  EXPECT_GT(naive_white, kit_white) << "witness: min(NaN, KIT_HDR_MAX) gave KIT_HDR_MAX";
+  // Where the frame reads the NaN texels (Mesa 22's llvmpipe: half the n.v = 0 column),
+  // min(NaN, KIT_HDR_MAX) shows them as KIT_HDR_MAX white; Mesa 25's one NaN texel, at
+  // (0, 0), is read by no pixel: the frame hides it entirely. Either way only the check sees it.
+  if (table_broken >= size_t(KIT_BRDF_LUT_SIZE / 2))
+    EXPECT_GT(naive_white, kit_white) << "witness: min(NaN, KIT_HDR_MAX) gave KIT_HDR_MAX";
+  else
+    EXPECT_EQ(naive_white, kit_white) << "one NaN texel that no pixel reads";
 
   // The kit's check refuses the same shaders, naming the file, the map and the first texel.
   std::string message;
