@@ -109,26 +109,36 @@ Image compress_hdr(Image image) {
 // So at an edge pixel of the reference (its 3x3 neighbourhood spans more than the
 // tolerance's fail_threshold in a channel) the error is the distance to the nearest blend
 // of the reference's value there with one of its neighbours' (distance_to_neighbourhood);
-// elsewhere it is the plain difference. The cost: a mistake that changes only edge
-// pixels, within their neighbours' values, or moves the image by less than a pixel, is
-// not seen by such a comparison; the checks that catch those compare a submission's
-// render with another of its own (Metric::Same) or show the mistake inside a surface. A mistake that moves an edge by more than a pixel, or that
-// changes a surface's inside, still counts in full.
+// elsewhere it is the plain difference. A mistake that moves an edge by more than a
+// pixel, or that changes a surface's inside, still counts in full. The cost: a mistake
+// that changes only edge pixels, within their neighbours' values, or moves the image by
+// less than a pixel, is not seen by such a comparison; the checks that catch those compare
+// a submission's render with another of its own (Metric::Same) or show the mistake inside
+// a surface.
 constexpr int kEdgeRadius = 1;  // the neighbourhood: (2 kEdgeRadius + 1)^2 pixels
 
+// Calls visit(qx, qy) for every pixel of the neighbourhood of (x, y) in `image`, (x, y)
+// itself included; at the image's border the nearest pixel stands in for one outside.
+template <typename Visit>
+void for_each_neighbour(const Image& image, int x, int y, Visit visit) {
+  for (int dy = -kEdgeRadius; dy <= kEdgeRadius; ++dy)
+    for (int dx = -kEdgeRadius; dx <= kEdgeRadius; ++dx)
+      visit(std::clamp(x + dx, 0, image.width - 1), std::clamp(y + dy, 0, image.height - 1));
+}
+
 // True where the reference's neighbourhood of (x, y) spans more than `threshold` in one of
-// its first `channels` channels.
+// its first `channels` (at most 4) channels.
 bool is_edge(const Image& reference, int x, int y, int channels, float threshold) {
-  for (int c = 0; c < channels; ++c) {
-    float lo = reference.at(x, y, c), hi = lo;
-    for (int dy = -kEdgeRadius; dy <= kEdgeRadius; ++dy)
-      for (int dx = -kEdgeRadius; dx <= kEdgeRadius; ++dx) {
-        const int qx = std::clamp(x + dx, 0, reference.width - 1), qy = std::clamp(y + dy, 0, reference.height - 1);
-        lo = std::min(lo, reference.at(qx, qy, c));
-        hi = std::max(hi, reference.at(qx, qy, c));
-      }
-    if (hi - lo > threshold) return true;
-  }
+  std::array<float, 4> lo{}, hi{};
+  for (int c = 0; c < channels; ++c) lo[c] = hi[c] = reference.at(x, y, c);
+  for_each_neighbour(reference, x, y, [&](int qx, int qy) {
+    for (int c = 0; c < channels; ++c) {
+      lo[c] = std::min(lo[c], reference.at(qx, qy, c));
+      hi[c] = std::max(hi[c], reference.at(qx, qy, c));
+    }
+  });
+  for (int c = 0; c < channels; ++c)
+    if (hi[c] - lo[c] > threshold) return true;
   return false;
 }
 
@@ -141,25 +151,23 @@ bool is_edge(const Image& reference, int x, int y, int channels, float threshold
 // ignored, darkening the mortar between bricks) is no blend of the mortar and the brick.
 float distance_to_neighbourhood(const Image& image, const Image& reference, int x, int y, int channels) {
   float nearest = std::numeric_limits<float>::max();
-  for (int dy = -kEdgeRadius; dy <= kEdgeRadius; ++dy)
-    for (int dx = -kEdgeRadius; dx <= kEdgeRadius; ++dx) {
-      const int qx = std::clamp(x + dx, 0, reference.width - 1), qy = std::clamp(y + dy, 0, reference.height - 1);
-      // The weight t in [0, 1] of the neighbour that fits best (least squares), then the
-      // largest channel's distance from the blend.
-      double along = 0.0, length2 = 0.0;
-      for (int c = 0; c < channels; ++c) {
-        const double d = reference.at(qx, qy, c) - reference.at(x, y, c);
-        along += (image.at(x, y, c) - reference.at(x, y, c)) * d;
-        length2 += d * d;
-      }
-      const double t = length2 > 0.0 ? std::clamp(along / length2, 0.0, 1.0) : 0.0;
-      float largest = 0.0f;
-      for (int c = 0; c < channels; ++c) {
-        const double blend = reference.at(x, y, c) + t * (reference.at(qx, qy, c) - reference.at(x, y, c));
-        largest = std::max(largest, static_cast<float>(std::fabs(image.at(x, y, c) - blend)));
-      }
-      nearest = std::min(nearest, largest);
+  for_each_neighbour(reference, x, y, [&](int qx, int qy) {
+    // The weight t in [0, 1] of the neighbour that fits best (least squares), then the
+    // largest channel's distance from the blend.
+    double along = 0.0, length2 = 0.0;
+    for (int c = 0; c < channels; ++c) {
+      const double d = reference.at(qx, qy, c) - reference.at(x, y, c);
+      along += (image.at(x, y, c) - reference.at(x, y, c)) * d;
+      length2 += d * d;
     }
+    const double t = length2 > 0.0 ? std::clamp(along / length2, 0.0, 1.0) : 0.0;
+    float largest = 0.0f;
+    for (int c = 0; c < channels; ++c) {
+      const double blend = reference.at(x, y, c) + t * (reference.at(qx, qy, c) - reference.at(x, y, c));
+      largest = std::max(largest, static_cast<float>(std::fabs(image.at(x, y, c) - blend)));
+    }
+    nearest = std::min(nearest, largest);
+  });
   return nearest;
 }
 
@@ -224,7 +232,7 @@ struct NormalStats {
   int max_x = 0, max_y = 0;
   size_t failing = 0, covered = 0;
   size_t not_unit = 0;  // failing because |n| differs from the reference's length, not the angle
-  size_t edges = 0;     // pixels compared with the reference's neighbourhood (is_edge)
+  size_t edges = 0;     // failing pixels that a neighbour of the reference matches (is_edge)
   Image error;  // per-pixel max |a - b| over xyz, for the diff image
   Image angle;  // per-pixel angle in degrees (180 where only one image has a normal)
 };
@@ -262,13 +270,11 @@ bool fails(const NormalMatch& m, const Tolerance& tol) { return m.angle > tol.fa
 // An edge of the reference's normals (is_edge for directions): its neighbourhood holds
 // normals more than fail_threshold apart, or both written and unwritten pixels.
 bool is_normal_edge(const Image& b, int x, int y, const Tolerance& tol) {
-  for (int dy = -kEdgeRadius; dy <= kEdgeRadius; ++dy)
-    for (int dx = -kEdgeRadius; dx <= kEdgeRadius; ++dx) {
-      const int qx = std::clamp(x + dx, 0, b.width - 1), qy = std::clamp(y + dy, 0, b.height - 1);
-      const NormalMatch m = match_normal(b, x, y, b, qx, qy, tol);
-      if (m.angle > tol.fail_threshold) return true;
-    }
-  return false;
+  bool edge = false;
+  for_each_neighbour(b, x, y, [&](int qx, int qy) {
+    edge = edge || match_normal(b, x, y, b, qx, qy, tol).angle > tol.fail_threshold;
+  });
+  return edge;
 }
 
 NormalStats compare_normals(const Image& a, const Image& b, const Tolerance& tol) {
@@ -283,18 +289,16 @@ NormalStats compare_normals(const Image& a, const Image& b, const Tolerance& tol
         // At an edge of the reference: its best match in the neighbourhood (see is_edge),
         // a passing one before a failing one, then the smaller angle.
         const bool direct_fails = fails(m, tol);
-        for (int dy = -kEdgeRadius; dy <= kEdgeRadius; ++dy)
-          for (int dx = -kEdgeRadius; dx <= kEdgeRadius; ++dx) {
-            const int qx = std::clamp(x + dx, 0, b.width - 1), qy = std::clamp(y + dy, 0, b.height - 1);
-            NormalMatch q = match_normal(a, x, y, b, qx, qy, tol);
-            if (q.angle < 0.0) q.angle = 0.0;  // unwritten in both: the reference's background one pixel over
-            const bool better = fails(q, tol) != fails(m, tol) ? !fails(q, tol) : q.angle < m.angle;
-            if (better) {
-              m = q;
-              mx = qx;
-              my = qy;
-            }
+        for_each_neighbour(b, x, y, [&](int qx, int qy) {
+          NormalMatch q = match_normal(a, x, y, b, qx, qy, tol);
+          if (q.angle < 0.0) q.angle = 0.0;  // unwritten in both: the reference's background one pixel over
+          const bool better = fails(q, tol) != fails(m, tol) ? !fails(q, tol) : q.angle < m.angle;
+          if (better) {
+            m = q;
+            mx = qx;
+            my = qy;
           }
+        });
         if (direct_fails && !fails(m, tol)) ++s.edges;
       }
       float diff = 0.0f;
@@ -459,13 +463,15 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
     const ChannelStats cs = channel_stats(a, b, a.channels, threshold, &error);
     r.mean_error = cs.mean_error;
     r.psnr = cs.psnr;
-    // The counted error: at the reference's edges, the distance to its neighbourhood's range.
+    // The counted error: at the reference's edges, the distance to the nearest blend with a
+    // neighbour (distance_to_neighbourhood). Two renders of the submission itself (Changes,
+    // Same) come from one machine: every pixel counts as it is, edges included.
+    const bool edges_may_move = !compares_own_renders(metric);
     r.max_error = 0.0;
     for (int y = 0; y < a.height; ++y)
       for (int x = 0; x < a.width; ++x) {
         float& e = error.at(x, y, 0);
-        // (Changes counts every pixel the toggle changes, edges included.)
-        if (!compares_own_renders(metric) && e > 0.0f && is_edge(b, x, y, a.channels, threshold)) {
+        if (edges_may_move && e > 0.0f && is_edge(b, x, y, a.channels, threshold)) {
           const float shifted = distance_to_neighbourhood(a, b, x, y, a.channels);
           if (e > threshold && shifted <= threshold) ++r.edge_pixels;
           e = shifted;
