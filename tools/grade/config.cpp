@@ -40,6 +40,18 @@ double number(const nlohmann::json& object, const char* key, const std::string& 
   return v;
 }
 
+// Sets `field` of `tol` to `v`; false for a name that is no tolerance field.
+bool set_tolerance_field(Tolerance& tol, const std::string& field, double v) {
+  if (field == "fail_threshold") tol.fail_threshold = v;
+  else if (field == "fail_percent") tol.fail_percent = v;
+  else if (field == "hard_fail") tol.hard_fail = v;
+  else if (field == "max_mean_error") tol.max_mean_error = v;
+  else if (field == "length_tolerance") tol.length_tolerance = v;
+  else if (field == "min_changed_percent") tol.min_changed_percent = v;
+  else return false;
+  return true;
+}
+
 }  // namespace
 
 const Tolerance& Config::tolerance(Metric metric) const {
@@ -167,16 +179,7 @@ Config load_config(const fs::path& path) {
     const nlohmann::json& t = doc["tolerances"][key];
     std::string where = name + ": tolerances." + key;
     Tolerance tol;
-    for (const char* field : r.fields) {
-      double v = number(t, field, where);
-      std::string f = field;
-      if (f == "fail_threshold") tol.fail_threshold = v;
-      else if (f == "fail_percent") tol.fail_percent = v;
-      else if (f == "hard_fail") tol.hard_fail = v;
-      else if (f == "max_mean_error") tol.max_mean_error = v;
-      else if (f == "length_tolerance") tol.length_tolerance = v;
-      else if (f == "min_changed_percent") tol.min_changed_percent = v;
-    }
+    for (const char* field : r.fields) set_tolerance_field(tol, field, number(t, field, where));
     config.tolerances[key] = tol;
   }
   if (doc.contains("measured_on")) {
@@ -200,12 +203,8 @@ Config load_config(const fs::path& path) {
       Tolerance tol = config.tolerance((*check)->metric);
       for (const auto& [field, value] : fields.items()) {
         if (field == "why") continue;  // the measurement it comes from, for people
-        const double v = number(fields, field.c_str(), where + "." + check_key);
-        if (field == "fail_threshold") tol.fail_threshold = v;
-        else if (field == "fail_percent") tol.fail_percent = v;
-        else if (field == "hard_fail") tol.hard_fail = v;
-        else if (field == "max_mean_error") tol.max_mean_error = v;
-        else throw Error(where + "." + check_key + ": unknown field \"" + field + "\"");
+        if (!set_tolerance_field(tol, field, number(fields, field.c_str(), where + "." + check_key)))
+          throw Error(where + "." + check_key + ": unknown field \"" + field + "\"");
       }
       config.check_tolerances[{lab_number, check_key}] = tol;
     }
