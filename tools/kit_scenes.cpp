@@ -164,6 +164,60 @@ Image8 make_alpha_ramp_checker() {
   return img;
 }
 
+// A tangent-space normal map (as make_brick_normal stores it) of smooth egg-crate bumps,
+// h = sin(2 pi x / P) sin(2 pi y / P) with P half the image: its normals lean everywhere
+// but along the bumps' crests and troughs, by up to 45 degrees at normalTexture.scale 1.
+// Unlike the bricks, whose slopes are bevels a pixel or two wide in a small render, a
+// mistake in the scale or the tangent frame changes whole areas.
+Image8 make_bump_normal() {
+  constexpr int kSide = 128, kPeriodPx = kSide / 2;
+  constexpr double kMaxSlope = 1.0;  // |dh/dx| at most: 45 degrees
+  Image8 img(kSide, kSide, 3);
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
+      const double a = 2.0 * kPi * (x + 0.5) / kPeriodPx, b = 2.0 * kPi * (y + 0.5) / kPeriodPx;
+      const double dh_dx = kMaxSlope * std::cos(a) * std::sin(b);
+      const double dh_dup = -kMaxSlope * std::sin(a) * std::cos(b);  // rows grow downwards
+      const glm::vec3 n = glm::normalize(glm::vec3(float(-dh_dx), float(-dh_dup), 1.0f));
+      img.set(x, y, 0.5f * n + 0.5f);
+    }
+  return img;
+}
+
+// A 4 x 4 grid of distinct colours, each cell shaded darker towards its lower right:
+// every texel's place in the image shows, so a texture read at another UV set, or with
+// another transform, shows colours or a turn the right read does not.
+Image8 make_uv_grid() {
+  constexpr int kCellPx = 16, kCellsPerSide = 4;
+  Image8 img(kCellPx * kCellsPerSide, kCellPx * kCellsPerSide, 3);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const std::uint32_t cell = std::uint32_t(y / kCellPx * kCellsPerSide + x / kCellPx);
+      const glm::vec3 hue(0.2f + 0.8f * hash01(cell * 3u + 7u), 0.2f + 0.8f * hash01(cell * 3u + 8u),
+                          0.2f + 0.8f * hash01(cell * 3u + 9u));
+      const float shade = 1.0f - 0.35f * float(x % kCellPx + y % kCellPx) / float(2 * kCellPx);
+      img.set(x, y, hue * shade);
+    }
+  return img;
+}
+
+// A metallic-roughness texture whose three channels differ, as a packed occlusion-
+// roughness-metallic texture's do: R (occlusion, which the labs do not read) diagonal
+// stripes, G (roughness) a ramp from 0.2 at the left to 0.9 at the right, B (metallic)
+// horizontal bands of 0 and 1. Reading roughness or metallic from another channel shows.
+Image8 make_packed_orm() {
+  constexpr int kSide = 64, kStripePx = 8, kBandPx = 16;
+  Image8 img(kSide, kSide, 3);
+  for (int y = 0; y < kSide; ++y)
+    for (int x = 0; x < kSide; ++x) {
+      const float occlusion = ((x + y) / kStripePx) % 2 ? 1.0f : 0.35f;
+      const float roughness = 0.2f + 0.7f * float(x) / float(kSide - 1);
+      const float metallic = (y / kBandPx) % 2 ? 1.0f : 0.0f;
+      img.set(x, y, {occlusion, roughness, metallic});
+    }
+  return img;
+}
+
 void write_png(const fs::path& path, const Image8& img) {
   auto out = OIIO::ImageOutput::create(path.string());
   if (!out)
@@ -186,6 +240,7 @@ struct MeshData {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;
   std::vector<glm::vec2> uvs;
+  std::vector<glm::vec2> uvs1;      // empty: the mesh is written without TEXCOORD_1
   std::vector<glm::vec4> tangents;  // empty: the mesh is written without TANGENT
   std::vector<std::uint32_t> indices;
 };
@@ -292,9 +347,20 @@ struct Geometry {
   int position = -1;
   int normal = -1;
   int texcoord = -1;
+  int texcoord1 = -1;  // TEXCOORD_1; -1: none
   int tangent = -1;
   int color = -1;  // COLOR_0; -1: none (white)
   int indices = -1;
+};
+
+// How a material reads one of its textures: glTF's texCoord (which UV set) and, where
+// `transformed`, a KHR_texture_transform (offset, rotation in radians, scale).
+struct TextureUv {
+  int tex_coord = 0;
+  bool transformed = false;
+  glm::dvec2 offset{0.0};
+  double rotation = 0.0;
+  glm::dvec2 scale{1.0};
 };
 
 struct MaterialDesc {
@@ -308,6 +374,8 @@ struct MaterialDesc {
   glm::dvec3 emissive{0.0};
   double emissive_strength = 1.0;  // other than 1: KHR_materials_emissive_strength
   int emissive_texture = -1;
+  int metallic_roughness_texture = -1;  // glTF: roughness in G, metallic in B (R is free: occlusion)
+  TextureUv base_color_uv, metallic_roughness_uv, normal_uv, emissive_uv;
   std::string alpha_mode = "OPAQUE";  // glTF alphaMode: OPAQUE, MASK or BLEND
   double alpha_cutoff = 0.5;          // glTF's default; written only for MASK
   bool double_sided = false;
@@ -362,6 +430,9 @@ class SceneBuilder {
                             TINYGLTF_TARGET_ARRAY_BUFFER);
     g.texcoord = add_accessor(mesh.uvs, TINYGLTF_TYPE_VEC2, TINYGLTF_COMPONENT_TYPE_FLOAT,
                               TINYGLTF_TARGET_ARRAY_BUFFER);
+    if (!mesh.uvs1.empty())
+      g.texcoord1 = add_accessor(mesh.uvs1, TINYGLTF_TYPE_VEC2, TINYGLTF_COMPONENT_TYPE_FLOAT,
+                                 TINYGLTF_TARGET_ARRAY_BUFFER);
     if (!mesh.tangents.empty())
       g.tangent = add_accessor(mesh.tangents, TINYGLTF_TYPE_VEC4, TINYGLTF_COMPONENT_TYPE_FLOAT,
                                TINYGLTF_TARGET_ARRAY_BUFFER);
@@ -376,6 +447,7 @@ class SceneBuilder {
     prim.attributes["POSITION"] = g.position;
     prim.attributes["NORMAL"] = g.normal;
     prim.attributes["TEXCOORD_0"] = g.texcoord;
+    if (g.texcoord1 >= 0) prim.attributes["TEXCOORD_1"] = g.texcoord1;
     if (g.tangent >= 0) prim.attributes["TANGENT"] = g.tangent;
     if (g.color >= 0) prim.attributes["COLOR_0"] = g.color;
     prim.indices = g.indices;
@@ -435,8 +507,13 @@ class SceneBuilder {
     m.pbrMetallicRoughness.metallicFactor = desc.metallic;
     m.pbrMetallicRoughness.roughnessFactor = desc.roughness;
     m.pbrMetallicRoughness.baseColorTexture.index = desc.base_color_texture;
+    m.pbrMetallicRoughness.metallicRoughnessTexture.index = desc.metallic_roughness_texture;
     m.normalTexture.index = desc.normal_texture;
     m.normalTexture.scale = desc.normal_scale;
+    set_texture_uv(m.pbrMetallicRoughness.baseColorTexture, desc.base_color_uv);
+    set_texture_uv(m.pbrMetallicRoughness.metallicRoughnessTexture, desc.metallic_roughness_uv);
+    set_texture_uv(m.normalTexture, desc.normal_uv);
+    set_texture_uv(m.emissiveTexture, desc.emissive_uv);
     m.emissiveFactor = to_vector(desc.emissive);
     if (desc.emissive_strength != 1.0) {
       // glTF limits emissiveFactor to [0, 1]; brighter emitters need this extension.
@@ -446,6 +523,22 @@ class SceneBuilder {
     }
     model_.materials.push_back(m);
     return int(model_.materials.size()) - 1;
+  }
+
+  // texCoord and KHR_texture_transform of one texture reference (TextureInfo or
+  // NormalTextureInfo); nothing is written for the defaults (UV set 0, no transform).
+  template <typename Info>
+  void set_texture_uv(Info& info, const TextureUv& uv) {
+    if (info.index < 0) return;
+    info.texCoord = uv.tex_coord;
+    if (!uv.transformed) return;
+    tinygltf::Value::Object transform{
+        {"offset", tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(uv.offset.x), tinygltf::Value(uv.offset.y)})},
+        {"rotation", tinygltf::Value(uv.rotation)},
+        {"scale", tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(uv.scale.x), tinygltf::Value(uv.scale.y)})}};
+    info.extensions["KHR_texture_transform"] = tinygltf::Value(transform);
+    use_extension("KHR_texture_transform");
+    ++transformed_textures_;
   }
 
   // Adds a node under `parent`, or as a root of the scene when parent < 0.
@@ -469,25 +562,28 @@ class SceneBuilder {
     return index;
   }
 
-  // Intensity in candela. No range: the property is left out (unlimited).
+  // Intensity in candela. range 0: the property is left out (unlimited).
   void add_point_light(const std::string& name, glm::dvec3 position, glm::dvec3 color,
-                       double candela) {
+                       double candela, double range = 0.0) {
     tinygltf::Light light;
     light.name = name;
     light.type = "point";
     light.color = to_vector(color);
     light.intensity = candela;
+    light.range = range;
     attach_light(light, {name, position, kNoRotation, kUnitScale, -1});
   }
 
   // A spot light shines along its node's local -Z, so it is aimed like a camera.
   void add_spot_light(const std::string& name, glm::dvec3 position, glm::dvec3 target,
-                      glm::dvec3 color, double candela, double inner_cone, double outer_cone) {
+                      glm::dvec3 color, double candela, double inner_cone, double outer_cone,
+                      double range = 0.0) {
     tinygltf::Light light;
     light.name = name;
     light.type = "spot";
     light.color = to_vector(color);
     light.intensity = candela;
+    light.range = range;
     light.spot.innerConeAngle = inner_cone;
     light.spot.outerConeAngle = outer_cone;
     attach_light(light, {name, position, look_at_rotation(position, target), kUnitScale, -1});
@@ -574,6 +670,16 @@ class SceneBuilder {
       throw std::runtime_error(gltf.string() + ": tinygltf wrote " + std::to_string(attached) +
                                " nodes with a KHR_lights_punctual light, and the scene has " +
                                std::to_string(model_.lights.size()) + " lights");
+    // Texture references are nested objects: count the transform's key in the materials' text.
+    const std::string materials = doc.value("materials", nlohmann::json::array()).dump();
+    size_t transforms = 0;
+    for (size_t at = materials.find("\"KHR_texture_transform\""); at != std::string::npos;
+         at = materials.find("\"KHR_texture_transform\"", at + 1))
+      ++transforms;
+    if (transforms != transformed_textures_)
+      throw std::runtime_error(gltf.string() + ": tinygltf wrote " + std::to_string(transforms) +
+                               " KHR_texture_transform objects, and the scene has " +
+                               std::to_string(transformed_textures_));
   }
 
  private:
@@ -630,6 +736,7 @@ class SceneBuilder {
 
   std::string name_;
   tinygltf::Model model_;
+  size_t transformed_textures_ = 0;  // texture references given a KHR_texture_transform
   std::vector<std::pair<std::string, Image8>> images_;
 };
 
@@ -758,6 +865,25 @@ SceneBuilder build_grazing_scene() {
   return b;
 }
 
+// A white, fully rough floor seen at grazing angles (n.v from about 0.05 to 0.3), for
+// kit-grade's lab 6: there the diffuse part of the image-based light is as large as the
+// reflection, and the BRDF table's diffuse Fresnel weight C is at its smallest (about
+// 0.97), so an ibl.frag that leaves C out is 3 % too bright over the whole floor. Rough,
+// so that no sharp reflection of the environment's sun makes the image driver-sensitive.
+SceneBuilder build_matte_scene() {
+  SceneBuilder b("matte");
+  MaterialDesc mat;
+  mat.name = "white_matte";
+  mat.base_color = glm::dvec4(0.9, 0.9, 0.9, 1.0);
+  mat.metallic = 0.0;
+  mat.roughness = 1.0;
+  const Geometry plane =
+      b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {30, 30}, {1, 1}, false));
+  b.add_mesh_node("floor", {0, 0, -10}, plane, b.add_material(mat));
+  b.add_camera({0, 0.5, 4}, {0, -0.3, -6}, 0.6);
+  return b;
+}
+
 // A spot light with a wide penumbra (inner cone 10 degrees, outer 45) over a plain
 // floor, seen from above: the falloff between the cones covers much of the image,
 // so interpolating over the angle instead of its cosine, or a linear ramp instead
@@ -854,6 +980,72 @@ SceneBuilder build_normal_map_scene(const Textures& tex) {
 
   b.add_point_light("light", {0, 0, 2.5}, kWhite, 40.0);
   b.add_camera({0, 0, 6}, {0, 0, 0}, 0.9);
+  return b;
+}
+
+// Each texture reference of a material read its own way, for kit-grade's labs 1 and 4:
+//  * left, a quad with two UV sets (TEXCOORD_1 is TEXCOORD_0 turned a quarter and halved)
+//    whose base colour reads UV set 0 and its metallic-roughness and emissive textures UV
+//    set 1, each through a KHR_texture_transform of its own; the metallic-roughness
+//    texture's three channels differ (make_packed_orm). A texture read at another's UV, at
+//    UV set 0, without its transform, or from the wrong channel, shows;
+//  * right, a quad with smooth bumps (make_bump_normal) at normalTexture.scale 0.4,
+//    turned 35 degrees in its plane under a parent scaled (1.5, 0.8, 1): its tangent lies
+//    along no axis of the scale, so a tangent taken to world space by the normal matrix
+//    instead of the model matrix (which agree where the tangent lies along an axis: the
+//    normalmap scene's quads) turns the bumps' slopes, and an ignored scale steepens them.
+SceneBuilder build_texturing_scene(const Textures& tex) {
+  SceneBuilder b("texturing");
+  const glm::vec3 x(1, 0, 0), y(0, 1, 0);
+
+  MaterialDesc uv_sets;
+  uv_sets.name = "two_uv_sets";
+  uv_sets.metallic = 1.0;   // the factors pass the texture's channels through
+  uv_sets.roughness = 1.0;
+  uv_sets.base_color_texture = b.add_texture("uv_grid.png", make_uv_grid());
+  uv_sets.base_color_uv = {0, true, {0.1, 0.2}, 0.35, {1.5, 0.75}};
+  uv_sets.metallic_roughness_texture = b.add_texture("packed_orm.png", make_packed_orm());
+  uv_sets.metallic_roughness_uv = {1, true, {0.3, 0.0}, -0.6, {1.25, 2.0}};
+  uv_sets.emissive = glm::dvec3(0.6, 0.5, 0.4);
+  uv_sets.emissive_texture = b.add_texture("checker.png", tex.checker);
+  uv_sets.emissive_uv = {1, true, {0.5, 0.25}, 0.0, {2.0, 2.0}};
+  MeshData quad = make_quad(x, y, {2.0f, 2.0f}, {1, 1}, false);
+  for (const glm::vec2& uv0 : quad.uvs) quad.uvs1.emplace_back(0.5f * uv0.y + 0.25f, 1.0f - 0.5f * uv0.x);
+  b.add_mesh_node("two_uv_sets_quad", {-1.3, 0.0, 0.0}, b.add_geometry(quad), b.add_material(uv_sets));
+
+  MaterialDesc bumpy = normal_mapped_grey(b.add_texture("bumps_normal.png", make_bump_normal()));
+  bumpy.name = "scaled_normal_map";
+  bumpy.normal_scale = 0.4;
+  bumpy.normal_uv = {0, true, {0.25, 0.1}, 0.0, {1.0, 1.0}};
+  const int parent = b.add_node({"stretched_parent", {1.2, 0.0, 0.0}, kNoRotation, {1.5, 0.8, 1.0}});
+  const glm::dquat turn = glm::angleAxis(glm::radians(35.0), glm::dvec3(0, 0, 1));
+  const Geometry small_quad = b.add_geometry(make_quad(x, y, {1.3f, 1.3f}, {1, 1}, false));
+  b.add_node({"turned_quad", {0, 0, 0}, turn, kUnitScale, b.add_mesh("turned_quad", small_quad, b.add_material(bumpy))},
+             parent);
+
+  b.add_point_light("front", {0.0, 0.5, 3.0}, kWhite, 20.0);
+  b.add_point_light("side", {3.5, 0.0, 0.8}, {1.0, 0.9, 0.8}, 10.0);  // grazes the bevels
+  b.add_camera({0.0, 0.0, 4.8}, {0.0, 0.0, 0.0}, 0.8);
+  return b;
+}
+
+// Two lights whose glTF range ends inside the view, over a plain floor, for kit-grade's
+// lab 3: a point light 0.5 m above the floor with range 2.5 and a spot light whose range
+// (2.8) ends within its outer cone. The window 1 - (d / range)^4, squared, takes each to 0
+// at its range and dims it by 12 % already half way, so a falloff that drops the window
+// changes most of the lit floor (no light of the other scenes has a range).
+SceneBuilder build_range_scene() {
+  SceneBuilder b("range");
+  MaterialDesc mat;
+  mat.name = "grey_floor";
+  mat.base_color = glm::dvec4(0.6, 0.6, 0.6, 1.0);
+  mat.roughness = 0.7;
+  const Geometry floor = b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {12, 12}, {1, 1}, false));
+  b.add_mesh_node("floor", {0, 0, 0}, floor, b.add_material(mat));
+  b.add_point_light("short_point", {-1.5, 0.5, 0.0}, {1.0, 0.85, 0.7}, 8.0, 2.5);
+  b.add_spot_light("short_spot", {2.0, 2.0, -0.5}, {2.1, 0.0, -0.4}, {0.7, 0.8, 1.0}, 40.0, glm::radians(20.0),
+                   glm::radians(40.0), 2.8);
+  b.add_camera({0.0, 5.0, 6.0}, {0.0, 0.0, 0.5}, 0.8);
   return b;
 }
 
@@ -1163,6 +1355,9 @@ int main(int argc, char** argv) {
     build_highlight_scene().write(out_dir);
     build_sun_scene().write(out_dir);
     build_materials_scene(textures).write(out_dir);
+    build_texturing_scene(textures).write(out_dir);
+    build_range_scene().write(out_dir);
+    build_matte_scene().write(out_dir);
     build_crowd_scene().write(out_dir);
     write_obj_cube_scene(out_dir, textures);
     write_studio_environment(out_dir / "environments" / "studio.exr");

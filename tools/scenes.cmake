@@ -10,7 +10,7 @@ add_executable(kit-scenes ${CMAKE_CURRENT_LIST_DIR}/kit_scenes.cpp)
 target_link_libraries(kit-scenes PRIVATE kit_warnings TinyGLTF::TinyGLTF PkgConfig::OIIO glm::glm)
 
 # The scenes are build outputs in ${CMAKE_BINARY_DIR}/scenes/<name>/, regenerated whenever
-# kit-scenes changes. One command writes all nine glTF scenes, the OBJ cube and lab 6's two
+# kit-scenes changes. One command writes all twelve glTF scenes, the OBJ cube and lab 6's two
 # environments (environments/studio.exr, sun.exr); the .gltf files stand for the rest.
 set(KIT_SCENES_DIR ${CMAKE_BINARY_DIR}/scenes)
 set(KIT_SCENE_FILES
@@ -22,6 +22,9 @@ set(KIT_SCENE_FILES
   ${KIT_SCENES_DIR}/highlight/highlight.gltf
   ${KIT_SCENES_DIR}/materials/materials.gltf
   ${KIT_SCENES_DIR}/sun/sun.gltf
+  ${KIT_SCENES_DIR}/texturing/texturing.gltf
+  ${KIT_SCENES_DIR}/range/range.gltf
+  ${KIT_SCENES_DIR}/matte/matte.gltf
   ${KIT_SCENES_DIR}/crowd/crowd.gltf)
 set(KIT_SCENE_BYPRODUCTS
   ${KIT_SCENES_DIR}/default/default.bin
@@ -38,6 +41,13 @@ set(KIT_SCENE_BYPRODUCTS
   ${KIT_SCENES_DIR}/materials/checker.png
   ${KIT_SCENES_DIR}/materials/alpha_ramp.png
   ${KIT_SCENES_DIR}/sun/sun.bin
+  ${KIT_SCENES_DIR}/texturing/texturing.bin
+  ${KIT_SCENES_DIR}/texturing/uv_grid.png
+  ${KIT_SCENES_DIR}/texturing/packed_orm.png
+  ${KIT_SCENES_DIR}/texturing/checker.png
+  ${KIT_SCENES_DIR}/texturing/bumps_normal.png
+  ${KIT_SCENES_DIR}/range/range.bin
+  ${KIT_SCENES_DIR}/matte/matte.bin
   ${KIT_SCENES_DIR}/crowd/crowd.bin
   ${KIT_SCENES_DIR}/obj-cube/obj-cube.obj
   ${KIT_SCENES_DIR}/obj-cube/obj-cube.mtl
