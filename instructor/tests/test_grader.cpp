@@ -320,7 +320,7 @@ TEST(Grader, NanInAPrecomputedMapIsNamed) {
 }
 
 // Checks that read other views of one frame (the same scene and settings) share it: lab 1's
-// twelve G-buffer checks read three frames (one a scene), lab 4's four checks two, and every
+// fifteen G-buffer checks read four frames (one a scene), lab 4's six checks three, and every
 // check still gets full marks against references that were rendered one by one.
 TEST(Grader, ChecksOfOneFrameReadIt) {
   GradeRun r = grade(kit::kit_root() / "solutions", "one-frame", "--labs 1,4 --keep-temp");
@@ -338,8 +338,8 @@ TEST(Grader, ChecksOfOneFrameReadIt) {
   ASSERT_FALSE(submission.empty()) << kept;
   const json lab1 = read_json(submission / "lab1" / "child.json");
   const json lab4 = read_json(submission / "lab4" / "child.json");
-  EXPECT_EQ(lab1["seconds"]["render_each"].size(), 3u) << lab1.dump();
-  EXPECT_EQ(lab4["seconds"]["render_each"].size(), 2u) << lab4.dump();
+  EXPECT_EQ(lab1["seconds"]["render_each"].size(), 4u) << lab1.dump();
+  EXPECT_EQ(lab4["seconds"]["render_each"].size(), 3u) << lab4.dump();
   fs::remove_all(kept);
 }
 

@@ -1,6 +1,6 @@
 // Lab 2 and lab 3 output against a CPU double-precision evaluation of the same
 // equations (instructor/reference/cpu_reference.h) on the SAME read-back G-buffer: every
-// covered pixel of the default, grazing and sphere scenes plus a close-up of the
+// covered pixel of the default, grazing, sphere, sun and range scenes plus a close-up of the
 // sphere's silhouette, at stage lighting and at stage attenuation with both
 // falloff models and gamma 2.2 and 1.0. A pixel agrees when its linear HDR value
 // is within 1e-3 relative (measured from the fp16 values either side of the
@@ -243,6 +243,29 @@ TEST(LabEquations, SunAsPointLightAtItsNodeFailsTheCheck) {
     EXPECT_GT(point.failures, pixels.size() / 2) << stage << ": " << describe(point);
     EXPECT_GT(point.max_hdr_relative, 100.0 * kHdrRelativeTolerance) << stage;
   }
+}
+
+// kit-grade's range scene (a point and a spot light whose glTF range ends in view) against
+// the reference, and its witness: the same frames evaluated with the ranges dropped (what
+// a falloff without kit_range_window computes) fail on much of the floor, at stage 3,
+// where the window applies.
+TEST(LabEquations, RangeSceneMatchesReferenceAndNoWindowFails) {
+  const Scene& s = scene("range");
+  ASSERT_EQ(std::count_if(s.lights.begin(), s.lights.end(), [](const Light& l) { return l.range > 0.0f; }), 2);
+  check_scene("range", s, {{"camera", scene_frame_camera(s, small_settings()), false}});
+  auto renderer = make_renderer("attenuation", s, small_settings());
+  const ref::ShadingSettings settings = ref::shading_settings(renderer->settings(), renderer->stage().number);
+  const std::vector<Light> lights = ref::frame_lights(s, renderer->settings());
+  std::vector<Light> unlimited = lights;
+  for (Light& light : unlimited) light.range = 0.0f;
+  const Frame frame = render_frame(*renderer, scene_frame_camera(s, small_settings()));
+  const PixelList pixels = covered_pixels(frame);
+  const Agreement kit = compare_with_reference(frame, lights, settings, pixels);
+  const Agreement no_window = compare_with_reference(frame, unlimited, settings, pixels);
+  std::printf("[ reference ] range, stage attenuation: with the window %s; without it %s\n", describe(kit).c_str(),
+              describe(no_window).c_str());
+  EXPECT_EQ(kit.failures, 0u) << describe(kit);
+  EXPECT_GT(no_window.failures, pixels.size() / 4) << describe(no_window);
 }
 
 // The reference's analytic surfaces (camera rays against the sphere and the plane)

@@ -63,6 +63,11 @@ const std::vector<RenderSpec>& renders() {
     r.push_back(gbuffer("lab1-materials-albedo", 1, "materials", View::Albedo));
     r.push_back(gbuffer("lab1-materials-material", 1, "materials", View::Material));
     r.push_back(gbuffer("lab1-materials-emission", 1, "materials", View::Emission));
+    // Each texture at its own UV: the texturing scene's base colour reads UV set 0, its
+    // metallic-roughness and emissive textures UV set 1, each through its own transform,
+    // and the metallic-roughness texture's channels differ (kit_scenes.cpp).
+    for (View view : {View::Albedo, View::Material, View::Emission})
+      r.push_back(gbuffer(std::string("lab1-texturing-") + view_name(view), 1, "texturing", view));
     // Lab 2: no falloff and a clamped display yet (framework/shaders/attenuation.glsl, tonemap.glsl),
     // so both the HDR buffer and the display image show the BRDF alone.
     for (const char* scene : {"default", "sphere"}) {
@@ -101,11 +106,18 @@ const std::vector<RenderSpec>& renders() {
     // it falls off: a sun dimmed with distance (or given the point light's flux) shows.
     r.push_back(hdr("lab3-sun-physical-hdr", 3, "sun"));
     r.push_back(with(hdr("lab3-sun-simple-hdr", 3, "sun"), simple));
+    // Two lights whose glTF range ends inside the view: the window must dim them.
+    r.push_back(hdr("lab3-range-physical-hdr", 3, "range"));
     // Lab 4: the lit image and the mapped normal itself.
     r.push_back(final_image("lab4-normalmap-final", 4, "normalmap"));
     r.push_back(final_image("lab4-default-final", 4, "default"));
     r.push_back(gbuffer("lab4-normalmap-normal", 4, "normalmap", View::Normal));
     r.push_back(gbuffer("lab4-default-normal", 4, "default", View::Normal));
+    // A normal map with normalTexture.scale 0.4 and its own UV transform, on a quad whose
+    // tangent lies along no axis of its parent's non-uniform scale; beside it the quad whose
+    // textures read two UV sets (lab 4's geometry pass reads them as lab 1's does).
+    r.push_back(final_image("lab4-texturing-final", 4, "texturing"));
+    r.push_back(gbuffer("lab4-texturing-normal", 4, "texturing", View::Normal));
     // Lab 5: bloom at two thresholds and on the sphere's highlight, the toggle off
     // (must equal stage 4), and the free-choice effect isolated on the solution's bloom.
     auto off = [](RenderSpec& s) { s.postprocess = false; };
@@ -154,6 +166,10 @@ const std::vector<RenderSpec>& renders() {
     // BLEND layers (lit by the same ibl.frag in the forward pass), an emitter on black
     // and a double-sided back face: the IBL is added to what the lighting pass wrote.
     r.push_back(with(hdr("lab6-materials-studio-hdr", 6, "materials"), studio));
+    // A white rough floor at grazing angles, where the diffuse part is as large as the
+    // reflection and the table's diffuse Fresnel weight C is smallest (about 0.97): an
+    // ibl.frag without C is 3 % too bright over the whole floor (elsewhere C is near 1).
+    r.push_back(with(hdr("lab6-matte-sun-hdr", 6, "matte"), sun));
     return r;
   }();
   return kRenders;
@@ -175,6 +191,9 @@ const std::vector<Check>& checks() {
       {1, "materials-albedo", "materials scene, albedo and alpha", Metric::Albedo, "lab1-materials-albedo", "lab1-materials-albedo"},
       {1, "materials-material", "materials scene, material (MASK coverage)", Metric::Material, "lab1-materials-material", "lab1-materials-material"},
       {1, "materials-emission", "materials scene, emission", Metric::Hdr, "lab1-materials-emission", "lab1-materials-emission"},
+      {1, "texturing-albedo", "texturing scene, albedo (UV set 0, transformed)", Metric::Albedo, "lab1-texturing-albedo", "lab1-texturing-albedo"},
+      {1, "texturing-material", "texturing scene, material (UV set 1, transformed; channels G and B)", Metric::Material, "lab1-texturing-material", "lab1-texturing-material"},
+      {1, "texturing-emission", "texturing scene, emission (UV set 1, transformed)", Metric::Hdr, "lab1-texturing-emission", "lab1-texturing-emission"},
 
       {2, "default-final", "default scene, final image", Metric::Ldr, "lab2-default-final", "lab2-default-final"},
       {2, "default-hdr", "default scene, HDR", Metric::Hdr, "lab2-default-hdr", "lab2-default-hdr"},
@@ -194,11 +213,14 @@ const std::vector<Check>& checks() {
       {3, "spot-physical-hdr", "spot scene (wide penumbra), physical falloff, HDR", Metric::Hdr, "lab3-spot-physical-hdr", "lab3-spot-physical-hdr"},
       {3, "sun-physical-hdr", "sun scene (directional light), physical falloff, HDR", Metric::Hdr, "lab3-sun-physical-hdr", "lab3-sun-physical-hdr"},
       {3, "sun-simple-hdr", "sun scene (directional light), simple falloff, HDR", Metric::Hdr, "lab3-sun-simple-hdr", "lab3-sun-simple-hdr"},
+      {3, "range-physical-hdr", "range scene (glTF range ends in view), physical falloff, HDR", Metric::Hdr, "lab3-range-physical-hdr", "lab3-range-physical-hdr"},
 
       {4, "normalmap-final", "normalmap scene, final image", Metric::Ldr, "lab4-normalmap-final", "lab4-normalmap-final"},
       {4, "default-final", "default scene, final image", Metric::Ldr, "lab4-default-final", "lab4-default-final"},
       {4, "normalmap-normal", "normalmap scene, mapped normal", Metric::Normal, "lab4-normalmap-normal", "lab4-normalmap-normal"},
       {4, "default-normal", "default scene, mapped normal", Metric::Normal, "lab4-default-normal", "lab4-default-normal"},
+      {4, "texturing-final", "texturing scene (two UV sets, scaled normal map), final image", Metric::Ldr, "lab4-texturing-final", "lab4-texturing-final"},
+      {4, "texturing-normal", "texturing scene, mapped normal (normal scale 0.4, tangent under non-uniform scale)", Metric::Normal, "lab4-texturing-normal", "lab4-texturing-normal"},
 
       {5, "default-bloom", "default scene, bloom on", Metric::Ldr, "lab5-default-bloom", "lab5-default-bloom"},
       {5, "default-threshold05", "default scene, bloom threshold 0.5", Metric::Ldr, "lab5-default-threshold05", "lab5-default-threshold05"},
@@ -222,6 +244,7 @@ const std::vector<Check>& checks() {
       {6, "sun-prefiltered", "prefiltered map of the sun environment (6 levels)", Metric::Hdr, "lab6-sun-prefiltered", "lab6-sun-prefiltered"},
       {6, "highlight-sun-hdr", "highlight close-up under the sun environment, HDR", Metric::Hdr, "lab6-highlight-sun-hdr", "lab6-highlight-sun-hdr"},
       {6, "default-studio-hdr", "default scene under the studio environment, HDR", Metric::Hdr, "lab6-default-studio-hdr", "lab6-default-studio-hdr"},
+      {6, "matte-sun-hdr", "rough floor at grazing angles under the sun environment (diffuse Fresnel weight), HDR", Metric::Hdr, "lab6-matte-sun-hdr", "lab6-matte-sun-hdr"},
       {6, "materials-studio-hdr", "materials scene (BLEND layers, emitter) under the studio environment, HDR", Metric::Hdr, "lab6-materials-studio-hdr", "lab6-materials-studio-hdr"},
   };
   return kChecks;
