@@ -5,7 +5,12 @@
 if(KIT_FUZZ)
   return()
 endif()
-add_executable(kit-scenes ${CMAKE_CURRENT_LIST_DIR}/kit_scenes.cpp)
+add_executable(kit-scenes ${CMAKE_CURRENT_LIST_DIR}/kit_scenes.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/scenes/scene_catalogue.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/scenes/gltf_scene_writer.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/scenes/scene_images.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/scenes/scene_meshes.cpp
+  ${CMAKE_CURRENT_LIST_DIR}/scenes/environments.cpp)
 # PkgConfig::OIIO: the top level finds OpenImageIO through pkg-config (see CMakeLists.txt).
 target_link_libraries(kit-scenes PRIVATE kit_warnings TinyGLTF::TinyGLTF PkgConfig::OIIO glm::glm)
 

@@ -211,7 +211,7 @@ TEST(LabEquations, SphereSceneMatchesReference) {
 }
 
 // A low sun (a directional light, l = -direction, no falloff) and a point light
-// over a floor and a sphere (tools/kit_scenes.cpp build_sun_scene).
+// over a floor and a sphere (tools/scenes/scene_catalogue.cpp build_sun_scene).
 TEST(LabEquations, SunSceneMatchesReference) {
   const Scene& s = scene("sun");
   ASSERT_EQ(std::count_if(s.lights.begin(), s.lights.end(), [](const Light& l) { return l.type == KIT_LIGHT_DIRECTIONAL; }), 1);

@@ -65,7 +65,7 @@ const std::vector<RenderSpec>& renders() {
     r.push_back(gbuffer("lab1-materials-emission", 1, "materials", View::Emission));
     // Each texture at its own UV: the texturing scene's base colour reads UV set 0, its
     // metallic-roughness and emissive textures UV set 1, each through its own transform,
-    // and the metallic-roughness texture's channels differ (kit_scenes.cpp).
+    // and the metallic-roughness texture's channels differ (tools/scenes/scene_catalogue.cpp).
     for (View view : {View::Albedo, View::Material, View::Emission})
       r.push_back(gbuffer(std::string("lab1-texturing-") + view_name(view), 1, "texturing", view));
     // Lab 2: no falloff and a clamped display yet (framework/shaders/attenuation.glsl, tonemap.glsl),
