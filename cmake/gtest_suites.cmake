@@ -21,14 +21,16 @@ if(NOT LIST_MODE)
 
   function(kit_gtest_suites target prefix working_directory environment)
     set(cost 1)
+    set(labels "")
     if("SLOW" IN_LIST ARGN)
       set(cost 100)
+      set(labels slow)  # left out by ./kit test --quick
     endif()
     set(list_file "${CMAKE_CURRENT_BINARY_DIR}/${target}_suites.cmake")
     add_custom_command(TARGET ${target} POST_BUILD
       COMMAND ${CMAKE_COMMAND} -D LIST_MODE=ON -D "PROGRAM=$<TARGET_FILE:${target}>" -D "PREFIX=${prefix}"
               -D "WORKING_DIRECTORY=${working_directory}" -D "ENVIRONMENT=${environment}"
-              -D "COST=${cost}"
+              -D "COST=${cost}" -D "LABELS=${labels}"
               -D "OUTPUT=${list_file}" -P ${KIT_GTEST_SUITES_SCRIPT}
       VERBATIM)
     # ctest reads the list through this file; before the first build it names a
@@ -60,7 +62,7 @@ set(suites 0)
 function(add_listed_test name filter)
   string(APPEND script "add_test([==[${name}]==] [==[${PROGRAM}]==] [==[--gtest_filter=${filter}]==])\n"
     "set_tests_properties([==[${name}]==] PROPERTIES WORKING_DIRECTORY [==[${WORKING_DIRECTORY}]==]"
-    " ENVIRONMENT [==[${ENVIRONMENT}]==] COST ${COST})\n")
+    " ENVIRONMENT [==[${ENVIRONMENT}]==] COST ${COST} LABELS [==[${LABELS}]==])\n")
   set(script "${script}" PARENT_SCOPE)
 endfunction()
 foreach(line IN LISTS lines)

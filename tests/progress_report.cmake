@@ -9,7 +9,7 @@ if(TARGET kit-grade AND TARGET kit-render)
   add_test(NAME progress_report
            COMMAND ${KIT_REPORT_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/progress_report_test.py
                    $<TARGET_FILE:kit-grade> $<TARGET_FILE:kit-render> ${CMAKE_BINARY_DIR}/test-tmp/progress_report)
-  set_tests_properties(progress_report PROPERTIES
+  set_tests_properties(progress_report PROPERTIES LABELS slow
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
     TIMEOUT 300
     # It takes about 15 s: started first, as kit_test's SLOW suites are.

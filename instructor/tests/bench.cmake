@@ -8,7 +8,7 @@ grep -q '^ibl-sh2,' \"$out/results.csv\" && \
 for f in speed_accuracy.png speed_accuracy.svg lights_scaling.png lights_scaling.svg ibl_speed_accuracy.png ibl_speed_accuracy.svg; do \
 test -s \"$out/$f\" || { echo \"missing $out/$f\"; exit 1; }; done"
     $<TARGET_FILE:kit-bench> ${CMAKE_BINARY_DIR}/test-tmp/bench_quick)
-set_tests_properties(bench_quick PROPERTIES
+set_tests_properties(bench_quick PROPERTIES LABELS slow
   ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
   TIMEOUT 300
   # About 15 s: started first, as kit_test's SLOW suites are (cmake/gtest_suites.cmake).

@@ -13,7 +13,7 @@ if(TARGET kit-grade)
   add_test(NAME grade_self_check
            COMMAND ${KIT_SELF_CHECK_PYTHON} ${CMAKE_SOURCE_DIR}/instructor/grading/self_check.py
                    --kit-grade $<TARGET_FILE:kit-grade> --jobs 2)
-  set_tests_properties(grade_self_check PROPERTIES
+  set_tests_properties(grade_self_check PROPERTIES LABELS slow
     TIMEOUT 600
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
     # It keeps both cores busy: running other tests beside it only slows both down.

@@ -13,4 +13,4 @@ add_test(NAME fuzz
 # COST: the longest test that can share the machine starts first, so the short ones
 # fill the other core beside it instead of waiting at the end (a fresh clone has no
 # timings from an earlier run for ctest to order by).
-set_tests_properties(fuzz PROPERTIES TIMEOUT 900 COST 1000)
+set_tests_properties(fuzz PROPERTIES LABELS slow TIMEOUT 900 COST 1000)

@@ -6,5 +6,5 @@ if(TARGET kit-render AND TARGET kit-grade)
   add_test(NAME no_osmesa
            COMMAND ${CMAKE_CURRENT_LIST_DIR}/no_osmesa_test.sh ${PROJECT_SOURCE_DIR} ${CMAKE_BINARY_DIR}
                    ${CMAKE_BINARY_DIR}/test-tmp/no_osmesa)
-  set_tests_properties(no_osmesa PROPERTIES TIMEOUT 600 COST 200)
+  set_tests_properties(no_osmesa PROPERTIES LABELS slow TIMEOUT 600 COST 200)
 endif()

@@ -9,7 +9,7 @@ if(TARGET kit-grade)
            COMMAND ${CMAKE_COMMAND} -E env GALLIUM_DRIVER=softpipe
                    ${CMAKE_CURRENT_LIST_DIR}/grade_softpipe_test.sh $<TARGET_FILE:kit-grade>
                    ${CMAKE_SOURCE_DIR}/solutions ${CMAKE_BINARY_DIR}/test-tmp/grade_softpipe)
-  set_tests_properties(grade_solutions_softpipe PROPERTIES
+  set_tests_properties(grade_solutions_softpipe PROPERTIES LABELS slow
     TIMEOUT 300
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
     COST 150)

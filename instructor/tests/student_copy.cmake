@@ -5,7 +5,7 @@
 # solution full. It builds a second kit (the copy's), so it takes minutes.
 add_test(NAME student_copy
   COMMAND bash ${CMAKE_CURRENT_LIST_DIR}/student_copy_test.sh $<TARGET_FILE:kit-grade> ${CMAKE_BINARY_DIR}/test-tmp/student_copy)
-set_tests_properties(student_copy PROPERTIES
+set_tests_properties(student_copy PROPERTIES LABELS slow
   TIMEOUT 1500
   # It builds a whole copy of the kit on both cores.
   RUN_SERIAL TRUE)

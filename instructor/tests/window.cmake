@@ -6,6 +6,6 @@ if(TARGET kit-view)
             $<TARGET_FILE:kit-view> $<TARGET_FILE:kit-render> ${CMAKE_CURRENT_BINARY_DIR}/window_matches_headless)
   set_tests_properties(window_matches_headless PROPERTIES
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
-    LABELS window
+    LABELS "window;slow"
     TIMEOUT 180)
 endif()
