@@ -104,7 +104,7 @@ bool same_image_settings(const RenderSettings& a, const RenderSettings& b) {
   return a.gamma == b.gamma && a.attenuation_model == b.attenuation_model && a.postprocess == b.postprocess &&
          a.custom_effect == b.custom_effect && a.bloom_threshold == b.bloom_threshold &&
          a.blur_passes == b.blur_passes && a.clear_color == b.clear_color && a.extra_lights == b.extra_lights &&
-         a.frustum_culling == b.frustum_culling && a.compress_large_textures == b.compress_large_textures &&
+         a.frustum_culling == b.frustum_culling && a.texture_compression == b.texture_compression &&
          a.default_light_rig == b.default_light_rig &&
          a.light_markers == b.light_markers && a.environment == b.environment && a.ibl == b.ibl;
 }
@@ -307,9 +307,9 @@ void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu
 }
 
 namespace {
-SceneGpu timed_scene_upload(const Scene& scene, bool compress_large_textures, double& seconds) {
+SceneGpu timed_scene_upload(const Scene& scene, TextureCompression compression, double& seconds) {
   const auto start = std::chrono::steady_clock::now();
-  SceneGpu gpu(scene, compress_large_textures);
+  SceneGpu gpu(scene, compression);
   glFinish();  // the upload's GL work is done, not only queued
   seconds = seconds_since(start);
   return gpu;
@@ -331,7 +331,7 @@ Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene
       library_(std::move(library)),
       scene_(scene),
       settings_(settings),
-      scene_gpu_(timed_scene_upload(scene, settings.compress_large_textures, scene_upload_seconds_)),
+      scene_gpu_(timed_scene_upload(scene, settings.texture_compression, scene_upload_seconds_)),
       gbuffer_(settings.width, settings.height),
       ibl_cache_(ibl_cache) {
   blend_draws_ = has_blend_draws(scene_);
