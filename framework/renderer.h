@@ -13,6 +13,7 @@
 #include "gbuffer.h"
 #include "ibl.h"
 #include "image_io.h"
+#include "material_variants.h"
 #include "pass_clock.h"
 #include "scene.h"
 #include "stages.h"
@@ -172,6 +173,11 @@ enum class DrawSet { All, AllButBlend };
 // `view_projection` are skipped.
 void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
                 const glm::mat4& view_projection, bool frustum_culling, DrawSet set = DrawSet::All);
+// The same with each draw's material variant (GeometryPrograms::for_draw, material_variants.h),
+// every variant's frame uniforms set; each program it draws with is added once to `drawn`.
+void draw_scene(const GeometryPrograms& geometry, const Scene& scene, const SceneGpu& gpu,
+                const glm::mat4& view_projection, bool frustum_culling, DrawSet set,
+                std::vector<const Program*>* drawn = nullptr);
 // The material a draw item is drawn with: its primitive's, or glTF's default material.
 const Material& draw_material(const Scene& scene, const DrawItem& draw);
 // One draw item as draw_scene draws it; end_scene_draws() restores GL's state after the last.
