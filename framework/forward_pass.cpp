@@ -150,10 +150,11 @@ void ForwardPass::resize(int width, int height) {
   allocate();
 }
 
-void ForwardPass::draw_blend_layers(const Program& geometry, const Program& lighting, const Program* ibl,
-                                    const Scene& scene, const SceneGpu& gpu, const GBuffer& opaque, const Framebuffer& hdr_fbo,
-                                    const glm::mat4& view, const glm::mat4& view_projection,
-                                    const FullscreenTriangle& triangle) {
+void ForwardPass::draw_blend_layers(const GeometryPrograms& geometry_programs, const Program& lighting,
+                                    const Program* ibl, const Scene& scene, const SceneGpu& gpu, const GBuffer& opaque,
+                                    const Framebuffer& hdr_fbo, const glm::mat4& view,
+                                    const glm::mat4& view_projection, const FullscreenTriangle& triangle,
+                                    std::vector<const Program*>* drawn) {
   for (size_t index : blend_draws_back_to_front(scene, view)) {
     const DrawItem& d = scene.draws[index];
     const Primitive& prim = scene.primitives[static_cast<size_t>(d.primitive)];
@@ -171,6 +172,8 @@ void ForwardPass::draw_blend_layers(const Program& geometry, const Program& ligh
     const int x1 = rect.x + rect.width, y1 = rect.y + rect.height;
     glBlitFramebuffer(rect.x, rect.y, x1, y1, rect.x, rect.y, x1, y1, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
     begin_geometry_pass_on(layer_.framebuffer(), width_, height_, KIT_GBUF_COUNT, glm::vec4(0.0f), false);
+    const Program& geometry = geometry_programs.for_draw(scene, d);
+    if (drawn && std::find(drawn->begin(), drawn->end(), &geometry) == drawn->end()) drawn->push_back(&geometry);
     geometry.use();
     draw_item(geometry, scene, gpu, d);
     end_scene_draws();

@@ -18,6 +18,7 @@
 
 #include "gbuffer.h"
 #include "gl_objects.h"
+#include "material_variants.h"
 #include "scene.h"
 
 namespace kit {
@@ -73,16 +74,17 @@ class ForwardPass {
   bool built_from(const ShaderLibrary& library) const;
   void resize(int width, int height);
 
-  // The BLEND draws over `hdr_fbo` (colour: the HDR target). `geometry` and
-  // `lighting` (and at stage 6 `ibl`, else null, added to the layer as to the opaque
-  // surfaces) are the stage's programs with their frame uniforms set; the lights
+  // The BLEND draws over `hdr_fbo` (colour: the HDR target). `geometry` (each draw's
+  // material variant) and `lighting` (and at stage 6 `ibl`, else null, added to the layer
+  // as to the opaque surfaces) are the stage's programs with their frame uniforms set; the lights
   // texture (and the IBL maps) are bound; `opaque` is the frame's G-buffer with the opaque surfaces.
   // Leaves the layer's textures bound on the G-buffer units: rebind the opaque ones
-  // before a pass reads them.
-  void draw_blend_layers(const Program& geometry, const Program& lighting, const Program* ibl, const Scene& scene,
-                         const SceneGpu& gpu,
+  // before a pass reads them. Each geometry program it draws with is added once to `drawn`.
+  void draw_blend_layers(const GeometryPrograms& geometry, const Program& lighting, const Program* ibl,
+                         const Scene& scene, const SceneGpu& gpu,
                          const GBuffer& opaque, const Framebuffer& hdr_fbo, const glm::mat4& view,
-                         const glm::mat4& view_projection, const FullscreenTriangle& triangle);
+                         const glm::mat4& view_projection, const FullscreenTriangle& triangle,
+                         std::vector<const Program*>* drawn = nullptr);
 
   // Light markers into `hdr` (the HDR texture), depth-tested against `opaque`'s
   // depth. `marker` programs need their frame uniforms set (set_frame_uniforms).

@@ -2,6 +2,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <algorithm>
 #include <sstream>
 
 #include "error.h"
@@ -356,19 +357,38 @@ Mesh::Mesh(const std::vector<Vertex>& vertices, const std::vector<uint32_t>& ind
   attribute(KIT_ATTR_POSITION, 3, offsetof(Vertex, position));
   attribute(KIT_ATTR_NORMAL, 3, offsetof(Vertex, normal));
   attribute(KIT_ATTR_TEXCOORD, 2, offsetof(Vertex, texcoord));
-  attribute(KIT_ATTR_TEXCOORD1, 2, offsetof(Vertex, texcoord1));
   attribute(KIT_ATTR_TANGENT, 4, offsetof(Vertex, tangent));
-  attribute(KIT_ATTR_COLOR, 4, offsetof(Vertex, color), GL_UNSIGNED_SHORT, GL_TRUE);
+  // UV slot 1 and COLOR_0 are fetched per vertex only where a vertex holds another value
+  // than the default: a mesh without them (most) leaves their arrays disabled, and the
+  // vertex stage reads the attribute's current value instead, the same default
+  // (draw() sets it: white for COLOR_0, GL's (0, 0, 0, 1) for slot 1, whose xy is zero).
+  const auto has = [&](auto differs) { return std::any_of(vertices.begin(), vertices.end(), differs); };
+  if (has([](const Vertex& v) { return v.texcoord1 != glm::vec2(0.0f); }))
+    attribute(KIT_ATTR_TEXCOORD1, 2, offsetof(Vertex, texcoord1));
+  else
+    fetch_defaults_ |= kDefaultTexcoord1;
+  if (has([](const Vertex& v) { return v.color != glm::u16vec4(Vertex::kVertexColorOne); }))
+    attribute(KIT_ATTR_COLOR, 4, offsetof(Vertex, color), GL_UNSIGNED_SHORT, GL_TRUE);
+  else
+    fetch_defaults_ |= kDefaultColor;
   glBindVertexArray(0);
+}
+
+void Mesh::set_default_attributes() const {
+  // Current values are context state, not the VAO's: set for every draw that reads them.
+  if (fetch_defaults_ & kDefaultTexcoord1) glVertexAttrib4f(KIT_ATTR_TEXCOORD1, 0.0f, 0.0f, 0.0f, 1.0f);
+  if (fetch_defaults_ & kDefaultColor) glVertexAttrib4f(KIT_ATTR_COLOR, 1.0f, 1.0f, 1.0f, 1.0f);
 }
 
 void Mesh::draw() const {
   glBindVertexArray(vao_.get());
+  set_default_attributes();
   glDrawElements(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr);
 }
 
 void Mesh::draw_instanced(int instances) const {
   glBindVertexArray(vao_.get());
+  set_default_attributes();
   glDrawElementsInstanced(GL_TRIANGLES, index_count_, GL_UNSIGNED_INT, nullptr, instances);
 }
 

@@ -206,11 +206,16 @@ class Mesh {
   // `instances` copies in one draw; shaders tell them apart by gl_InstanceID.
   void draw_instanced(int instances) const;
   GLsizei index_count() const { return index_count_; }
+  // Whether every vertex holds the default white COLOR_0 (the array is then not fetched).
+  bool default_color() const { return (fetch_defaults_ & kDefaultColor) != 0; }
 
  private:
+  static constexpr unsigned kDefaultTexcoord1 = 1, kDefaultColor = 2;
+  void set_default_attributes() const;
   GlName<delete_vertex_array> vao_;
   GlName<delete_buffer> vbo_, ebo_;
   GLsizei index_count_ = 0;
+  unsigned fetch_defaults_ = 0;  // attributes left at their current value, kDefault* bits
 };
 
 // The one full-screen draw: a single triangle covering the viewport, its

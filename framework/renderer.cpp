@@ -66,7 +66,8 @@ Program make_program(const ShaderLibrary& library, const std::string& vs, const 
 }
 
 struct Renderer::Programs {
-  Program geometry, lighting, display, bright, blur, composite, custom, debug;
+  GeometryPrograms geometry;  // one program per material variant the scene's draws use
+  Program lighting, display, bright, blur, composite, custom, debug;
   // Stage 6: the lab's precompute shaders, its IBL pass, and the framework's background.
   Program irradiance, prefilter, brdf_lut, ibl, background;
 };
@@ -104,7 +105,7 @@ bool same_image_settings(const RenderSettings& a, const RenderSettings& b) {
   return a.gamma == b.gamma && a.attenuation_model == b.attenuation_model && a.postprocess == b.postprocess &&
          a.custom_effect == b.custom_effect && a.bloom_threshold == b.bloom_threshold &&
          a.blur_passes == b.blur_passes && a.clear_color == b.clear_color && a.extra_lights == b.extra_lights &&
-         a.frustum_culling == b.frustum_culling && a.compress_large_textures == b.compress_large_textures &&
+         a.frustum_culling == b.frustum_culling && a.texture_compression == b.texture_compression &&
          a.default_light_rig == b.default_light_rig &&
          a.light_markers == b.light_markers && a.environment == b.environment && a.ibl == b.ibl;
 }
@@ -293,23 +294,48 @@ void end_scene_draws() {
     Sampler::unbind(unit);
 }
 
-void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
-                const glm::mat4& view_projection, bool frustum_culling, DrawSet set) {
+namespace {
+// draw_scene's loop: `program_for(d)` draws d, put in use when it is another than the last draw's.
+template <typename ProgramFor>
+void draw_scene_with(const ProgramFor& program_for, const Scene& scene, const SceneGpu& gpu,
+                     const glm::mat4& view_projection, bool frustum_culling, DrawSet set,
+                     std::vector<const Program*>* drawn) {
   const Frustum frustum = frustum_from(view_projection);
+  const Program* current = nullptr;
   for (const DrawItem& d : scene.draws) {
     if (set == DrawSet::AllButBlend && is_blend_draw(scene, d)) continue;  // the forward pass draws it
     const Primitive& prim = scene.primitives[static_cast<size_t>(d.primitive)];
     // A draw wholly outside the view adds no fragment: skipping it saves its vertex work.
     if (frustum_culling && !intersects(frustum, prim.bounds_min, prim.bounds_max, d.world)) continue;
-    draw_item(geometry, scene, gpu, d);
+    const Program& program = program_for(d);
+    if (&program != current) {
+      program.use();
+      current = &program;
+      if (drawn && std::find(drawn->begin(), drawn->end(), current) == drawn->end()) drawn->push_back(current);
+    }
+    draw_item(program, scene, gpu, d);
   }
   end_scene_draws();
 }
+}  // namespace
+
+void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
+                const glm::mat4& view_projection, bool frustum_culling, DrawSet set) {
+  draw_scene_with([&](const DrawItem&) -> const Program& { return geometry; }, scene, gpu, view_projection,
+                  frustum_culling, set, nullptr);
+}
+
+void draw_scene(const GeometryPrograms& geometry, const Scene& scene, const SceneGpu& gpu,
+                const glm::mat4& view_projection, bool frustum_culling, DrawSet set,
+                std::vector<const Program*>* drawn) {
+  draw_scene_with([&](const DrawItem& d) -> const Program& { return geometry.for_draw(scene, d); }, scene, gpu,
+                  view_projection, frustum_culling, set, drawn);
+}
 
 namespace {
-SceneGpu timed_scene_upload(const Scene& scene, bool compress_large_textures, double& seconds) {
+SceneGpu timed_scene_upload(const Scene& scene, TextureCompression compression, double& seconds) {
   const auto start = std::chrono::steady_clock::now();
-  SceneGpu gpu(scene, compress_large_textures);
+  SceneGpu gpu(scene, compression);
   glFinish();  // the upload's GL work is done, not only queued
   seconds = seconds_since(start);
   return gpu;
@@ -331,7 +357,7 @@ Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene
       library_(std::move(library)),
       scene_(scene),
       settings_(settings),
-      scene_gpu_(timed_scene_upload(scene, settings.compress_large_textures, scene_upload_seconds_)),
+      scene_gpu_(timed_scene_upload(scene, settings.texture_compression, scene_upload_seconds_)),
       gbuffer_(settings.width, settings.height),
       ibl_cache_(ibl_cache) {
   blend_draws_ = has_blend_draws(scene_);
@@ -357,7 +383,8 @@ void Renderer::build_programs() {
     else
       (*p).*slot = make_program(library_, vertex, fragment);
   };
-  build(&Programs::geometry, "gbuffer.vert", "gbuffer.frag");
+  p->geometry = GeometryPrograms(library_, GeometryPrograms::feature_sets(scene_), "gbuffer.vert", "gbuffer.frag",
+                                 programs_ ? &programs_->geometry : nullptr);
   if (stage_.lighting) {
     build(&Programs::lighting, "fullscreen.vert", "lighting.frag");
     build(&Programs::display, "fullscreen.vert", "display.frag");
@@ -381,6 +408,7 @@ void Renderer::build_programs() {
   if (stage_.lighting && !keep_forward)
     forward = std::make_unique<ForwardPass>(library_, settings_.width, settings_.height);
   for (Program Programs::*slot : kept) (*p).*slot = std::move((*programs_).*slot);
+  if (programs_) p->geometry.keep_from(programs_->geometry);
   auto was_kept = [&](Program Programs::*slot) { return std::find(kept.begin(), kept.end(), slot) != kept.end(); };
   // The maps are made by the precompute programs alone: kept, they would come out the same.
   const bool maps_current = ibl_ && was_kept(&Programs::irradiance) && was_kept(&Programs::prefilter) &&
@@ -435,10 +463,13 @@ void Renderer::reload_shaders() { build_programs(); }
 
 std::vector<std::filesystem::path> Renderer::shader_paths() const {
   std::vector<std::filesystem::path> out;
-  for (const Program* p : {&programs_->geometry, &programs_->lighting, &programs_->display, &programs_->bright,
-                           &programs_->blur, &programs_->composite, &programs_->custom, &programs_->irradiance,
-                           &programs_->prefilter, &programs_->brdf_lut, &programs_->ibl})
-    out.insert(out.end(), p->source_paths().begin(), p->source_paths().end());
+  // Every geometry variant is assembled from the same files: the first one names them.
+  const Program* geometry = programs_->geometry.all().front();
+  const Programs& p = *programs_;
+  for (const Program* program : std::initializer_list<const Program*>{
+           geometry, &p.lighting, &p.display, &p.bright, &p.blur, &p.composite, &p.custom, &p.irradiance,
+           &p.prefilter, &p.brdf_lut, &p.ibl})
+    out.insert(out.end(), program->source_paths().begin(), program->source_paths().end());
   return out;
 }
 
@@ -575,7 +606,7 @@ void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
   clock.lap("setup");
   camera_ = camera;
   const Programs& p = *programs_;
-  for (const Program* program : {&p.geometry, &p.lighting, &p.display, &p.bright, &p.blur, &p.composite, &p.custom,
+  for (const Program* program : {&p.lighting, &p.display, &p.bright, &p.blur, &p.composite, &p.custom,
                                  &p.irradiance, &p.prefilter, &p.brdf_lut, &p.ibl, &p.background}) {
     bool drawn = program->valid() && (program != &p.display || !stage_.postprocess) &&
                  (program != &p.blur || settings_.blur_passes > 0);
@@ -588,9 +619,11 @@ void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
   //    materials are left to the forward pass (stage 1 has no lighting to blend).
   const glm::mat4 view_projection = camera_.projection * camera_.view;
   gbuffer_.begin_geometry_pass();
-  set_frame_uniforms(p.geometry);
+  for (const Program* variant : p.geometry.all()) set_frame_uniforms(*variant);
+  std::vector<const Program*> drawn;
   draw_scene(p.geometry, scene_, scene_gpu_, view_projection, settings_.frustum_culling,
-             stage_.lighting ? DrawSet::AllButBlend : DrawSet::All);
+             stage_.lighting ? DrawSet::AllButBlend : DrawSet::All, &drawn);
+  used_.insert(used_.begin(), drawn.begin(), drawn.end());
   check_gl("geometry pass");
   clock.lap("geometry");
   if (!stage_.lighting) return;
@@ -619,8 +652,11 @@ void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
   // 2'. Forward pass (forward_pass.h): BLEND draws back to front over the HDR
   //     target, lit by the same lighting pass; then the light markers.
   if (blend_draws_) {
+    drawn.clear();
     forward_->draw_blend_layers(p.geometry, p.lighting, ibl_ ? &p.ibl : nullptr, scene_, scene_gpu_, gbuffer_,
-                                hdr_fbo_, camera_.view, view_projection, triangle_);
+                                hdr_fbo_, camera_.view, view_projection, triangle_, &drawn);
+    for (const Program* program : drawn)
+      if (std::find(used_.begin(), used_.end(), program) == used_.end()) used_.insert(used_.begin(), program);
     gbuffer_.bind_textures();  // the opaque G-buffer again, for the passes after
     check_gl("forward pass (BLEND materials)");
   }

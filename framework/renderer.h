@@ -13,6 +13,7 @@
 #include "gbuffer.h"
 #include "ibl.h"
 #include "image_io.h"
+#include "material_variants.h"
 #include "pass_clock.h"
 #include "scene.h"
 #include "stages.h"
@@ -31,9 +32,10 @@ struct RenderSettings {
   glm::vec3 clear_color{0.02f, 0.02f, 0.025f};  // u_clear_color, linear HDR
   int extra_lights = 0;             // small point lights added around the scene (viewer slider, bench)
   bool frustum_culling = false;     // skip draws wholly outside the view (mesh_optimize.h); off by default
-  // Textures of at least kLargeTextureTexels (texture_prepare.h) uploaded as S3TC blocks
-  // (--compress-textures); smaller ones, every kit scene's, never are.
-  bool compress_large_textures = true;
+  // Whether textures of at least kLargeTextureTexels are uploaded as S3TC blocks
+  // (--compress-textures): Auto decides by the scene's texture bytes and the context
+  // (decide_texture_compression, texture_compression.h); smaller ones never are.
+  TextureCompression texture_compression = TextureCompression::Auto;
   // A scene without lights gets default_light_rig's lights. The tools turn this on
   // (cli.h; --no-default-lights turns it off); the grader and the tests render
   // scenes as they are.
@@ -171,6 +173,11 @@ enum class DrawSet { All, AllButBlend };
 // `view_projection` are skipped.
 void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
                 const glm::mat4& view_projection, bool frustum_culling, DrawSet set = DrawSet::All);
+// The same with each draw's material variant (GeometryPrograms::for_draw, material_variants.h),
+// every variant's frame uniforms set; each program it draws with is added once to `drawn`.
+void draw_scene(const GeometryPrograms& geometry, const Scene& scene, const SceneGpu& gpu,
+                const glm::mat4& view_projection, bool frustum_culling, DrawSet set,
+                std::vector<const Program*>* drawn = nullptr);
 // The material a draw item is drawn with: its primitive's, or glTF's default material.
 const Material& draw_material(const Scene& scene, const DrawItem& draw);
 // One draw item as draw_scene draws it; end_scene_draws() restores GL's state after the last.
@@ -228,6 +235,8 @@ class Renderer {
   std::vector<std::filesystem::path> shader_paths() const;  // for hot reload
   // Seconds the scene's meshes and textures took to decode and upload (SceneGpu).
   double scene_upload_seconds() const { return scene_upload_seconds_; }
+  // Whether the scene's large textures were compressed, and why (SceneGpu).
+  const TextureCompressionDecision& texture_compression() const { return scene_gpu_.texture_compression(); }
   // Stage 6: the environment and its maps (null at other stages).
   const ImageBasedLighting* image_based_lighting() const { return ibl_.get(); }
   // The same, to change a map (ImageBasedLighting::set_irradiance, kit-bench): lasts until

@@ -1481,24 +1481,26 @@ void decode_then_upload(const Scene& scene, const std::vector<size_t>& order,
 
 }  // namespace
 
-SceneGpu::SceneGpu(const Scene& scene, bool compress_large_textures) {
+SceneGpu::SceneGpu(const Scene& scene, TextureCompression compression) {
   const std::vector<ImageUse> uses = image_uses(scene);
   std::vector<size_t> order;
   bool any_large = false;
+  size_t bytes = 0;
   for (size_t i = 0; i < uses.size(); ++i)
     if (uses[i].srgb || uses[i].linear) {
       order.push_back(i);
-      any_large = any_large || is_large_texture(scene.images[i].width, scene.images[i].height);
+      const SceneImage& image = scene.images[i];
+      any_large = any_large || (is_large_texture(image.width, image.height) && (uses[i].srgb || !uses[i].normal_map));
+      bytes += rgba8_chain_bytes(image.width, image.height) * (uses[i].srgb && uses[i].linear ? 2 : 1);
     }
-  bool compress = compress_large_textures && any_large;
-  if (compress) {
-    const std::string reason = s3tc_unavailable_reason();
-    if (!reason.empty()) {
-      static std::once_flag said;
-      std::call_once(said, [&] { std::fprintf(stderr, "kit: note: large textures are not compressed: %s\n", reason.c_str()); });
-      compress = false;
-    }
+  const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  compression_ = decide_texture_compression(compression, bytes, any_large, renderer ? renderer : "",
+                                            any_large ? s3tc_unavailable_reason() : "");
+  if (compression_.wanted && !compression_.compress) {
+    static std::once_flag said;
+    std::call_once(said, [&] { std::fprintf(stderr, "kit: note: %s\n", compression_.reason.c_str()); });
   }
+  const bool compress = compression_.compress;
   srgb_.resize(scene.images.size());  // images no material samples this way keep an empty Texture2D
   linear_.resize(scene.images.size());
   decode_then_upload(
@@ -1512,6 +1514,8 @@ SceneGpu::SceneGpu(const Scene& scene, bool compress_large_textures) {
         // when uploaded as-is: GL's first row is then sampled at v = 0.
         if (decoded.srgb) srgb_[i] = upload_prepared(*decoded.srgb, true);
         if (decoded.linear) linear_[i] = upload_prepared(*decoded.linear, false);
+        for (const auto* prepared : {&decoded.srgb, &decoded.linear})
+          if (*prepared) compression_.uploaded_bytes += prepared_bytes(**prepared);
       });
   // The decode threads' arenas keep what they freed (keep_freed_memory_for_reuse's
   // thresholds): tens of MB of decoded images nothing will allocate again.

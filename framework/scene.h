@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "gl_objects.h"
+#include "texture_compression.h"
 
 namespace kit {
 
@@ -188,9 +189,11 @@ Camera chosen_camera(const Scene& scene, int index);
 // use (colour data as sRGB, normal and metallic-roughness data as linear).
 class SceneGpu {
  public:
-  // `compress_large_textures`: textures of at least kLargeTextureTexels are uploaded as
-  // S3TC blocks (texture_prepare.h) where the context has them; smaller ones never are.
-  explicit SceneGpu(const Scene& scene, bool compress_large_textures = true);
+  // `compression`: whether textures of at least kLargeTextureTexels are uploaded as S3TC
+  // blocks (decide_texture_compression); smaller ones and normal maps never are.
+  explicit SceneGpu(const Scene& scene, TextureCompression compression = TextureCompression::Auto);
+  // What was decided for the textures, and why (kit-render --timings prints it).
+  const TextureCompressionDecision& texture_compression() const { return compression_; }
   const Mesh& mesh(int primitive) const { return meshes_[static_cast<size_t>(primitive)]; }
   // Binds the material's textures to the KIT_UNIT_* material units (defaults when absent).
   const Texture2D& texture(int image, bool srgb) const;
@@ -205,6 +208,7 @@ class SceneGpu {
   Sampler default_sampler_;
   std::vector<Texture2D> srgb_, linear_;
   Texture2D white_, flat_normal_;
+  TextureCompressionDecision compression_;
 };
 
 }  // namespace kit

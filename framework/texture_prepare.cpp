@@ -17,10 +17,6 @@
 
 namespace kit {
 
-bool is_large_texture(int width, int height) {
-  return static_cast<size_t>(width) * static_cast<size_t>(height) >= kLargeTextureTexels;
-}
-
 double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4); }
 
 namespace {
@@ -204,6 +200,12 @@ PreparedTexture prepare_texture(ImageRgba8 image, bool srgb, bool compress) {
     image = std::move(next);
   }
   return prepared;
+}
+
+size_t prepared_bytes(const PreparedTexture& texture) {
+  size_t bytes = 0;
+  for (const MipLevel& level : texture.levels) bytes += level.bytes.size();
+  return bytes;
 }
 
 }  // namespace kit

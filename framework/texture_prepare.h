@@ -10,13 +10,9 @@
 
 #include "image_io.h"
 #include "scene.h"
+#include "texture_compression.h"
 
 namespace kit {
-
-// A texture of at least this many texels (1024x1024) is large: it is compressed
-// unless compression is turned off (--compress-textures).
-constexpr size_t kLargeTextureTexels = size_t{1024} * 1024;
-bool is_large_texture(int width, int height);
 
 // IEC 61966-2-1's sRGB transfer function (decode), for c in [0, 1].
 double srgb_to_linear(double c);
@@ -61,5 +57,7 @@ std::vector<unsigned char> compress_blocks(const ImageRgba8& image, TexelEncodin
 // when alpha is not all 255, when `compress` says so, RGBA8 otherwise. Each level's
 // RGBA8 pixels are dropped once the next is made from them.
 PreparedTexture prepare_texture(ImageRgba8 image, bool srgb, bool compress);
+// The bytes of every level of `texture`.
+size_t prepared_bytes(const PreparedTexture& texture);
 
 }  // namespace kit

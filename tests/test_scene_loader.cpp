@@ -1296,8 +1296,9 @@ TEST(scene_loader_textures, EachImageIsUploadedInTheFormatItsSlotsNeed) {
 }
 
 // Textures of at least kLargeTextureTexels are uploaded with their CPU-made mip chain,
-// as S3TC blocks (BC1 opaque, BC3 with alpha; sRGB formats for colour) unless
-// compression is off; normal maps and smaller textures (every kit scene's) stay RGBA8.
+// as S3TC blocks (BC1 opaque, BC3 with alpha; sRGB formats for colour) when compression
+// is on; normal maps and smaller textures (every kit scene's) stay RGBA8. Auto leaves
+// these textures (16 MiB with their mips) uncompressed on llvmpipe: under the budget.
 TEST(scene_loader_textures, LargeTexturesAreCompressedSmallOnesAndNormalMapsNot) {
   constexpr GLenum kSrgbDxt1 = 0x8C4C, kSrgbAlphaDxt5 = 0x8C4F;  // GL_COMPRESSED_SRGB(_ALPHA)_S3TC_DXT1/5_EXT
   constexpr int kLarge = 1024, kSmall = 256;
@@ -1325,7 +1326,8 @@ TEST(scene_loader_textures, LargeTexturesAreCompressedSmallOnesAndNormalMapsNot)
   };
   const int last_level = 10;  // 1024 -> 1x1
   {
-    const kit::SceneGpu gpu(scene);
+    const kit::SceneGpu gpu(scene, kit::TextureCompression::On);
+    EXPECT_TRUE(gpu.texture_compression().compress) << gpu.texture_compression().reason;
     EXPECT_EQ(level_format(gpu.texture(0, true), 0), kSrgbDxt1);
     EXPECT_EQ(level_format(gpu.texture(0, true), last_level), kSrgbDxt1);
     EXPECT_EQ(level_format(gpu.texture(1, true), 0), kSrgbAlphaDxt5);
@@ -1333,9 +1335,18 @@ TEST(scene_loader_textures, LargeTexturesAreCompressedSmallOnesAndNormalMapsNot)
     EXPECT_EQ(level_format(gpu.texture(3, false), 0), static_cast<GLenum>(GL_RGBA8));
     EXPECT_EQ(level_format(gpu.texture(3, false), last_level), static_cast<GLenum>(GL_RGBA8));
   }
-  const kit::SceneGpu uncompressed(scene, false);
+  const kit::SceneGpu uncompressed(scene, kit::TextureCompression::Off);
   EXPECT_EQ(level_format(uncompressed.texture(0, true), 0), static_cast<GLenum>(GL_SRGB8_ALPHA8));
   EXPECT_EQ(level_format(uncompressed.texture(0, true), last_level), static_cast<GLenum>(GL_SRGB8_ALPHA8));
+  const size_t rgba8_bytes = uncompressed.texture_compression().uploaded_bytes;
+  EXPECT_EQ(rgba8_bytes, uncompressed.texture_compression().uncompressed_bytes);
+  EXPECT_EQ(rgba8_bytes, 3 * kit::rgba8_chain_bytes(kLarge, kLarge) + kit::rgba8_chain_bytes(kSmall, kSmall));
+  const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  if (kit::renders_on_cpu(renderer ? renderer : "")) {
+    const kit::SceneGpu automatic(scene);
+    EXPECT_FALSE(automatic.texture_compression().compress) << automatic.texture_compression().reason;
+    EXPECT_EQ(level_format(automatic.texture(0, true), 0), static_cast<GLenum>(GL_SRGB8_ALPHA8));
+  }
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 

@@ -168,3 +168,54 @@ TEST(texture_prepare, OnlyLargeTexturesAreLarge) {
   EXPECT_FALSE(kit::is_large_texture(1024, 1023));
   EXPECT_FALSE(kit::is_large_texture(256, 256));  // the kit scenes' textures
 }
+
+// Whether a scene's large textures are compressed (texture_compression.h): by the
+// budget on a CPU rasteriser, always on a GPU, and as --compress-textures on|off says.
+TEST(texture_compression, AutoCompressesOverTheBudgetOrOnAGpu) {
+  const std::string llvmpipe = "llvmpipe (LLVM 15.0.6, 256 bits)", gpu = "NVIDIA H100 80GB HBM3/PCIe/SSE2";
+  // The heavy scene (kit-scenes --heavy): 16 base colours of 2048x2048, 341 MiB with mips.
+  const size_t heavy = 16 * kit::rgba8_chain_bytes(2048, 2048);
+  EXPECT_EQ(heavy >> 20, 341u);
+  // LearnOpenGL's nanosuit: five 1024x1024 diffuse maps and one of 128x128, 27 MiB.
+  const size_t nanosuit = 5 * kit::rgba8_chain_bytes(1024, 1024) + kit::rgba8_chain_bytes(128, 128);
+  ASSERT_LT(nanosuit, kit::kTextureMemoryBudgetBytes);
+  ASSERT_GT(heavy, kit::kTextureMemoryBudgetBytes);
+  auto decide = [](kit::TextureCompression mode, size_t bytes, bool any_large, const std::string& renderer,
+                   const std::string& s3tc_unavailable = "") {
+    return kit::decide_texture_compression(mode, bytes, any_large, renderer, s3tc_unavailable);
+  };
+  using kit::TextureCompression;
+  const kit::TextureCompressionDecision over = decide(TextureCompression::Auto, heavy, true, llvmpipe);
+  EXPECT_TRUE(over.compress);
+  EXPECT_EQ(over.reason, "textures: 341 MiB uncompressed, over the 256 MiB budget: large ones compressed to S3TC");
+  const kit::TextureCompressionDecision fits = decide(TextureCompression::Auto, nanosuit, true, llvmpipe);
+  EXPECT_FALSE(fits.compress);
+  EXPECT_EQ(fits.reason,
+            "textures: 27 MiB uncompressed, budget 256 MiB: not compressed (llvmpipe decodes S3TC in software, "
+            "slower to sample)");
+  EXPECT_FALSE(decide(TextureCompression::Auto, nanosuit, true, "softpipe").compress);
+  EXPECT_TRUE(decide(TextureCompression::Auto, nanosuit, true, gpu).compress);
+  EXPECT_FALSE(decide(TextureCompression::Auto, heavy, false, gpu).compress) << "nothing large: nothing to compress";
+  // The overrides, both ways.
+  EXPECT_TRUE(decide(TextureCompression::On, nanosuit, true, llvmpipe).compress);
+  const kit::TextureCompressionDecision off = decide(TextureCompression::Off, heavy, true, llvmpipe);
+  EXPECT_FALSE(off.compress);
+  EXPECT_NE(off.reason.find("(--compress-textures off)"), std::string::npos) << off.reason;
+  EXPECT_FALSE(decide(TextureCompression::Off, nanosuit, true, gpu).compress);
+  // A context without the S3TC formats uploads RGBA8 whatever was asked, and says why.
+  const kit::TextureCompressionDecision missing =
+      decide(TextureCompression::On, heavy, true, llvmpipe, "the GL context lacks GL_EXT_texture_compression_s3tc");
+  EXPECT_FALSE(missing.compress);
+  EXPECT_TRUE(missing.wanted);
+  EXPECT_NE(missing.reason.find("lacks GL_EXT_texture_compression_s3tc"), std::string::npos) << missing.reason;
+}
+
+TEST(texture_compression, CpuRasterisersAreToldFromGpusByName) {
+  EXPECT_TRUE(kit::renders_on_cpu("llvmpipe (LLVM 15.0.6, 256 bits)"));
+  EXPECT_TRUE(kit::renders_on_cpu("softpipe"));
+  EXPECT_TRUE(kit::renders_on_cpu("Mesa X11 Software Rasterizer"));
+  EXPECT_TRUE(kit::renders_on_cpu("Google SwiftShader"));
+  EXPECT_FALSE(kit::renders_on_cpu("NVIDIA H100 80GB HBM3/PCIe/SSE2"));
+  EXPECT_FALSE(kit::renders_on_cpu("AMD Radeon RX 6800 (radeonsi, navi21, LLVM 15.0.6, DRM 3.49)"));
+  EXPECT_FALSE(kit::renders_on_cpu("Mesa Intel(R) UHD Graphics 620 (KBL GT2)"));
+}

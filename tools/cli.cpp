@@ -38,10 +38,11 @@ const char* common_options_help() {
          "                        equirectangular .hdr/.exr file\n"
          "  --check-maps on|off   stage 6: read the precomputed maps back and stop, naming the shader, map\n"
          "                        and texel, at a NaN or Inf (default on; off shows what it does to the image)\n"
-         "  --compress-textures on|off\n"
+         "  --compress-textures auto|on|off\n"
          "                        textures of at least 1024x1024 texels uploaded as S3TC (BC1, BC3 with\n"
-         "                        alpha), their mip levels made on the decode threads (default on;\n"
-         "                        smaller textures are never compressed)\n"
+         "                        alpha; normal maps and smaller textures never are). auto (default):\n"
+         "                        when the scene's textures take over 256 MiB uncompressed, or a GPU\n"
+         "                        samples them (not llvmpipe or softpipe); --timings says which\n"
          "  --light-markers       a small sphere of each point and spot light's colour where the light is\n"
          "                        (lit stages; drawn forward, hidden by what is in front; kit-view's M key)\n"
          "  --look-at EX,EY,EZ,TX,TY,TZ[,FOV]\n"
@@ -131,7 +132,13 @@ void parse_options(int argc, char** argv, CommonOptions& o,
     else if (flag == "--lights") s.extra_lights = static_cast<int>(parse_float(value(), flag));
     else if (flag == "--no-default-lights") s.default_light_rig = false;
     else if (flag == "--light-markers") s.light_markers = true;
-    else if (flag == "--compress-textures") s.compress_large_textures = parse_on_off(value(), flag);
+    else if (flag == "--compress-textures") {
+      const std::string mode = value();
+      if (mode == "auto") s.texture_compression = TextureCompression::Auto;
+      else if (mode == "on" || mode == "1" || mode == "true") s.texture_compression = TextureCompression::On;
+      else if (mode == "off" || mode == "0" || mode == "false") s.texture_compression = TextureCompression::Off;
+      else throw Error(flag + " expects auto, on or off (got '" + mode + "')");
+    }
     else if (flag == "--environment") s.environment = value();
     else if (flag == "--check-maps") s.ibl.refuse_non_finite = parse_on_off(value(), flag);
     else if (flag == "--look-at") o.look_at = parse_look_at(value(), flag);

@@ -131,6 +131,8 @@ int main(int argc, char** argv) {
                    t_scene, t_context - t_scene, upload, t_compile - t_context - upload, t_render - t_compile,
                    kit::seconds_since(t0) - t_render, context->describe().c_str());
       std::fprintf(stderr, "memory: peak %.0f MiB resident (the process so far, GL driver included)\n", peak_resident_mib());
+      const kit::TextureCompressionDecision& textures = renderer.texture_compression();
+      std::fprintf(stderr, "%s; %s uploaded\n", textures.reason.c_str(), kit::mebibytes(textures.uploaded_bytes).c_str());
     }
     if (timings && frames > 1) {
       std::string list;

@@ -10,8 +10,12 @@
 // cleared there (coverage mask 0) and writes no depth, so what lies behind shows.
 // OPAQUE ignores alpha; BLEND is drawn like OPAQUE here, into the forward pass's
 // layer G-buffer (framework/forward_pass.h), which blends it by albedo.a.
+// A program drawing no MASK material has no discard (KIT_HAS_ALPHA_MASK undefined,
+// material_uniforms.glsl): llvmpipe then tests depth before the shader runs.
 void kit_alpha_discard(float base_color_alpha) {
+#ifdef KIT_HAS_ALPHA_MASK
     if (u_alpha_mode == KIT_ALPHA_MASK && base_color_alpha < u_alpha_cutoff) discard;
+#endif
 }
 
 // A double-sided material is drawn without back-face culling; seen from behind,

@@ -1,6 +1,17 @@
 // The glTF metallic-roughness material uniforms the framework sets per draw.
 // Textures are always bound: a material without one gets a white texel (or a
 // flat normal), so factor * texel works.
+
+// Which material features the helpers below compile. The renderer builds one program
+// per feature set its scene's draws use and defines KIT_MATERIAL_VARIANT with the
+// KIT_HAS_* of the draw's material (framework/material_variants.h); the helpers give the
+// same values either way, and cost nothing for a feature a draw does not use. A
+// program built without KIT_MATERIAL_VARIANT has every feature.
+#ifndef KIT_MATERIAL_VARIANT
+#define KIT_HAS_UV1           // some texture reads UV slot 1
+#define KIT_HAS_UV_TRANSFORM  // some texture has a KHR_texture_transform
+#define KIT_HAS_ALPHA_MASK    // alphaMode MASK (kit_alpha_discard, material_modes.glsl)
+#endif
 uniform vec4 u_base_color_factor;
 uniform float u_metallic_factor;
 uniform float u_roughness_factor;
@@ -27,8 +38,15 @@ uniform mat3 u_texture_uv_transform[4];
 // The UV a material texture samples. `texcoords` holds both UV slots as the vertex
 // stage passes them on: .xy slot 0 (a_texcoord0), .zw slot 1 (a_texcoord1).
 vec2 kit_texture_uv(int unit, vec4 texcoords) {
+#ifdef KIT_HAS_UV1
     vec2 uv = u_texture_uv_slot[unit] == 1 ? texcoords.zw : texcoords.xy;
-    return (u_texture_uv_transform[unit] * vec3(uv, 1.0)).xy;
+#else
+    vec2 uv = texcoords.xy;  // every texture of the draw reads slot 0
+#endif
+#ifdef KIT_HAS_UV_TRANSFORM
+    uv = (u_texture_uv_transform[unit] * vec3(uv, 1.0)).xy;
+#endif
+    return uv;
 }
 vec2 kit_base_color_uv(vec4 texcoords) { return kit_texture_uv(KIT_UNIT_BASE_COLOR, texcoords); }
 vec2 kit_metallic_roughness_uv(vec4 texcoords) { return kit_texture_uv(KIT_UNIT_METALLIC_ROUGHNESS, texcoords); }

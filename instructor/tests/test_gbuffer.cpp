@@ -839,8 +839,9 @@ TEST(gbuffer_material_modes, DoubleSidedBackFaceNormalFacesTheViewer) {
 
 // ---------------------------------------------------------------------------
 // Large textures uploaded as S3TC blocks (framework/texture_prepare.h; from 1024 x
-// 1024 texels, --compress-textures on): the albedo the geometry pass writes from the
-// compressed texture against the same texture uploaded as RGBA8.
+// 1024 texels, --compress-textures on, as auto does for a scene over the texture budget):
+// the albedo the geometry pass writes from the compressed texture against the same
+// texture uploaded as RGBA8.
 
 constexpr int kLargeTextureSide = 1024;
 constexpr int kGridSpacing = 16;  // texels between the texture's dark grid lines
@@ -905,7 +906,7 @@ AlbedoDifference albedo_difference(const kit::Image& a, const kit::Image& b) {
 
 kit::Image albedo_of(const kit::Scene& scene, const kit::FrameCamera& camera, bool compress) {
   kit::RenderSettings settings = small_settings();
-  settings.compress_large_textures = compress;
+  settings.texture_compression = compress ? kit::TextureCompression::On : kit::TextureCompression::Off;
   auto renderer = kit::test::make_renderer("gbuffer", scene, settings);
   renderer->render(camera);
   return renderer->read_view(kit::View::Albedo, true);
@@ -991,7 +992,7 @@ TEST(gbuffer_textures, LargeNormalMapsStayUncompressed) {
     kit::Image normal[2], albedo[2];
     for (int compress = 0; compress < 2; ++compress) {
       kit::RenderSettings settings = small_settings();
-      settings.compress_large_textures = compress == 1;
+      settings.texture_compression = compress == 1 ? kit::TextureCompression::On : kit::TextureCompression::Off;
       auto renderer = kit::test::make_renderer("normalmap", scene, settings);
       renderer->render(camera);
       normal[compress] = renderer->read_view(kit::View::Normal, true);

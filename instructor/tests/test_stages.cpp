@@ -168,7 +168,7 @@ TEST(stages_settings, EveryFieldThatChangesTheImageCounts) {
       {"clear_color", [](kit::RenderSettings& s) { s.clear_color.g += 0.1f; }},
       {"extra_lights", [](kit::RenderSettings& s) { s.extra_lights += 1; }},
       {"frustum_culling", [](kit::RenderSettings& s) { s.frustum_culling = !s.frustum_culling; }},
-      {"compress_large_textures", [](kit::RenderSettings& s) { s.compress_large_textures = !s.compress_large_textures; }},
+      {"texture_compression", [](kit::RenderSettings& s) { s.texture_compression = kit::TextureCompression::On; }},
       {"default_light_rig", [](kit::RenderSettings& s) { s.default_light_rig = !s.default_light_rig; }},
       {"light_markers", [](kit::RenderSettings& s) { s.light_markers = !s.light_markers; }},
       {"environment", [](kit::RenderSettings& s) { s.environment = "sun"; }},
