@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# ./kit student-copy, tried as a new student would use the copy.
+# ./kit student-copy, tried as a new student would use the copy (built without OSMesa, as
+# Mesa 25.1 and later are: step 3).
 # usage: student_copy_test.sh PATH/TO/kit-grade WORK_DIR
 set -euo pipefail
 
@@ -78,10 +79,14 @@ else
 fi
 rm -rf "$WORK/planted"
 
-# 3. The copy for lab 2 from a fresh clone: the README's two commands.
+# 3. The copy for lab 2 from a fresh clone: the README's two commands. It is built as on a
+# distribution whose Mesa (25.1 and later) has no OSMesa (KIT_CMAKE_ARGS=-DKIT_OSMESA=OFF
+# builds as if libosmesa6-dev were missing), so that this one second build of the kit
+# proves both the copy and the kit without OSMesa: the demo, the copy's tests and its
+# grades below all run on EGL.
 git clone -q "$WORK/copy2" "$WORK/clone"
 cd "$WORK/clone"
-if ./kit demo >"$WORK/demo.log" 2>&1; then
+if KIT_CMAKE_ARGS=-DKIT_OSMESA=OFF ./kit demo >"$WORK/demo.log" 2>&1; then
   ls out/demo/02-lighting-your-lab.png >/dev/null 2>&1 && ls out/demo/01-gbuffer-albedo.png >/dev/null 2>&1 \
     && pass "copy: ./kit demo (solution of lab 1, the student's lab 2)" || fail "copy: ./kit demo wrote $(ls out/demo)"
 else
@@ -93,6 +98,26 @@ else
   fail "copy: ./kit test"; tail -30 "$WORK/test.log" | sed 's/^/    /'
 fi
 [ -e build/default/tools/kit-bench ] && fail "copy: kit-bench was built in a student copy"
+
+# 3b. Without OSMesa: nothing links it, EGL is the default, --backend osmesa is refused by
+# name, and EGL writes the very bytes the instructor's build writes with its default
+# backend (OSMesa where it has it; test_backends compares the two within one build).
+render=build/default/tools/kit-render
+grep -q "^KIT_OSMESA:BOOL=OFF" build/default/CMakeCache.txt && pass "copy: configured with KIT_OSMESA=OFF" \
+  || fail "copy: KIT_CMAKE_ARGS=-DKIT_OSMESA=OFF did not reach the configure"
+if ldd "$render" | grep -qi osmesa; then fail "copy: kit-render links OSMesa"; else pass "copy: no OSMesa linked"; fi
+args=(--solution --stage gbuffer --view albedo --size 160x120)
+out="$("$render" "${args[@]}" --out "$WORK/egl.png" --timings 2>&1)" || fail "copy: kit-render failed: $out"
+grep -q "(egl: " <<<"$out" && pass "copy: EGL is the default backend" || fail "copy: the default backend is not EGL: $out"
+if out="$("$render" "${args[@]}" --backend osmesa --out "$WORK/osmesa.png" 2>&1)"; then
+  fail "copy: --backend osmesa was accepted"
+else
+  grep -q "this build of the kit has no OSMesa" <<<"$out" && pass "copy: --backend osmesa refused by name" \
+    || fail "copy: --backend osmesa: unclear refusal: $out"
+fi
+"$(dirname "$1")/kit-render" "${args[@]}" --out "$WORK/kit.png" >/dev/null 2>&1 || fail "the kit's kit-render failed"
+cmp -s "$WORK/egl.png" "$WORK/kit.png" && pass "copy (EGL) and kit render the same bytes" \
+  || fail "copy (EGL) and the kit's render differ"
 
 # 4. The copy's grader: the starter scores low, the solution full, as in the kit.
 ./kit grade labs --labs 2 --out "$WORK/starter" >"$WORK/grade-starter.log" 2>&1 || fail "copy: grading the starter failed"
