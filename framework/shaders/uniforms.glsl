@@ -12,11 +12,7 @@ uniform sampler2D u_hdr;               // linear HDR lighting result (stage 2 on
 uniform sampler2D u_bloom;             // blurred bright pass (stage 5)
 uniform sampler2D u_ldr;               // tone-mapped image (stage 5 custom effect input)
 
-uniform mat4 u_view;
-uniform mat4 u_projection;
-uniform mat4 u_inv_view_projection;
-uniform vec3 u_camera_position;
-uniform vec2 u_camera_near_far;
+#include "camera_uniforms.glsl"
 uniform vec2 u_resolution;             // target size in pixels
 
 uniform vec3 u_clear_color;            // linear HDR colour for pixels with mask 0

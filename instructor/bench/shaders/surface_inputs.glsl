@@ -1,14 +1,12 @@
 // The geometry pass's material and normal-map evaluation for the bench's own
 // geometry shaders (the lean G-buffer and forward shading). It is
 // solutions/04-normalmap/gbuffer.frag's computation: that file is a complete
-// shader (it declares #version and main), so it cannot be included. It includes
-// material_uniforms.glsl rather than geometry_uniforms.glsl, whose camera
-// uniforms uniforms.glsl (needed by forward shading) declares too.
+// shader (it declares #version and main), so it cannot be included.
 // instructor/tests/test_bench_methods.cpp checks the lean layout and forward shading against
 // the labs' G-buffer, so the two copies cannot drift apart unnoticed.
 #include "gbuffer_layout.h"
 
-#include "material_uniforms.glsl"
+#include "geometry_uniforms.glsl"
 #include "material_modes.glsl"
 
 // The varyings of solutions/04-normalmap/gbuffer.vert.
