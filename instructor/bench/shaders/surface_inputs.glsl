@@ -7,6 +7,7 @@
 #include "gbuffer_layout.h"
 
 #include "geometry_uniforms.glsl"
+#include "guards.glsl"
 #include "material_modes.glsl"
 
 // The varyings of solutions/04-normalmap/gbuffer.vert.
@@ -25,9 +26,6 @@ struct SurfaceInputs {
     float roughness;
     vec3 emission;    // emitted radiance L_e
 };
-
-// Below this squared length a tangent-frame vector is treated as degenerate.
-const float KIT_MIN_TANGENT_LENGTH_SQUARED = 1e-12;
 
 vec3 any_perpendicular(vec3 n) {
     vec3 axis = abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
