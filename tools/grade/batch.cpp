@@ -7,7 +7,6 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -43,11 +42,6 @@ std::string stored_content_hash(const fs::path& summary) {
   } catch (const nlohmann::json::exception&) {
     return "";
   }
-}
-
-std::string lower_case(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
-  return text;
 }
 
 bool batch_own_name(const std::string& name) {
