@@ -16,16 +16,11 @@
 
 namespace {
 
-constexpr int kWidth = 160;
-constexpr int kHeight = 120;
+constexpr int kWidth = kit::test::kSmallWidth;
+constexpr int kHeight = kit::test::kSmallHeight;
 const char* const kScenes[] = {"default", "sphere", "grazing", "normalmap"};
 
-kit::RenderSettings small_settings(int width = kWidth, int height = kHeight) {
-  kit::RenderSettings s;
-  s.width = width;
-  s.height = height;
-  return s;
-}
+using kit::test::small_settings;
 
 // ---- the solutions on every scene ----
 
