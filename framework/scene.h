@@ -1,6 +1,8 @@
 #pragma once
 // glTF 2.0 scenes: loaded by tinygltf into plain CPU structures (validated,
 // flattened node hierarchy, generated tangents), then uploaded to GL.
+// The glTF loader is gltf_loader.h's (gltf_loader.cpp, gltf_builder.cpp,
+// gltf_accessors.cpp), the OBJ loader obj_scene.h's, SceneGpu's upload scene_gpu.cpp.
 #include <glm/glm.hpp>
 
 #include <array>
