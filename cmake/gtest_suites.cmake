@@ -5,12 +5,11 @@
 # other core beside them instead of waiting at the end (a fresh build has no timings
 # from an earlier run for ctest to order by).
 #
-# Why suites and not single tests (gtest_discover_tests): every test program links
-# OpenImageIO, whose ~270 shared libraries cost about 0.6 s of CPU to load and
-# initialize in each new process; one process per test spent more on that than on
-# most tests. A suite shares the start-up, the headless context and the loaded
-# scenes, and its name still says what failed; its output (shown on failure) names
-# the test.
+# Why suites and not single tests (gtest_discover_tests): a test process starts a
+# headless GL context, loads the scenes its tests use and compiles their shaders, and
+# one process per test would pay that start-up again for each of them. A suite shares
+# the start-up, the headless context and the loaded scenes, and its name still says
+# what failed; its output (shown on failure) names the test.
 #
 # The list is taken after each build of TARGET (as gtest_discover_tests does), so
 # adding a TEST needs no new CMake run. The same file is the script that takes it

@@ -1,6 +1,6 @@
 #pragma once
 // glTF's KHR_draco_mesh_compression: a primitive's mesh compressed by Draco, decoded
-// by libdraco (libdraco-dev). The glTF loader (scene.cpp) reads the decoded
+// by libdraco (libdraco-dev). The glTF loader (gltf_builder.cpp) reads the decoded
 // attributes through its accessor code, so every check and conversion it makes for
 // a bufferView applies to them too; this module only calls the library.
 #include <cstddef>

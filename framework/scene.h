@@ -1,6 +1,8 @@
 #pragma once
 // glTF 2.0 scenes: loaded by tinygltf into plain CPU structures (validated,
 // flattened node hierarchy, generated tangents), then uploaded to GL.
+// The glTF loader is gltf_loader.h's (gltf_loader.cpp, gltf_builder.cpp,
+// gltf_accessors.cpp), the OBJ loader obj_scene.h's, SceneGpu's upload scene_gpu.cpp.
 #include <glm/glm.hpp>
 
 #include <array>
@@ -185,8 +187,9 @@ Camera framing_camera(const Scene& scene);
 // the file and how many cameras it has when there is no camera `index`.
 Camera chosen_camera(const Scene& scene, int index);
 
-// GL resources of a scene: one Mesh per primitive and the textures materials
-// use (colour data as sRGB, normal and metallic-roughness data as linear).
+// GL resources of a scene: one Mesh per primitive, the textures materials use (colour
+// data, base colour and emission, as sRGB; normal and metallic-roughness data as linear)
+// and a GL sampler per glTF sampler. The renderer binds them per material.
 class SceneGpu {
  public:
   // `compression`: whether textures of at least kLargeTextureTexels are uploaded as S3TC
@@ -195,7 +198,8 @@ class SceneGpu {
   // What was decided for the textures, and why (kit-render --timings prints it).
   const TextureCompressionDecision& texture_compression() const { return compression_; }
   const Mesh& mesh(int primitive) const { return meshes_[static_cast<size_t>(primitive)]; }
-  // Binds the material's textures to the KIT_UNIT_* material units (defaults when absent).
+  // Scene::images[image] as sampled in one colour space (sRGB or linear); image -1 (no
+  // texture): white(). An image no material samples in that space has an empty texture.
   const Texture2D& texture(int image, bool srgb) const;
   const Texture2D& white() const { return white_; }
   const Texture2D& flat_normal() const { return flat_normal_; }

@@ -423,7 +423,7 @@ TEST_F(shader_source_gl, CompileErrorNamesTheIncludedFileAndLine) {
   write("lab", "brdf.glsl", "#include \"math.glsl\"\nvec3 shade() { return vec3(KIT_PI); }\n");
   kit::Program ok(lib, "fullscreen.vert", "main.frag");
   EXPECT_TRUE(ok.valid());
-  EXPECT_EQ(ok.source_paths().size(), 6u);  // fullscreen.vert; main.frag, uniforms, layout, brdf, math
+  EXPECT_EQ(ok.source_paths().size(), 7u);  // fullscreen.vert; main.frag, uniforms, layout, camera, brdf, math
 }
 
 // A framework define reaches only the shaders that name it: the others assemble to the

@@ -29,7 +29,7 @@ add_executable(kit-grade-main ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
 target_link_libraries(kit-grade-main PRIVATE kit_grade_core)
 # kit-grade itself is a launcher that links only the C library: it turns on glibc's
 # huge-page malloc (read at process start) and execs kit-grade-main beside it
-# (grade/launcher/kit_grade_launcher.cpp says why).
-add_executable(kit-grade ${CMAKE_CURRENT_LIST_DIR}/grade/launcher/kit_grade_launcher.cpp)
+# (launcher/hugepage_launcher.cpp says why).
+kit_hugepage_launcher(kit-grade kit-grade-main)
 # The grader renders the generated scenes: building it builds them.
-add_dependencies(kit-grade kit-grade-main kit_scene_files)
+add_dependencies(kit-grade kit_scene_files)

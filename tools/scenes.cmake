@@ -1,5 +1,5 @@
 # kit-scenes: generates the kit's glTF test scenes. Included from tools/CMakeLists.txt;
-# needs kit_warnings, TinyGLTF::TinyGLTF, PkgConfig::OIIO and glm::glm from the
+# needs kit_warnings, kit_sanitizers, TinyGLTF::TinyGLTF, PkgConfig::OIIO and glm::glm from the
 # top-level CMakeLists.txt. The fuzz build leaves it out: its harnesses read the
 # scenes of the default build (instructor/fuzz/run_fuzz.sh --scenes).
 if(KIT_FUZZ)
@@ -12,7 +12,7 @@ add_executable(kit-scenes ${CMAKE_CURRENT_LIST_DIR}/kit_scenes.cpp
   ${CMAKE_CURRENT_LIST_DIR}/scenes/scene_meshes.cpp
   ${CMAKE_CURRENT_LIST_DIR}/scenes/environments.cpp)
 # PkgConfig::OIIO: the top level finds OpenImageIO through pkg-config (see CMakeLists.txt).
-target_link_libraries(kit-scenes PRIVATE kit_warnings TinyGLTF::TinyGLTF PkgConfig::OIIO glm::glm)
+target_link_libraries(kit-scenes PRIVATE kit_warnings kit_sanitizers TinyGLTF::TinyGLTF PkgConfig::OIIO glm::glm)
 
 # The scenes are build outputs in ${CMAKE_BINARY_DIR}/scenes/<name>/, regenerated whenever
 # kit-scenes changes. One command writes all twelve glTF scenes, the OBJ cube and lab 6's two

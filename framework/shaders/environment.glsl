@@ -6,16 +6,13 @@
 // texture coordinate, so the image's top row (uploaded last) is the sky overhead.
 // A direction is (sin theta sin phi, cos theta, -sin theta cos phi).
 #include "gbuffer_layout.h"
+#include "guards.glsl"  // KIT_MIN_DIRECTION_LENGTH_SQUARED
 #include "math.glsl"
 
 uniform sampler2D u_environment;  // radiance, RGBA32F, mipmapped (box filter), wraps in u
 uniform sampler2D u_irradiance;   // irradiance E(n) = integral of L(l) max(n.l, 0), equirectangular
 uniform sampler2D u_prefiltered;  // level k: radiance prefiltered for roughness k / (KIT_PREFILTER_LEVELS - 1)
 uniform sampler2D u_brdf_lut;     // (A, B, C) over (n.v, roughness): handouts/06-ibl.md
-
-// Floor under the squared length of a direction before it is normalised: the
-// equirectangular angles of a zero vector are atan(0, 0), which is undefined.
-const float KIT_MIN_DIRECTION_LENGTH_SQUARED = 1e-12;
 
 // The texture coordinate of direction d (any length; a zero vector maps to the sky's pole).
 vec2 kit_equirect_uv(vec3 d) {

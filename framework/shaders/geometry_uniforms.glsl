@@ -3,8 +3,6 @@
 
 uniform mat4 u_model;              // object -> world
 uniform mat3 u_normal_matrix;      // transpose(inverse(mat3(u_model)))
-uniform mat4 u_view;               // world -> camera
-uniform mat4 u_projection;         // camera -> clip
-uniform vec3 u_camera_position;    // world space
 
+#include "camera_uniforms.glsl"
 #include "material_uniforms.glsl"

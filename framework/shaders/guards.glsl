@@ -1,5 +1,6 @@
-// Named guards that keep the shading math finite (in the style of Filament).
-// handouts/02-lighting.md and 03-attenuation.md explain each one.
+// Named guards that keep the shading math finite (in the style of Filament): every
+// numeric floor of the framework's and the labs' shaders. handouts/02-lighting.md,
+// 03-attenuation.md, 04-normalmap.md and 06-ibl.md explain each one.
 
 // n.v and n.l are floored in the specular denominator 4 (n.l)(n.v): at a
 // silhouette or a grazing light they reach 0 and the quotient blows up.
@@ -26,6 +27,10 @@ const float KIT_MIN_DISTANCE_SQUARED = 1e-4;
 const float KIT_MIN_CONE_COS_GAP = 1e-4;
 // Floor under the spot normalisation 1 - (cos_inner + cos_outer)/2.
 const float KIT_MIN_SPOT_SOLID_ANGLE = 1e-6;
+// Below this squared length a tangent-frame vector cannot be normalised (lab 4's normal map).
+const float KIT_MIN_TANGENT_LENGTH_SQUARED = 1e-12;
+// Below this squared length a direction has no equirectangular angles: atan(0, 0) (lab 6).
+const float KIT_MIN_DIRECTION_LENGTH_SQUARED = 1e-12;
 // Largest finite value an RGBA16F target holds; lighting clamps to it so a
 // specular peak cannot become +Inf (and then NaN in Reinhard's c/(c+1)).
 const float KIT_HDR_MAX = 65504.0;

@@ -1,26 +1,14 @@
 // The scene's lights, as the framework uploads them: KIT_LIGHT_TEXELS vec4 per light,
 // light i in row i of a uniform block of KIT_LIGHT_BLOCK_CAPACITY lights, or with more
-// lights of an RGBA32F texture. The block is the fast path: a light read from it is a few loads
-// where four texelFetch calls are four texture lookups (why it matters on llvmpipe:
-// handouts/02-lighting.md, "Speed"; what it gave: docs/performance.md). Only with more
-// lights than the block holds does the framework define KIT_LIGHTS_IN_TEXTURE (and
-// rebuild its programs): choosing per light inside the loop costs llvmpipe both reads.
+// lights of an RGBA32F texture. The block is the fast path: a light read from it is a few
+// loads where four texelFetch calls are four texture lookups. Only with more lights than the
+// block holds does the framework define KIT_LIGHTS_IN_TEXTURE (and rebuild its programs):
+// choosing per light inside the loop costs llvmpipe both reads.
 #include "gbuffer_layout.h"
+#include "light_specialisation.glsl"  // u_attenuation_model, kit_light_type, kit_light_range
 
 uniform sampler2D u_light_texture;
 uniform int u_light_count;
-// Lab 3's falloff: 0 physical (the lecture's inverse square), 1 simple 1/(1+d^2). The renderer
-// compiles the model in (renderer.h, apply_attenuation_model_define): a constant lets the
-// compiler drop the other model's branch, which llvmpipe would otherwise run beside it for
-// every light. Declared here, not in uniforms.glsl, so that only the shaders that light
-// (those that include this file) are built again when the model changes.
-#if defined(KIT_ATTENUATION_MODEL_PHYSICAL)
-const int u_attenuation_model = 0;
-#elif defined(KIT_ATTENUATION_MODEL_SIMPLE)
-const int u_attenuation_model = 1;
-#else
-uniform int u_attenuation_model;
-#endif
 layout(std140) uniform KitLightBlock {
     vec4 u_light_block[KIT_LIGHT_BLOCK_CAPACITY * KIT_LIGHT_TEXELS];
 };
@@ -52,30 +40,11 @@ Light kit_light(int i) {
     vec4 t3 = u_light_block[k + 3];
 #endif
     Light light;
-    // When every light of the frame has one type, or none has a range, the framework says
-    // so (LightBuffers::apply_defines) and they become constants here: the compiler then
-    // drops the other types' branches and the range window. llvmpipe runs both sides of
-    // every branch on its 8 pixels at once, and reads each light field it needs from the
-    // block once per pixel, so code and fields no light uses still cost, and constants
-    // let the compiler drop them (why it matters on llvmpipe: handouts/02-lighting.md,
-    // "Speed"; what it gave on the crowd scene: docs/performance.md, "The lighting pass
-    // on the crowd scene").
-#if defined(KIT_LIGHTS_ALL_POINT)
-    light.type = KIT_LIGHT_POINT;
-#elif defined(KIT_LIGHTS_ALL_SPOT)
-    light.type = KIT_LIGHT_SPOT;
-#elif defined(KIT_LIGHTS_ALL_DIRECTIONAL)
-    light.type = KIT_LIGHT_DIRECTIONAL;
-#else
-    light.type = int(t0.w + 0.5);
-#endif
+    // Constants when every light of the frame allows it (light_specialisation.glsl).
+    light.type = kit_light_type(t0);
     light.position = t0.xyz;
     light.direction = t1.xyz;
-#ifdef KIT_LIGHTS_WITHOUT_RANGE
-    light.range = 0.0;
-#else
-    light.range = t1.w;
-#endif
+    light.range = kit_light_range(t1);
     light.color = t2.rgb;
     light.intensity = t2.w;
     light.cos_inner = t3.x;

@@ -12,16 +12,13 @@ uniform sampler2D u_hdr;               // linear HDR lighting result (stage 2 on
 uniform sampler2D u_bloom;             // blurred bright pass (stage 5)
 uniform sampler2D u_ldr;               // tone-mapped image (stage 5 custom effect input)
 
-uniform mat4 u_view;
-uniform mat4 u_projection;
-uniform mat4 u_inv_view_projection;
-uniform vec3 u_camera_position;
-uniform vec2 u_camera_near_far;
+#include "camera_uniforms.glsl"
 uniform vec2 u_resolution;             // target size in pixels
 
 uniform vec3 u_clear_color;            // linear HDR colour for pixels with mask 0
 uniform float u_gamma;                 // display gamma for tonemap.glsl
-// u_attenuation_model (0 physical, 1 simple) is declared in lights.glsl, beside the lights it applies to.
+// u_attenuation_model (0 physical, 1 simple) is declared in light_specialisation.glsl (lights.glsl
+// includes it), beside the lights it applies to.
 uniform float u_bloom_threshold;       // bright-pass luminance threshold
 uniform bool u_postprocess_enabled;    // the P toggle
 uniform bool u_custom_enabled;         // the free-choice effect's toggle

@@ -53,7 +53,7 @@ const std::vector<MirroredConstant>& mirrored_constants() {
       {"KIT_MIN_CONE_COS_GAP", "framework/shaders/guards.glsl", {KIT_MIN_CONE_COS_GAP}},
       {"KIT_MIN_SPOT_SOLID_ANGLE", "framework/shaders/guards.glsl", {KIT_MIN_SPOT_SOLID_ANGLE}},
       {"KIT_HDR_MAX", "framework/shaders/guards.glsl", {KIT_HDR_MAX}},
-      {"KIT_MIN_TANGENT_LENGTH_SQUARED", "solutions/04-normalmap/gbuffer.frag", {KIT_MIN_TANGENT_LENGTH_SQUARED}},
+      {"KIT_MIN_TANGENT_LENGTH_SQUARED", "framework/shaders/guards.glsl", {KIT_MIN_TANGENT_LENGTH_SQUARED}},
       {"KIT_PI", "framework/shaders/math.glsl", {KIT_PI}},
       {"KIT_LUMINANCE", "framework/shaders/math.glsl", {KIT_LUMINANCE[0], KIT_LUMINANCE[1], KIT_LUMINANCE[2]}},
       {"KIT_BLUR_WEIGHTS", "solutions/05-postprocess/blur.frag",

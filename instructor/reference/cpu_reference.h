@@ -52,8 +52,7 @@ constexpr double KIT_MIN_DISTANCE_SQUARED = 1e-4;
 constexpr double KIT_MIN_CONE_COS_GAP = 1e-4;
 constexpr double KIT_MIN_SPOT_SOLID_ANGLE = 1e-6;
 constexpr double KIT_HDR_MAX = 65504.0;
-// solutions/04-normalmap/gbuffer.frag: below this squared length a tangent-frame
-// vector is degenerate and replaced.
+// Below this squared length a tangent-frame vector (lab 4) is degenerate and replaced.
 constexpr double KIT_MIN_TANGENT_LENGTH_SQUARED = 1e-12;
 // framework/shaders/math.glsl
 constexpr double KIT_PI = 3.14159265358979323846;
@@ -87,8 +86,8 @@ struct HalfNeighbours {
 HalfNeighbours half_neighbours(double value);
 
 // --- Guards ---------------------------------------------------------------------
-// Every floor and clamp the shading takes from guards.glsl (and the tangent guard
-// of lab 4). The defaults are the kit's; none() switches every one off, which
+// Every floor and clamp the shading takes from guards.glsl (lab 4's tangent guard
+// among them). The defaults are the kit's; none() switches every one off, which
 // turns each formula into its naive textbook form: a floor of -Inf is no floor
 // (max(x, -Inf) == x), a ceiling of +Inf no ceiling. Tests switch single guards
 // off to evaluate the naive formula with the same code.

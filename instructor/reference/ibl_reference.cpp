@@ -296,7 +296,7 @@ dvec3 equirect_direction(double u, double v) {
 }
 
 dvec2 equirect_uv(dvec3 d) {
-  // environment.glsl's guard: a zero vector has no angles (0/0); it maps to the pole overhead.
+  // kit_equirect_uv's guard (guards.glsl): a zero vector has no angles (0/0); it maps to the pole overhead.
   if (glm::dot(d, d) < KIT_MIN_DIRECTION_LENGTH_SQUARED) return {0.5, 0.0};
   const double length = glm::length(d);
   const double phi = std::atan2(d.x, -d.z);

@@ -37,8 +37,8 @@ namespace ref = kit::reference;
 
 namespace {
 
-constexpr int kWidth = 160;
-constexpr int kHeight = 120;
+constexpr int kWidth = kit::test::kSmallWidth;
+constexpr int kHeight = kit::test::kSmallHeight;
 
 // RGBA16F keeps 11 significant bits: a stored value is within 2^-11 of its size,
 // so 2^-10 relative leaves room for the float arithmetic before the store.
@@ -113,12 +113,7 @@ struct CpuCamera {
   double view_depth(const glm::dvec3& p) const { return -(view * glm::dvec4(p, 1.0)).z; }
 };
 
-kit::RenderSettings small_settings() {
-  kit::RenderSettings s;
-  s.width = kWidth;
-  s.height = kHeight;
-  return s;
-}
+using kit::test::small_settings;
 
 glm::dvec4 pixel(const kit::Image& image, int x, int y) {
   glm::dvec4 v(0.0);

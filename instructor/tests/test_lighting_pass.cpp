@@ -19,13 +19,12 @@ namespace {
 
 using kit::Light;
 
-constexpr int kWidth = 160;
-constexpr int kHeight = 120;
+constexpr int kWidth = kit::test::kSmallWidth;
+constexpr int kHeight = kit::test::kSmallHeight;
 
-kit::RenderSettings small_settings(int attenuation_model = 0) {
-  kit::RenderSettings s;
-  s.width = kWidth;
-  s.height = kHeight;
+// kit::test::small_settings with lab 3's falloff model `attenuation_model`.
+kit::RenderSettings settings_with_model(int attenuation_model) {
+  kit::RenderSettings s = kit::test::small_settings();
   s.attenuation_model = attenuation_model;
   return s;
 }
@@ -125,8 +124,8 @@ TEST(lighting_pass_constants, ConstantTypeRangeAndModelChangeNoPixel) {
     for (const char* stage : {"lighting", "attenuation"}) {
       for (int model : {0, 1}) {
         SCOPED_TRACE(std::string(stage) + ", light type " + std::to_string(type) + ", model " + std::to_string(model));
-        const kit::Image a = render_hdr(stage, constant, small_settings(model));
-        const kit::Image b = render_hdr(stage, general, small_settings(model));
+        const kit::Image a = render_hdr(stage, constant, settings_with_model(model));
+        const kit::Image b = render_hdr(stage, general, settings_with_model(model));
         double lit = 0.0;
         for (float v : a.pixels) lit = std::max(lit, double(v));
         EXPECT_GT(lit, 0.05) << "the lights reach the floor";
@@ -150,7 +149,7 @@ TEST(lighting_pass_constants, AFailedRebuildIsTriedAgainNotSkipped) {
         "#ifdef KIT_ATTENUATION_MODEL_SIMPLE\n#error the simple model does not compile here\n#endif\n"
         "float spot_cone_factor(Light light, vec3 p) {"}});
   const kit::Scene& scene = kit::test::scene("sphere");
-  kit::Renderer renderer(stage, kit::test::full_root_library(stage, root), scene, small_settings(0));
+  kit::Renderer renderer(stage, kit::test::full_root_library(stage, root), scene, settings_with_model(0));
   const kit::FrameCamera camera =
       kit::frame_camera(scene.camera ? *scene.camera : kit::framing_camera(scene), static_cast<float>(kWidth) / kHeight);
   renderer.render(camera);
@@ -178,7 +177,7 @@ TEST(lighting_pass_background, SkippedByTheDepthTestFromStage3AndOnlyThere) {
   const auto root = kit::test::variant_root(
       "lighting_pass_background",
       {{"02-lighting/lighting.frag", "out_color = vec4(u_clear_color, 1.0);", "out_color = vec4(1.0, 0.0, 1.0, 1.0);"}});
-  const kit::RenderSettings settings = small_settings();
+  const kit::RenderSettings settings = kit::test::small_settings();
   for (const char* name : {"lighting", "attenuation"}) {
     SCOPED_TRACE(name);
     const kit::Stage& stage = kit::find_stage(name);

@@ -16,16 +16,11 @@
 
 namespace {
 
-constexpr int kWidth = 160;
-constexpr int kHeight = 120;
+constexpr int kWidth = kit::test::kSmallWidth;
+constexpr int kHeight = kit::test::kSmallHeight;
 const char* const kScenes[] = {"default", "sphere", "grazing", "normalmap"};
 
-kit::RenderSettings small_settings(int width = kWidth, int height = kHeight) {
-  kit::RenderSettings s;
-  s.width = width;
-  s.height = height;
-  return s;
-}
+using kit::test::small_settings;
 
 // ---- the solutions on every scene ----
 
@@ -43,9 +38,9 @@ void expect_finite_render(const kit::Stage& stage, const std::string& scene) {
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
-// Suite names start with the file's name, so `ctest -R stages` selects this file. Stages
-// and scenes are loops rather than test parameters: ctest runs each test in a process of
-// its own, and within one process each stage's shaders compile only once.
+// ctest runs each suite of this file as one test, test_stages.<suite>, in a process of its
+// own (cmake/gtest_suites.cmake), so `ctest -R stages` selects them all. Stages and scenes
+// are loops in one test, each case named by its SCOPED_TRACE when it fails.
 TEST(stages_solutions, EveryStageRendersEverySceneFinite) {
   for (const kit::Stage& stage : kit::stages()) {
     for (const char* scene : kScenes) {

@@ -2,6 +2,7 @@
 // Lab 4 - normal mapping, fragment stage. Starts from lab 1's solution.
 // See handouts/04-normalmap.md.
 #include "geometry_uniforms.glsl"
+#include "guards.glsl"  // KIT_MIN_TANGENT_LENGTH_SQUARED
 #include "material_modes.glsl"  // kit_alpha_discard, kit_facing_normal
 
 in vec3 v_world_position;

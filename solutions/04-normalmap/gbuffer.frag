@@ -3,6 +3,7 @@
 // is taken to world space through the TBN frame, because the lighting pass
 // works in world space.
 #include "geometry_uniforms.glsl"
+#include "guards.glsl"  // KIT_MIN_TANGENT_LENGTH_SQUARED
 #include "material_modes.glsl"  // kit_alpha_discard, kit_facing_normal
 
 in vec3 v_world_position;
@@ -17,9 +18,6 @@ layout(location = KIT_GBUF_NORMAL) out vec4 out_normal;
 layout(location = KIT_GBUF_ALBEDO) out vec4 out_albedo;
 layout(location = KIT_GBUF_MATERIAL) out vec4 out_material;
 layout(location = KIT_GBUF_EMISSION) out vec4 out_emission;
-
-// Below this squared length a tangent-frame vector is treated as degenerate.
-const float KIT_MIN_TANGENT_LENGTH_SQUARED = 1e-12;
 
 // Any unit vector perpendicular to n (for a degenerate tangent).
 vec3 any_perpendicular(vec3 n) {

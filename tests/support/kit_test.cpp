@@ -19,6 +19,13 @@ std::string scene_load_error(const std::filesystem::path& path) {
   return "";
 }
 
+RenderSettings small_settings(int width, int height) {
+  RenderSettings s;
+  s.width = width;
+  s.height = height;
+  return s;
+}
+
 GlContext& context() {
   static std::unique_ptr<GlContext> ctx = create_headless_context(kDefaultHeadlessBackend);
   return *ctx;

@@ -23,6 +23,12 @@ KIT_NO_DANGLING const Scene& scene(const std::string& name_or_path);  // cached:
 // The kit::Error message loading the scene file `path` throws; fails the test when it loads.
 std::string scene_load_error(const std::filesystem::path& path);
 
+// The frame size most GPU tests render at: big enough for thousands of samples per
+// frame, small enough to keep each test program at a few seconds.
+constexpr int kSmallWidth = 160, kSmallHeight = 120;
+// Default RenderSettings at that size (or another).
+RenderSettings small_settings(int width = kSmallWidth, int height = kSmallHeight);
+
 // Builds a Renderer for `stage` (name or number) with lab files from `lab_root`
 // (solutions/ by default) and renders one frame from the scene's camera.
 std::unique_ptr<Renderer> render_stage(const std::string& stage, const std::string& scene_name,

@@ -1,25 +1,21 @@
 #include "grader.h"
 
 #include <nlohmann/json.hpp>
-#include <fcntl.h>
 #include <signal.h>
 #include <stdlib.h>
-#include <sys/file.h>
 #include <sys/stat.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
 #include <deque>
 #include <fstream>
 #include <memory>
-#include <optional>
-#include <set>
 
 #include "error.h"
+#include "grading_run.h"
 #include "pass_clock.h"
 #include "references.h"
 #include "renderer.h"
@@ -35,55 +31,11 @@ namespace kit::grade {
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-// "1,2,3", or "none".
-std::string labs_list(const std::vector<int>& labs) {
-  std::string out;
-  for (int lab : labs) out += (out.empty() ? "" : ",") + std::to_string(lab);
-  return out.empty() ? "none" : out;
-}
-
 // How much of a child's error file and log the messages quote.
 constexpr size_t kErrorBytes = 64 * 1024;
 constexpr size_t kLogTailBytes = 2 * 1024;
 // Report images live in this folder of a result folder.
 constexpr const char* kImageFolder = "img";
-
-// One grading run: the settings, what every submission shares (config,
-// scenes, references) and the run's private temporary folder.
-struct Run {
-  const Options& options;
-  Config config;
-  std::map<std::string, Scene> scenes;
-  fs::path references_dir;  // "" when the run compares with none (--update-references)
-  // The references of the labs compared so far (load_references_of), each with its
-  // background as its checks compare it (reference_background), found once; per lab
-  // loaded, "" or why its references could not be read.
-  std::map<int, std::string> reference_problems;
-  std::map<std::string, LoadedReference> references;
-  std::map<std::pair<std::string, Metric>, Background> backgrounds;
-  std::map<std::string, Image>* collect = nullptr;  // --update-references: keep the raw renders instead
-  fs::path temp;
-  // --check-references and --update-references render only the kit's own files:
-  // their children write the shader cache seed that graded submissions start from.
-  bool writes_cache_seed = false;
-  // Where the decoded references and what is made from them are kept
-  // (reference_cache_dir(): between runs, else in this run's temporary folder).
-  fs::path reference_cache;
-  std::string references_renderer;  // what rendered the references (their manifest's "renderer")
-};
-
-struct Entry {
-  fs::path source;
-  fs::path result_dir;  // report images are written here (a staging folder in a batch)
-  fs::path final_dir;   // a batch: the submission's result folder
-  std::string content_hash;  // computed before grading, stored in summary.json
-  SubmissionOutcome outcome;
-  std::optional<PreparedSubmission> prepared;
-  fs::path temp;
-  size_t labs_left = 0;
-  Clock::time_point started;
-};
 
 struct Task {
   size_t entry;
@@ -96,17 +48,8 @@ struct Running {
   std::unique_ptr<Child> child;
 };
 
-using Finished = std::function<void(Entry&)>;
-
 // A run's temporary folder: kRunTempPrefix, the process id, '-' and mkdtemp's six characters.
 constexpr const char* kRunTempPrefix = "kit-grade-";
-// A batch's lock in its output folder (hidden: no submission's name can be it).
-constexpr const char* kBatchLockFile = ".kit-grade.lock";
-// What a batch writes at the top of its output folder, and what a result folder
-// holds: a submission named like one of them (in any case) gets its result
-// folder under its name plus kReservedSuffix.
-const char* const kBatchOwnNames[] = {"gradebook.csv", "results.json", "summary.json", "report.html", "img"};
-constexpr const char* kReservedSuffix = ".submission";
 
 // A fresh private folder (mode 0700) under `base`.
 fs::path make_temp_dir(const fs::path& base, const std::string& prefix) {
@@ -136,11 +79,6 @@ LabOutcome empty_lab(const Run& run, int lab) {
 }
 
 std::string read_text(const fs::path& path) { return read_tail(path, kErrorBytes); }
-
-std::string trimmed(std::string text) {
-  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
-  return text;
-}
 
 // Sets status and message from how the child ended; true when it rendered everything.
 bool classify_child(const Outcome& o, const fs::path& dir, LabOutcome& lab) {
@@ -350,17 +288,6 @@ constexpr const char* kSingleFileCacheVariable = "MESA_DISK_CACHE_SINGLE_FILE";
 // The folder Mesa's default (multi-file) cache keeps its files in.
 constexpr const char* kMultiFileCacheFolder = "mesa_shader_cache";
 
-// A run that renders only the kit's own files has its children write the seed
-// (Mesa creates only the last folder of its cache's path). A multi-file cache an
-// older kit-grade left there is removed: no child reads it, and every submission
-// would copy it.
-void write_cache_seed(Run& run) {
-  fs::path seed = shader_cache_seed();
-  std::error_code ec;
-  if (!seed.empty()) fs::create_directories(seed, ec);
-  run.writes_cache_seed = !seed.empty() && !ec;
-  if (run.writes_cache_seed) fs::remove_all(seed / kMultiFileCacheFolder, ec);
-}
 
 // A submission's private shader cache, in its temporary folder.
 fs::path private_shader_cache(const Entry& e) { return e.temp / "mesa-shader-cache"; }
@@ -399,8 +326,61 @@ ChildSetup render_setup(const Run& run, const Entry& e, const fs::path& dir) {
   return setup;
 }
 
-// Runs every lab of every entry, at most options.jobs children at a time;
-// `finished` is called as each entry completes. Returns false when interrupted.
+// Removes the temporary folders of kit-grade runs that ended without removing
+// them (kill -9, a power cut): folders "kit-grade-<pid>-XXXXXX" in `base`, owned
+// by this user, whose process no longer exists. A folder whose process id is in
+// use again is left (harmless; a later run removes it). Says what it removed.
+void remove_stale_run_temps(const fs::path& base) {
+  std::error_code ec;
+  std::vector<std::string> removed;
+  for (fs::directory_iterator it(base, ec), end; !ec && it != end; it.increment(ec)) {
+    std::string name = it->path().filename().string();
+    if (name.rfind(kRunTempPrefix, 0) != 0) continue;
+    size_t digits = std::strlen(kRunTempPrefix), dash = name.find('-', digits);
+    if (dash == std::string::npos || dash == digits || dash + 7 != name.size()) continue;
+    std::string number = name.substr(digits, dash - digits);
+    if (number.find_first_not_of("0123456789") != std::string::npos || number.size() > 9) continue;
+    pid_t pid = static_cast<pid_t>(std::stol(number));
+    struct stat st {};
+    if (lstat(it->path().c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != getuid()) continue;
+    if (pid == getpid() || kill(pid, 0) == 0 || errno == EPERM) continue;  // its run is alive
+    std::error_code remove_ec;
+    fs::remove_all(it->path(), remove_ec);
+    if (!remove_ec) removed.push_back(it->path().string() + " (pid " + number + ")");
+  }
+  if (removed.empty()) return;
+  std::string list;
+  for (const std::string& r : removed) list += (list.empty() ? "" : ", ") + r;
+  std::fprintf(stderr, "kit-grade: removed %zu temporary folder%s left by kit-grade runs that ended without removing them: %s\n",
+               removed.size(), removed.size() == 1 ? "" : "s", list.c_str());
+}
+
+void print_submission(const SubmissionOutcome& s) {
+  if (!s.problem.empty()) std::printf("%s: %s\n", s.name.c_str(), s.problem.c_str());
+  for (const auto& [number, lab] : s.labs) std::printf("%s\n", lab_line(lab).c_str());
+  std::printf("total: %s/%s\n", format_points(s.total()).c_str(), format_points(s.max_total()).c_str());
+  std::fflush(stdout);
+}
+
+}  // namespace
+
+std::string trimmed(std::string text) {
+  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
+  return text;
+}
+
+// A run that renders only the kit's own files has its children write the seed
+// (Mesa creates only the last folder of its cache's path). A multi-file cache an
+// older kit-grade left there is removed: no child reads it, and every submission
+// would copy it.
+void write_cache_seed(Run& run) {
+  fs::path seed = shader_cache_seed();
+  std::error_code ec;
+  if (!seed.empty()) fs::create_directories(seed, ec);
+  run.writes_cache_seed = !seed.empty() && !ec;
+  if (run.writes_cache_seed) fs::remove_all(seed / kMultiFileCacheFolder, ec);
+}
+
 bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished) {
   InterruptGuard interrupts;
   std::deque<Task> queue;
@@ -502,35 +482,6 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
   return true;
 }
 
-// Removes the temporary folders of kit-grade runs that ended without removing
-// them (kill -9, a power cut): folders "kit-grade-<pid>-XXXXXX" in `base`, owned
-// by this user, whose process no longer exists. A folder whose process id is in
-// use again is left (harmless; a later run removes it). Says what it removed.
-void remove_stale_run_temps(const fs::path& base) {
-  std::error_code ec;
-  std::vector<std::string> removed;
-  for (fs::directory_iterator it(base, ec), end; !ec && it != end; it.increment(ec)) {
-    std::string name = it->path().filename().string();
-    if (name.rfind(kRunTempPrefix, 0) != 0) continue;
-    size_t digits = std::strlen(kRunTempPrefix), dash = name.find('-', digits);
-    if (dash == std::string::npos || dash == digits || dash + 7 != name.size()) continue;
-    std::string number = name.substr(digits, dash - digits);
-    if (number.find_first_not_of("0123456789") != std::string::npos || number.size() > 9) continue;
-    pid_t pid = static_cast<pid_t>(std::stol(number));
-    struct stat st {};
-    if (lstat(it->path().c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || st.st_uid != getuid()) continue;
-    if (pid == getpid() || kill(pid, 0) == 0 || errno == EPERM) continue;  // its run is alive
-    std::error_code remove_ec;
-    fs::remove_all(it->path(), remove_ec);
-    if (!remove_ec) removed.push_back(it->path().string() + " (pid " + number + ")");
-  }
-  if (removed.empty()) return;
-  std::string list;
-  for (const std::string& r : removed) list += (list.empty() ? "" : ", ") + r;
-  std::fprintf(stderr, "kit-grade: removed %zu temporary folder%s left by kit-grade runs that ended without removing them: %s\n",
-               removed.size(), removed.size() == 1 ? "" : "s", list.c_str());
-}
-
 Run make_run(const Options& options, bool need_references) {
   Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}};
   if (need_references) {
@@ -557,24 +508,6 @@ void remove_run_temp(const Run& run) {
   fs::remove_all(run.temp, ec);
 }
 
-void print_submission(const SubmissionOutcome& s) {
-  if (!s.problem.empty()) std::printf("%s: %s\n", s.name.c_str(), s.problem.c_str());
-  for (const auto& [number, lab] : s.labs) std::printf("%s\n", lab_line(lab).c_str());
-  std::printf("total: %s/%s\n", format_points(s.total()).c_str(), format_points(s.max_total()).c_str());
-  std::fflush(stdout);
-}
-
-// The content hash a result was written with ("" when it has none or cannot be read).
-std::string stored_content_hash(const fs::path& summary) {
-  std::ifstream in(summary);
-  try {
-    nlohmann::json doc = nlohmann::json::parse(in);
-    return doc.is_object() ? doc.value("content_hash", "") : "";
-  } catch (const nlohmann::json::exception&) {
-    return "";
-  }
-}
-
 bool writable_folder(const fs::path& dir, std::string* why) {
   std::error_code ec;
   fs::create_directories(dir, ec);
@@ -589,95 +522,6 @@ bool writable_folder(const fs::path& dir, std::string* why) {
   if (!ok) *why = dir.string() + ": cannot write in the output folder";
   return ok;
 }
-
-std::string lower_case(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
-  return text;
-}
-
-bool batch_own_name(const std::string& name) {
-  return std::any_of(std::begin(kBatchOwnNames), std::end(kBatchOwnNames),
-                     [&](const char* own) { return lower_case(name) == own; });
-}
-
-// A submission's result folder in a batch: its name, unless that is one of the
-// batch's own (a student folder named gradebook.csv must not take the gradebook's place).
-std::string result_folder_name(const std::string& name) { return batch_own_name(name) ? name + kReservedSuffix : name; }
-
-// An older kit-grade wrote a submission named like the batch's files into a
-// folder of that name (DIR/gradebook.csv/), which then stopped every batch from
-// writing its gradebook: such a result folder is moved to its new name.
-void move_reserved_result_folders(const fs::path& out) {
-  for (const char* own : kBatchOwnNames) {
-    fs::path old_dir = out / own, new_dir = out / (std::string(own) + kReservedSuffix);
-    struct stat st {};
-    if (lstat(old_dir.c_str(), &st) != 0 || !S_ISDIR(st.st_mode) || !fs::exists(old_dir / "results.json")) continue;
-    std::error_code ec;
-    if (fs::exists(fs::symlink_status(new_dir, ec))) {
-      fs::remove_all(old_dir, ec);  // the result it held was replaced since
-      std::printf("kit-grade: removed %s, a result folder an older kit-grade wrote in the place of the batch's %s\n",
-                  old_dir.c_str(), own);
-    } else {
-      fs::rename(old_dir, new_dir, ec);
-      std::printf("kit-grade: moved %s to %s: an older kit-grade wrote that submission's result in the place of "
-                  "the batch's %s\n",
-                  old_dir.c_str(), new_dir.c_str(), own);
-    }
-    if (ec) throw Error(old_dir.string() + ": cannot move it out of the batch's way: " + ec.message());
-  }
-}
-
-// Staging folders (".name.partial") a batch killed while writing left behind:
-// with the lock held, no other batch is writing them.
-void remove_partial_results(const fs::path& out) {
-  std::error_code ec;
-  for (fs::directory_iterator it(out, ec), end; !ec && it != end; it.increment(ec)) {
-    std::string name = it->path().filename().string();
-    const std::string suffix = ".partial";
-    if (name.size() <= suffix.size() + 1 || name[0] != '.' ||
-        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
-      continue;
-    std::error_code remove_ec;
-    fs::remove_all(it->path(), remove_ec);
-  }
-}
-
-// An exclusive flock on DIR/.kit-grade.lock for as long as a batch runs: two
-// batches writing one output folder would rename result folders under each
-// other and interleave the gradebook. The kernel releases it however the run
-// ends (kill -9 included); the file holds the owner's process id for the message.
-class BatchLock {
- public:
-  explicit BatchLock(const fs::path& out) {
-    fs::path path = out / kBatchLockFile;
-    fd_ = open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
-    if (fd_ < 0) throw Error(path.string() + ": cannot open the batch's lock file: " + std::strerror(errno));
-    if (flock(fd_, LOCK_EX | LOCK_NB) != 0) {
-      int err = errno;
-      char text[32] = {0};
-      ssize_t n = pread(fd_, text, sizeof text - 1, 0);
-      std::string holder = n > 0 ? trimmed(std::string(text, static_cast<size_t>(n))) : "";
-      close(fd_);
-      if (err == EWOULDBLOCK)
-        throw Error(out.string() + ": another kit-grade batch (pid " + (holder.empty() ? "unknown" : holder) +
-                    ") is grading into this folder and holds its lock " + path.string() +
-                    "; wait for it to finish, or grade into another --out");
-      throw Error(path.string() + ": cannot lock: " + std::strerror(err));
-    }
-    std::string pid = std::to_string(getpid()) + "\n";
-    if (ftruncate(fd_, 0) != 0 || pwrite(fd_, pid.data(), pid.size(), 0) < 0) {
-      // The lock holds all the same; only the message of a second run lacks the pid.
-    }
-  }
-  ~BatchLock() { close(fd_); }
-  BatchLock(const BatchLock&) = delete;
-  BatchLock& operator=(const BatchLock&) = delete;
-
- private:
-  int fd_ = -1;
-};
-
-}  // namespace
 
 int LabOutcome::passed_checks() const {
   return static_cast<int>(std::count_if(checks.begin(), checks.end(), [](const CheckOutcome& c) { return c.passed; }));
@@ -734,170 +578,6 @@ int grade_submission(const fs::path& submission, const Options& options) {
     return 2;
   }
   return 0;
-}
-
-int grade_batch(const fs::path& folder, const Options& options) {
-  std::error_code ec;
-  if (!fs::is_directory(folder, ec)) throw Error(folder.string() + ": not a folder of submissions");
-  std::string why;
-  if (!writable_folder(options.out, &why)) throw Error(why);
-  BatchLock lock(options.out);
-  move_reserved_result_folders(options.out);
-  remove_partial_results(options.out);
-  std::vector<fs::path> sources;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    std::string name = entry.path().filename().string();
-    if (name.empty() || name[0] == '.') continue;
-    if (entry.is_directory() || (is_zip(entry.path()) && entry.is_regular_file())) sources.push_back(entry.path());
-  }
-  std::sort(sources.begin(), sources.end());
-  // Two sources with one result folder (alice/ and alice.zip) would share it.
-  std::set<std::string> folders;
-  std::vector<std::pair<std::string, std::string>> all_names;  // submission, result folder
-  std::vector<std::string> changed, unhashed, renamed;
-  std::set<std::string> changed_set;
-  std::vector<Entry> entries;
-  size_t skipped = 0;
-  for (const fs::path& source : sources) {
-    std::string name = submission_name(source);
-    std::string folder_name = result_folder_name(name);
-    if (!folders.insert(folder_name).second) {
-      std::fprintf(stderr, "kit-grade: %s: skipped, another submission has the result folder '%s'\n", source.c_str(),
-                   folder_name.c_str());
-      continue;
-    }
-    if (folder_name != name) renamed.push_back(name + " -> " + folder_name + "/");
-    all_names.push_back({name, folder_name});
-    const fs::path final_dir = options.out / folder_name;
-    std::string hash = content_hash(source);
-    if (!options.force && fs::exists(final_dir / "results.json")) {
-      // A result stands while the submission holds what it held when graded.
-      std::string stored = stored_content_hash(final_dir / "summary.json");
-      if (stored.empty()) unhashed.push_back(name);  // written before content hashes were stored
-      if (stored.empty() || stored == hash) {
-        ++skipped;
-        continue;
-      }
-      changed.push_back(name);
-      changed_set.insert(name);
-    }
-    Entry e;
-    e.source = source;
-    e.result_dir = options.out / ("." + folder_name + ".partial");
-    e.final_dir = final_dir;
-    e.content_hash = hash;
-    entries.push_back(std::move(e));
-  }
-  if (!renamed.empty()) {
-    std::string list;
-    for (const std::string& r : renamed) list += (list.empty() ? "" : ", ") + r;
-    std::printf("kit-grade: named like the batch's own files, so their results go in folders named otherwise: %s\n",
-                list.c_str());
-  }
-  std::printf("kit-grade: %zu submissions in %s: %zu to grade%s, %zu already graded%s\n", all_names.size(),
-              folder.c_str(), entries.size(),
-              changed.empty() ? "" : (" (" + std::to_string(changed.size()) + " changed since graded)").c_str(), skipped,
-              skipped ? " (--force regrades them)" : "");
-  if (!changed.empty()) {
-    std::string list;
-    for (const std::string& n : changed) list += (list.empty() ? "" : ", ") + n;
-    std::printf("kit-grade: regrading, their files changed since their results were written: %s\n", list.c_str());
-  }
-  if (!unhashed.empty())
-    std::printf("kit-grade: %zu results have no content hash (written by an older kit-grade): kept as they are; "
-                "--force regrades them\n",
-                unhashed.size());
-  std::fflush(stdout);
-  Run run = make_run(options, true);
-  size_t done = 0;
-  bool grader_error = false;
-  auto t0 = Clock::now();
-  bool completed = run_entries(run, entries, [&](Entry& e) {
-    const fs::path& final_dir = e.final_dir;
-    fs::create_directories(e.result_dir);
-    write_results(e.result_dir, e.outcome);
-    std::error_code remove_ec;
-    fs::remove_all(final_dir, remove_ec);
-    fs::rename(e.result_dir, final_dir);  // atomic: a result folder is complete or absent
-    grader_error = grader_error || e.outcome.grader_error();
-    std::string problems;
-    for (const auto& [n, lab] : e.outcome.labs)
-      if (lab.status != kGraded) problems += " lab" + std::to_string(n) + ":" + lab.status;
-    std::printf("[%zu/%zu] %s: %s/%s  (%.1f s)%s%s\n", ++done, entries.size(), e.outcome.name.c_str(),
-                format_points(e.outcome.total()).c_str(), format_points(e.outcome.max_total()).c_str(), e.outcome.seconds,
-                problems.c_str(), changed_set.count(e.outcome.name) ? "  [regraded: changed]" : "");
-    std::fflush(stdout);
-  });
-  remove_run_temp(run);
-  write_gradebook(options.out, all_names, options.labs);
-  std::printf("kit-grade: %zu graded in %.1f s; gradebook: %s\n", done, seconds_since(t0), (options.out / "gradebook.csv").c_str());
-  if (!completed) return 130;
-  return grader_error ? 2 : 0;
-}
-
-int update_references(const Options& options) {
-  Options o = options;
-  o.labs.clear();
-  for (const Stage& s : stages()) o.labs.push_back(s.number);
-  Run run = make_run(o, false);
-  write_cache_seed(run);
-  std::map<std::string, Image> collected;
-  run.collect = &collected;
-  std::vector<Entry> entries(1);
-  entries[0].source = kit_root() / "solutions";
-  entries[0].result_dir = run.temp / "unused";
-  std::string failures, renderer;
-  bool completed = run_entries(run, entries, [&](Entry& e) {
-    renderer = e.outcome.renderer;
-    for (const auto& [n, lab] : e.outcome.labs)
-      if (lab.status != kGraded) failures += "\n  " + lab_title(n) + ": " + lab.status + ": " + lab.message;
-  });
-  remove_run_temp(run);
-  if (!completed) return 130;
-  if (!failures.empty()) throw Error("the solutions did not render:" + failures);
-  fs::path dir = o.references.empty() ? default_references_dir() : o.references;
-  write_references(dir, collected, renderer);
-  std::printf("kit-grade: %zu references written to %s (%s); check them with --check-references\n",
-              reference_renders().size(), dir.c_str(), renderer.c_str());
-  return 0;
-}
-
-int check_references(const Options& options) {
-  Options o = options;
-  // The labs whose solutions this kit holds: every lab in the instructor's kit, the
-  // released ones in a student copy (whose references are checked all the same).
-  o.labs = labs_with_solutions();
-  fs::path dir = o.references.empty() ? default_references_dir() : o.references;
-  std::vector<std::string> stale = manifest_differences(dir);
-  if (stale.empty() && !o.labs.empty()) {
-    Run run = make_run(o, true);
-    write_cache_seed(run);
-    // Stale means: any pixel of a solution over its per-pixel threshold (no share of failing pixels allowed).
-    for (auto& [metric, tolerance] : run.config.tolerances) tolerance.fail_percent = 0.0;
-    for (auto& [check, tolerance] : run.config.check_tolerances) tolerance.fail_percent = 0.0;
-    std::vector<Entry> entries(1);
-    entries[0].source = kit_root() / "solutions";
-    entries[0].result_dir = run.temp / "result";
-    bool completed = run_entries(run, entries, [&](Entry& e) {
-      for (const auto& [n, lab] : e.outcome.labs) {
-        if (lab.status != kGraded) stale.push_back(lab_title(n) + ": " + lab.status + ": " + lab.message);
-        for (const CheckOutcome& c : lab.checks)
-          if (lab.status == kGraded && !c.passed)
-            stale.push_back(lab_title(n) + ": " + c.check->title + ": " + c.comparison.note +
-                            (c.comparison.note.empty() ? "" : "; ") + c.comparison.summary);
-      }
-    });
-    remove_run_temp(run);
-    if (!completed) return 130;
-  }
-  if (stale.empty()) {
-    std::printf("kit-grade: the references in %s match the check list (%zu images) and the solutions of labs %s\n",
-                dir.c_str(), reference_renders().size(), labs_list(o.labs).c_str());
-    return 0;
-  }
-  std::printf("kit-grade: the references in %s are stale (run kit-grade --update-references):\n", dir.c_str());
-  for (const std::string& s : stale) std::printf("  %s\n", s.c_str());
-  return 1;
 }
 
 }  // namespace kit::grade

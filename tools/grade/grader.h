@@ -82,10 +82,7 @@ struct SubmissionOutcome {
 
 // `kit-grade SUBMISSION`: returns the process exit status.
 int grade_submission(const std::filesystem::path& submission, const Options& options);
-// `kit-grade --batch FOLDER`.
-int grade_batch(const std::filesystem::path& folder, const Options& options);
-// `kit-grade --update-references` / `--check-references`.
-int update_references(const Options& options);
-int check_references(const Options& options);
+// `kit-grade --batch FOLDER` is batch.h's; `--update-references` and
+// `--check-references` are reference_maintenance.h's.
 
 }  // namespace kit::grade

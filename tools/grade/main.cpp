@@ -13,8 +13,10 @@
 #include <cstring>
 #include <thread>
 
+#include "batch.h"
 #include "error.h"
 #include "grader.h"
+#include "reference_maintenance.h"
 #include "submission.h"
 #include "stages.h"
 

@@ -56,11 +56,6 @@ std::string list_names(const std::vector<std::string>& names) {
   return out;
 }
 
-std::string lower(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
-  return text;
-}
-
 std::string join(const std::vector<std::string>& parts) {
   std::string out;
   for (const std::string& p : parts) out += (out.empty() ? "" : "/") + p;
@@ -241,7 +236,7 @@ bool holds_any(const Tree& tree, const std::vector<std::string>& folder, const S
 }
 
 bool is_lab_folder_name(const std::string& name) {
-  std::string l = lower(name);
+  std::string l = lower_case(name);
   return std::any_of(stages().begin(), stages().end(), [&](const Stage& s) { return s.folder == l; });
 }
 
@@ -250,7 +245,7 @@ LabSource find_lab_source(const Tree& tree, const Stage& stage, size_t labs_grad
   // Folders named like the lab's (any case) within reach, and any just too deep.
   std::vector<const TreeEntry*> near, deep;
   for (const auto& [key, e] : tree.entries) {
-    if (lower(e.parts.back()) != stage.folder) continue;
+    if (lower_case(e.parts.back()) != stage.folder) continue;
     (e.parts.size() - 1 <= kMaxWrapperDepth ? near : deep).push_back(&e);
   }
   // A folder of that name holding none of the lab's files (say a folder of
@@ -611,9 +606,14 @@ void list_all(const fs::path& dir, const std::string& prefix, std::vector<std::p
 
 }  // namespace
 
+std::string lower_case(std::string text) {
+  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
+  return text;
+}
+
 std::string file_digest(const fs::path& file, bool follow_links) {
   Sha1 sha;
-  return hash_file(sha, file, follow_links) ? lower(sha.digest()) : "";
+  return hash_file(sha, file, follow_links) ? lower_case(sha.digest()) : "";
 }
 
 std::string content_hash(const fs::path& submission) {
@@ -628,7 +628,7 @@ std::string content_hash(const fs::path& submission) {
   if (is_zip(submission) && fs::is_regular_file(submission, ec)) {
     field("zip");
     if (!hash_file(sha, submission, true)) field("unreadable");
-    return "sha1:" + lower(sha.digest());
+    return "sha1:" + lower_case(sha.digest());
   }
   field("folder");
   std::vector<std::pair<std::string, fs::path>> entries;
@@ -649,13 +649,11 @@ std::string content_hash(const fs::path& submission) {
       default: field("other"); break;
     }
   }
-  return "sha1:" + lower(sha.digest());
+  return "sha1:" + lower_case(sha.digest());
 }
 
 bool is_zip(const fs::path& path) {
-  std::string ext = path.extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext == ".zip";
+  return lower_case(path.extension().string()) == ".zip";
 }
 
 ZipListingLayout layout_from_zip_listing(const std::string& listing, const std::string& zip_name,

@@ -101,6 +101,10 @@ std::string content_hash(const std::filesystem::path& submission);
 // (links followed only when `follow_links`).
 std::string file_digest(const std::filesystem::path& file, bool follow_links);
 
+// `text` with its ASCII letters in lower case: lab folders and a batch's own file
+// names are matched in any case.
+std::string lower_case(std::string text);
+
 // How a lab's file is named in messages: "labs/02-lighting/brdf.glsl" (the
 // folder label kit::stage_library gives the private lab root).
 std::string shown_name(const std::string& folder, const std::string& file);

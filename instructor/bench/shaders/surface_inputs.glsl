@@ -1,14 +1,13 @@
 // The geometry pass's material and normal-map evaluation for the bench's own
 // geometry shaders (the lean G-buffer and forward shading). It is
 // solutions/04-normalmap/gbuffer.frag's computation: that file is a complete
-// shader (it declares #version and main), so it cannot be included. It includes
-// material_uniforms.glsl rather than geometry_uniforms.glsl, whose camera
-// uniforms uniforms.glsl (needed by forward shading) declares too.
+// shader (it declares #version and main), so it cannot be included.
 // instructor/tests/test_bench_methods.cpp checks the lean layout and forward shading against
 // the labs' G-buffer, so the two copies cannot drift apart unnoticed.
 #include "gbuffer_layout.h"
 
-#include "material_uniforms.glsl"
+#include "geometry_uniforms.glsl"
+#include "guards.glsl"
 #include "material_modes.glsl"
 
 // The varyings of solutions/04-normalmap/gbuffer.vert.
@@ -27,9 +26,6 @@ struct SurfaceInputs {
     float roughness;
     vec3 emission;    // emitted radiance L_e
 };
-
-// Below this squared length a tangent-frame vector is treated as degenerate.
-const float KIT_MIN_TANGENT_LENGTH_SQUARED = 1e-12;
 
 vec3 any_perpendicular(vec3 n) {
     vec3 axis = abs(n.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);

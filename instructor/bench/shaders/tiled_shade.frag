@@ -2,8 +2,7 @@
 // Tiled deferred, pass 2: each pixel sums the lights of its tile's list whose
 // sphere holds it; the radius test is the light volumes' one, so both methods drop
 // the same terms. A full-screen fragment pass, not a compute dispatch: llvmpipe
-// runs the same shading about twice as fast per pixel and light in a fragment
-// shader (measured: 6.7 against 12.8 ns with 260 lights, no culling, 640x360).
+// runs the same shading faster per pixel and light in a fragment shader.
 #extension GL_ARB_shader_storage_buffer_object : require
 #include "bench_layout.h"
 #include "shade.glsl"

@@ -12,13 +12,6 @@ namespace kit::test {
 
 using reference::dvec3;
 
-RenderSettings small_settings() {
-  RenderSettings s;
-  s.width = kSmallWidth;
-  s.height = kSmallHeight;
-  return s;
-}
-
 std::unique_ptr<Renderer> make_renderer(const std::string& stage, const Scene& scene, const RenderSettings& settings) {
   return make_renderer(stage, scene, settings, stage_library(find_stage(stage), kit_root() / "solutions"));
 }

@@ -8,15 +8,11 @@
 #include <vector>
 
 #include "cpu_reference.h"
+#include "kit_test.h"  // small_settings, kSmallWidth, kSmallHeight
 #include "renderer.h"
 #include "shader_source.h"
 
 namespace kit::test {
-
-// The frame size the reference tests render at: big enough for thousands of
-// samples per frame, small enough to keep each test program at a few seconds.
-constexpr int kSmallWidth = 160, kSmallHeight = 120;
-RenderSettings small_settings();
 
 // Everything one rendered frame leaves for the CPU reference to check.
 struct Frame {

@@ -1,0 +1,83 @@
+#pragma once
+// The grading run as kit-grade's commands share it, and its scheduler (grader.cpp),
+// which renders and compares each entry's labs. Private to tools/grade:
+// grade_submission (grader.cpp), grade_batch (batch.cpp) and the reference commands
+// (reference_maintenance.cpp) each make a run.
+#include <chrono>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "compare.h"
+#include "grader.h"
+#include "image_io.h"
+#include "references.h"
+#include "scene.h"
+#include "submission.h"
+
+namespace kit::grade {
+
+using Clock = std::chrono::steady_clock;
+
+// One grading run: the settings, what every submission shares (config,
+// scenes, references) and the run's private temporary folder.
+struct Run {
+  const Options& options;
+  Config config;
+  std::map<std::string, Scene> scenes;
+  std::filesystem::path references_dir;  // "" when the run compares with none (--update-references)
+  // The references of the labs compared so far (load_references_of), each with its
+  // background as its checks compare it (reference_background), found once; per lab
+  // loaded, "" or why its references could not be read.
+  std::map<int, std::string> reference_problems;
+  std::map<std::string, LoadedReference> references;
+  std::map<std::pair<std::string, Metric>, Background> backgrounds;
+  std::map<std::string, Image>* collect = nullptr;  // --update-references: keep the raw renders instead
+  std::filesystem::path temp;
+  // --check-references and --update-references render only the kit's own files:
+  // their children write the shader cache seed that graded submissions start from.
+  bool writes_cache_seed = false;
+  // Where the decoded references and what is made from them are kept
+  // (reference_cache_dir(): between runs, else in this run's temporary folder).
+  std::filesystem::path reference_cache;
+  std::string references_renderer;  // what rendered the references (their manifest's "renderer")
+};
+
+// A submission of a run.
+struct Entry {
+  std::filesystem::path source;
+  std::filesystem::path result_dir;  // report images are written here (a staging folder in a batch)
+  std::filesystem::path final_dir;   // a batch: the submission's result folder
+  std::string content_hash;  // computed before grading, stored in summary.json
+  SubmissionOutcome outcome;
+  std::optional<PreparedSubmission> prepared;
+  std::filesystem::path temp;
+  size_t labs_left = 0;
+  Clock::time_point started;
+};
+
+// Called as each entry has all its labs graded.
+using Finished = std::function<void(Entry&)>;
+
+// The run of `options`: its config and scenes, its temporary folder, and (with
+// `need_references`) its references, which must be current (else kit::Error).
+Run make_run(const Options& options, bool need_references);
+// Has the run's children write the Mesa shader cache seed that graded submissions
+// start from (runs that render only the kit's own files).
+void write_cache_seed(Run& run);
+// Runs every lab of every entry, at most options.jobs children at a time;
+// `finished` is called as each entry completes. Returns false when interrupted.
+bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished);
+// Removes the run's temporary folder (--keep-temp: says where it is instead).
+void remove_run_temp(const Run& run);
+
+// Creates `dir` and checks that files can be written in it; else false, with why.
+bool writable_folder(const std::filesystem::path& dir, std::string* why);
+// `text` without the newlines and spaces it ends with.
+std::string trimmed(std::string text);
+
+}  // namespace kit::grade

@@ -1,0 +1,94 @@
+#include "reference_maintenance.h"
+
+#include <cstdio>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "error.h"
+#include "grading_run.h"
+#include "references.h"
+#include "report.h"
+#include "stages.h"
+
+namespace fs = std::filesystem;
+
+namespace kit::grade {
+
+namespace {
+
+// "1,2,3", or "none".
+std::string labs_list(const std::vector<int>& labs) {
+  std::string out;
+  for (int lab : labs) out += (out.empty() ? "" : ",") + std::to_string(lab);
+  return out.empty() ? "none" : out;
+}
+
+}  // namespace
+
+int update_references(const Options& options) {
+  Options o = options;
+  o.labs.clear();
+  for (const Stage& s : stages()) o.labs.push_back(s.number);
+  Run run = make_run(o, false);
+  write_cache_seed(run);
+  std::map<std::string, Image> collected;
+  run.collect = &collected;
+  std::vector<Entry> entries(1);
+  entries[0].source = kit_root() / "solutions";
+  entries[0].result_dir = run.temp / "unused";
+  std::string failures, renderer;
+  bool completed = run_entries(run, entries, [&](Entry& e) {
+    renderer = e.outcome.renderer;
+    for (const auto& [n, lab] : e.outcome.labs)
+      if (lab.status != kGraded) failures += "\n  " + lab_title(n) + ": " + lab.status + ": " + lab.message;
+  });
+  remove_run_temp(run);
+  if (!completed) return 130;
+  if (!failures.empty()) throw Error("the solutions did not render:" + failures);
+  fs::path dir = o.references.empty() ? default_references_dir() : o.references;
+  write_references(dir, collected, renderer);
+  std::printf("kit-grade: %zu references written to %s (%s); check them with --check-references\n",
+              reference_renders().size(), dir.c_str(), renderer.c_str());
+  return 0;
+}
+
+int check_references(const Options& options) {
+  Options o = options;
+  // The labs whose solutions this kit holds: every lab in the instructor's kit, the
+  // released ones in a student copy (whose references are checked all the same).
+  o.labs = labs_with_solutions();
+  fs::path dir = o.references.empty() ? default_references_dir() : o.references;
+  std::vector<std::string> stale = manifest_differences(dir);
+  if (stale.empty() && !o.labs.empty()) {
+    Run run = make_run(o, true);
+    write_cache_seed(run);
+    // Stale means: any pixel of a solution over its per-pixel threshold (no share of failing pixels allowed).
+    for (auto& [metric, tolerance] : run.config.tolerances) tolerance.fail_percent = 0.0;
+    for (auto& [check, tolerance] : run.config.check_tolerances) tolerance.fail_percent = 0.0;
+    std::vector<Entry> entries(1);
+    entries[0].source = kit_root() / "solutions";
+    entries[0].result_dir = run.temp / "result";
+    bool completed = run_entries(run, entries, [&](Entry& e) {
+      for (const auto& [n, lab] : e.outcome.labs) {
+        if (lab.status != kGraded) stale.push_back(lab_title(n) + ": " + lab.status + ": " + lab.message);
+        for (const CheckOutcome& c : lab.checks)
+          if (lab.status == kGraded && !c.passed)
+            stale.push_back(lab_title(n) + ": " + c.check->title + ": " + c.comparison.note +
+                            (c.comparison.note.empty() ? "" : "; ") + c.comparison.summary);
+      }
+    });
+    remove_run_temp(run);
+    if (!completed) return 130;
+  }
+  if (stale.empty()) {
+    std::printf("kit-grade: the references in %s match the check list (%zu images) and the solutions of labs %s\n",
+                dir.c_str(), reference_renders().size(), labs_list(o.labs).c_str());
+    return 0;
+  }
+  std::printf("kit-grade: the references in %s are stale (run kit-grade --update-references):\n", dir.c_str());
+  for (const std::string& s : stale) std::printf("  %s\n", s.c_str());
+  return 1;
+}
+
+}  // namespace kit::grade
