@@ -112,16 +112,16 @@ bool uses_default_light_rig(const Scene& scene, const Stage& stage, const Render
 std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings);
 
 // Defines KIT_ATTENUATION_MODEL_PHYSICAL (model 0) or KIT_ATTENUATION_MODEL_SIMPLE (1)
-// in `library` and no other, so lights.glsl declares u_attenuation_model as that constant.
+// in `library` and no other, so light_specialisation.glsl (which lights.glsl includes)
+// declares u_attenuation_model as that constant.
 void apply_attenuation_model_define(ShaderLibrary& library, int model);
 
 // Whether `stage`'s lighting pass runs only where the G-buffer's depth holds a surface
 // (FullscreenTriangle::pass_over_surfaces), the background cleared to the clear colour
 // before it: at every lit stage but lab 2's own, whose lighting.frag decides by the
 // coverage mask, pixel by pixel, what is background (that branch is the lab's to write,
-// and a mistake in it must show). On the crowd scene, 71 % of whose pixels are
-// background, skipping them before the shader runs takes the pass from 26.1 to 21.4 ms
-// (handouts/02-lighting.md, "Speed").
+// and a mistake in it must show). On the crowd scene 71 % of the pixels are background
+// (what skipping them saves: docs/performance.md, via handouts/02-lighting.md "Speed").
 bool skips_background_pixels(const Stage& stage);
 
 // Defined in every shader (ShaderLibrary::set_define) when a frame has more lights
@@ -129,7 +129,7 @@ bool skips_background_pixels(const Stage& stage);
 constexpr const char* kLightsInTexture = "KIT_LIGHTS_IN_TEXTURE";
 // Defined when every light of a frame has that one type, and when none has a glTF range:
 // kit_light() then returns the type and range as constants, and the shader compiler
-// removes the branches for the types the frame does not have (lights.glsl says why that
+// removes the branches for the types the frame does not have (light_specialisation.glsl says why that
 // pays on llvmpipe). The values the shaders see are the same either way.
 constexpr const char* kLightsAllPoint = "KIT_LIGHTS_ALL_POINT";
 constexpr const char* kLightsAllSpot = "KIT_LIGHTS_ALL_SPOT";
