@@ -24,12 +24,14 @@ PassTimes median_pass_times(const std::vector<PassTimes>& frames) {
       samples[pass].push_back(ms);
     }
   PassTimes medians;
-  for (const std::string& pass : order) {
-    std::vector<double>& v = samples[pass];
-    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2), v.end());
-    medians.emplace_back(pass, v[v.size() / 2]);
-  }
+  for (const std::string& pass : order) medians.emplace_back(pass, median(std::move(samples[pass])));
   return medians;
+}
+
+double median(std::vector<double> values) {
+  if (values.empty()) return 0.0;
+  std::nth_element(values.begin(), values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2), values.end());
+  return values[values.size() / 2];
 }
 
 }  // namespace kit

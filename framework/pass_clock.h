@@ -32,5 +32,7 @@ class PassClock {
 
 // Per pass, the median over frames of its times, in the order passes first ran.
 PassTimes median_pass_times(const std::vector<PassTimes>& frames);
+// The middle value (the upper one of an even count); 0 for none.
+double median(std::vector<double> values);
 
 }  // namespace kit

@@ -56,6 +56,12 @@ constexpr int kQuickCrowdWidth = 200, kQuickCrowdHeight = 150;
 const char* const kCrowdMethods[] = {"labs", "forward", "tiled-e256", "volumes-e256"};
 // The labs' own stage whose frame is broken down: lighting, attenuation and tone mapping.
 constexpr const char* kCrowdStage = "attenuation";
+// The geometry pass against the least it could cost (issue 28): the labs' own (the
+// solutions, with the framework's material variants) and a minimal one writing the same
+// G-buffer from one UV set, no transform, vertex colour or MASK test, in alternating
+// rounds so that their ratio holds under a changing machine load.
+constexpr const char* kMinimalGeometryPass = "instructor/bench/minimal_gbuffer";
+constexpr int kGeometryRounds = 5;
 // Difference images are amplified so a one-step (1/255) error is visible.
 constexpr int kDifferenceGain = 16;
 
@@ -101,6 +107,7 @@ void usage() {
       "  --quick               %dx%d, %d frames, fewer methods (CI smoke run)\n"
       "  --ibl-only            only the IBL family\n"
       "  --crowd-only          only the crowd configuration (prints it; writes DIR/results.csv)\n"
+      "  --geometry-only       only the geometry pass of --scene against a minimal one (prints it)\n"
       "  --method NAME         one configuration: prints ms/frame and its error; several names\n"
       "                        separated by commas are timed round-robin on the same scene\n"
       "                        (IBL methods, ibl-*: one after the other, %d frames unless --frames;\n"
@@ -230,6 +237,42 @@ void print_labs_breakdown(const kit::Scene& scene, const kit::RenderSettings& se
   std::printf("    %-10s %8.2f ms\n", "sum", total);
 }
 
+// One round of `frames` frames: the median time of `renderer`'s geometry pass.
+double median_geometry_ms(kit::Renderer& renderer, const kit::FrameCamera& camera, int frames) {
+  std::vector<kit::PassTimes> times(static_cast<size_t>(frames));
+  for (kit::PassTimes& frame : times) renderer.render(camera, &frame);
+  for (const auto& [pass, ms] : kit::median_pass_times(times))
+    if (pass == "geometry") return ms;
+  throw kit::Error("kit-bench: the gbuffer stage timed no geometry pass");
+}
+
+// The labs' geometry pass and the minimal one on `scene`, kGeometryRounds alternating
+// rounds: the median of each and of the per-round ratios (docs/performance.md has the
+// figures on LearnOpenGL 8.1's scene: kit-bench --geometry-only --scene FILE).
+void print_geometry_against_minimal(const kit::Scene& scene, const std::string& scene_name,
+                                    const kit::RenderSettings& settings, const kit::FrameCamera& camera, int warmup,
+                                    int frames) {
+  const kit::Stage& stage = kit::find_stage("gbuffer");
+  kit::Renderer labs(stage, kit::stage_library(stage, kit::kit_root() / "solutions"), scene, settings);
+  kit::Renderer minimal(stage, kit::stage_library(stage, kit::kit_root() / kMinimalGeometryPass), scene, settings);
+  for (int f = 0; f < warmup; ++f) {
+    labs.render(camera);
+    minimal.render(camera);
+  }
+  std::vector<double> labs_ms, minimal_ms, ratios;
+  for (int round = 0; round < kGeometryRounds; ++round) {
+    labs_ms.push_back(median_geometry_ms(labs, camera, frames));
+    minimal_ms.push_back(median_geometry_ms(minimal, camera, frames));
+    ratios.push_back(labs_ms.back() / minimal_ms.back());
+  }
+  const auto [lo, hi] = std::minmax_element(ratios.begin(), ratios.end());
+  std::printf("-- geometry pass on '%s' at %dx%d, %d rounds of %d frames (%s):\n", scene_name.c_str(),
+              settings.width, settings.height, kGeometryRounds, frames, labs.texture_compression().reason.c_str());
+  std::printf("  the labs' (material variants) %8.2f ms\n  minimal                       %8.2f ms\n"
+              "  ratio                         %8.2f (per round %.2f to %.2f)\n",
+              kit::median(labs_ms), kit::median(minimal_ms), kit::median(ratios), *lo, *hi);
+}
+
 kit::FrameCamera camera_for(const kit::Scene& scene, const kit::RenderSettings& s) {
   kit::Camera camera = scene.camera ? *scene.camera : kit::framing_camera(scene);
   return kit::frame_camera(camera, static_cast<float>(s.width) / static_cast<float>(s.height));
@@ -240,7 +283,8 @@ kit::FrameCamera camera_for(const kit::Scene& scene, const kit::RenderSettings& 
 int main(int argc, char** argv) {
   auto t0 = std::chrono::steady_clock::now();
   kit::CommonOptions options;
-  bool quick = false, list = false, size_given = false, passes = false, ibl_only = false, crowd_only = false;
+  bool quick = false, list = false, size_given = false, passes = false, ibl_only = false, crowd_only = false,
+       geometry_only = false;
   std::string method_name, out_dir, images_dir;
   int frames = -1;
   kit::bench::SmallLightRange small_range = kit::bench::SmallLightRange::Ranged;
@@ -257,6 +301,7 @@ int main(int argc, char** argv) {
       if (flag == "--quick") return quick = true, 1;
       if (flag == "--ibl-only") return ibl_only = true, 1;
       if (flag == "--crowd-only") return crowd_only = true, 1;
+      if (flag == "--geometry-only") return geometry_only = true, 1;
       if (flag == "--list") return list = true, 1;
       if (flag == "--passes") return passes = true, 1;
       if (flag == "--out") return out_dir = value(), 2;
@@ -283,6 +328,12 @@ int main(int argc, char** argv) {
     auto context = kit::create_headless_context(kit::parse_backend(options.backend));
     const kit::Scene scene = kit::load_scene(kit::resolve_scene(options.scene));
     kit::RenderSettings settings = options.settings;
+    if (geometry_only) {
+      print_geometry_against_minimal(scene, options.scene, settings, camera_for(scene, settings),
+                                     quick ? kQuickWarmupFrames : kit::bench::kWarmupFrames,
+                                     frames > 0 ? frames : quick ? kQuickTimedFrames : kit::bench::kTimedFrames);
+      return 0;
+    }
 
     if (!method_name.empty()) {
       // One method, or several separated by commas: those are timed round-robin
@@ -357,6 +408,7 @@ int main(int argc, char** argv) {
       crowd_settings.height = quick ? kQuickCrowdHeight : kCrowdHeight;
       kit::FrameCamera camera = camera_for(crowd, crowd_settings);
       print_labs_breakdown(crowd, crowd_settings, camera, warmup, timed);
+      print_geometry_against_minimal(crowd, kCrowdScene, crowd_settings, camera, warmup, timed);
       kit::bench::BenchRenderer renderer(crowd, kit::bench::bench_lights(crowd, 0, small_range), crowd_settings);
       kit::bench::Reference reference = kit::bench::reference_hdr(renderer, camera, cpu_budget);
       std::printf("-- %s scene at %dx%d, %d lights: reference %s\n", kCrowdScene, crowd_settings.width,
