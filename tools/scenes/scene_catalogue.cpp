@@ -35,6 +35,24 @@ MaterialDesc normal_mapped_grey(int normal_texture) {
   return m;
 }
 
+// A material of factors alone: no texture, opaque, single-sided.
+MaterialDesc plain_material(const std::string& name, glm::dvec4 base_color, double roughness,
+                            double metallic = 0.0) {
+  MaterialDesc m;
+  m.name = name;
+  m.base_color = base_color;
+  m.roughness = roughness;
+  m.metallic = metallic;
+  return m;
+}
+
+// The lit scenes' 12 x 12 m grey floor (base colour 0.6) at y = 0, facing up.
+void add_grey_floor(GltfSceneWriter& b, double roughness) {
+  const Geometry floor = b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {12, 12}, {1, 1}, false));
+  const MaterialDesc grey = plain_material("grey_floor", glm::dvec4(0.6, 0.6, 0.6, 1.0), roughness);
+  b.add_mesh_node("floor", {0, 0, 0}, floor, b.add_material(grey));
+}
+
 // ---------------------------------------------------------------------------
 // Scenes
 
@@ -116,11 +134,7 @@ GltfSceneWriter build_default_scene(const Textures& tex) {
 
 GltfSceneWriter build_sphere_scene() {
   GltfSceneWriter b("sphere");
-  MaterialDesc mat;
-  mat.name = "terracotta";
-  mat.base_color = glm::dvec4(0.8, 0.3, 0.2, 1.0);
-  mat.metallic = 0.0;
-  mat.roughness = 0.4;
+  const MaterialDesc mat = plain_material("terracotta", glm::dvec4(0.8, 0.3, 0.2, 1.0), 0.4);
   const Geometry sphere = b.add_geometry(make_sphere(1.0f, 64, 32, {2, 1}, true));
   b.add_mesh_node("sphere", {0, 0, 0}, sphere, b.add_material(mat));
   b.add_point_light("light", {2, 2, 3}, kWhite, 50.0);
@@ -130,11 +144,7 @@ GltfSceneWriter build_sphere_scene() {
 
 GltfSceneWriter build_grazing_scene() {
   GltfSceneWriter b("grazing");
-  MaterialDesc mat;
-  mat.name = "white_glossy";
-  mat.base_color = glm::dvec4(1.0);
-  mat.metallic = 0.0;
-  mat.roughness = 0.3;
+  const MaterialDesc mat = plain_material("white_glossy", glm::dvec4(1.0), 0.3);
   const Geometry plane =
       b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {20, 20}, {10, 10}, false));
   b.add_mesh_node("plane", {0, 0, 0}, plane, b.add_material(mat));
@@ -150,11 +160,7 @@ GltfSceneWriter build_grazing_scene() {
 // so that no sharp reflection of the environment's sun makes the image driver-sensitive.
 GltfSceneWriter build_matte_scene() {
   GltfSceneWriter b("matte");
-  MaterialDesc mat;
-  mat.name = "white_matte";
-  mat.base_color = glm::dvec4(0.9, 0.9, 0.9, 1.0);
-  mat.metallic = 0.0;
-  mat.roughness = 1.0;
+  const MaterialDesc mat = plain_material("white_matte", glm::dvec4(0.9, 0.9, 0.9, 1.0), 1.0);
   const Geometry plane =
       b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {30, 30}, {1, 1}, false));
   b.add_mesh_node("floor", {0, 0, -10}, plane, b.add_material(mat));
@@ -169,13 +175,7 @@ GltfSceneWriter build_matte_scene() {
 // penumbra of 14 to 26 degrees, too narrow to tell them apart). kit-grade's lab 3.
 GltfSceneWriter build_spot_scene() {
   GltfSceneWriter b("spot");
-  MaterialDesc mat;
-  mat.name = "grey_floor";
-  mat.base_color = glm::dvec4(0.6, 0.6, 0.6, 1.0);
-  mat.roughness = 0.7;
-  const Geometry floor =
-      b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {12, 12}, {1, 1}, false));
-  b.add_mesh_node("floor", {0, 0, 0}, floor, b.add_material(mat));
+  add_grey_floor(b, 0.7);
   // Aimed almost straight down (tilted 5.7 degrees: a look-at along -Y has no up).
   b.add_spot_light("spot", {0.0, 3.0, 0.3}, {0.0, 0.0, 0.0}, kWhite, 30.0, glm::radians(10.0),
                    glm::radians(45.0));
@@ -193,16 +193,8 @@ const glm::dvec3 kSunDirection(1.0, -0.5, -0.3);  // where its light travels (no
 const glm::dvec3 kSunNode(0.5, 4.0, 0.5);
 GltfSceneWriter build_sun_scene() {
   GltfSceneWriter b("sun");
-  MaterialDesc floor_mat;
-  floor_mat.name = "grey_floor";
-  floor_mat.base_color = glm::dvec4(0.6, 0.6, 0.6, 1.0);
-  floor_mat.roughness = 0.6;
-  const Geometry floor = b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {12, 12}, {1, 1}, false));
-  b.add_mesh_node("floor", {0, 0, 0}, floor, b.add_material(floor_mat));
-  MaterialDesc ball;
-  ball.name = "blue_ball";
-  ball.base_color = glm::dvec4(0.25, 0.45, 0.8, 1.0);
-  ball.roughness = 0.35;
+  add_grey_floor(b, 0.6);
+  const MaterialDesc ball = plain_material("blue_ball", glm::dvec4(0.25, 0.45, 0.8, 1.0), 0.35);
   const Geometry sphere = b.add_geometry(make_sphere(1.0f, 64, 32, {2, 1}, true));
   b.add_mesh_node("sphere", {0, 1, 0}, sphere, b.add_material(ball));
   b.add_directional_light("sun", kSunNode, kSunDirection, {1.0, 0.9, 0.75}, 2.5);
@@ -217,11 +209,7 @@ GltfSceneWriter build_sun_scene() {
 // on the other scenes it covers a handful. kit-grade's lab 2.
 GltfSceneWriter build_highlight_scene() {
   GltfSceneWriter b("highlight");
-  MaterialDesc mat;
-  mat.name = "glossy_red";
-  mat.base_color = glm::dvec4(0.5, 0.1, 0.1, 1.0);
-  mat.metallic = 0.0;
-  mat.roughness = 0.2;
+  const MaterialDesc mat = plain_material("glossy_red", glm::dvec4(0.5, 0.1, 0.1, 1.0), 0.2);
   const Geometry sphere = b.add_geometry(make_sphere(1.0f, 128, 64, {2, 1}, true));
   b.add_mesh_node("sphere", {0, 0, 0}, sphere, b.add_material(mat));
   const glm::dvec3 light(2.0, 2.0, 4.0), eye(0.0, 0.0, 3.5);
@@ -314,12 +302,7 @@ GltfSceneWriter build_texturing_scene(const Textures& tex) {
 // changes most of the lit floor (no light of the other scenes has a range).
 GltfSceneWriter build_range_scene() {
   GltfSceneWriter b("range");
-  MaterialDesc mat;
-  mat.name = "grey_floor";
-  mat.base_color = glm::dvec4(0.6, 0.6, 0.6, 1.0);
-  mat.roughness = 0.7;
-  const Geometry floor = b.add_geometry(make_quad({1, 0, 0}, {0, 0, -1}, {12, 12}, {1, 1}, false));
-  b.add_mesh_node("floor", {0, 0, 0}, floor, b.add_material(mat));
+  add_grey_floor(b, 0.7);
   b.add_point_light("short_point", {-1.5, 0.5, 0.0}, {1.0, 0.85, 0.7}, 8.0, 2.5);
   b.add_spot_light("short_spot", {2.0, 2.0, -0.5}, {2.1, 0.0, -0.4}, {0.7, 0.8, 1.0}, 40.0, glm::radians(20.0),
                    glm::radians(40.0), 2.8);
@@ -387,10 +370,7 @@ GltfSceneWriter build_materials_scene(const Textures& tex) {
   b.add_mesh_node("blend_strip", {0.0, -0.05, 0.3}, strip, b.add_material(blend));
 
   // make_quad's corners: bottom-left, bottom-right, top-right, top-left.
-  MaterialDesc tinted;
-  tinted.name = "vertex_coloured";
-  tinted.base_color = glm::dvec4(0.9, 0.8, 0.7, 1.0);
-  tinted.roughness = 0.5;
+  const MaterialDesc tinted = plain_material("vertex_coloured", glm::dvec4(0.9, 0.8, 0.7, 1.0), 0.5);
   Geometry ramp = b.add_geometry(make_quad(x, y, {3.0f, 0.3f}, {1, 1}, false));
   const glm::vec3 orange(1.0f, 0.45f, 0.1f), blue(0.1f, 0.35f, 1.0f);
   b.add_colors(ramp, std::vector<glm::vec3>{orange, blue, blue, orange});
@@ -464,10 +444,7 @@ constexpr double kCrowdLightCandela = 1.5;  // each light: the 32 together expos
 
 GltfSceneWriter build_crowd_scene() {
   GltfSceneWriter b("crowd");
-  MaterialDesc mat;
-  mat.name = "crowd_model";
-  mat.base_color = glm::dvec4(0.7, 0.62, 0.55, 1.0);
-  mat.roughness = 0.45;
+  const MaterialDesc mat = plain_material("crowd_model", glm::dvec4(0.7, 0.62, 0.55, 1.0), 0.45);
   const Geometry model = b.add_geometry(make_sphere(0.8f, kCrowdModelSegments, kCrowdModelRings, {4, 2}, false));
   const int material = b.add_material(mat);
   const double half = 0.5 * (kCrowdGridSide - 1);
