@@ -42,18 +42,14 @@ struct ImageUse {
 };
 std::vector<ImageUse> image_uses(const Scene& scene) {
   std::vector<ImageUse> uses(scene.images.size());
-  auto use = [&](int image, bool srgb) {
-    if (image < 0 || static_cast<size_t>(image) >= uses.size()) return;
-    (srgb ? uses[static_cast<size_t>(image)].srgb : uses[static_cast<size_t>(image)].linear) = true;
-  };
-  for (const Material& m : scene.materials) {
-    use(m.base_color_image, true);
-    use(m.emissive_image, true);
-    use(m.metallic_roughness_image, false);
-    use(m.normal_image, false);
-    if (m.normal_image >= 0 && static_cast<size_t>(m.normal_image) < uses.size())
-      uses[static_cast<size_t>(m.normal_image)].normal_map = true;
-  }
+  for (const Material& m : scene.materials)
+    for (int unit = 0; unit < kMaterialTextureCount; ++unit) {
+      const int image = m.texture(unit).image;
+      if (image < 0 || static_cast<size_t>(image) >= uses.size()) continue;
+      ImageUse& use = uses[static_cast<size_t>(image)];
+      (material_texture_is_color(unit) ? use.srgb : use.linear) = true;
+      if (unit == KIT_UNIT_NORMAL_MAP) use.normal_map = true;
+    }
   return uses;
 }
 

@@ -1284,9 +1284,9 @@ TEST(scene_loader_textures, EachImageIsUploadedInTheFormatItsSlotsNeed) {
   const kit::SceneGpu gpu(scene);
   size_t checked = 0;
   for (const kit::Material& m : scene.materials) {
-    for (int image : {m.base_color_image, m.normal_image}) {
+    for (int image : {m.texture(KIT_UNIT_BASE_COLOR).image, m.texture(KIT_UNIT_NORMAL_MAP).image}) {
       if (image < 0) continue;
-      const bool srgb = image == m.base_color_image;
+      const bool srgb = image == m.texture(KIT_UNIT_BASE_COLOR).image;
       EXPECT_NE(gpu.texture(image, srgb).id(), 0u) << "image " << image;
       EXPECT_EQ(gpu.texture(image, !srgb).id(), 0u) << "image " << image << " was also uploaded in the other format";
       ++checked;
@@ -1308,10 +1308,10 @@ TEST(scene_loader_textures, LargeTexturesAreCompressedSmallOnesAndNormalMapsNot)
     return kit::SceneImage{what, side, side, {}, pixels};
   };
   kit::Material opaque = kit::test::plain_material(0.5f), translucent = opaque, small = opaque;
-  opaque.base_color_image = 0;
-  opaque.normal_image = 3;
-  translucent.base_color_image = 1;
-  small.base_color_image = 2;
+  opaque.texture(KIT_UNIT_BASE_COLOR).image = 0;
+  opaque.texture(KIT_UNIT_NORMAL_MAP).image = 3;
+  translucent.texture(KIT_UNIT_BASE_COLOR).image = 1;
+  small.texture(KIT_UNIT_BASE_COLOR).image = 2;
   kit::Primitive quad = kit::test::quad_primitive({1, 0, 0}, {0, 1, 0}, {1, 1});
   quad.material = 0;
   kit::Scene scene = kit::test::tiny_scene({quad}, {opaque, translucent, small}, {{0, glm::mat4(1.0f)}}, {});
@@ -1369,7 +1369,8 @@ TEST(scene_loader_textures, SamplersSetWrapAndFilterOfEachTexture) {
     const json& base_color = copy.doc["materials"][m]["pbrMetallicRoughness"];
     if (!base_color.contains("baseColorTexture")) continue;
     const int texture = base_color["baseColorTexture"]["index"];
-    EXPECT_EQ(scene.materials[m].base_color_sampler, sampler_of_texture.at(texture)) << "material " << m;
+    EXPECT_EQ(scene.materials[m].texture(KIT_UNIT_BASE_COLOR).sampler, sampler_of_texture.at(texture))
+        << "material " << m;
     checked_texture[texture] = true;
   }
   EXPECT_TRUE(checked_texture[0]) << "some material samples texture 0";
@@ -1442,15 +1443,15 @@ TEST(scene_loader_uv, TextureTransformBelongsToItsTexture) {
   const kit::Primitive &before = primitive_named(plain, "floor"), &after = primitive_named(moved, "floor");
   const kit::Material& m = moved.materials[static_cast<size_t>(after.material)];
   EXPECT_TRUE(moved.warnings.empty()) << moved.warnings.front();
-  EXPECT_EQ(m.emissive_uv.slot, 0);
-  EXPECT_EQ(m.base_color_uv.transform, glm::mat3(1.0f));
+  EXPECT_EQ(m.texture(KIT_UNIT_EMISSIVE).uv.slot, 0);
+  EXPECT_EQ(m.texture(KIT_UNIT_BASE_COLOR).uv.transform, glm::mat3(1.0f));
   ASSERT_EQ(before.vertices.size(), after.vertices.size());
   size_t changed = 0;
   for (size_t i = 0; i < after.vertices.size(); ++i) {
     EXPECT_EQ(after.vertices[i].texcoord, before.vertices[i].texcoord) << "vertex " << i;
-    EXPECT_EQ(m.base_color_uv.of(after.vertices[i]), before.vertices[i].texcoord) << "vertex " << i;
+    EXPECT_EQ(m.texture(KIT_UNIT_BASE_COLOR).uv.of(after.vertices[i]), before.vertices[i].texcoord) << "vertex " << i;
     const glm::dvec2 expected = kit::test::texture_transformed(glm::dvec2(before.vertices[i].texcoord), offset, rotation, scale);
-    const glm::vec2 emissive = m.emissive_uv.of(after.vertices[i]);
+    const glm::vec2 emissive = m.texture(KIT_UNIT_EMISSIVE).uv.of(after.vertices[i]);
     EXPECT_NEAR(emissive.x, expected.x, 1e-5) << "vertex " << i;
     EXPECT_NEAR(emissive.y, expected.y, 1e-5) << "vertex " << i;
     changed += glm::distance(expected, glm::dvec2(before.vertices[i].texcoord)) > 0.01;  // ignoring it would be wrong here
@@ -1485,13 +1486,14 @@ TEST(scene_loader_uv, EachTextureReadsTheUvSetItNames) {
   const kit::Primitive& p = primitive_named(scene, "floor");
   const kit::Material& m = scene.materials[static_cast<size_t>(p.material)];
   EXPECT_EQ(m.uv_set_of_slot, (std::array<int, 2>{0, 1}));
-  EXPECT_EQ(m.base_color_uv.slot, 0);
-  EXPECT_EQ(m.emissive_uv.slot, 1);
+  EXPECT_EQ(m.texture(KIT_UNIT_BASE_COLOR).uv.slot, 0);
+  EXPECT_EQ(m.texture(KIT_UNIT_EMISSIVE).uv.slot, 1);
   const kit::Primitive& before = primitive_named(plain, "floor");
   ASSERT_EQ(p.vertices.size(), uv1.size() / 2);
   for (size_t i = 0; i < p.vertices.size(); ++i) {
-    EXPECT_EQ(m.base_color_uv.of(p.vertices[i]), before.vertices[i].texcoord) << "vertex " << i;
-    EXPECT_EQ(m.emissive_uv.of(p.vertices[i]), glm::vec2(uv1[2 * i], uv1[2 * i + 1])) << "vertex " << i;
+    EXPECT_EQ(m.texture(KIT_UNIT_BASE_COLOR).uv.of(p.vertices[i]), before.vertices[i].texcoord) << "vertex " << i;
+    EXPECT_EQ(m.texture(KIT_UNIT_EMISSIVE).uv.of(p.vertices[i]), glm::vec2(uv1[2 * i], uv1[2 * i + 1]))
+        << "vertex " << i;
   }
 
   // A material whose only textures read TEXCOORD_1 puts it in slot 0.

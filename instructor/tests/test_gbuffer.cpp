@@ -619,8 +619,8 @@ TEST(gbuffer_material_modes, MaskCutoffDecidesCoverage) {
   m.base_color_factor = glm::vec4(1.0f);
   m.alpha_mode = KIT_ALPHA_MASK;
   m.alpha_cutoff = static_cast<float>(kCutoff);
-  m.base_color_image = 0;
-  m.base_color_sampler = 0;
+  m.texture(KIT_UNIT_BASE_COLOR).image = 0;
+  m.texture(KIT_UNIT_BASE_COLOR).sampler = 0;
   kit::Scene scene = quad_scene(m);
   scene.images.push_back(
       {"alpha ramp", 2, 1, {}, kit::ImageRgba8{2, 1, {200, 200, 200, kLowAlpha, 200, 200, 200, kHighAlpha}}});
@@ -668,7 +668,7 @@ TEST(gbuffer_material_modes, AlbedoIsFactorTimesTexelTimesVertexColour) {
   const std::array<unsigned char, 4> texel = {200, 150, 100, 230};
   kit::Material m = kit::test::plain_material(0.5f);
   m.base_color_factor = glm::vec4(0.9f, 0.8f, 0.6f, 0.95f);
-  m.base_color_image = 0;
+  m.texture(KIT_UNIT_BASE_COLOR).image = 0;
   kit::Scene scene = quad_scene(m);
   scene.images.push_back({"texel", 1, 1, {}, kit::ImageRgba8{1, 1, {texel.begin(), texel.end()}}});
   const kit::Vertex *at_left = nullptr, *at_right = nullptr;
@@ -723,8 +723,8 @@ TEST(gbuffer_material_modes, EachTextureSamplesItsOwnUvSetAndTransform) {
     }
   kit::Material m = kit::test::plain_material(1.0f);
   m.metallic_factor = 1.0f;
-  m.metallic_roughness_image = 0;
-  m.metallic_roughness_sampler = 0;
+  m.texture(KIT_UNIT_METALLIC_ROUGHNESS).image = 0;
+  m.texture(KIT_UNIT_METALLIC_ROUGHNESS).sampler = 0;
   kit::TextureSampler bilinear;
   bilinear.min_filter = bilinear.mag_filter = GL_LINEAR;
   bilinear.wrap_s = bilinear.wrap_t = GL_CLAMP_TO_EDGE;
@@ -769,7 +769,7 @@ TEST(gbuffer_material_modes, EachTextureSamplesItsOwnUvSetAndTransform) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     // The loader's TextureUv for KHR_texture_transform {offset, rotation, scale}.
-    kit::TextureUv& uv = scene.materials[0].metallic_roughness_uv;
+    kit::TextureUv& uv = scene.materials[0].texture(KIT_UNIT_METALLIC_ROUGHNESS).uv;
     uv.slot = c.slot;
     uv.transform = kit::texture_transform_matrix(glm::vec2(c.offset), static_cast<float>(c.rotation), glm::vec2(c.scale));
     auto renderer = render_quad("gbuffer", scene, camera);
@@ -910,7 +910,7 @@ kit::Image albedo_of(const kit::Scene& scene, const kit::FrameCamera& camera, bo
 TEST(gbuffer_textures, CompressedLargeTextureStaysNearTheUncompressedOne) {
   kit::Material m = kit::test::plain_material(0.5f);
   m.base_color_factor = glm::vec4(1.0f);
-  m.base_color_image = 0;
+  m.texture(KIT_UNIT_BASE_COLOR).image = 0;
   kit::Scene scene = quad_scene(m);
   const kit::ImageRgba8 texture = detailed_large_texture();
   scene.images.push_back({"detailed", texture.width, texture.height, {}, texture});
@@ -976,8 +976,8 @@ TEST(gbuffer_textures, LargeNormalMapsStayUncompressed) {
   // compression was on).
   kit::Material m = kit::test::plain_material(0.5f);
   m.base_color_factor = glm::vec4(1.0f);
-  m.normal_image = 0;
-  m.base_color_image = 1;
+  m.texture(KIT_UNIT_NORMAL_MAP).image = 0;
+  m.texture(KIT_UNIT_BASE_COLOR).image = 1;
   kit::Scene scene = quad_scene(m);
   const kit::ImageRgba8 normals = detailed_normal_map(), colour = detailed_large_texture();
   scene.images.push_back({"normals", normals.width, normals.height, {}, normals});
