@@ -36,7 +36,7 @@ struct ImageUse {
   bool srgb = false, linear = false;
   // Read as a normal map: never compressed. BC1's 5:6:5 end points turn normals by
   // 1.5 degrees on average (8 at most) at level 0 and 5.7 (21) in minified views
-  // (test_gbuffer's gbuffer_textures); BC5, made for normals, stores no z, and lab 4
+  // (test_gbuffer's GBufferTextures); BC5, made for normals, stores no z, and lab 4
   // reads the texture's xyz.
   bool normal_map = false;
 };
