@@ -51,11 +51,8 @@ glm::mat4 node_local_matrix(const tinygltf::Node& node) {
 }
 
 // A material's texture: its image and sampler (-1 each when the material has none;
-// sampler -1 also when the texture names none).
-struct TextureSource {
-  int image = -1, sampler = -1;
-};
-TextureSource texture_source(const tinygltf::Model& model, int texture, const std::string& path) {
+// sampler -1 also when the texture names none); its UV is uv_mapping's.
+MaterialTexture texture_source(const tinygltf::Model& model, int texture, const std::string& path) {
   if (texture < 0) return {};
   if (texture >= static_cast<int>(model.textures.size()))
     throw Error(path + ": texture index " + std::to_string(texture) + " does not exist");
@@ -65,7 +62,31 @@ TextureSource texture_source(const tinygltf::Model& model, int texture, const st
   if (t.sampler >= static_cast<int>(model.samplers.size()))
     throw Error(path + ": texture " + std::to_string(texture) + " names sampler " + std::to_string(t.sampler) +
                 ", which does not exist");
-  return {t.source, std::max(t.sampler, -1)};
+  MaterialTexture out;
+  out.image = t.source;
+  out.sampler = std::max(t.sampler, -1);
+  return out;
+}
+
+// A material's reference to one of its textures, as the file writes it.
+struct TextureReference {
+  const char* name = "";  // "baseColorTexture"
+  int index = -1, texcoord = 0;
+  const tinygltf::ExtensionMap* extensions = nullptr;
+};
+template <typename Info>  // tinygltf::TextureInfo or NormalTextureInfo
+TextureReference texture_reference(const char* name, const Info& info) {
+  return {name, info.index, info.texCoord, &info.extensions};
+}
+// The material's texture references, indexed like Material::textures.
+std::array<TextureReference, kMaterialTextureCount> texture_references(const tinygltf::Material& m) {
+  std::array<TextureReference, kMaterialTextureCount> refs;
+  refs[KIT_UNIT_BASE_COLOR] = texture_reference("baseColorTexture", m.pbrMetallicRoughness.baseColorTexture);
+  refs[KIT_UNIT_METALLIC_ROUGHNESS] =
+      texture_reference("metallicRoughnessTexture", m.pbrMetallicRoughness.metallicRoughnessTexture);
+  refs[KIT_UNIT_NORMAL_MAP] = texture_reference("normalTexture", m.normalTexture);
+  refs[KIT_UNIT_EMISSIVE] = texture_reference("emissiveTexture", m.emissiveTexture);
+  return refs;
 }
 
 // A glTF sampler with its values checked; an undefined filter is the default's.
@@ -138,58 +159,38 @@ class SceneBuilder {
     out.alpha_mode = alpha_mode(m.alphaMode, m.name);
     out.alpha_cutoff = static_cast<float>(m.alphaCutoff);
     out.double_sided = m.doubleSided;
-    const TextureSource base_color = texture_source(model_, pbr.baseColorTexture.index, path_);
-    const TextureSource metallic_roughness = texture_source(model_, pbr.metallicRoughnessTexture.index, path_);
-    const TextureSource normal = texture_source(model_, m.normalTexture.index, path_);
-    const TextureSource emissive = texture_source(model_, m.emissiveTexture.index, path_);
-    out.base_color_image = base_color.image;
-    out.base_color_sampler = base_color.sampler;
-    out.metallic_roughness_image = metallic_roughness.image;
-    out.metallic_roughness_sampler = metallic_roughness.sampler;
-    out.normal_image = normal.image;
-    out.normal_sampler = normal.sampler;
-    out.emissive_image = emissive.image;
-    out.emissive_sampler = emissive.sampler;
-    uv_mapping(m, out);
+    const std::array<TextureReference, kMaterialTextureCount> refs = texture_references(m);
+    for (int unit = 0; unit < kMaterialTextureCount; ++unit)
+      out.texture(unit) = texture_source(model_, refs[static_cast<size_t>(unit)].index, path_);
+    uv_mapping(m.name, refs, out);
     return out;
   }
 
   // Each texture's TextureUv and Material::uv_set_of_slot: the UV sets the
-  // textures name go into the vertex's two UV slots, in the order the textures are
-  // listed; a third distinct set is refused, as a vertex carries two.
-  void uv_mapping(const tinygltf::Material& m, Material& out) {
-    struct Slot {
-      const char* name;
-      int index, texcoord;
-      const tinygltf::ExtensionMap& extensions;
-      TextureUv& uv;
-    };
-    const auto& pbr = m.pbrMetallicRoughness;
-    const Slot slots[] = {
-        {"baseColorTexture", pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions,
-         out.base_color_uv},
-        {"metallicRoughnessTexture", pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord,
-         pbr.metallicRoughnessTexture.extensions, out.metallic_roughness_uv},
-        {"normalTexture", m.normalTexture.index, m.normalTexture.texCoord, m.normalTexture.extensions, out.normal_uv},
-        {"emissiveTexture", m.emissiveTexture.index, m.emissiveTexture.texCoord, m.emissiveTexture.extensions,
-         out.emissive_uv}};
-    const std::string what = path_ + ": material '" + m.name + "'";
+  // textures name go into the vertex's two UV slots, in the order of the textures'
+  // units (base colour, metallic-roughness, normal, emissive); a third distinct set
+  // is refused, as a vertex carries two.
+  void uv_mapping(const std::string& name, const std::array<TextureReference, kMaterialTextureCount>& refs,
+                  Material& out) {
+    const std::string what = path_ + ": material '" + name + "'";
     out.uv_set_of_slot = {-1, -1};
-    for (const Slot& slot : slots) {
-      if (slot.index < 0) continue;
-      int set = slot.texcoord;
-      slot.uv.transform = texture_transform(slot.extensions, what + " " + slot.name, set);
+    for (int unit = 0; unit < kMaterialTextureCount; ++unit) {
+      const TextureReference& ref = refs[static_cast<size_t>(unit)];
+      if (ref.index < 0) continue;
+      TextureUv& uv = out.texture(unit).uv;
+      int set = ref.texcoord;
+      uv.transform = texture_transform(*ref.extensions, what + " " + ref.name, set);
       if (set < 0 || set > kMaxTexcoordSet)
-        throw Error(what + " " + slot.name + ": texCoord " + std::to_string(set) + " is not a UV set the kit reads (0 to " +
+        throw Error(what + " " + ref.name + ": texCoord " + std::to_string(set) + " is not a UV set the kit reads (0 to " +
                     std::to_string(kMaxTexcoordSet) + ")");
       if (out.uv_set_of_slot[0] < 0 || set == out.uv_set_of_slot[0]) {
         out.uv_set_of_slot[0] = set;
-        slot.uv.slot = 0;
+        uv.slot = 0;
       } else if (out.uv_set_of_slot[1] < 0 || set == out.uv_set_of_slot[1]) {
         out.uv_set_of_slot[1] = set;
-        slot.uv.slot = 1;
+        uv.slot = 1;
       } else {
-        throw Error(what + " " + slot.name + ": texCoord " + std::to_string(set) + " is a third UV set for one material (TEXCOORD_" +
+        throw Error(what + " " + ref.name + ": texCoord " + std::to_string(set) + " is a third UV set for one material (TEXCOORD_" +
                     std::to_string(out.uv_set_of_slot[0]) + " and TEXCOORD_" + std::to_string(out.uv_set_of_slot[1]) +
                     " are read already); a vertex carries two");
       }
@@ -346,7 +347,7 @@ class SceneBuilder {
     if (flat) use_flat_normals(out);
     if (tan.empty()) {
       // Along the UVs the normal texture samples; without UVs, any frame around the normal.
-      generate_tangents(out.vertices, out.indices, material ? material->normal_uv : TextureUv{});
+      generate_tangents(out.vertices, out.indices, material ? material->texture(KIT_UNIT_NORMAL_MAP).uv : TextureUv{});
       out.tangents_generated = true;
     }
     scene_.primitives.push_back(std::move(out));

@@ -10,9 +10,9 @@ namespace kit {
 
 unsigned material_features(const Material& m) {
   unsigned features = 0;
-  for (const TextureUv* uv : {&m.base_color_uv, &m.metallic_roughness_uv, &m.normal_uv, &m.emissive_uv}) {
-    if (uv->slot != 0) features |= kMaterialUv1;
-    if (uv->transform != glm::mat3(1.0f)) features |= kMaterialUvTransform;
+  for (const MaterialTexture& t : m.textures) {
+    if (t.uv.slot != 0) features |= kMaterialUv1;
+    if (t.uv.transform != glm::mat3(1.0f)) features |= kMaterialUvTransform;
   }
   if (m.alpha_mode == KIT_ALPHA_MASK) features |= kMaterialAlphaMask;
   return features;

@@ -256,19 +256,27 @@ class ObjSceneBuilder {
     if (m.base_color_factor.a < 1.0f) m.alpha_mode = KIT_ALPHA_BLEND;
     m.emissive = glm::max(to_vec3(src.emission), glm::vec3(0.0f));
 
-    m.base_color_image = texture(index, "map_Kd", src.diffuse_texname);
-    m.emissive_image = texture(index, "map_Ke", src.emissive_texname);
-    // A map_Ke without Ke would be multiplied by black: the map alone is meant.
-    if (m.emissive_image >= 0 && m.emissive == glm::vec3(0.0f)) m.emissive = glm::vec3(1.0f);
-    // "norm" names a normal map; map_Bump/bump name one in most exported files too
-    // (classic MTL meant a height map there; the kit reads tangent-space normals).
+    // The maps the kit reads, each into its texture unit. "norm" names a normal map;
+    // map_Bump/bump name one in most exported files too (classic MTL meant a height
+    // map there; the kit reads tangent-space normals).
+    struct Map {
+      int unit;
+      const char* keyword;
+      const std::string& name;
+      const tinyobj::texture_option_t& option;
+    };
     const bool norm = !src.normal_texname.empty();
-    m.normal_image = texture(index, norm ? "norm" : "map_Bump", norm ? src.normal_texname : src.bump_texname);
-    m.normal_scale = static_cast<float>(norm ? src.normal_texopt.bump_multiplier : src.bump_texopt.bump_multiplier);
+    const tinyobj::texture_option_t& normal_option = norm ? src.normal_texopt : src.bump_texopt;
+    const Map maps[] = {{KIT_UNIT_BASE_COLOR, "map_Kd", src.diffuse_texname, src.diffuse_texopt},
+                        {KIT_UNIT_EMISSIVE, "map_Ke", src.emissive_texname, src.emissive_texopt},
+                        {KIT_UNIT_NORMAL_MAP, norm ? "norm" : "map_Bump", norm ? src.normal_texname : src.bump_texname,
+                         normal_option}};
+    for (const Map& map : maps) m.texture(map.unit).image = texture(index, map.keyword, map.name);
+    // A map_Ke without Ke would be multiplied by black: the map alone is meant.
+    if (m.texture(KIT_UNIT_EMISSIVE).image >= 0 && m.emissive == glm::vec3(0.0f)) m.emissive = glm::vec3(1.0f);
+    m.normal_scale = static_cast<float>(normal_option.bump_multiplier);
     if (!std::isfinite(m.normal_scale)) throw Error(what + ": the -bm value is not finite");
-    m.base_color_uv = texture_uv(src.diffuse_texopt, what + ": map_Kd");
-    m.emissive_uv = texture_uv(src.emissive_texopt, what + ": map_Ke");
-    m.normal_uv = texture_uv(norm ? src.normal_texopt : src.bump_texopt, what + (norm ? ": norm" : ": map_Bump"));
+    for (const Map& map : maps) m.texture(map.unit).uv = texture_uv(map.option, what + ": " + map.keyword);
 
     std::string unused;
     for (const auto& [keyword, name] : {std::pair<const char*, const std::string&>{"map_Ka", src.ambient_texname},
@@ -387,7 +395,8 @@ class ObjSceneBuilder {
                                     ": some faces have normals (vn) and some do not: flat normals for all of them");
         use_flat_normals(prim);
       }
-      generate_tangents(prim.vertices, prim.indices, scene_.materials.at(static_cast<size_t>(material)).normal_uv);
+      const Material& m = scene_.materials.at(static_cast<size_t>(material));
+      generate_tangents(prim.vertices, prim.indices, m.texture(KIT_UNIT_NORMAL_MAP).uv);
       prim.tangents_generated = true;
       set_bounds_from_vertices(prim);
       scene_.primitives.push_back(std::move(prim));

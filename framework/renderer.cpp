@@ -256,7 +256,7 @@ void draw_item(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
   geometry.set("u_roughness_factor", m.roughness_factor);
   geometry.set("u_emissive_factor", m.emissive);
   geometry.set("u_normal_scale", m.normal_scale);
-  geometry.set("u_has_normal_texture", m.normal_image >= 0);
+  geometry.set("u_has_normal_texture", m.texture(KIT_UNIT_NORMAL_MAP).image >= 0);
   geometry.set("u_alpha_mode", m.alpha_mode);
   geometry.set("u_alpha_cutoff", m.alpha_cutoff);
   geometry.set("u_double_sided", m.double_sided);
@@ -265,21 +265,16 @@ void draw_item(const Program& geometry, const Scene& scene, const SceneGpu& gpu,
                                         "u_texture_uv_slot[3]"};
   static const char* const kUvTransform[] = {"u_texture_uv_transform[0]", "u_texture_uv_transform[1]",
                                              "u_texture_uv_transform[2]", "u_texture_uv_transform[3]"};
-  static_assert(KIT_UNIT_BASE_COLOR == 0 && KIT_UNIT_METALLIC_ROUGHNESS == 1 && KIT_UNIT_NORMAL_MAP == 2 &&
-                KIT_UNIT_EMISSIVE == 3, "u_texture_uv_* are indexed by the material texture units");
-  const TextureUv* const uvs[] = {&m.base_color_uv, &m.metallic_roughness_uv, &m.normal_uv, &m.emissive_uv};
-  for (int unit = 0; unit < 4; ++unit) {
-    geometry.set(kUvSlot[unit], uvs[unit]->slot);
-    geometry.set(kUvTransform[unit], uvs[unit]->transform);
+  static_assert(kMaterialTextureCount == 4, "u_texture_uv_* has an entry per material texture unit");
+  for (int unit = 0; unit < kMaterialTextureCount; ++unit) {
+    const MaterialTexture& t = m.texture(unit);
+    geometry.set(kUvSlot[unit], t.uv.slot);
+    geometry.set(kUvTransform[unit], t.uv.transform);
+    // A missing normal map reads as the flat normal; other missing textures as white.
+    const bool flat = unit == KIT_UNIT_NORMAL_MAP && t.image < 0;
+    (flat ? gpu.flat_normal() : gpu.texture(t.image, material_texture_is_color(unit))).bind(unit);
+    gpu.sampler(t.sampler).bind(unit);
   }
-  gpu.texture(m.base_color_image, true).bind(KIT_UNIT_BASE_COLOR);
-  gpu.texture(m.metallic_roughness_image, false).bind(KIT_UNIT_METALLIC_ROUGHNESS);
-  (m.normal_image >= 0 ? gpu.texture(m.normal_image, false) : gpu.flat_normal()).bind(KIT_UNIT_NORMAL_MAP);
-  gpu.texture(m.emissive_image, true).bind(KIT_UNIT_EMISSIVE);
-  gpu.sampler(m.base_color_sampler).bind(KIT_UNIT_BASE_COLOR);
-  gpu.sampler(m.metallic_roughness_sampler).bind(KIT_UNIT_METALLIC_ROUGHNESS);
-  gpu.sampler(m.normal_sampler).bind(KIT_UNIT_NORMAL_MAP);
-  gpu.sampler(m.emissive_sampler).bind(KIT_UNIT_EMISSIVE);
   glFrontFace(d.mirrored() ? GL_CW : GL_CCW);
   // A double-sided material shows its back faces too (material_modes.glsl flips their normal).
   if (m.double_sided) glDisable(GL_CULL_FACE); else glEnable(GL_CULL_FACE);

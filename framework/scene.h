@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "gbuffer_layout.h"
 #include "gl_objects.h"
 #include "texture_compression.h"
 
@@ -58,6 +59,24 @@ struct TextureUv {
 // The GLSL listing in the extension's README turns the other way (glTF issue #1563).
 glm::mat3 texture_transform_matrix(glm::vec2 offset, float rotation, glm::vec2 scale);
 
+// One of a material's textures: its image and sampler, and which of the vertex's two
+// UV slots it reads with what KHR_texture_transform (TextureUv).
+struct MaterialTexture {
+  int image = -1;    // index into Scene::images, -1 when absent
+  int sampler = -1;  // index into Scene::samplers, -1: the default TextureSampler
+  TextureUv uv;
+};
+
+// A material has a texture for each of the geometry pass's material units, which
+// number them from 0 (gbuffer_layout.h).
+constexpr int kMaterialTextureCount = 4;
+static_assert(KIT_UNIT_BASE_COLOR == 0 && KIT_UNIT_METALLIC_ROUGHNESS == 1 && KIT_UNIT_NORMAL_MAP == 2 &&
+                  KIT_UNIT_EMISSIVE == 3,
+              "Material::textures is indexed by the material texture units");
+// Whether the texture at `unit` holds colour, stored sRGB-encoded (base colour,
+// emission), rather than data read linearly (metallic-roughness, normals).
+constexpr bool material_texture_is_color(int unit) { return unit == KIT_UNIT_BASE_COLOR || unit == KIT_UNIT_EMISSIVE; }
+
 struct Material {
   glm::vec4 base_color_factor{1.0f};
   float metallic_factor = 1.0f;
@@ -67,18 +86,14 @@ struct Material {
   int alpha_mode = 0;          // KIT_ALPHA_OPAQUE, KIT_ALPHA_MASK or KIT_ALPHA_BLEND (gbuffer_layout.h)
   float alpha_cutoff = 0.5f;   // glTF alphaCutoff (its default), for KIT_ALPHA_MASK
   bool double_sided = false;   // glTF doubleSided: drawn without back-face culling
-  int base_color_image = -1;  // index into Scene::images, -1 when absent
-  int metallic_roughness_image = -1;
-  int normal_image = -1;
-  int emissive_image = -1;
-  int base_color_sampler = -1;  // index into Scene::samplers, -1: the default TextureSampler
-  int metallic_roughness_sampler = -1;
-  int normal_sampler = -1;
-  int emissive_sampler = -1;
-  // Each texture's UV: which of the vertex's two UV slots it reads and its
-  // KHR_texture_transform (TextureUv), and the glTF UV set (TEXCOORD_n) the loader
-  // puts in each slot: those the material's textures name, -1 for a slot none reads.
-  TextureUv base_color_uv, metallic_roughness_uv, normal_uv, emissive_uv;
+  // The material's textures, indexed by the unit the geometry pass binds each to
+  // (KIT_UNIT_BASE_COLOR, ..._METALLIC_ROUGHNESS, ..._NORMAL_MAP, ..._EMISSIVE):
+  // texture(KIT_UNIT_NORMAL_MAP) is the normal map.
+  std::array<MaterialTexture, kMaterialTextureCount> textures;
+  MaterialTexture& texture(int unit) { return textures.at(static_cast<size_t>(unit)); }
+  const MaterialTexture& texture(int unit) const { return textures.at(static_cast<size_t>(unit)); }
+  // The glTF UV set (TEXCOORD_n) the loader puts in each of the vertex's two UV
+  // slots: those the material's textures name, -1 for a slot none reads.
   std::array<int, 2> uv_set_of_slot{0, -1};
   std::string name;
 };

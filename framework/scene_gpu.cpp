@@ -36,24 +36,20 @@ struct ImageUse {
   bool srgb = false, linear = false;
   // Read as a normal map: never compressed. BC1's 5:6:5 end points turn normals by
   // 1.5 degrees on average (8 at most) at level 0 and 5.7 (21) in minified views
-  // (test_gbuffer's gbuffer_textures); BC5, made for normals, stores no z, and lab 4
+  // (test_gbuffer's GBufferTextures); BC5, made for normals, stores no z, and lab 4
   // reads the texture's xyz.
   bool normal_map = false;
 };
 std::vector<ImageUse> image_uses(const Scene& scene) {
   std::vector<ImageUse> uses(scene.images.size());
-  auto use = [&](int image, bool srgb) {
-    if (image < 0 || static_cast<size_t>(image) >= uses.size()) return;
-    (srgb ? uses[static_cast<size_t>(image)].srgb : uses[static_cast<size_t>(image)].linear) = true;
-  };
-  for (const Material& m : scene.materials) {
-    use(m.base_color_image, true);
-    use(m.emissive_image, true);
-    use(m.metallic_roughness_image, false);
-    use(m.normal_image, false);
-    if (m.normal_image >= 0 && static_cast<size_t>(m.normal_image) < uses.size())
-      uses[static_cast<size_t>(m.normal_image)].normal_map = true;
-  }
+  for (const Material& m : scene.materials)
+    for (int unit = 0; unit < kMaterialTextureCount; ++unit) {
+      const int image = m.texture(unit).image;
+      if (image < 0 || static_cast<size_t>(image) >= uses.size()) continue;
+      ImageUse& use = uses[static_cast<size_t>(image)];
+      (material_texture_is_color(unit) ? use.srgb : use.linear) = true;
+      if (unit == KIT_UNIT_NORMAL_MAP) use.normal_map = true;
+    }
   return uses;
 }
 

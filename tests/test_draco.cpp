@@ -127,7 +127,7 @@ void expect_tinygltf_alone_gets_none(bool loaded, const tinygltf::Model& model, 
         EXPECT_EQ(model.accessors.at(static_cast<size_t>(index)).bufferView, -1) << name;
 }
 
-TEST(draco, UnquantizedCopyLoadsToExactlyTheSameVerticesAndIndices) {
+TEST(Draco, UnquantizedCopyLoadsToExactlyTheSameVerticesAndIndices) {
   const DracoCopy copy("lossless", 0);
   // Witness: the copy's vertex data is only in Draco meshes (no accessor of a
   // primitive has a bufferView left), so what loads came through the decoder.
@@ -149,7 +149,7 @@ TEST(draco, UnquantizedCopyLoadsToExactlyTheSameVerticesAndIndices) {
   EXPECT_EQ(decoded.draws.size(), original.draws.size());
 }
 
-TEST(draco, GlbCopyLoadsAsTheGltfCopy) {
+TEST(Draco, GlbCopyLoadsAsTheGltfCopy) {
   const DracoCopy copy("glb", 0);
   const fs::path glb = write_glb(copy);
   tinygltf::Model model;
@@ -159,7 +159,7 @@ TEST(draco, GlbCopyLoadsAsTheGltfCopy) {
   expect_identical_primitives(kit::load_scene(copy.gltf.string()), kit::load_scene(glb.string()));
 }
 
-TEST(draco, DracoDataIsReadBeforeTheFallbackAccessors) {
+TEST(Draco, DracoDataIsReadBeforeTheFallbackAccessors) {
   // A file that only uses Draco keeps uncompressed accessors for decoders without it.
   // Here their POSITION data is NaN: read, it would be refused.
   DracoCopy copy("fallback", 0);
@@ -187,7 +187,7 @@ TEST(draco, DracoDataIsReadBeforeTheFallbackAccessors) {
   expect_identical_primitives(kit::load_scene(kit::resolve_scene(kScene)), kit::load_scene(copy.gltf.string()));
 }
 
-TEST(draco, QuantizedPositionsLieWithinHalfAQuantizationStep) {
+TEST(Draco, QuantizedPositionsLieWithinHalfAQuantizationStep) {
   constexpr int kBits = 12;
   const DracoCopy copy("quantized", kBits);
   const kit::Scene original = kit::load_scene(kit::resolve_scene(kScene));
@@ -228,7 +228,7 @@ TEST(draco, QuantizedPositionsLieWithinHalfAQuantizationStep) {
   EXPECT_GT(moved, 0u) << "witness: quantization moved no position, so the bound was never tested";
 }
 
-TEST(draco, CorruptCompressedBufferIsRefusedNamingFileAndPrimitive) {
+TEST(Draco, CorruptCompressedBufferIsRefusedNamingFileAndPrimitive) {
   const std::string primitive = "mesh 0 ('" + DracoCopy("names", 0).doc["meshes"][0].value("name", "") + "') primitive 0";
   {
     DracoCopy copy("flipped", 0);
@@ -252,7 +252,7 @@ TEST(draco, CorruptCompressedBufferIsRefusedNamingFileAndPrimitive) {
   }
 }
 
-TEST(draco, AccessorsThatDisagreeWithTheDecodedMeshAreRefused) {
+TEST(Draco, AccessorsThatDisagreeWithTheDecodedMeshAreRefused) {
   const DracoCopy intact("agreeing", 0);
   ASSERT_NO_THROW(kit::load_scene(intact.gltf.string())) << "witness: the unaltered copy loads";
   const json& prim = intact.first_primitive();
@@ -293,7 +293,7 @@ TEST(draco, AccessorsThatDisagreeWithTheDecodedMeshAreRefused) {
   }
 }
 
-TEST(draco, KitRenderDrawsTheCompressedSceneAsTheUncompressedOne) {
+TEST(Draco, KitRenderDrawsTheCompressedSceneAsTheUncompressedOne) {
   // Stage 1's G-buffer (solution of lab 1: a student copy for lab 2 on holds it):
   // positions, normals and the albedo that the UVs sample, as floats.
   const fs::path dir = kit::test::temp_dir("draco/kit_render");

@@ -211,12 +211,13 @@ TEST(ObjScene, TexturesLoadWithTheirOptions) {
   const kit::Scene scene = kit::load_scene((dir / "t.obj").string());
   ASSERT_EQ(scene.materials.size(), 1u);
   const kit::Material& m = scene.materials[0];
-  ASSERT_GE(m.base_color_image, 0);
-  EXPECT_EQ(m.emissive_image, m.base_color_image) << "one image per file, however many maps name it";
+  const int base_color = m.texture(KIT_UNIT_BASE_COLOR).image;
+  ASSERT_GE(base_color, 0);
+  EXPECT_EQ(m.texture(KIT_UNIT_EMISSIVE).image, base_color) << "one image per file, however many maps name it";
   EXPECT_EQ(m.emissive, glm::vec3(1.0f)) << "map_Ke without Ke: the map alone";
-  ASSERT_GE(m.normal_image, 0);
+  ASSERT_GE(m.texture(KIT_UNIT_NORMAL_MAP).image, 0);
   EXPECT_FLOAT_EQ(m.normal_scale, 0.5f);
-  const kit::ImageRgba8 image = kit::decode_scene_image(scene.images[static_cast<size_t>(m.base_color_image)]);
+  const kit::ImageRgba8 image = kit::decode_scene_image(scene.images[static_cast<size_t>(base_color)]);
   ASSERT_EQ(image.width, 2);
   EXPECT_EQ(image.pixels[0], 255);  // top-left red
   EXPECT_EQ(image.pixels[2], 0);
@@ -243,10 +244,10 @@ TEST(ObjScene, MapOffsetAndScaleBecomeTheTexturesTransform) {
   size_t checked = 0;
   for (const kit::Vertex& v : scene.primitives.at(0).vertices) {
     const double u_obj = v.texcoord.x, v_obj = 1.0 - v.texcoord.y;  // the file's vt
-    const glm::vec2 sampled = m.base_color_uv.of(v);
+    const glm::vec2 sampled = m.texture(KIT_UNIT_BASE_COLOR).uv.of(v);
     EXPECT_NEAR(sampled.x, 2.0 * u_obj + 0.25, kFloatTolerance);
     EXPECT_NEAR(sampled.y, 1.0 - (3.0 * v_obj + 0.5), kFloatTolerance);
-    EXPECT_EQ(m.emissive_uv.of(v), v.texcoord) << "a map without options samples the vertex's UV";
+    EXPECT_EQ(m.texture(KIT_UNIT_EMISSIVE).uv.of(v), v.texcoord) << "a map without options samples the vertex's UV";
     ++checked;
   }
   EXPECT_EQ(checked, 4u);

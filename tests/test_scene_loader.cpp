@@ -122,12 +122,12 @@ void expect_error(const fs::path& path, const std::string& phrase) {
   EXPECT_NE(message.find(phrase), std::string::npos) << "expected \"" << phrase << "\" in: " << message;
 }
 
-TEST(scene_loader_errors, MissingFile) {
+TEST(SceneLoaderErrors, MissingFile) {
   fs::path missing = kit::test::temp_dir("scene_loader/missing") / "no_such_scene.gltf";
   expect_error(missing, "scene file not found");
 }
 
-TEST(scene_loader_errors, TruncatedJson) {
+TEST(SceneLoaderErrors, TruncatedJson) {
   SceneCopy copy("sphere", "truncated");
   std::string text = kit::test::read_file(copy.gltf);
   kit::test::write_file(copy.gltf, text.substr(0, text.size() / 2));
@@ -135,14 +135,14 @@ TEST(scene_loader_errors, TruncatedJson) {
   expect_error(copy.gltf, "parse error");
 }
 
-TEST(scene_loader_errors, MissingBuffer) {
+TEST(SceneLoaderErrors, MissingBuffer) {
   SceneCopy copy("sphere", "missing_bin");
   fs::remove(copy.bin);
   expect_error(copy.gltf, "invalid glTF");
   expect_error(copy.gltf, copy.bin.filename().string());  // says which file is missing
 }
 
-TEST(scene_loader_errors, OutOfRangeIndex) {
+TEST(SceneLoaderErrors, OutOfRangeIndex) {
   SceneCopy copy("sphere", "bad_index");
   constexpr uint32_t kBadIndex = 0x00ffffffu;
   constexpr size_t kPatchedPosition = 7;  // any index inside the list
@@ -151,21 +151,21 @@ TEST(scene_loader_errors, OutOfRangeIndex) {
                               " is out of range");
 }
 
-TEST(scene_loader_errors, WrongAccessorType) {
+TEST(SceneLoaderErrors, WrongAccessorType) {
   SceneCopy copy("sphere", "vec2_position");
   copy.doc["accessors"][static_cast<size_t>(copy.accessor("POSITION"))]["type"] = "VEC2";
   copy.save_json();
   expect_error(copy.gltf, "POSITION: accessor " + std::to_string(copy.accessor("POSITION")) + " has the wrong type");
 }
 
-TEST(scene_loader_errors, NanPosition) {
+TEST(SceneLoaderErrors, NanPosition) {
   SceneCopy copy("sphere", "nan_position");
   constexpr size_t kVertex = 40;
   copy.patch_bin(copy.byte_offset(copy.accessor("POSITION"), kVertex, 3, 1), std::numeric_limits<float>::quiet_NaN());
   expect_error(copy.gltf, "POSITION " + std::to_string(kVertex) + " is not finite");
 }
 
-TEST(scene_loader_errors, NegativeLightRange) {
+TEST(SceneLoaderErrors, NegativeLightRange) {
   SceneCopy copy("sphere", "negative_range");
   copy.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["range"] = -2.0;
   copy.save_json();
@@ -173,7 +173,7 @@ TEST(scene_loader_errors, NegativeLightRange) {
 }
 
 // A range in the file reaches the Light (lab 3's window, lights.glsl kit_range_window).
-TEST(scene_loader_valid, LightRangeIsLoaded) {
+TEST(SceneLoaderValid, LightRangeIsLoaded) {
   SceneCopy copy("sphere", "light_range");
   copy.doc["extensions"]["KHR_lights_punctual"]["lights"][0]["range"] = 3.5;
   copy.save_json();
@@ -185,7 +185,7 @@ TEST(scene_loader_valid, LightRangeIsLoaded) {
 
 // glTF's alphaMode, alphaCutoff and doubleSided reach Material; absent, they are
 // glTF's defaults (OPAQUE, 0.5, single-sided). An unknown mode is drawn as OPAQUE, with a warning.
-TEST(scene_loader_valid, AlphaModeCutoffAndDoubleSidedAreLoaded) {
+TEST(SceneLoaderValid, AlphaModeCutoffAndDoubleSidedAreLoaded) {
   const kit::Scene& scene = kit::test::scene("materials");
   auto material = [&](const std::string& name) -> const kit::Material& {
     for (const kit::Material& m : scene.materials)
@@ -209,7 +209,7 @@ TEST(scene_loader_valid, AlphaModeCutoffAndDoubleSidedAreLoaded) {
   EXPECT_NE(unknown.warnings.back().find("alphaMode 'CUTOUT'"), std::string::npos) << unknown.warnings.back();
 }
 
-TEST(scene_loader_errors, AccessorPastTheEndOfItsBuffer) {
+TEST(SceneLoaderErrors, AccessorPastTheEndOfItsBuffer) {
   SceneCopy copy("sphere", "short_view");
   size_t position = static_cast<size_t>(copy.accessor("POSITION"));
   copy.doc["accessors"][position]["count"] = copy.doc["accessors"][position]["count"].get<size_t>() * 4;
@@ -224,7 +224,7 @@ size_t naive_accessor_end(size_t byte_offset, size_t stride, size_t count, size_
   return byte_offset + stride * (count - 1) + element;
 }
 
-TEST(scene_loader_hostile, AccessorCountThatWrapsTheBoundsCheckIsRefused) {
+TEST(SceneLoaderHostile, AccessorCountThatWrapsTheBoundsCheckIsRefused) {
   SceneCopy copy("sphere", "wrapping_count");
   size_t position = static_cast<size_t>(copy.accessor("POSITION"));
   const size_t count = (size_t{1} << 62) + 1;  // 12 * (count - 1) + 12 wraps to 12
@@ -236,7 +236,7 @@ TEST(scene_loader_hostile, AccessorCountThatWrapsTheBoundsCheckIsRefused) {
   expect_error(copy.gltf, "reads past the end of its buffer");
 }
 
-TEST(scene_loader_hostile, ByteOffsetNearTwoToThe64IsRefused) {
+TEST(SceneLoaderHostile, ByteOffsetNearTwoToThe64IsRefused) {
   SceneCopy copy("sphere", "huge_offset");
   size_t position = static_cast<size_t>(copy.accessor("POSITION"));
   const size_t offset = ~size_t{0} - 7;  // view offset + this wraps to just before the buffer
@@ -247,7 +247,7 @@ TEST(scene_loader_hostile, ByteOffsetNearTwoToThe64IsRefused) {
   expect_error(copy.gltf, "byteOffset");
 }
 
-TEST(scene_loader_hostile, DeeplyNestedJsonIsRefusedBeforeParsing) {
+TEST(SceneLoaderHostile, DeeplyNestedJsonIsRefusedBeforeParsing) {
   SceneCopy copy("sphere", "deep_json");
   std::string text = kit::test::read_file(copy.gltf);
   const size_t depth = 100000;  // tinygltf's recursive parser runs off the stack at this depth
@@ -263,7 +263,7 @@ TEST(scene_loader_hostile, DeeplyNestedJsonIsRefusedBeforeParsing) {
   EXPECT_NO_THROW(kit::load_scene(ok.gltf.string()));
 }
 
-TEST(scene_loader_hostile, BufferThatIsAFifoFailsAtOnce) {
+TEST(SceneLoaderHostile, BufferThatIsAFifoFailsAtOnce) {
   SceneCopy copy("sphere", "fifo");
   fs::remove(copy.bin);
   ASSERT_EQ(mkfifo(copy.bin.c_str(), 0600), 0);  // opening it for reading would wait for a writer forever
@@ -272,7 +272,7 @@ TEST(scene_loader_hostile, BufferThatIsAFifoFailsAtOnce) {
   EXPECT_NE(message.find(copy.gltf.string()), std::string::npos) << message;
 }
 
-TEST(scene_loader_hostile, NodeGraphThatDoublesAtEachLevelIsRefused) {
+TEST(SceneLoaderHostile, NodeGraphThatDoublesAtEachLevelIsRefused) {
   SceneCopy copy("sphere", "doubling_nodes");
   // 40 nodes, each listing the next one twice: 2^40 visits for a walk that does not
   // remember where it has been, though the depth (40) is within any depth limit.
@@ -294,7 +294,7 @@ TEST(scene_loader_hostile, NodeGraphThatDoublesAtEachLevelIsRefused) {
   expect_error(copy.gltf, "reached twice");
 }
 
-TEST(scene_loader_hostile, UrisOutsideTheSceneFolderAreRefused) {
+TEST(SceneLoaderHostile, UrisOutsideTheSceneFolderAreRefused) {
   SceneCopy copy("sphere", "escape/inner");
   fs::path outside = copy.dir.parent_path() / "outside.bin";
   fs::copy_file(copy.bin, outside, fs::copy_options::overwrite_existing);
@@ -313,7 +313,7 @@ TEST(scene_loader_hostile, UrisOutsideTheSceneFolderAreRefused) {
 
 // ---- glTF core features beyond the kit's own scenes ----
 
-TEST(scene_loader_gltf, RequiredExtensionTheKitLacksIsRefusedByName) {
+TEST(SceneLoaderGltf, RequiredExtensionTheKitLacksIsRefusedByName) {
   SceneCopy copy("sphere", "required_extension");
   copy.doc["extensionsUsed"] = {"EXT_meshopt_compression"};
   copy.save_json();
@@ -323,7 +323,7 @@ TEST(scene_loader_gltf, RequiredExtensionTheKitLacksIsRefusedByName) {
   expect_error(copy.gltf, "requires the glTF extension EXT_meshopt_compression");
 }
 
-TEST(scene_loader_gltf, PointsAndLinesAreLeftOutWithAWarning) {
+TEST(SceneLoaderGltf, PointsAndLinesAreLeftOutWithAWarning) {
   SceneCopy copy("sphere", "points");
   json points = copy.doc["meshes"][0]["primitives"][0];
   points["mode"] = 0;  // POINTS
@@ -337,7 +337,7 @@ TEST(scene_loader_gltf, PointsAndLinesAreLeftOutWithAWarning) {
 }
 
 // No NORMAL: each triangle gets its plane's normal, in double from the JSON's positions.
-TEST(scene_loader_gltf, MissingNormalsAreFlatNormals) {
+TEST(SceneLoaderGltf, MissingNormalsAreFlatNormals) {
   SceneCopy copy("sphere", "flat_normals");
   json& prim = copy.doc["meshes"][0]["primitives"][0];
   prim["attributes"].erase("NORMAL");
@@ -365,7 +365,7 @@ TEST(scene_loader_gltf, MissingNormalsAreFlatNormals) {
   EXPECT_GT(checked, indexed.indices.size() / 3 / 2);
 }
 
-TEST(scene_loader_gltf, StripsAndFansBecomeTriangleLists) {
+TEST(SceneLoaderGltf, StripsAndFansBecomeTriangleLists) {
   SceneCopy copy("sphere", "strip");
   // A strip over the first primitive's first 5 indices: triangles (0,1,2), (2,1,3), (2,3,4).
   const kit::Scene source = kit::load_scene(kit::resolve_scene("sphere"));
@@ -387,7 +387,7 @@ TEST(scene_loader_gltf, StripsAndFansBecomeTriangleLists) {
 // A node's light index is checked before it becomes an int: tinygltf's
 // GetNumberAsInt converted 1e300 to int, undefined behaviour that UBSan reported
 // (an input written for the fuzz harnesses). Not a whole number naming a light: refused.
-TEST(scene_loader_hostile, LightIndexThatIsNoLightIsRefused) {
+TEST(SceneLoaderHostile, LightIndexThatIsNoLightIsRefused) {
   SceneCopy copy("sphere", "light_index");
   json* light_node = nullptr;
   for (json& node : copy.doc["nodes"])
@@ -464,7 +464,7 @@ void expect_same_vertices(const kit::Primitive& expected, const kit::Primitive& 
   }
 }
 
-TEST(scene_loader_accessors, InterleavedViewGivesTheSameVerticesAsSeparateViews) {
+TEST(SceneLoaderAccessors, InterleavedViewGivesTheSameVerticesAsSeparateViews) {
   SceneCopy copy("sphere", "interleaved");
   const std::pair<std::string, size_t> attributes[] = {{"POSITION", 3}, {"NORMAL", 3}, {"TEXCOORD_0", 2}, {"TANGENT", 4}};
   const size_t count = copy.doc["accessors"][static_cast<size_t>(copy.accessor("POSITION"))]["count"];
@@ -490,7 +490,7 @@ TEST(scene_loader_accessors, InterleavedViewGivesTheSameVerticesAsSeparateViews)
   expect_same_vertices(separate.primitives.at(0), scene.primitives.at(0));
 }
 
-TEST(scene_loader_accessors, SparseValuesReplaceTheListedVertices) {
+TEST(SceneLoaderAccessors, SparseValuesReplaceTheListedVertices) {
   SceneCopy copy("sphere", "sparse");
   const std::vector<uint16_t> moved = {3, 17, 1000};
   const std::vector<float> values = {0.5f, 2.0f, -1.0f, 3.0f, 0.0f, 0.25f, -2.0f, -2.0f, 1.5f};
@@ -513,7 +513,7 @@ TEST(scene_loader_accessors, SparseValuesReplaceTheListedVertices) {
 }
 
 // Without a bufferView a sparse accessor starts from zeros.
-TEST(scene_loader_accessors, SparseAccessorWithoutBufferViewStartsFromZeros) {
+TEST(SceneLoaderAccessors, SparseAccessorWithoutBufferViewStartsFromZeros) {
   SceneCopy copy("sphere", "sparse_zeros");
   const size_t count = copy.doc["accessors"][static_cast<size_t>(copy.accessor("TEXCOORD_0"))]["count"];
   const std::vector<uint8_t> moved = {5, 9};
@@ -536,7 +536,7 @@ TEST(scene_loader_accessors, SparseAccessorWithoutBufferViewStartsFromZeros) {
   }
 }
 
-TEST(scene_loader_accessors, SparseIndexPastTheCountIsRefused) {
+TEST(SceneLoaderAccessors, SparseIndexPastTheCountIsRefused) {
   SceneCopy copy("sphere", "sparse_out_of_range");
   const int position = copy.accessor("POSITION");
   const uint32_t count = copy.doc["accessors"][static_cast<size_t>(position)]["count"];
@@ -556,7 +556,7 @@ TEST(scene_loader_accessors, SparseIndexPastTheCountIsRefused) {
 
 // Normalized integers decode as glTF 2.0 says (c / 255, max(c / 127, -1), ...),
 // each at its extremes; NORMAL may be normalized BYTE/SHORT only with KHR_mesh_quantization.
-TEST(scene_loader_accessors, NormalizedIntegersDecodeAsTheSpecSays) {
+TEST(SceneLoaderAccessors, NormalizedIntegersDecodeAsTheSpecSays) {
   const std::vector<int8_t> bytes = {-128, -127, -64, 0, 1, 64, 127};
   const std::vector<int16_t> shorts = {-32768, -32767, -1, 0, 1, 16384, 32767};
   const std::vector<uint8_t> unsigned_bytes = {0, 1, 128, 254, 255};
@@ -594,7 +594,7 @@ TEST(scene_loader_accessors, NormalizedIntegersDecodeAsTheSpecSays) {
 }
 
 // KHR_mesh_quantization: plain (not normalized) integer positions and UVs are their values.
-TEST(scene_loader_accessors, QuantizedPositionsNeedKhrMeshQuantization) {
+TEST(SceneLoaderAccessors, QuantizedPositionsNeedKhrMeshQuantization) {
   SceneCopy copy("sphere", "quantized");
   const size_t count = copy.doc["accessors"][0]["count"];
   const std::vector<int16_t> positions = {-32768, -300, 0, 7, 32767};
@@ -622,7 +622,7 @@ double stored_color(const kit::Vertex& v, int c) { return v.color[c] / 65535.0; 
 constexpr double kLosslessColorTolerance = 1e-12;       // double round-off of c / 255 against c * 257 / 65535
 constexpr double kFloatColorTolerance = 0.5 / 65535.0;  // rounding a float to 16 bits
 
-TEST(scene_loader_accessors, VertexColoursDecodeAsTheSpecSays) {
+TEST(SceneLoaderAccessors, VertexColoursDecodeAsTheSpecSays) {
   const std::vector<float> floats = {0.0f, 0.125f, 0.3f, 0.5f, 0.999f, 1.0f, 0.0001f};
   const std::vector<uint8_t> unsigned_bytes = {0, 1, 64, 128, 254, 255, 37};
   const std::vector<uint16_t> unsigned_shorts = {0, 1, 257, 32768, 65534, 65535, 12345};
@@ -668,7 +668,7 @@ TEST(scene_loader_accessors, VertexColoursDecodeAsTheSpecSays) {
 }
 
 // A sparse COLOR_0 without bufferView: zeros (black, alpha 0) but where listed.
-TEST(scene_loader_accessors, SparseVertexColoursStartFromZeros) {
+TEST(SceneLoaderAccessors, SparseVertexColoursStartFromZeros) {
   SceneCopy copy("sphere", "color_sparse");
   const size_t count = copy.doc["accessors"][0]["count"];
   const std::vector<uint8_t> moved = {2, 7};
@@ -691,7 +691,7 @@ TEST(scene_loader_accessors, SparseVertexColoursStartFromZeros) {
 
 // COLOR_0 of another type or component type is refused naming the file, the mesh,
 // the primitive and the reason; FLOAT values outside [0, 1] are clamped with a warning.
-TEST(scene_loader_errors, VertexColoursOfAnotherFormatAreRefused) {
+TEST(SceneLoaderErrors, VertexColoursOfAnotherFormatAreRefused) {
   SceneCopy copy("sphere", "color_refused");
   const size_t count = copy.doc["accessors"][0]["count"];
   json& attributes = copy.doc["meshes"][0]["primitives"][0]["attributes"];
@@ -727,7 +727,7 @@ TEST(scene_loader_errors, VertexColoursOfAnotherFormatAreRefused) {
 
 // ---- mirrored transforms ----
 
-TEST(scene_loader_mirrored, NegativeDeterminantMarksTheDrawMirrored) {
+TEST(SceneLoaderMirrored, NegativeDeterminantMarksTheDrawMirrored) {
   SceneCopy copy("sphere", "mirrored");
   copy.doc["nodes"][0]["scale"] = {-1.0, 1.0, 1.0};
   copy.save_json();
@@ -760,7 +760,7 @@ size_t covered_pixels(const kit::Primitive& quad, const glm::mat4& world) {
   return static_cast<size_t>(std::count_if(depth.pixels.begin(), depth.pixels.end(), [](float d) { return d < 1.0f; }));
 }
 
-TEST(scene_loader_mirrored, MirroredQuadStillFacesTheCamera) {
+TEST(SceneLoaderMirrored, MirroredQuadStillFacesTheCamera) {
   const kit::Primitive quad = kit::test::quad_primitive({1, 0, 0}, {0, 1, 0}, {1, 1});  // front face looks along +Z
   const size_t plain = covered_pixels(quad, glm::mat4(1.0f));
   EXPECT_GT(plain, 0u);
@@ -840,7 +840,7 @@ void expect_draw_transforms_match_json(const std::string& scene_name) {
   EXPECT_EQ(scene.draws.size(), expected_draws) << scene_name;
 }
 
-TEST(scene_loader_valid, DefaultSceneCountsLightsAndCamera) {
+TEST(SceneLoaderValid, DefaultSceneCountsLightsAndCamera) {
   const kit::Scene& scene = kit::test::scene("default");
   json doc = scene_json("default");
   EXPECT_EQ(scene.primitives.size(), doc["meshes"].size());  // one primitive per kit mesh
@@ -920,7 +920,7 @@ struct DirectionalCopy {
 // A directional light is lit (it was dropped before): its direction is its node's
 // world -Z, computed here in double through the whole node tree; its intensity is
 // the file's (lux) and its range, which glTF says does not apply, is left out.
-TEST(scene_loader_valid, DirectionalLightGetsItsNodesWorldDirection) {
+TEST(SceneLoaderValid, DirectionalLightGetsItsNodesWorldDirection) {
   DirectionalCopy sun("directional_rotated");
   (*sun.light)["intensity"] = 3.25;
   (*sun.light)["color"] = {1.0, 0.8, 0.6};
@@ -942,7 +942,7 @@ TEST(scene_loader_valid, DirectionalLightGetsItsNodesWorldDirection) {
 
 // A directional light's values are checked as a point or spot light's are, and
 // a node scaled to nothing gives it no direction.
-TEST(scene_loader_errors, InvalidDirectionalLightIsRefused) {
+TEST(SceneLoaderErrors, InvalidDirectionalLightIsRefused) {
   {
     DirectionalCopy sun("directional_negative_range");
     (*sun.light)["range"] = -1.0;
@@ -969,7 +969,7 @@ TEST(scene_loader_errors, InvalidDirectionalLightIsRefused) {
   }
 }
 
-TEST(scene_loader_valid, NodeHierarchyComposesParentTimesLocal) {
+TEST(SceneLoaderValid, NodeHierarchyComposesParentTimesLocal) {
   expect_draw_transforms_match_json("default");
   expect_draw_transforms_match_json("normalmap");
   const kit::Scene& scene = kit::test::scene("default");
@@ -997,7 +997,7 @@ TEST(scene_loader_valid, NodeHierarchyComposesParentTimesLocal) {
   }
 }
 
-TEST(scene_loader_valid, TangentsGeneratedOnlyWhereMissing) {
+TEST(SceneLoaderValid, TangentsGeneratedOnlyWhereMissing) {
   const kit::Scene& scene = kit::test::scene("default");
   json doc = scene_json("default");
   // The loader generates tangents exactly for the primitives written without TANGENT.
@@ -1048,7 +1048,7 @@ void expect_valid_frame(const std::vector<kit::Vertex>& vertices, const std::str
   }
 }
 
-TEST(scene_loader_tangents, DegenerateUvsGiveFiniteUnitTangents) {
+TEST(SceneLoaderTangents, DegenerateUvsGiveFiniteUnitTangents) {
   const std::vector<uint32_t> triangle = {0, 1, 2};
   const glm::vec3 z(0, 0, 1), x(1, 0, 0);
   struct Case {
@@ -1069,7 +1069,7 @@ TEST(scene_loader_tangents, DegenerateUvsGiveFiniteUnitTangents) {
   }
 }
 
-TEST(scene_loader_tangents, PlainAndMirroredQuadsGetTheirHandedness) {
+TEST(SceneLoaderTangents, PlainAndMirroredQuadsGetTheirHandedness) {
   // A quad facing +Z, u to the right (+X), glTF v down the image (-Y): T = +X, and
   // B = cross(N, T) * w must point up the image (+Y), so w = +1. Mirroring u flips T
   // to -X; then cross(N, T) = -Y and w = -1 keeps B pointing up.
@@ -1090,7 +1090,7 @@ TEST(scene_loader_tangents, PlainAndMirroredQuadsGetTheirHandedness) {
 
 // ---- EXT_mesh_gpu_instancing ----
 
-TEST(scene_loader_instancing, EachInstanceIsADrawAtNodeTimesInstanceTrs) {
+TEST(SceneLoaderInstancing, EachInstanceIsADrawAtNodeTimesInstanceTrs) {
   SceneCopy copy("sphere", "instancing");
   const std::vector<float> translations = {0, 0, 0, 3, 0, -1, -2.5f, 1, 4};
   const std::vector<float> rotations = {0, 0, 0, 1, 0, 0.70710678f, 0, 0.70710678f, 0.5f, 0.5f, 0.5f, 0.5f};
@@ -1119,7 +1119,7 @@ TEST(scene_loader_instancing, EachInstanceIsADrawAtNodeTimesInstanceTrs) {
   }
 }
 
-TEST(scene_loader_instancing, InstancesBeyondTheDrawLimitAreRefused) {
+TEST(SceneLoaderInstancing, InstancesBeyondTheDrawLimitAreRefused) {
   SceneCopy copy("sphere", "instancing_limit");
   // No bufferView: zeros, so a small file can ask for any count.
   const int translations = copy.add_accessor({{"componentType", 5126}, {"count", kit::kMaxSceneDraws + 1}, {"type", "VEC3"}});
@@ -1155,7 +1155,7 @@ glm::dmat4 orthographic_projection(double xmag, double ymag, double znear, doubl
   return p;
 }
 
-TEST(scene_loader_cameras, EveryCameraProjectsAsTheSpecSays) {
+TEST(SceneLoaderCameras, EveryCameraProjectsAsTheSpecSays) {
   SceneCopy copy("sphere", "cameras");
   // The sphere's camera 0 (perspective, no aspectRatio), then one with an aspect
   // ratio and an orthographic one, on nodes after it in the node tree.
@@ -1199,7 +1199,7 @@ TEST(scene_loader_cameras, EveryCameraProjectsAsTheSpecSays) {
   }
 }
 
-TEST(scene_loader_cameras, InvalidCamerasAreRefusedByIndex) {
+TEST(SceneLoaderCameras, InvalidCamerasAreRefusedByIndex) {
   SceneCopy copy("sphere", "bad_cameras");
   copy.doc["cameras"][0] = {{"type", "orthographic"}, {"orthographic", {{"xmag", 0.0}, {"ymag", 1.0}, {"znear", 0.1}, {"zfar", 10.0}}}};
   copy.save_json();
@@ -1216,7 +1216,7 @@ TEST(scene_loader_cameras, InvalidCamerasAreRefusedByIndex) {
 
 // A PNG's colour is stored without alpha premultiplied: a texel of RGB (200, 50, 10)
 // at alpha 128 (0.5) decodes to (200, 50, 10), not the premultiplied (100, 25, 5).
-TEST(scene_loader_textures, PngColourIsNotPremultipliedByAlpha) {
+TEST(SceneLoaderTextures, PngColourIsNotPremultipliedByAlpha) {
   SceneCopy copy("default", "unassociated_alpha");
   const unsigned char texel[4] = {200, 50, 10, 128};
   const fs::path png = copy.dir / "checker.png";  // image 0 of the default scene
@@ -1248,7 +1248,7 @@ TEST(scene_loader_textures, PngColourIsNotPremultipliedByAlpha) {
 // image whose pixel data is broken (its header intact) loads and uploads while
 // nothing uses it (witness: decoding it fails), and fails SceneGpu, naming the
 // file and the image, once a material samples it.
-TEST(scene_loader_textures, UnusedImagesAreNeverDecoded) {
+TEST(SceneLoaderTextures, UnusedImagesAreNeverDecoded) {
   SceneCopy copy("default", "unused_image");
   const std::string checker = kit::test::read_file(copy.dir / "checker.png");
   ASSERT_GT(checker.size(), 200u);
@@ -1278,15 +1278,15 @@ TEST(scene_loader_textures, UnusedImagesAreNeverDecoded) {
 
 // Each image is uploaded in the format its material slots read it in, and only that
 // one: base colour sRGB (decoded to linear by the sampler), normal maps linear.
-TEST(scene_loader_textures, EachImageIsUploadedInTheFormatItsSlotsNeed) {
+TEST(SceneLoaderTextures, EachImageIsUploadedInTheFormatItsSlotsNeed) {
   const kit::Scene scene = kit::load_scene(kit::resolve_scene("normalmap"));
   kit::test::context();
   const kit::SceneGpu gpu(scene);
   size_t checked = 0;
   for (const kit::Material& m : scene.materials) {
-    for (int image : {m.base_color_image, m.normal_image}) {
+    for (int image : {m.texture(KIT_UNIT_BASE_COLOR).image, m.texture(KIT_UNIT_NORMAL_MAP).image}) {
       if (image < 0) continue;
-      const bool srgb = image == m.base_color_image;
+      const bool srgb = image == m.texture(KIT_UNIT_BASE_COLOR).image;
       EXPECT_NE(gpu.texture(image, srgb).id(), 0u) << "image " << image;
       EXPECT_EQ(gpu.texture(image, !srgb).id(), 0u) << "image " << image << " was also uploaded in the other format";
       ++checked;
@@ -1299,7 +1299,7 @@ TEST(scene_loader_textures, EachImageIsUploadedInTheFormatItsSlotsNeed) {
 // as S3TC blocks (BC1 opaque, BC3 with alpha; sRGB formats for colour) when compression
 // is on; normal maps and smaller textures (every kit scene's) stay RGBA8. Auto leaves
 // these textures (16 MiB with their mips) uncompressed on llvmpipe: under the budget.
-TEST(scene_loader_textures, LargeTexturesAreCompressedSmallOnesAndNormalMapsNot) {
+TEST(SceneLoaderTextures, LargeTexturesAreCompressedSmallOnesAndNormalMapsNot) {
   constexpr GLenum kSrgbDxt1 = 0x8C4C, kSrgbAlphaDxt5 = 0x8C4F;  // GL_COMPRESSED_SRGB(_ALPHA)_S3TC_DXT1/5_EXT
   constexpr int kLarge = 1024, kSmall = 256;
   auto image = [](const char* what, int side, unsigned char alpha) {
@@ -1308,10 +1308,10 @@ TEST(scene_loader_textures, LargeTexturesAreCompressedSmallOnesAndNormalMapsNot)
     return kit::SceneImage{what, side, side, {}, pixels};
   };
   kit::Material opaque = kit::test::plain_material(0.5f), translucent = opaque, small = opaque;
-  opaque.base_color_image = 0;
-  opaque.normal_image = 3;
-  translucent.base_color_image = 1;
-  small.base_color_image = 2;
+  opaque.texture(KIT_UNIT_BASE_COLOR).image = 0;
+  opaque.texture(KIT_UNIT_NORMAL_MAP).image = 3;
+  translucent.texture(KIT_UNIT_BASE_COLOR).image = 1;
+  small.texture(KIT_UNIT_BASE_COLOR).image = 2;
   kit::Primitive quad = kit::test::quad_primitive({1, 0, 0}, {0, 1, 0}, {1, 1});
   quad.material = 0;
   kit::Scene scene = kit::test::tiny_scene({quad}, {opaque, translucent, small}, {{0, glm::mat4(1.0f)}}, {});
@@ -1352,7 +1352,7 @@ TEST(scene_loader_textures, LargeTexturesAreCompressedSmallOnesAndNormalMapsNot)
 
 // glTF samplers reach the GL sampler each material texture is drawn with; a
 // texture without one gets glTF's default (repeat, trilinear for "auto").
-TEST(scene_loader_textures, SamplersSetWrapAndFilterOfEachTexture) {
+TEST(SceneLoaderTextures, SamplersSetWrapAndFilterOfEachTexture) {
   SceneCopy copy("default", "samplers");
   ASSERT_EQ(copy.doc["textures"][0]["sampler"], 0);
   copy.doc["samplers"][0] = {{"wrapS", 33071}, {"wrapT", 33648}, {"minFilter", 9984}, {"magFilter", 9728}};
@@ -1369,7 +1369,8 @@ TEST(scene_loader_textures, SamplersSetWrapAndFilterOfEachTexture) {
     const json& base_color = copy.doc["materials"][m]["pbrMetallicRoughness"];
     if (!base_color.contains("baseColorTexture")) continue;
     const int texture = base_color["baseColorTexture"]["index"];
-    EXPECT_EQ(scene.materials[m].base_color_sampler, sampler_of_texture.at(texture)) << "material " << m;
+    EXPECT_EQ(scene.materials[m].texture(KIT_UNIT_BASE_COLOR).sampler, sampler_of_texture.at(texture))
+        << "material " << m;
     checked_texture[texture] = true;
   }
   EXPECT_TRUE(checked_texture[0]) << "some material samples texture 0";
@@ -1400,7 +1401,7 @@ TEST(scene_loader_textures, SamplersSetWrapAndFilterOfEachTexture) {
 
 // Drawing binds each material texture's sampler and unbinds it after, so that
 // later passes sample their targets with the targets' own settings.
-TEST(scene_loader_textures, GeometryPassLeavesNoSamplerBound) {
+TEST(SceneLoaderTextures, GeometryPassLeavesNoSamplerBound) {
   const std::unique_ptr<kit::Renderer> renderer = kit::test::render_stage("gbuffer", "default");
   for (int unit : {KIT_UNIT_BASE_COLOR, KIT_UNIT_METALLIC_ROUGHNESS, KIT_UNIT_NORMAL_MAP, KIT_UNIT_EMISSIVE}) {
     glActiveTexture(GL_TEXTURE0 + static_cast<GLenum>(unit));
@@ -1425,7 +1426,7 @@ struct FloorOfDefaultScene {
 
 // A floor texture's transform is its own: the vertices keep the file's UVs, and
 // TextureUv::of gives the extension's UV; the base colour's (untransformed) does not move.
-TEST(scene_loader_uv, TextureTransformBelongsToItsTexture) {
+TEST(SceneLoaderUv, TextureTransformBelongsToItsTexture) {
   SceneCopy copy("default", "texture_transform");
   const FloorOfDefaultScene floor(copy.doc);
   const glm::dvec2 offset(0.25, -0.5), scale(2.0, 3.0);
@@ -1442,15 +1443,15 @@ TEST(scene_loader_uv, TextureTransformBelongsToItsTexture) {
   const kit::Primitive &before = primitive_named(plain, "floor"), &after = primitive_named(moved, "floor");
   const kit::Material& m = moved.materials[static_cast<size_t>(after.material)];
   EXPECT_TRUE(moved.warnings.empty()) << moved.warnings.front();
-  EXPECT_EQ(m.emissive_uv.slot, 0);
-  EXPECT_EQ(m.base_color_uv.transform, glm::mat3(1.0f));
+  EXPECT_EQ(m.texture(KIT_UNIT_EMISSIVE).uv.slot, 0);
+  EXPECT_EQ(m.texture(KIT_UNIT_BASE_COLOR).uv.transform, glm::mat3(1.0f));
   ASSERT_EQ(before.vertices.size(), after.vertices.size());
   size_t changed = 0;
   for (size_t i = 0; i < after.vertices.size(); ++i) {
     EXPECT_EQ(after.vertices[i].texcoord, before.vertices[i].texcoord) << "vertex " << i;
-    EXPECT_EQ(m.base_color_uv.of(after.vertices[i]), before.vertices[i].texcoord) << "vertex " << i;
+    EXPECT_EQ(m.texture(KIT_UNIT_BASE_COLOR).uv.of(after.vertices[i]), before.vertices[i].texcoord) << "vertex " << i;
     const glm::dvec2 expected = kit::test::texture_transformed(glm::dvec2(before.vertices[i].texcoord), offset, rotation, scale);
-    const glm::vec2 emissive = m.emissive_uv.of(after.vertices[i]);
+    const glm::vec2 emissive = m.texture(KIT_UNIT_EMISSIVE).uv.of(after.vertices[i]);
     EXPECT_NEAR(emissive.x, expected.x, 1e-5) << "vertex " << i;
     EXPECT_NEAR(emissive.y, expected.y, 1e-5) << "vertex " << i;
     changed += glm::distance(expected, glm::dvec2(before.vertices[i].texcoord)) > 0.01;  // ignoring it would be wrong here
@@ -1473,7 +1474,7 @@ std::vector<float> add_texcoord_1(SceneCopy& copy, const FloorOfDefaultScene& fl
   return uv1;
 }
 
-TEST(scene_loader_uv, EachTextureReadsTheUvSetItNames) {
+TEST(SceneLoaderUv, EachTextureReadsTheUvSetItNames) {
   SceneCopy copy("default", "texcoord_1");
   const FloorOfDefaultScene floor(copy.doc);
   const std::vector<float> uv1 = add_texcoord_1(copy, floor);
@@ -1485,13 +1486,14 @@ TEST(scene_loader_uv, EachTextureReadsTheUvSetItNames) {
   const kit::Primitive& p = primitive_named(scene, "floor");
   const kit::Material& m = scene.materials[static_cast<size_t>(p.material)];
   EXPECT_EQ(m.uv_set_of_slot, (std::array<int, 2>{0, 1}));
-  EXPECT_EQ(m.base_color_uv.slot, 0);
-  EXPECT_EQ(m.emissive_uv.slot, 1);
+  EXPECT_EQ(m.texture(KIT_UNIT_BASE_COLOR).uv.slot, 0);
+  EXPECT_EQ(m.texture(KIT_UNIT_EMISSIVE).uv.slot, 1);
   const kit::Primitive& before = primitive_named(plain, "floor");
   ASSERT_EQ(p.vertices.size(), uv1.size() / 2);
   for (size_t i = 0; i < p.vertices.size(); ++i) {
-    EXPECT_EQ(m.base_color_uv.of(p.vertices[i]), before.vertices[i].texcoord) << "vertex " << i;
-    EXPECT_EQ(m.emissive_uv.of(p.vertices[i]), glm::vec2(uv1[2 * i], uv1[2 * i + 1])) << "vertex " << i;
+    EXPECT_EQ(m.texture(KIT_UNIT_BASE_COLOR).uv.of(p.vertices[i]), before.vertices[i].texcoord) << "vertex " << i;
+    EXPECT_EQ(m.texture(KIT_UNIT_EMISSIVE).uv.of(p.vertices[i]), glm::vec2(uv1[2 * i], uv1[2 * i + 1]))
+        << "vertex " << i;
   }
 
   // A material whose only textures read TEXCOORD_1 puts it in slot 0.
@@ -1512,7 +1514,7 @@ TEST(scene_loader_uv, EachTextureReadsTheUvSetItNames) {
 
 // A vertex carries two UV slots: a material whose textures name three UV sets is
 // refused, naming the texture and the sets.
-TEST(scene_loader_uv, AThirdUvSetInOneMaterialIsRefusedByName) {
+TEST(SceneLoaderUv, AThirdUvSetInOneMaterialIsRefusedByName) {
   SceneCopy copy("default", "three_uv_sets");
   const FloorOfDefaultScene floor(copy.doc);
   json& material = copy.doc["materials"][floor.material];
@@ -1526,7 +1528,7 @@ TEST(scene_loader_uv, AThirdUvSetInOneMaterialIsRefusedByName) {
 
 // Generated tangents follow the UVs the normal texture samples: its transform
 // turning the UVs by 90 degrees turns the tangent with them.
-TEST(scene_loader_uv, GeneratedTangentsFollowTheNormalTexturesUv) {
+TEST(SceneLoaderUv, GeneratedTangentsFollowTheNormalTexturesUv) {
   const glm::vec3 n(0, 0, 1);
   const std::vector<uint32_t> quad = {0, 1, 2, 0, 2, 3};
   std::vector<kit::Vertex> v = {vertex({0, 0, 0}, n, {0, 1}), vertex({1, 0, 0}, n, {1, 1}), vertex({1, 1, 0}, n, {1, 0}),

@@ -66,10 +66,10 @@ class ShaderSourceTest : public ::testing::Test {
   fs::path root_;
 };
 
-// Suite names start with the file's name, so `ctest -R shader_source` selects this file.
-using shader_source = ShaderSourceTest;
+// Suite names start with the file's name (ShaderSource, ShaderSourceGl, ...).
+using ShaderSource = ShaderSourceTest;
 
-TEST_F(shader_source, PlainNamesResolveInFolderOrder) {
+TEST_F(ShaderSource, PlainNamesResolveInFolderOrder) {
   write("lab", "shared.glsl", "// lab copy\n");
   write("base", "shared.glsl", "// base copy\n");
   write("base", "only_base.glsl", "// base only\n");
@@ -92,7 +92,7 @@ TEST_F(shader_source, PlainNamesResolveInFolderOrder) {
   EXPECT_NE(error_of([&] { lib.locate("absent.glsl"); }).find("not found in lab, base"), std::string::npos);
 }
 
-TEST_F(shader_source, NamesThatCouldLeaveTheFoldersAreRefused) {
+TEST_F(ShaderSource, NamesThatCouldLeaveTheFoldersAreRefused) {
   write("lab", "x.glsl", "// x\n");
   write("lab/sub", "x.glsl", "// nested\n");
   ShaderLibrary lib = library({"lab"});
@@ -111,7 +111,7 @@ TEST_F(shader_source, NamesThatCouldLeaveTheFoldersAreRefused) {
   EXPECT_NE(message.find("is refused"), std::string::npos) << message;
 }
 
-TEST_F(shader_source, SymlinkLeavingItsFolderIsRefused) {
+TEST_F(ShaderSource, SymlinkLeavingItsFolderIsRefused) {
   write("outside", "secret.glsl", "// secret\n");
   write("lab", "target.glsl", "// inside\n");
   fs::create_symlink(root_ / "outside" / "secret.glsl", root_ / "lab" / "secret.glsl");
@@ -126,7 +126,7 @@ TEST_F(shader_source, SymlinkLeavingItsFolderIsRefused) {
   EXPECT_NE(error_of([&] { lib.locate("dir.glsl"); }).find("links outside its folder"), std::string::npos);
 }
 
-TEST_F(shader_source, EachFileIsIncludedOnceAndCyclesEnd) {
+TEST_F(ShaderSource, EachFileIsIncludedOnceAndCyclesEnd) {
   write("lab", "common.glsl", "// COMMON\n");
   write("lab", "a.glsl", "// A\n#include \"common.glsl\"\n#include \"b.glsl\"\n");
   write("lab", "b.glsl", "// B\n#include \"a.glsl\"\n#include \"common.glsl\"\n");
@@ -143,7 +143,7 @@ TEST_F(shader_source, EachFileIsIncludedOnceAndCyclesEnd) {
   EXPECT_EQ(s.lines[b_line].line, 1);
 }
 
-TEST_F(shader_source, IncludeNestingIsLimited) {
+TEST_F(ShaderSource, IncludeNestingIsLimited) {
   constexpr int kChain = 40;  // well past any sensible depth
   for (int i = 0; i < kChain; ++i)
     write("lab", "n" + std::to_string(i) + ".glsl", "#include \"n" + std::to_string(i + 1) + ".glsl\"\n");
@@ -153,7 +153,7 @@ TEST_F(shader_source, IncludeNestingIsLimited) {
   EXPECT_NE(message.find("nesting deeper than"), std::string::npos) << message;
 }
 
-TEST_F(shader_source, VersionLineRules) {
+TEST_F(ShaderSource, VersionLineRules) {
   ShaderLibrary lib = library({"lab"});
   write("lab", "versioned.glsl", kVersion + "// helper\n");
   write("lab", "includes_versioned.frag", kVersion + "#include \"versioned.glsl\"\nvoid main() {}\n");
@@ -180,7 +180,7 @@ TEST_F(shader_source, VersionLineRules) {
   EXPECT_NO_THROW(lib.assemble("blank_first.frag"));
 }
 
-TEST_F(shader_source, FileContentChecks) {
+TEST_F(ShaderSource, FileContentChecks) {
   ShaderLibrary lib = library({"lab"});
   const std::pair<std::string, std::string> cases[] = {
       {"empty.glsl", ""},
@@ -224,7 +224,7 @@ TEST_F(shader_source, FileContentChecks) {
 
 // A UTF-8 byte-order mark (Notepad and some Windows editors write one) is dropped:
 // the #version line behind it is the first line, and the text equals the file's without it.
-TEST_F(shader_source, ByteOrderMarkIsDropped) {
+TEST_F(ShaderSource, ByteOrderMarkIsDropped) {
   const std::string bom = "\xEF\xBB\xBF";
   const std::string body = kVersion + "#include \"common.glsl\"\nvoid main() {}\n";
   write("plain", "main.frag", body);
@@ -250,7 +250,7 @@ TEST_F(shader_source, ByteOrderMarkIsDropped) {
 // of 200,000 spaces took ~131,000 frames; an input written for the fuzz harnesses).
 // A line longer than kMaxShaderLineBytes is now refused naming its file and line,
 // in the file's own checks, so the grader refuses it the same way.
-TEST_F(shader_source, LongLinesAreRefusedWithTheirFileAndLine) {
+TEST_F(ShaderSource, LongLinesAreRefusedWithTheirFileAndLine) {
   ShaderLibrary lib = library({"lab"});
   const std::string limit = std::to_string(kit::kMaxShaderLineBytes);
   const std::string spaces(200000, ' ');
@@ -291,7 +291,7 @@ TEST_F(shader_source, LongLinesAreRefusedWithTheirFileAndLine) {
 
 // The directives are recognised as before the regex was replaced: spaces around
 // the '#' of an include, a // comment after it, CR LF line ends; anything else is code.
-TEST_F(shader_source, DirectiveSpellings) {
+TEST_F(ShaderSource, DirectiveSpellings) {
   write("lab", "a.glsl", "// a\n");
   write("lab", "b.glsl", "// b\n");
   write("lab", "main.frag", "#version 330 core\r\n#include \"a.glsl\" // why\r\n  #  include\t\"b.glsl\"\n"
@@ -313,7 +313,7 @@ TEST_F(shader_source, DirectiveSpellings) {
 // grew with the square of the size (an input written for the fuzz harnesses). Now one
 // pass: these files, four times larger, are checked at once, and the mismatched
 // input behind them is still found on its own line.
-TEST_F(shader_source, VaryingCheckIsLinearInTheFileSize) {
+TEST_F(ShaderSource, VaryingCheckIsLinearInTheFileSize) {
   const kit::Stage& stage = kit::find_stage("gbuffer");  // lab 1: needs no earlier solution
   const fs::path lab_root = root_ / "labs";
   kit::test::write_file(lab_root / stage.folder / "gbuffer.vert",
@@ -335,7 +335,7 @@ TEST_F(shader_source, VaryingCheckIsLinearInTheFileSize) {
   }
 }
 
-TEST_F(shader_source, OnlyRestrictsAFolderToItsListedNames) {
+TEST_F(ShaderSource, OnlyRestrictsAFolderToItsListedNames) {
   write("lab", "mine.glsl", "// lab mine\n");
   write("lab", "theirs.glsl", "// lab theirs\n");
   write("base", "theirs.glsl", "// base theirs\n");
@@ -348,7 +348,7 @@ TEST_F(shader_source, OnlyRestrictsAFolderToItsListedNames) {
   EXPECT_NE(m.find("\"extra.glsl\" not found"), std::string::npos) << m;
 }
 
-TEST(shader_source_log, MesaAndNvidiaLinesMapToFiles) {
+TEST(ShaderSourceLog, MesaAndNvidiaLinesMapToFiles) {
   kit::AssembledShader s;
   s.files = {"lab/main.frag", "lab/brdf.glsl"};
   s.lines = {{0, 1}, {1, 1}, {1, 2}, {0, 3}};
@@ -361,7 +361,7 @@ TEST(shader_source_log, MesaAndNvidiaLinesMapToFiles) {
 // The log parser used to be std::regex too: a long run of digits overflowed the
 // stack, and a line number past INT_MAX threw std::out_of_range out of std::stoi
 // (an input written for the fuzz harnesses). Both now map like any line past the end.
-TEST(shader_source_log, HostileLogLinesMapWithoutThrowing) {
+TEST(ShaderSourceLog, HostileLogLinesMapWithoutThrowing) {
   kit::AssembledShader s;
   s.files = {"lab/main.frag"};
   s.lines = {{0, 1}};
@@ -377,7 +377,7 @@ TEST(shader_source_log, HostileLogLinesMapWithoutThrowing) {
 // Where a uniform the framework never sets is reported (Program::declaration_site):
 // the first line with the word "uniform" and later, before any ';', the uniform's name
 // as a whole word. It was the regex \buniform\b[^;]*\bNAME\b; these are its answers.
-TEST(shader_source_uniform, DeclarationLinesAreFoundByWholeWords) {
+TEST(ShaderSourceUniform, DeclarationLinesAreFoundByWholeWords) {
   for (const std::string line : {"uniform float u_x;", "  uniform vec3 u_a, u_x;", "layout(std140) uniform\tvec4 u_x[2];",
                                  "uniform sampler2D u_x", "uniform float u_y; uniform float u_x;", "x uniform u_x"})
     EXPECT_TRUE(kit::declares_uniform(line, "u_x")) << line;
@@ -401,9 +401,9 @@ class ShaderProgramTest : public ShaderSourceTest {
   }
 };
 
-using shader_source_gl = ShaderProgramTest;
+using ShaderSourceGl = ShaderProgramTest;
 
-TEST_F(shader_source_gl, CompileErrorNamesTheIncludedFileAndLine) {
+TEST_F(ShaderSourceGl, CompileErrorNamesTheIncludedFileAndLine) {
   constexpr int kErrorLine = 4;  // the line of brdf.glsl below that uses an undeclared name
   write("lab", "brdf.glsl",
         "// a helper with a mistake\n"
@@ -429,7 +429,7 @@ TEST_F(shader_source_gl, CompileErrorNamesTheIncludedFileAndLine) {
 // A framework define reaches only the shaders that name it: the others assemble to the
 // same text with or without it, so a define change (the lights, the attenuation model)
 // rebuilds only the programs it can change (Program::built_from).
-TEST_F(shader_source_gl, DefinesReachOnlyTheShadersThatNameThem) {
+TEST_F(ShaderSourceGl, DefinesReachOnlyTheShadersThatNameThem) {
   write("lab", "uses.frag", kVersion + "out vec4 c;\nvoid main() {\n#ifdef KIT_TEST_SWITCH\n  c = vec4(1.0);\n#else\n"
                                        "  c = vec4(0.0);\n#endif\n}\n");
   write("lab", "ignores.frag", kVersion + "out vec4 c;\n// KIT_TEST_SWITCHES is another word\nvoid main() { c = vec4(0.5); }\n");
@@ -451,7 +451,7 @@ TEST_F(shader_source_gl, DefinesReachOnlyTheShadersThatNameThem) {
 
 // Below kMaxShaderLineBytes a long line is an ordinary line: a 4000-byte
 // expression compiles and links (the witness that the limit refuses nothing real).
-TEST_F(shader_source_gl, LongLineUnderTheLimitCompiles) {
+TEST_F(ShaderSourceGl, LongLineUnderTheLimitCompiles) {
   std::string sum = "    c = vec4(0.0";
   while (sum.size() < 4000) sum += " + 0.001";
   sum += ", 0.0, 0.0, 1.0);";
@@ -463,7 +463,7 @@ TEST_F(shader_source_gl, LongLineUnderTheLimitCompiles) {
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
-TEST_F(shader_source_gl, LinkErrorIsReported) {
+TEST_F(ShaderSourceGl, LinkErrorIsReported) {
   // Declared, called, never defined: each stage compiles, the program cannot link.
   write("lab", "link.frag", kVersion + "vec3 kit_missing_helper();\nout vec4 c;\nvoid main() { c = vec4(kit_missing_helper(), 1.0); }\n");
   std::string m = error_of([&] { kit::Program(lab_then_kit(), "fullscreen.vert", "link.frag"); });

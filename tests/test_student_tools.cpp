@@ -126,9 +126,7 @@ class StudentTools : public ::testing::Test {
   fs::path root_;
 };
 
-using student_tools = StudentTools;  // ctest -R student_tools selects this file
-
-TEST_F(student_tools, EndlessLoopStopsAfterTheTimeout) {
+TEST_F(StudentTools, EndlessLoopStopsAfterTheTimeout) {
   // llvmpipe caps a loop at 65535 iterations, so "endless" means far longer than
   // the timeout: 65535 iterations at each of 640x480 pixels take tens of seconds.
   const std::string endless = replaced(kGbufferFrag, "    out_position = vec4(v_world_position, 1.0);\n",
@@ -150,7 +148,7 @@ TEST_F(student_tools, EndlessLoopStopsAfterTheTimeout) {
   EXPECT_FALSE(fs::exists(root_ / "endless.png"));
 }
 
-TEST_F(student_tools, LabFolderOrItsParentGiveTheSameImage) {
+TEST_F(StudentTools, LabFolderOrItsParentGiveTheSameImage) {
   std::string output;
   // Stage 2 from the lab folder alone (no --stage) and from the folder of lab folders.
   ASSERT_EQ(render("--shaders " + out("labs/02-lighting") + " --size 160x120 --out " + out("folder.exr"), &output), 0)
@@ -178,7 +176,7 @@ TEST_F(student_tools, LabFolderOrItsParentGiveTheSameImage) {
   EXPECT_TRUE(contains(output, "--solution and --shaders")) << output;
 }
 
-TEST_F(student_tools, MissingLabFolderSaysWhichAndHowToFixIt) {
+TEST_F(StudentTools, MissingLabFolderSaysWhichAndHowToFixIt) {
   std::string output;
   EXPECT_EQ(render("--stage attenuation --out " + out("x.png"), &output), 1);
   EXPECT_TRUE(contains(output, (root_ / "labs" / "03-attenuation").string() + ": no such folder")) << output;
@@ -190,7 +188,7 @@ TEST_F(student_tools, MissingLabFolderSaysWhichAndHowToFixIt) {
   EXPECT_TRUE(contains(output, (root_ / "nowhere").string() + ": no such folder")) << output;
 }
 
-TEST_F(student_tools, RenamedVaryingFailsNamingBothFilesAndTheVariable) {
+TEST_F(StudentTools, RenamedVaryingFailsNamingBothFilesAndTheVariable) {
   std::string output;
   ASSERT_EQ(render("--size 64x48 --out " + out("witness.png"), &output), 0) << "witness, names matching:\n" << output;
 
@@ -208,7 +206,7 @@ TEST_F(student_tools, RenamedVaryingFailsNamingBothFilesAndTheVariable) {
   EXPECT_FALSE(fs::exists(root_ / "renamed.png"));
 }
 
-TEST_F(student_tools, NanPixelsAreCountedPerView) {
+TEST_F(StudentTools, NanPixelsAreCountedPerView) {
   std::string output;
   ASSERT_EQ(render("--size 64x48 --out " + out("clean.png"), &output), 0) << output;
   EXPECT_FALSE(contains(output, "NaN")) << "witness, a clean shader:\n" << output;
@@ -231,7 +229,7 @@ TEST_F(student_tools, NanPixelsAreCountedPerView) {
   EXPECT_FALSE(contains(output, "emission view")) << output;
 }
 
-TEST_F(student_tools, UniformNothingSetsIsAWarningNamingItsLine) {
+TEST_F(StudentTools, UniformNothingSetsIsAWarningNamingItsLine) {
   std::string output;
   ASSERT_EQ(render("--size 64x48 --out " + out("clean.png"), &output), 0) << output;
   EXPECT_FALSE(contains(output, "uniform")) << "witness, only the framework's uniforms:\n" << output;
@@ -246,7 +244,7 @@ TEST_F(student_tools, UniformNothingSetsIsAWarningNamingItsLine) {
   EXPECT_TRUE(contains(output, "so it reads 0")) << output;
 }
 
-TEST_F(student_tools, UniformOfAnotherTypeIsAnErrorNamingItsLine) {
+TEST_F(StudentTools, UniformOfAnotherTypeIsAnErrorNamingItsLine) {
   // Uniforms declared by hand instead of through geometry_uniforms.glsl, one with the wrong type.
   const std::string vert = R"(#version 330 core
 #include "gbuffer_layout.h"
@@ -291,7 +289,7 @@ void main() {
 
 // kit-view stops the same way (a stuck frame blocks the window too). Under Xvfb,
 // as the window tests run it; the viewer is optional, so is this test.
-TEST_F(student_tools, ViewerEndlessLoopStopsAfterTheTimeout) {
+TEST_F(StudentTools, ViewerEndlessLoopStopsAfterTheTimeout) {
   const std::string viewer = kit::test::tool("kit-view");
   if (!fs::exists(viewer)) GTEST_SKIP() << "kit-view is not built (KIT_BUILD_VIEWER is off)";
   std::string output;
@@ -311,7 +309,7 @@ TEST_F(student_tools, ViewerEndlessLoopStopsAfterTheTimeout) {
       << output;
 }
 
-TEST_F(student_tools, ByteOrderMarkIsIgnored) {
+TEST_F(StudentTools, ByteOrderMarkIsIgnored) {
   std::string output;
   const std::string views = " --size 160x120 --view normal --out ";
   ASSERT_EQ(render(views + out("plain-normal.exr") + " --view albedo --out " + out("plain-albedo.png"), &output), 0)

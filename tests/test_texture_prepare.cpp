@@ -49,7 +49,7 @@ unsigned char detailed(int x, int y, int c) { return static_cast<unsigned char>(
 
 }  // namespace
 
-TEST(texture_prepare, SrgbColourIsAveragedInLinearLightAlphaAsStored) {
+TEST(TexturePrepare, SrgbColourIsAveragedInLinearLightAlphaAsStored) {
   const kit::ImageRgba8 level = image_of(8, 6, detailed);
   const kit::ImageRgba8 next = kit::next_mip_level(level, true);
   ASSERT_EQ(next.width, 4);
@@ -69,7 +69,7 @@ TEST(texture_prepare, SrgbColourIsAveragedInLinearLightAlphaAsStored) {
   EXPECT_GT(differs_from_code_mean, 24u) << "of 36 colour values, too few tell linear light from stored codes";
 }
 
-TEST(texture_prepare, BlackAndWhiteMeetAtLinearMiddleGrey) {
+TEST(TexturePrepare, BlackAndWhiteMeetAtLinearMiddleGrey) {
   // The classic case: half black, half white is 50 % of the light, sRGB code 188, not 128.
   const kit::ImageRgba8 level = image_of(2, 2, [](int x, int, int) { return static_cast<unsigned char>(x == 0 ? 0 : 255); });
   EXPECT_EQ(texel(kit::next_mip_level(level, true), 0, 0, 0), 188);
@@ -77,7 +77,7 @@ TEST(texture_prepare, BlackAndWhiteMeetAtLinearMiddleGrey) {
   EXPECT_EQ(texel(kit::next_mip_level(level, true), 0, 0, 3), 128);   // alpha is data in either
 }
 
-TEST(texture_prepare, LinearDataIsAveragedAsStored) {
+TEST(TexturePrepare, LinearDataIsAveragedAsStored) {
   const kit::ImageRgba8 level = image_of(6, 4, detailed);
   const kit::ImageRgba8 next = kit::next_mip_level(level, false);
   for (int y = 0; y < next.height; ++y)
@@ -90,7 +90,7 @@ TEST(texture_prepare, LinearDataIsAveragedAsStored) {
       }
 }
 
-TEST(texture_prepare, AnOddSideIsBoxFilteredByTheCoveredParts) {
+TEST(TexturePrepare, AnOddSideIsBoxFilteredByTheCoveredParts) {
   // 5 texels to 2: each covers 2.5 source texels, the middle one half each.
   const kit::ImageRgba8 level = image_of(5, 1, detailed);
   const kit::ImageRgba8 next = kit::next_mip_level(level, true);
@@ -113,7 +113,7 @@ TEST(texture_prepare, AnOddSideIsBoxFilteredByTheCoveredParts) {
 
 // The float chain (environment maps): the same box filter, values as stored, HDR
 // values above 1 kept; an even side averages 2 x 2, an odd one by the covered parts.
-TEST(texture_prepare, FloatLevelsAreBoxFilteredAsStored) {
+TEST(TexturePrepare, FloatLevelsAreBoxFilteredAsStored) {
   kit::Image level(5, 2, 3);
   for (int y = 0; y < 2; ++y)
     for (int x = 0; x < 5; ++x)
@@ -134,7 +134,7 @@ TEST(texture_prepare, FloatLevelsAreBoxFilteredAsStored) {
   EXPECT_EQ(one.height, 1);
 }
 
-TEST(texture_prepare, ChainGoesDownToOneTexelAndCompressesToBlocks) {
+TEST(TexturePrepare, ChainGoesDownToOneTexelAndCompressesToBlocks) {
   const kit::ImageRgba8 opaque = image_of(10, 3, [](int x, int y, int c) { return c == 3 ? 255 : detailed(x, y, c); });
   const kit::PreparedTexture plain = kit::prepare_texture(opaque, true, false);
   EXPECT_EQ(plain.encoding, kit::TexelEncoding::Rgba8);
@@ -162,7 +162,7 @@ TEST(texture_prepare, ChainGoesDownToOneTexelAndCompressesToBlocks) {
   EXPECT_EQ(bc3.levels[0].bytes.size(), 3u * 1u * 16u);
 }
 
-TEST(texture_prepare, OnlyLargeTexturesAreLarge) {
+TEST(TexturePrepare, OnlyLargeTexturesAreLarge) {
   EXPECT_TRUE(kit::is_large_texture(1024, 1024));
   EXPECT_TRUE(kit::is_large_texture(4096, 256));
   EXPECT_FALSE(kit::is_large_texture(1024, 1023));
@@ -171,7 +171,7 @@ TEST(texture_prepare, OnlyLargeTexturesAreLarge) {
 
 // Whether a scene's large textures are compressed (texture_compression.h): by the
 // budget on a CPU rasteriser, always on a GPU, and as --compress-textures on|off says.
-TEST(texture_compression, AutoCompressesOverTheBudgetOrOnAGpu) {
+TEST(TextureCompression, AutoCompressesOverTheBudgetOrOnAGpu) {
   const std::string llvmpipe = "llvmpipe (LLVM 15.0.6, 256 bits)", gpu = "NVIDIA H100 80GB HBM3/PCIe/SSE2";
   // The heavy scene (kit-scenes --heavy): 16 base colours of 2048x2048, 341 MiB with mips.
   const size_t heavy = 16 * kit::rgba8_chain_bytes(2048, 2048);
@@ -210,7 +210,7 @@ TEST(texture_compression, AutoCompressesOverTheBudgetOrOnAGpu) {
   EXPECT_NE(missing.reason.find("lacks GL_EXT_texture_compression_s3tc"), std::string::npos) << missing.reason;
 }
 
-TEST(texture_compression, CpuRasterisersAreToldFromGpusByName) {
+TEST(TextureCompression, CpuRasterisersAreToldFromGpusByName) {
   EXPECT_TRUE(kit::renders_on_cpu("llvmpipe (LLVM 15.0.6, 256 bits)"));
   EXPECT_TRUE(kit::renders_on_cpu("softpipe"));
   EXPECT_TRUE(kit::renders_on_cpu("Mesa X11 Software Rasterizer"));

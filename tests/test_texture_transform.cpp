@@ -187,12 +187,12 @@ void expect_texel_grid(const fs::path& gltf, const int (&expected)[kCells][kCell
 }
 
 // The texture reads TEXCOORD_0: rotation pi/2, offset and anisotropic scale.
-TEST(texture_transform, KhronosRotationOnTexcoord0MatchesTheHandTable) {
+TEST(TextureTransform, KhronosRotationOnTexcoord0MatchesTheHandTable) {
   expect_texel_grid(write_quad_scene("texcoord_0", -1), kExpectedTexcoord0);
 }
 
 // The same transform reading TEXCOORD_1 through the extension's texCoord override.
-TEST(texture_transform, KhronosRotationOnTexcoord1MatchesTheHandTable) {
+TEST(TextureTransform, KhronosRotationOnTexcoord1MatchesTheHandTable) {
   expect_texel_grid(write_quad_scene("texcoord_1", 1), kExpectedTexcoord1);
 }
 

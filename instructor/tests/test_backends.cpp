@@ -70,7 +70,7 @@ float value_range(const kit::Image& image) {
 // With OSMesa in the build, both backends write the same bytes. Without it (Mesa 25.1 and
 // later; -DKIT_OSMESA=OFF, as instructor/tests/no_osmesa_test.sh builds), --backend osmesa is refused
 // by name and EGL, the default, renders.
-TEST(backends, OsmesaAndEglImagesAreBitIdenticalOrOsmesaIsRefused) {
+TEST(Backends, OsmesaAndEglImagesAreBitIdenticalOrOsmesaIsRefused) {
   fs::path dir = kit::test::temp_dir("backends/identical");
   if (!kit::kHasOSMesa) {
     std::string output;
@@ -95,7 +95,7 @@ TEST(backends, OsmesaAndEglImagesAreBitIdenticalOrOsmesaIsRefused) {
   }
 }
 
-TEST(backends, BadCommandLinesFailClearly) {
+TEST(Backends, BadCommandLinesFailClearly) {
   fs::path dir = kit::test::temp_dir("backends/bad_arguments");
   const std::string out = " --out " + shell_quoted((dir / "image.png").string());
   const std::string missing_scene = (dir / "no_such_scene.gltf").string();

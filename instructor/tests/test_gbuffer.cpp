@@ -252,7 +252,7 @@ void expect_gbuffer_shape(const kit::GBuffer& g, int width, int height) {
             kit::GBuffer::depth_format().internal_format);
 }
 
-TEST(gbuffer_formats, EachAttachmentIsCompleteAlone) {
+TEST(GBufferFormats, EachAttachmentIsCompleteAlone) {
   kit::test::context();
   for (int i = 0; i < KIT_GBUF_COUNT; ++i) {
     kit::Texture2D texture(kWidth, kHeight, kit::GBuffer::attachment_format(i));
@@ -272,7 +272,7 @@ TEST(gbuffer_formats, EachAttachmentIsCompleteAlone) {
   EXPECT_THROW(kit::GBuffer::attachment_format(KIT_GBUF_COUNT), kit::Error);
 }
 
-TEST(gbuffer_formats, AllTogetherAndAfterResize) {
+TEST(GBufferFormats, AllTogetherAndAfterResize) {
   kit::test::context();
   kit::GBuffer g(kWidth, kHeight);
   expect_gbuffer_shape(g, kWidth, kHeight);
@@ -284,7 +284,7 @@ TEST(gbuffer_formats, AllTogetherAndAfterResize) {
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
-TEST(gbuffer_formats, BytesPerPixelMatchTheFormats) {
+TEST(GBufferFormats, BytesPerPixelMatchTheFormats) {
   kit::test::context();
   kit::GBuffer g(4, 4);
   int bytes = texel_bytes(g.depth());
@@ -293,7 +293,7 @@ TEST(gbuffer_formats, BytesPerPixelMatchTheFormats) {
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
-TEST(gbuffer_formats, GeometryPassClearsToBackground) {
+TEST(GBufferFormats, GeometryPassClearsToBackground) {
   kit::test::context();
   kit::GBuffer g(8, 6);
   g.begin_geometry_pass();
@@ -309,7 +309,7 @@ TEST(gbuffer_formats, GeometryPassClearsToBackground) {
 // ---------------------------------------------------------------------------
 // Contents written by the reference geometry pass
 
-TEST(gbuffer_contents, FloorPositionAndDepthMatchRayCasts) {
+TEST(GBufferContents, FloorPositionAndDepthMatchRayCasts) {
   auto renderer = kit::test::render_stage("gbuffer", "default", small_settings());
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
   const kit::Scene& scene = renderer->scene();
@@ -358,7 +358,7 @@ TEST(gbuffer_contents, FloorPositionAndDepthMatchRayCasts) {
   EXPECT_LT(depth_view.at(nearest.x, nearest.y, 0), depth_view.at(farthest.x, farthest.y, 0));
 }
 
-TEST(gbuffer_contents, FloorAlbedoIsFactorTimesDecodedTexel) {
+TEST(GBufferContents, FloorAlbedoIsFactorTimesDecodedTexel) {
   auto renderer = kit::test::render_stage("gbuffer", "default", small_settings());
   const kit::Scene& scene = renderer->scene();
   CpuCamera camera(*scene.camera);
@@ -443,7 +443,7 @@ TEST(gbuffer_contents, FloorAlbedoIsFactorTimesDecodedTexel) {
   EXPECT_GE(tested, kMinTestedPixels) << "too few floor pixels lie well inside a checker square";
 }
 
-TEST(gbuffer_contents, KnownSpheresMaterial) {
+TEST(GBufferContents, KnownSpheresMaterial) {
   auto renderer = kit::test::render_stage("gbuffer", "default", small_settings());
   const kit::Scene& scene = renderer->scene();
   CpuCamera camera(*scene.camera);
@@ -476,7 +476,7 @@ TEST(gbuffer_contents, KnownSpheresMaterial) {
   }
 }
 
-TEST(gbuffer_contents, SphereNormalsMaskAndDebugView) {
+TEST(GBufferContents, SphereNormalsMaskAndDebugView) {
   // The sphere scene: one 64 x 32 UV sphere of radius 1 at the origin.
   const glm::dvec3 kCentre(0.0);
   constexpr double kRadius = 1.0;
@@ -581,7 +581,7 @@ std::unique_ptr<kit::Renderer> render_quad(const std::string& stage, const kit::
   return renderer;
 }
 
-TEST(gbuffer_material_modes, EmissiveColourOnBlackBaseIsTheEmittedRadiance) {
+TEST(GBufferMaterialModes, EmissiveColourOnBlackBaseIsTheEmittedRadiance) {
   // A red emitter (emissiveFactor (1, 0.1, 0.05), strength 3) on a black base colour,
   // no lights: the lighting pass's HDR value is L_e alone.
   const glm::dvec3 factor(1.0, 0.1, 0.05);
@@ -608,7 +608,7 @@ TEST(gbuffer_material_modes, EmissiveColourOnBlackBaseIsTheEmittedRadiance) {
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
-TEST(gbuffer_material_modes, MaskCutoffDecidesCoverage) {
+TEST(GBufferMaterialModes, MaskCutoffDecidesCoverage) {
   // A 2 x 1 base colour texture, nearest filtered: alpha 64/255 (below the cutoff 0.5)
   // on the quad's left half, 191/255 (above) on its right half.
   constexpr unsigned char kLowAlpha = 64, kHighAlpha = 191;
@@ -619,8 +619,8 @@ TEST(gbuffer_material_modes, MaskCutoffDecidesCoverage) {
   m.base_color_factor = glm::vec4(1.0f);
   m.alpha_mode = KIT_ALPHA_MASK;
   m.alpha_cutoff = static_cast<float>(kCutoff);
-  m.base_color_image = 0;
-  m.base_color_sampler = 0;
+  m.texture(KIT_UNIT_BASE_COLOR).image = 0;
+  m.texture(KIT_UNIT_BASE_COLOR).sampler = 0;
   kit::Scene scene = quad_scene(m);
   scene.images.push_back(
       {"alpha ramp", 2, 1, {}, kit::ImageRgba8{2, 1, {200, 200, 200, kLowAlpha, 200, 200, 200, kHighAlpha}}});
@@ -659,7 +659,7 @@ glm::dvec3 hit_on_z0(const kit::FrameCamera& camera, int x, int y) {
   return a + (b - a) * (-a.z / (b.z - a.z));
 }
 
-TEST(gbuffer_material_modes, AlbedoIsFactorTimesTexelTimesVertexColour) {
+TEST(GBufferMaterialModes, AlbedoIsFactorTimesTexelTimesVertexColour) {
   // The quad's COLOR_0 goes from `left` (x = -1) to `right` (x = +1): an affine function
   // of the position, which both triangles interpolate exactly, so the colour at a pixel
   // is known in double from where its centre ray meets the quad. A 1 x 1 texture and a
@@ -668,7 +668,7 @@ TEST(gbuffer_material_modes, AlbedoIsFactorTimesTexelTimesVertexColour) {
   const std::array<unsigned char, 4> texel = {200, 150, 100, 230};
   kit::Material m = kit::test::plain_material(0.5f);
   m.base_color_factor = glm::vec4(0.9f, 0.8f, 0.6f, 0.95f);
-  m.base_color_image = 0;
+  m.texture(KIT_UNIT_BASE_COLOR).image = 0;
   kit::Scene scene = quad_scene(m);
   scene.images.push_back({"texel", 1, 1, {}, kit::ImageRgba8{1, 1, {texel.begin(), texel.end()}}});
   const kit::Vertex *at_left = nullptr, *at_right = nullptr;
@@ -708,7 +708,7 @@ TEST(gbuffer_material_modes, AlbedoIsFactorTimesTexelTimesVertexColour) {
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
-TEST(gbuffer_material_modes, EachTextureSamplesItsOwnUvSetAndTransform) {
+TEST(GBufferMaterialModes, EachTextureSamplesItsOwnUvSetAndTransform) {
   // A linear 256 x 256 metallic-roughness texture: roughness (G) = column / 255 and
   // metallic (B) = row / 255. Bilinear sampling of a ramp returns the ramp itself:
   // inside the outer half texels, roughness = (256 u - 0.5) / 255 and metallic =
@@ -723,8 +723,8 @@ TEST(gbuffer_material_modes, EachTextureSamplesItsOwnUvSetAndTransform) {
     }
   kit::Material m = kit::test::plain_material(1.0f);
   m.metallic_factor = 1.0f;
-  m.metallic_roughness_image = 0;
-  m.metallic_roughness_sampler = 0;
+  m.texture(KIT_UNIT_METALLIC_ROUGHNESS).image = 0;
+  m.texture(KIT_UNIT_METALLIC_ROUGHNESS).sampler = 0;
   kit::TextureSampler bilinear;
   bilinear.min_filter = bilinear.mag_filter = GL_LINEAR;
   bilinear.wrap_s = bilinear.wrap_t = GL_CLAMP_TO_EDGE;
@@ -769,7 +769,7 @@ TEST(gbuffer_material_modes, EachTextureSamplesItsOwnUvSetAndTransform) {
   for (const Case& c : cases) {
     SCOPED_TRACE(c.name);
     // The loader's TextureUv for KHR_texture_transform {offset, rotation, scale}.
-    kit::TextureUv& uv = scene.materials[0].metallic_roughness_uv;
+    kit::TextureUv& uv = scene.materials[0].texture(KIT_UNIT_METALLIC_ROUGHNESS).uv;
     uv.slot = c.slot;
     uv.transform = kit::texture_transform_matrix(glm::vec2(c.offset), static_cast<float>(c.rotation), glm::vec2(c.scale));
     auto renderer = render_quad("gbuffer", scene, camera);
@@ -799,7 +799,7 @@ TEST(gbuffer_material_modes, EachTextureSamplesItsOwnUvSetAndTransform) {
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
-TEST(gbuffer_material_modes, DoubleSidedBackFaceNormalFacesTheViewer) {
+TEST(GBufferMaterialModes, DoubleSidedBackFaceNormalFacesTheViewer) {
   // The quad faces +z; the camera looks at its back from z = -3.
   kit::Material m = kit::test::plain_material(0.5f);
   m.double_sided = true;
@@ -907,10 +907,10 @@ kit::Image albedo_of(const kit::Scene& scene, const kit::FrameCamera& camera, bo
   return renderer->read_view(kit::View::Albedo, true);
 }
 
-TEST(gbuffer_textures, CompressedLargeTextureStaysNearTheUncompressedOne) {
+TEST(GBufferTextures, CompressedLargeTextureStaysNearTheUncompressedOne) {
   kit::Material m = kit::test::plain_material(0.5f);
   m.base_color_factor = glm::vec4(1.0f);
-  m.base_color_image = 0;
+  m.texture(KIT_UNIT_BASE_COLOR).image = 0;
   kit::Scene scene = quad_scene(m);
   const kit::ImageRgba8 texture = detailed_large_texture();
   scene.images.push_back({"detailed", texture.width, texture.height, {}, texture});
@@ -969,15 +969,15 @@ kit::ImageRgba8 detailed_normal_map() {
   return image;
 }
 
-TEST(gbuffer_textures, LargeNormalMapsStayUncompressed) {
+TEST(GBufferTextures, LargeNormalMapsStayUncompressed) {
   // BC1 turned this normal map's normals by 1.5 degrees on average (8.3 at most) 0.2 m
   // away and by 5.7 (21) 1.5 m away, when SceneGpu still compressed normal maps: they
   // stay RGBA8. The same material's large base colour is compressed (the witness that
   // compression was on).
   kit::Material m = kit::test::plain_material(0.5f);
   m.base_color_factor = glm::vec4(1.0f);
-  m.normal_image = 0;
-  m.base_color_image = 1;
+  m.texture(KIT_UNIT_NORMAL_MAP).image = 0;
+  m.texture(KIT_UNIT_BASE_COLOR).image = 1;
   kit::Scene scene = quad_scene(m);
   const kit::ImageRgba8 normals = detailed_normal_map(), colour = detailed_large_texture();
   scene.images.push_back({"normals", normals.width, normals.height, {}, normals});

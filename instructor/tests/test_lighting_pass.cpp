@@ -64,7 +64,7 @@ double max_relative_difference(const kit::Image& a, const kit::Image& b) {
   return worst;
 }
 
-TEST(lighting_pass_constants, EachFrameGetsTheDefinesItsLightsAllow) {
+TEST(LightingPassConstants, EachFrameGetsTheDefinesItsLightsAllow) {
   kit::test::context();
   struct Case {
     std::vector<int> types;
@@ -110,7 +110,7 @@ TEST(lighting_pass_constants, EachFrameGetsTheDefinesItsLightsAllow) {
 // same lights take when a light that adds nothing (black, with a range, of another type)
 // joins them: the same HDR image to float rounding, at stages 2 and 3 and under both
 // attenuation models.
-TEST(lighting_pass_constants, ConstantTypeRangeAndModelChangeNoPixel) {
+TEST(LightingPassConstants, ConstantTypeRangeAndModelChangeNoPixel) {
   const kit::Material material = kit::test::plain_material(0.35f);
   for (int type : {KIT_LIGHT_POINT, KIT_LIGHT_SPOT, KIT_LIGHT_DIRECTIONAL}) {
     Light second = light_of_type(type);
@@ -140,7 +140,7 @@ TEST(lighting_pass_constants, ConstantTypeRangeAndModelChangeNoPixel) {
 // the programs built for the old model. Witness: with the rebuild keyed on whether the
 // defines changed, the second frame saw nothing to change and drew with the physical
 // model's programs.
-TEST(lighting_pass_constants, AFailedRebuildIsTriedAgainNotSkipped) {
+TEST(LightingPassConstants, AFailedRebuildIsTriedAgainNotSkipped) {
   kit::test::context();
   const kit::Stage& stage = kit::find_stage("attenuation");
   const auto root = kit::test::variant_root(
@@ -172,7 +172,7 @@ TEST(lighting_pass_constants, AFailedRebuildIsTriedAgainNotSkipped) {
 // never runs there (every background pixel is the clear colour, every surface pixel
 // the solution's, bit for bit); at stage 2, lab 2's own, it runs on every pixel and the
 // mistake shows, as it must for the lab's coverage-mask task.
-TEST(lighting_pass_background, SkippedByTheDepthTestFromStage3AndOnlyThere) {
+TEST(LightingPassBackground, SkippedByTheDepthTestFromStage3AndOnlyThere) {
   const kit::Scene& scene = kit::test::scene("default");
   const auto root = kit::test::variant_root(
       "lighting_pass_background",

@@ -1,7 +1,7 @@
 // Geometry-pass optimisation (framework/mesh_optimize.h): welding, triangle and
 // vertex reordering keep the mesh and the rendered G-buffer; frustum culling
 // is conservative and leaves the image bitwise unchanged. Suite names start
-// with mesh_optimize so `ctest -R mesh_optimize` selects every test here.
+// with MeshOptimize, the file's name.
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
@@ -81,7 +81,7 @@ Primitive triangle_soup_grid(int n) {
   return p;
 }
 
-TEST(mesh_optimize, WeldingMergesDuplicatesAndKeepsEveryTriangle) {
+TEST(MeshOptimize, WeldingMergesDuplicatesAndKeepsEveryTriangle) {
   constexpr int kGrid = 8;
   Primitive p = triangle_soup_grid(kGrid);
   const Primitive before = p;
@@ -97,7 +97,7 @@ TEST(mesh_optimize, WeldingMergesDuplicatesAndKeepsEveryTriangle) {
   EXPECT_EQ(p.bounds_max, before.bounds_max);
 }
 
-TEST(mesh_optimize, WeldingKeepsVerticesThatDifferInAnyAttribute) {
+TEST(MeshOptimize, WeldingKeepsVerticesThatDifferInAnyAttribute) {
   // A hard edge: the same positions with two different normals must stay apart.
   Primitive p = triangle_soup_grid(1);
   p.vertices[3].normal = glm::vec3(0, 0, 1);  // second triangle's first corner: position (0,0,0) again
@@ -106,7 +106,7 @@ TEST(mesh_optimize, WeldingKeepsVerticesThatDifferInAnyAttribute) {
   EXPECT_EQ(p.vertices.size(), 6u);  // 4 corners + the two changed duplicates
 }
 
-TEST(mesh_optimize, EmptyPrimitiveIsLeftAlone) {
+TEST(MeshOptimize, EmptyPrimitiveIsLeftAlone) {
   Primitive p;
   kit::optimize_primitive(p);
   EXPECT_TRUE(p.vertices.empty());
@@ -124,7 +124,7 @@ void print_stats(const std::string& name, const kit::MeshStats& a, const kit::Me
               b.atvr, a.overdraw, b.overdraw, a.overfetch, b.overfetch);
 }
 
-TEST(mesh_optimize, DefaultScenePrimitivesKeepTheirTrianglesAndCacheDoesNotGetWorse) {
+TEST(MeshOptimize, DefaultScenePrimitivesKeepTheirTrianglesAndCacheDoesNotGetWorse) {
   const kit::Scene& original = kit::test::scene("default");
   kit::Scene optimized = original;
   kit::optimize_scene(optimized);
@@ -196,7 +196,7 @@ size_t differing_pixels(const Image& a, const Image& b) {
   return count;
 }
 
-TEST(mesh_optimize, GBufferOfOptimizedDefaultSceneMatches) {
+TEST(MeshOptimize, GBufferOfOptimizedDefaultSceneMatches) {
   // Reordering can only change which of two fragments at exactly the same
   // depth wins; the default scene's meshes are convex or flat with back faces
   // culled, so no tie is expected, but a handful of pixels would still be a pass.
@@ -237,7 +237,7 @@ bool unit_box_visible(const glm::mat4& world) {
 
 glm::mat4 at(float x, float y, float z) { return glm::translate(glm::mat4(1.0f), glm::vec3(x, y, z)); }
 
-TEST(mesh_optimize_frustum, PlanesAreNormalisedAndPointInwards) {
+TEST(MeshOptimizeFrustum, PlanesAreNormalisedAndPointInwards) {
   const kit::Frustum f = kit::frustum_from(test_view_projection());
   const glm::vec3 inside(0, 0, -5);
   for (const glm::vec4& p : f.planes) {
@@ -248,7 +248,7 @@ TEST(mesh_optimize_frustum, PlanesAreNormalisedAndPointInwards) {
   EXPECT_NEAR(glm::dot(glm::vec3(f.planes[4]), glm::vec3(0, 0, -1)) + f.planes[4].w, 1.0f - kNear, 1e-4f);
 }
 
-TEST(mesh_optimize_frustum, CullsOnlyBoxesWhollyOutside) {
+TEST(MeshOptimizeFrustum, CullsOnlyBoxesWhollyOutside) {
   // Half width of the view at 5 m: 5 * tan(fov / 2) * aspect, about 2.82 m.
   EXPECT_TRUE(unit_box_visible(at(0, 0, -5)));      // in front
   EXPECT_FALSE(unit_box_visible(at(0, 0, 5)));      // behind the camera
@@ -267,7 +267,7 @@ TEST(mesh_optimize_frustum, CullsOnlyBoxesWhollyOutside) {
   EXPECT_FALSE(kit::intersects(f, glm::vec3(-0.05f, -0.05f, -5.0f), glm::vec3(0.05f, 0.05f, 5.0f), at(-7.0f, 0, -5)));
 }
 
-TEST(mesh_optimize_frustum, NeverCullsABoxWithAPointInsideTheView) {
+TEST(MeshOptimizeFrustum, NeverCullsABoxWithAPointInsideTheView) {
   // Random boxes under random rotations, non-uniform scales and translations:
   // whenever a sample point of the box is inside the clip volume the test must keep it.
   constexpr int kBoxes = 4000;
@@ -325,7 +325,7 @@ void expect_identical(const Frame& a, const Frame& b) {
   EXPECT_EQ(differing_pixels(a.final_image, b.final_image), 0u);
 }
 
-TEST(mesh_optimize_frustum, CullingLeavesTheDefaultSceneRenderBitwiseUnchanged) {
+TEST(MeshOptimizeFrustum, CullingLeavesTheDefaultSceneRenderBitwiseUnchanged) {
   const kit::Scene& scene = kit::test::scene("default");
   const std::string last_stage = kit::stages().back().name;  // every pass, so the final image covers them all
   kit::RenderSettings off, on;

@@ -393,7 +393,7 @@ dvec3 tilted_texel() { return dvec3(kTiltedTexel[0], kTiltedTexel[1], kTiltedTex
 
 Material normal_mapped_material() {
   Material m = plain_material(0.5f);
-  m.normal_image = 0;
+  m.texture(KIT_UNIT_NORMAL_MAP).image = 0;
   return m;
 }
 

@@ -41,7 +41,7 @@ void expect_finite_render(const kit::Stage& stage, const std::string& scene) {
 // ctest runs each suite of this file as one test, test_stages.<suite>, in a process of its
 // own (cmake/gtest_suites.cmake), so `ctest -R stages` selects them all. Stages and scenes
 // are loops in one test, each case named by its SCOPED_TRACE when it fails.
-TEST(stages_solutions, EveryStageRendersEverySceneFinite) {
+TEST(StagesSolutions, EveryStageRendersEverySceneFinite) {
   for (const kit::Stage& stage : kit::stages()) {
     for (const char* scene : kScenes) {
       SCOPED_TRACE("stage " + stage.name + ", scene " + scene);
@@ -101,7 +101,7 @@ void expect_starter_differs(const kit::Stage& stage) {
   EXPECT_GT(difference, kMinMeanDifference) << stage.folder << " on " << scene;
 }
 
-TEST(stages_starters, EachCompilesAndDiffersFromItsSolution) {
+TEST(StagesStarters, EachCompilesAndDiffersFromItsSolution) {
   for (const kit::Stage& stage : kit::stages()) {
     SCOPED_TRACE(stage.folder);
     expect_starter_differs(stage);
@@ -110,7 +110,7 @@ TEST(stages_starters, EachCompilesAndDiffersFromItsSolution) {
 
 // ---- stage 5 against stage 4 ----
 
-TEST(stages_postprocess, OffIsStage4ExactlyAndOnIsNot) {
+TEST(StagesPostprocess, OffIsStage4ExactlyAndOnIsNot) {
   // With the toggle off, bloom and the custom effect pass the image through untouched.
   kit::RenderSettings off = small_settings();
   off.postprocess = false;
@@ -129,7 +129,7 @@ TEST(stages_postprocess, OffIsStage4ExactlyAndOnIsNot) {
 
 // ---- determinism ----
 
-TEST(stages_determinism, TwoRendersAreBitwiseIdentical) {
+TEST(StagesDeterminism, TwoRendersAreBitwiseIdentical) {
   for (const kit::View view : {kit::View::Final, kit::View::Hdr, kit::View::Position, kit::View::Normal}) {
     SCOPED_TRACE(kit::view_name(view));
     kit::Image first = kit::test::render_stage("postprocess", "default", small_settings())->read_view(view, true);
@@ -143,7 +143,7 @@ TEST(stages_determinism, TwoRendersAreBitwiseIdentical) {
 // The viewer renders a frame again only when same_image_settings says the settings
 // changed (tools/kit_view.cpp): every field that changes the image must count, and
 // only the size and u_time (which the viewer compares or animates itself) may not.
-TEST(stages_settings, EveryFieldThatChangesTheImageCounts) {
+TEST(StagesSettings, EveryFieldThatChangesTheImageCounts) {
   const kit::RenderSettings base;
   EXPECT_TRUE(kit::same_image_settings(base, base));
   kit::RenderSettings ignored = base;
