@@ -24,17 +24,6 @@ struct Textures {
   Image8 brick_normal = make_brick_normal();
 };
 
-// Plain grey with the brick normal map: the bricks show up through shading alone.
-MaterialDesc normal_mapped_grey(int normal_texture) {
-  MaterialDesc m;
-  m.name = "normal_mapped_grey";
-  m.base_color = glm::dvec4(0.75, 0.75, 0.75, 1.0);
-  m.roughness = 0.5;
-  m.normal_texture = normal_texture;
-  m.normal_scale = 1.0;
-  return m;
-}
-
 // A material of factors alone: no texture, opaque, single-sided.
 MaterialDesc plain_material(const std::string& name, glm::dvec4 base_color, double roughness,
                             double metallic = 0.0) {
@@ -43,6 +32,14 @@ MaterialDesc plain_material(const std::string& name, glm::dvec4 base_color, doub
   m.base_color = base_color;
   m.roughness = roughness;
   m.metallic = metallic;
+  return m;
+}
+
+// Plain grey with the brick normal map: the bricks show up through shading alone.
+MaterialDesc normal_mapped_grey(int normal_texture) {
+  MaterialDesc m = plain_material("normal_mapped_grey", glm::dvec4(0.75, 0.75, 0.75, 1.0), 0.5);
+  m.normal_texture = normal_texture;
+  m.normal_scale = 1.0;
   return m;
 }
 
