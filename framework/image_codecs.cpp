@@ -15,6 +15,7 @@
 
 #include "error.h"
 #include "safe_file.h"
+#include "text.h"
 
 namespace kit {
 
@@ -183,10 +184,7 @@ Imf::FrameBuffer frame_buffer(Image& image, const std::vector<std::string>& name
 }  // namespace
 
 bool has_extension(const std::string& path, const std::string& extension) {
-  if (path.size() < extension.size()) return false;
-  for (size_t i = 0; i < extension.size(); ++i)
-    if (std::tolower(static_cast<unsigned char>(path[path.size() - extension.size() + i])) != extension[i]) return false;
-  return true;
+  return path.size() >= extension.size() && lower_case(path.substr(path.size() - extension.size())) == extension;
 }
 
 bool is_png(const unsigned char* bytes, size_t size) { return size >= 8 && png_sig_cmp(bytes, 0, 8) == 0; }

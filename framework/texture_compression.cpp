@@ -1,7 +1,8 @@
 #include "texture_compression.h"
 
 #include <algorithm>
-#include <cctype>
+
+#include "text.h"
 
 namespace kit {
 
@@ -20,8 +21,7 @@ size_t rgba8_chain_bytes(int width, int height) {
 }
 
 bool renders_on_cpu(const std::string& gl_renderer) {
-  std::string name = gl_renderer;
-  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  const std::string name = lower_case(gl_renderer);
   for (const char* cpu : {"llvmpipe", "softpipe", "swrast", "software rasterizer", "swiftshader"})
     if (name.find(cpu) != std::string::npos) return true;
   return false;

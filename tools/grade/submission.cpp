@@ -606,11 +606,6 @@ void list_all(const fs::path& dir, const std::string& prefix, std::vector<std::p
 
 }  // namespace
 
-std::string lower_case(std::string text) {
-  std::transform(text.begin(), text.end(), text.begin(), [](unsigned char c) { return std::tolower(c); });
-  return text;
-}
-
 std::string file_digest(const fs::path& file, bool follow_links) {
   Sha1 sha;
   return hash_file(sha, file, follow_links) ? lower_case(sha.digest()) : "";

@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "sandbox.h"
+#include "text.h"  // lower_case: lab folders and a batch's own file names match in any case
 
 namespace kit::grade {
 
@@ -100,10 +101,6 @@ std::string content_hash(const std::filesystem::path& submission);
 // A regular file's SHA-1 in 40 lower-case hex digits, "" when it cannot be read
 // (links followed only when `follow_links`).
 std::string file_digest(const std::filesystem::path& file, bool follow_links);
-
-// `text` with its ASCII letters in lower case: lab folders and a batch's own file
-// names are matched in any case.
-std::string lower_case(std::string text);
 
 // How a lab's file is named in messages: "labs/02-lighting/brdf.glsl" (the
 // folder label kit::stage_library gives the private lab root).
