@@ -173,7 +173,7 @@ void ForwardPass::draw_blend_layers(const GeometryPrograms& geometry_programs, c
     glBlitFramebuffer(rect.x, rect.y, x1, y1, rect.x, rect.y, x1, y1, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
     begin_geometry_pass_on(layer_.framebuffer(), width_, height_, KIT_GBUF_COUNT, glm::vec4(0.0f), false);
     const Program& geometry = geometry_programs.for_draw(scene, d);
-    if (drawn && std::find(drawn->begin(), drawn->end(), &geometry) == drawn->end()) drawn->push_back(&geometry);
+    note_drawn(drawn, geometry);
     geometry.use();
     draw_item(geometry, scene, gpu, d);
     end_scene_draws();

@@ -289,6 +289,10 @@ void end_scene_draws() {
     Sampler::unbind(unit);
 }
 
+void note_drawn(std::vector<const Program*>* drawn, const Program& program) {
+  if (drawn && std::find(drawn->begin(), drawn->end(), &program) == drawn->end()) drawn->push_back(&program);
+}
+
 namespace {
 // draw_scene's loop: `program_for(d)` draws d, put in use when it is another than the last draw's.
 template <typename ProgramFor>
@@ -306,7 +310,7 @@ void draw_scene_with(const ProgramFor& program_for, const Scene& scene, const Sc
     if (&program != current) {
       program.use();
       current = &program;
-      if (drawn && std::find(drawn->begin(), drawn->end(), current) == drawn->end()) drawn->push_back(current);
+      note_drawn(drawn, program);
     }
     draw_item(program, scene, gpu, d);
   }
@@ -647,11 +651,11 @@ void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
   // 2'. Forward pass (forward_pass.h): BLEND draws back to front over the HDR
   //     target, lit by the same lighting pass; then the light markers.
   if (blend_draws_) {
-    drawn.clear();
+    // Only the variants the geometry pass did not draw with join `drawn`, after its own.
+    const size_t drawn_opaque = drawn.size();
     forward_->draw_blend_layers(p.geometry, p.lighting, ibl_ ? &p.ibl : nullptr, scene_, scene_gpu_, gbuffer_,
                                 hdr_fbo_, camera_.view, view_projection, triangle_, &drawn);
-    for (const Program* program : drawn)
-      if (std::find(used_.begin(), used_.end(), program) == used_.end()) used_.insert(used_.begin(), program);
+    used_.insert(used_.begin(), drawn.begin() + static_cast<std::ptrdiff_t>(drawn_opaque), drawn.end());
     gbuffer_.bind_textures();  // the opaque G-buffer again, for the passes after
     check_gl("forward pass (BLEND materials)");
   }

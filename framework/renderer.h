@@ -178,6 +178,9 @@ void draw_scene(const Program& geometry, const Scene& scene, const SceneGpu& gpu
 void draw_scene(const GeometryPrograms& geometry, const Scene& scene, const SceneGpu& gpu,
                 const glm::mat4& view_projection, bool frustum_culling, DrawSet set,
                 std::vector<const Program*>* drawn = nullptr);
+// Adds `program` to `drawn`, when given, unless it is there: the programs a pass drew
+// with, each once, in the order first drawn.
+void note_drawn(std::vector<const Program*>* drawn, const Program& program);
 // The material a draw item is drawn with: its primitive's, or glTF's default material.
 const Material& draw_material(const Scene& scene, const DrawItem& draw);
 // One draw item as draw_scene draws it; end_scene_draws() restores GL's state after the last.
