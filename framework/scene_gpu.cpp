@@ -89,13 +89,20 @@ struct DecodedImage {
 
 // Decodes an image and makes its mip chains (a large one's compressed when `compress`,
 // normal maps excepted): the work of a decode thread, so the GL thread only copies bytes.
+// Whether an image's upload in one colour space may be S3TC blocks when the scene's
+// textures are compressed: a large one, but for a normal map's linear upload.
+bool compressible(int width, int height, const ImageUse& use, bool srgb) {
+  return is_large_texture(width, height) && (srgb || !use.normal_map);
+}
+
 DecodedImage decode_image(const SceneImage& image, const ImageUse& use, bool compress) {
   DecodedImage decoded;
   ImageRgba8 pixels = decode_scene_image(image);
-  compress = compress && is_large_texture(pixels.width, pixels.height);
-  if (use.srgb && use.linear) decoded.srgb = prepare_texture(pixels, true, compress);
-  if (use.linear) decoded.linear = prepare_texture(std::move(pixels), false, compress && !use.normal_map);
-  else decoded.srgb = prepare_texture(std::move(pixels), true, compress);
+  const bool srgb_compressed = compress && compressible(pixels.width, pixels.height, use, true);
+  const bool linear_compressed = compress && compressible(pixels.width, pixels.height, use, false);
+  if (use.srgb && use.linear) decoded.srgb = prepare_texture(pixels, true, srgb_compressed);
+  if (use.linear) decoded.linear = prepare_texture(std::move(pixels), false, linear_compressed);
+  else decoded.srgb = prepare_texture(std::move(pixels), true, srgb_compressed);
   return decoded;
 }
 
@@ -212,7 +219,8 @@ SceneGpu::SceneGpu(const Scene& scene, TextureCompression compression) {
     if (uses[i].srgb || uses[i].linear) {
       order.push_back(i);
       const SceneImage& image = scene.images[i];
-      any_large = any_large || (is_large_texture(image.width, image.height) && (uses[i].srgb || !uses[i].normal_map));
+      any_large = any_large || (uses[i].srgb && compressible(image.width, image.height, uses[i], true)) ||
+                  (uses[i].linear && compressible(image.width, image.height, uses[i], false));
       bytes += rgba8_chain_bytes(image.width, image.height) * (uses[i].srgb && uses[i].linear ? 2 : 1);
     }
   const char* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
