@@ -1,9 +1,10 @@
-# kit_gtest_suites(TARGET PREFIX WORKING_DIRECTORY ENVIRONMENT [SLOW]): one ctest test
-# per GoogleTest suite of TARGET, named PREFIX<Suite> and running
+# kit_gtest_suites(TARGET PREFIX WORKING_DIRECTORY ENVIRONMENT [SLOW] [GRADES]): one ctest
+# test per GoogleTest suite of TARGET, named PREFIX<Suite> and running
 # `TARGET --gtest_filter=<Suite>.*`. SLOW: the suites run the kit's programs and take
 # tens of seconds, so ctest starts them first (COST), and the short ones fill the
 # other core beside them instead of waiting at the end (a fresh build has no timings
-# from an earlier run for ctest to order by).
+# from an earlier run for ctest to order by). GRADES: they run kit-grade, so they wait
+# for the grader's shader cache to be seeded (tests/grade.cmake, kit_grade_seed).
 #
 # Why suites and not single tests (gtest_discover_tests): a test process starts a
 # headless GL context, loads the scenes its tests use and compiles their shaders, and
@@ -21,15 +22,19 @@ if(NOT LIST_MODE)
   function(kit_gtest_suites target prefix working_directory environment)
     set(cost 1)
     set(labels "")
+    set(fixtures "")
     if("SLOW" IN_LIST ARGN)
       set(cost 100)
       set(labels slow)  # left out by ./kit test --quick
+    endif()
+    if("GRADES" IN_LIST ARGN)
+      set(fixtures kit_grade_seed)
     endif()
     set(list_file "${CMAKE_CURRENT_BINARY_DIR}/${target}_suites.cmake")
     add_custom_command(TARGET ${target} POST_BUILD
       COMMAND ${CMAKE_COMMAND} -D LIST_MODE=ON -D "PROGRAM=$<TARGET_FILE:${target}>" -D "PREFIX=${prefix}"
               -D "WORKING_DIRECTORY=${working_directory}" -D "ENVIRONMENT=${environment}"
-              -D "COST=${cost}" -D "LABELS=${labels}"
+              -D "COST=${cost}" -D "LABELS=${labels}" -D "FIXTURES=${fixtures}"
               -D "OUTPUT=${list_file}" -P ${KIT_GTEST_SUITES_SCRIPT}
       VERBATIM)
     # ctest reads the list through this file; before the first build it names a
@@ -61,7 +66,8 @@ set(suites 0)
 function(add_listed_test name filter)
   string(APPEND script "add_test([==[${name}]==] [==[${PROGRAM}]==] [==[--gtest_filter=${filter}]==])\n"
     "set_tests_properties([==[${name}]==] PROPERTIES WORKING_DIRECTORY [==[${WORKING_DIRECTORY}]==]"
-    " ENVIRONMENT [==[${ENVIRONMENT}]==] COST ${COST} LABELS [==[${LABELS}]==])\n")
+    " ENVIRONMENT [==[${ENVIRONMENT}]==] COST ${COST} LABELS [==[${LABELS}]==]"
+    " FIXTURES_REQUIRED [==[${FIXTURES}]==])\n")
   set(script "${script}" PARENT_SCOPE)
 endfunction()
 foreach(line IN LISTS lines)

@@ -2,7 +2,15 @@
 # with this machine's renders of every solution the kit holds: all of them in the
 # instructor's kit, the released ones in a student copy. A student's self-check
 # (./kit grade labs) is only as good as this.
+#
+# It is also the fixture kit_grade_seed: --check-references writes the grader's shader
+# cache seed ($XDG_CACHE_HOME/kit-grade/mesa-shader-cache), which every grading run
+# copies so that only a submission's own shaders are compiled. On a fresh machine
+# (CI) there is none: the tests that run kit-grade (FIXTURES_REQUIRED kit_grade_seed,
+# kit_test's GRADES) start after it, not beside it with every solution's shader
+# compiled again in each of their runs.
 add_test(NAME grade_references_reproduce COMMAND $<TARGET_FILE:kit-grade> --check-references)
 set_tests_properties(grade_references_reproduce PROPERTIES
   ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
+  FIXTURES_SETUP kit_grade_seed
   TIMEOUT 300)

@@ -13,5 +13,6 @@ if(TARGET kit-grade AND TARGET kit-render)
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
     TIMEOUT 300
     # It takes about 15 s: started first, as kit_test's SLOW suites are.
-    COST 100)
+    COST 100
+    FIXTURES_REQUIRED kit_grade_seed)
 endif()

@@ -16,6 +16,8 @@ if(TARGET kit-grade)
   set_tests_properties(grade_self_check PROPERTIES LABELS slow
     TIMEOUT 600
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
-    # It keeps both cores busy: running other tests beside it only slows both down.
-    RUN_SERIAL TRUE)
+    # Started early (after student_copy), beside the others: its batches end with a
+    # core idle while the last submission renders.
+    COST 1500
+    FIXTURES_REQUIRED kit_grade_seed)
 endif()

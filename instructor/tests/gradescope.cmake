@@ -8,5 +8,6 @@ if(TARGET kit-grade)
     TIMEOUT 600
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
     # About 16 s: started first, as kit_test's SLOW suites are (cmake/gtest_suites.cmake).
-    COST 100)
+    COST 100
+    FIXTURES_REQUIRED kit_grade_seed)
 endif()

@@ -84,6 +84,9 @@ rm -rf "$WORK/planted"
 # builds as if libosmesa6-dev were missing), so that this one second build of the kit
 # proves both the copy and the kit without OSMesa: the demo, the copy's tests and its
 # grades below all run on EGL.
+# A student's machine has caches of its own: the copy's Mesa shader cache and grader
+# seed are kept apart from the instructor's (which the kit's other tests write meanwhile).
+export XDG_CACHE_HOME="$WORK/cache"
 git clone -q "$WORK/copy2" "$WORK/clone"
 cd "$WORK/clone"
 if KIT_CMAKE_ARGS=-DKIT_OSMESA=OFF ./kit demo >"$WORK/demo.log" 2>&1; then
