@@ -475,6 +475,29 @@ dvec3 prefiltered_radiance(const Image& env, dvec3 r, double roughness, const Gu
   return weight > 0.0 ? weighted / weight : environment_radiance(env, r);
 }
 
+IrradianceIntegral::IrradianceIntegral(const Image& env) {
+  require_environment(env);
+  // Every cell, also those irradiance skips as wholly behind its n: their terms have
+  // n.l <= 0, so operator() skips them term by term and adds what irradiance adds.
+  for_each_texel_cell(
+      env.width, env.height, [](dvec3, double) { return kIrradianceCellAngle; },
+      [&](double u, double v, double solid_angle) {
+        cells_.push_back({equirect_direction(u, v), environment_radiance_uv(env, {u, v}), solid_angle});
+      });
+}
+
+dvec3 IrradianceIntegral::operator()(dvec3 n) const {
+  n = glm::normalize(n);
+  dvec3 sum(0.0);
+  for (const Cell& c : cells_) {
+    const double n_dot_l = glm::dot(n, c.direction);
+    if (n_dot_l > 0.0) sum += c.radiance * (n_dot_l * c.solid_angle);
+  }
+  return sum;
+}
+
+// One normal alone: the cells wholly behind n are skipped before their directions and
+// radiances are computed, so a single call costs half of building IrradianceIntegral.
 dvec3 irradiance(const Image& env, dvec3 n) {
   require_environment(env);
   n = glm::normalize(n);

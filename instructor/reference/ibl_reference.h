@@ -25,6 +25,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <vector>
 
 #include "cpu_reference.h"
 #include "image_io.h"
@@ -143,6 +144,24 @@ dvec3 prefiltered_radiance(const Image& env, dvec3 r, double roughness, const Gu
 // horizon is the worst case; ~1e-5 on smooth environments), measured against cells four
 // times smaller and, in the tests, against closed forms for a sky and a ground.
 dvec3 irradiance(const Image& env, dvec3 n);
+
+// irradiance for many normals under one environment: the texel sum's cells (their
+// directions, radiances and solid angles) are found once, so each normal costs a pass of
+// dot products instead of the cells' trigonometry and filtering (a 32 x 16 map under
+// one environment: 0.6 s instead of 12 s). Each normal gets the very sum irradiance
+// gives, term by term in the same order (the tests compare the two bit for bit).
+class IrradianceIntegral {
+ public:
+  explicit IrradianceIntegral(const Image& env);
+  dvec3 operator()(dvec3 n) const;
+
+ private:
+  struct Cell {
+    dvec3 direction, radiance;
+    double solid_angle;
+  };
+  std::vector<Cell> cells_;
+};
 
 // The split-sum radiance the lab computes, in double:
 //   (F0 A + B) P(r, roughness) + (1 - metallic) albedo (1 - F0) C E(n) / pi

@@ -27,13 +27,14 @@ struct Sh2Errors {
 // SH2 irradiance against the reference's at the texel centres of a width x width / 2 map.
 Sh2Errors sh2_against_reference(const Image& env, int width) {
   const bench::Sh2 sh = bench::project_sh2(env);
+  const ref::IrradianceIntegral irradiance(env);
   const int height = width / 2;
   Sh2Errors e;
   double peak = 0.0, largest_abs = 0.0;
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x) {
       const dvec3 n = ref::equirect_direction((x + 0.5) / width, (y + 0.5) / height);
-      const dvec3 sh2 = bench::sh2_irradiance(sh, n), exact = ref::irradiance(env, n);
+      const dvec3 sh2 = bench::sh2_irradiance(sh, n), exact = irradiance(n);
       const double relative = ref::relative_error(sh2, exact, kIrradianceFloor);
       e.max_relative = std::max(e.max_relative, relative);
       e.mean_relative += relative / (width * height);

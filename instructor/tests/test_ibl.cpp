@@ -174,12 +174,12 @@ TEST(Ibl, IrradianceMapMatchesTheIntegral) {
   for (const char* name : {"studio", "sun"}) {
     auto renderer = ibl_renderer(unlit_sphere(), ibl_settings(name));
     const Image map = renderer->read_view(View::Irradiance, true);
-    const Image& env = environment(name);
+    const ref::IrradianceIntegral irradiance(environment(name));
     double worst = 0.0;
     for (int y = 0; y < map.height; ++y)
       for (int x = 0; x < map.width; x += 3) {
         const dvec2 uv = texel_uv(x, y, map.width, map.height);
-        const dvec3 expected = ref::irradiance(env, ref::equirect_direction(uv.x, uv.y));
+        const dvec3 expected = irradiance(ref::equirect_direction(uv.x, uv.y));
         worst = std::max(worst, relative_error(rgb(map, x, y), expected, 0.05));
       }
     std::printf("[ ibl ] irradiance map (%s) against the integral: largest relative error %.2e\n", name, worst);
