@@ -15,6 +15,7 @@
 #include "image_codecs.h"
 #include "image_io.h"
 #include "kit_test.h"
+#include "scene.h"
 #include "texture_decode.h"
 
 namespace fs = std::filesystem;
@@ -97,6 +98,41 @@ TEST(ImageCodecs, PngReadsAsOpenImageIoReadsIt) {
     for (size_t i = 0; i < v16.size(); ++i)
       ASSERT_EQ(decoded.pixels[i], (static_cast<uint32_t>(v16[i]) * 255 + 32767) / 65535) << "value " << v16[i];
   }
+}
+
+// A scene's PNG colour is stored without alpha premultiplied: a texel of RGB
+// (200, 50, 10) at alpha 128 (0.5) decodes to (200, 50, 10) through the scene loader,
+// not the premultiplied (100, 25, 5). Here, not in test_scene_loader, because it is
+// the one scene test that needs OpenImageIO linked (which costs every process start).
+TEST(ImageCodecs, ScenePngColourIsNotPremultipliedByAlpha) {
+  const fs::path source = kit::resolve_scene("default");
+  const fs::path dir = kit::test::temp_dir("codecs-unassociated-alpha");
+  for (const auto& entry : fs::directory_iterator(source.parent_path()))
+    fs::copy_file(entry.path(), dir / entry.path().filename());
+  const unsigned char texel[4] = {200, 50, 10, 128};
+  const fs::path png = dir / "checker.png";  // image 0 of the default scene
+  {
+    std::vector<unsigned char> pixels;
+    for (int i = 0; i < 4; ++i) pixels.insert(pixels.end(), texel, texel + 4);
+    OIIO::ImageSpec spec(2, 2, 4, OIIO::TypeDesc::UINT8);
+    spec.attribute("oiio:UnassociatedAlpha", 1);  // write the bytes as they are
+    auto out = OIIO::ImageOutput::create(png.string());
+    ASSERT_TRUE(out && out->open(png.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && out->close());
+  }
+  {  // Witness: OpenImageIO's default read premultiplies: 2.4 (Debian 12) the stored values,
+     // 200 * 128 / 255 = 100; 2.5 (Debian 13) in linear light, which gives 147.
+    auto in = OIIO::ImageInput::open(png.string());
+    ASSERT_TRUE(in);
+    unsigned char read[16];
+    ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, read));
+    EXPECT_TRUE(std::abs(read[0] - 100) <= 1 || std::abs(read[0] - 147) <= 1) << int(read[0]);
+  }
+  const kit::Scene scene = kit::load_scene((dir / source.filename()).string());
+  ASSERT_NE(scene.images.at(0).what.find("checker.png"), std::string::npos) << scene.images.at(0).what;
+  const kit::ImageRgba8 image = kit::decode_scene_image(scene.images.at(0));
+  ASSERT_EQ(image.width, 2);
+  for (size_t p = 0; p < 4; ++p)
+    for (size_t c = 0; c < 4; ++c) EXPECT_EQ(image.pixels[4 * p + c], texel[c]) << "pixel " << p << " channel " << c;
 }
 
 // What the kit writes, OpenImageIO reads back with the same values: PNG as to_unorm8

@@ -8,7 +8,6 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <nlohmann/json.hpp>
-#include <OpenImageIO/imageio.h>
 
 #include <sys/stat.h>
 
@@ -1213,36 +1212,6 @@ TEST(SceneLoaderCameras, InvalidCamerasAreRefusedByIndex) {
 }
 
 // ---- textures ----
-
-// A PNG's colour is stored without alpha premultiplied: a texel of RGB (200, 50, 10)
-// at alpha 128 (0.5) decodes to (200, 50, 10), not the premultiplied (100, 25, 5).
-TEST(SceneLoaderTextures, PngColourIsNotPremultipliedByAlpha) {
-  SceneCopy copy("default", "unassociated_alpha");
-  const unsigned char texel[4] = {200, 50, 10, 128};
-  const fs::path png = copy.dir / "checker.png";  // image 0 of the default scene
-  ASSERT_EQ(copy.doc["images"][0]["uri"], "checker.png");
-  {
-    std::vector<unsigned char> pixels;
-    for (int i = 0; i < 4; ++i) pixels.insert(pixels.end(), texel, texel + 4);
-    OIIO::ImageSpec spec(2, 2, 4, OIIO::TypeDesc::UINT8);
-    spec.attribute("oiio:UnassociatedAlpha", 1);  // write the bytes as they are
-    auto out = OIIO::ImageOutput::create(png.string());
-    ASSERT_TRUE(out && out->open(png.string(), spec) && out->write_image(OIIO::TypeDesc::UINT8, pixels.data()) && out->close());
-  }
-  {  // Witness: OpenImageIO's default read premultiplies: 2.4 (Debian 12) the stored values,
-     // 200 * 128 / 255 = 100; 2.5 (Debian 13) in linear light, which gives 147.
-    auto in = OIIO::ImageInput::open(png.string());
-    ASSERT_TRUE(in);
-    unsigned char read[16];
-    ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, read));
-    EXPECT_TRUE(std::abs(read[0] - 100) <= 1 || std::abs(read[0] - 147) <= 1) << int(read[0]);
-  }
-  const kit::Scene scene = kit::load_scene(copy.gltf.string());
-  const kit::ImageRgba8 image = kit::decode_scene_image(scene.images.at(0));
-  ASSERT_EQ(image.width, 2);
-  for (size_t p = 0; p < 4; ++p)
-    for (size_t c = 0; c < 4; ++c) EXPECT_EQ(image.pixels[4 * p + c], texel[c]) << "pixel " << p << " channel " << c;
-}
 
 // Images are decoded once, by SceneGpu, and only those a material samples: an
 // image whose pixel data is broken (its header intact) loads and uploads while
