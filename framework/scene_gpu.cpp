@@ -87,14 +87,14 @@ struct DecodedImage {
   std::optional<PreparedTexture> srgb, linear;
 };
 
-// Decodes an image and makes its mip chains (a large one's compressed when `compress`,
-// normal maps excepted): the work of a decode thread, so the GL thread only copies bytes.
 // Whether an image's upload in one colour space may be S3TC blocks when the scene's
 // textures are compressed: a large one, but for a normal map's linear upload.
 bool compressible(int width, int height, const ImageUse& use, bool srgb) {
   return is_large_texture(width, height) && (srgb || !use.normal_map);
 }
 
+// Decodes an image and makes its mip chains (a large one's compressed when `compress`,
+// normal maps excepted): the work of a decode thread, so the GL thread only copies bytes.
 DecodedImage decode_image(const SceneImage& image, const ImageUse& use, bool compress) {
   DecodedImage decoded;
   ImageRgba8 pixels = decode_scene_image(image);
