@@ -15,6 +15,7 @@
 #include "image_codecs.h"
 #include "image_io.h"
 #include "kit_test.h"
+#include "kit_test_files.h"
 #include "scene.h"
 #include "texture_decode.h"
 
@@ -105,10 +106,8 @@ TEST(ImageCodecs, PngReadsAsOpenImageIoReadsIt) {
 // not the premultiplied (100, 25, 5). Here, not in test_scene_loader, because it is
 // the one scene test that needs OpenImageIO linked (which costs every process start).
 TEST(ImageCodecs, ScenePngColourIsNotPremultipliedByAlpha) {
-  const fs::path source = kit::resolve_scene("default");
   const fs::path dir = kit::test::temp_dir("codecs-unassociated-alpha");
-  for (const auto& entry : fs::directory_iterator(source.parent_path()))
-    fs::copy_file(entry.path(), dir / entry.path().filename());
+  const fs::path gltf = kit::test::copy_scene("default", dir);
   const unsigned char texel[4] = {200, 50, 10, 128};
   const fs::path png = dir / "checker.png";  // image 0 of the default scene
   {
@@ -127,7 +126,7 @@ TEST(ImageCodecs, ScenePngColourIsNotPremultipliedByAlpha) {
     ASSERT_TRUE(in->read_image(0, 0, 0, 4, OIIO::TypeDesc::UINT8, read));
     EXPECT_TRUE(std::abs(read[0] - 100) <= 1 || std::abs(read[0] - 147) <= 1) << int(read[0]);
   }
-  const kit::Scene scene = kit::load_scene((dir / source.filename()).string());
+  const kit::Scene scene = kit::load_scene(gltf.string());
   ASSERT_NE(scene.images.at(0).what.find("checker.png"), std::string::npos) << scene.images.at(0).what;
   const kit::ImageRgba8 image = kit::decode_scene_image(scene.images.at(0));
   ASSERT_EQ(image.width, 2);

@@ -48,12 +48,9 @@ struct SceneCopy {
   json doc;
 
   SceneCopy(const std::string& scene, const std::string& case_name) {
-    fs::path source = kit::resolve_scene(scene);
     dir = kit::test::temp_dir("scene_loader/" + case_name);
-    for (const auto& entry : fs::directory_iterator(source.parent_path()))
-      fs::copy_file(entry.path(), dir / entry.path().filename());
-    gltf = dir / source.filename();
-    bin = dir / (source.stem().string() + ".bin");
+    gltf = kit::test::copy_scene(scene, dir);
+    bin = dir / (gltf.stem().string() + ".bin");
     doc = json::parse(kit::test::read_file(gltf));
   }
   void save_json() const { kit::test::write_file(gltf, doc.dump(2)); }

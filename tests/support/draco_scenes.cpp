@@ -92,11 +92,7 @@ void add_extension(json& doc, const char* list, const std::string& name) {
 }  // namespace
 
 fs::path write_draco_copy(const std::string& scene, const fs::path& dir, int position_bits) {
-  const fs::path source = kit::resolve_scene(scene);
-  fs::create_directories(dir);
-  for (const auto& entry : fs::directory_iterator(source.parent_path()))
-    fs::copy_file(entry.path(), dir / entry.path().filename(), fs::copy_options::overwrite_existing);
-  const fs::path gltf = dir / source.filename(), bin_path = dir / (source.stem().string() + ".bin");
+  const fs::path gltf = copy_scene(scene, dir), bin_path = dir / (gltf.stem().string() + ".bin");
   json doc = json::parse(read_file(gltf));
   std::string bin = read_file(bin_path);
   std::vector<int> compressed_accessors;
