@@ -2,7 +2,7 @@
 # from the XML it ships (--reproducible: no network). Two generations are packaged:
 # glad 2 (Debian 12, Ubuntu 24.04: `glad --api gl:core=4.3 ... c`, <glad/gl.h>)
 # and glad 0.1 (Ubuntu 22.04: `glad --profile core --api gl=4.3 --generator c`,
-# <glad/glad.h>). The kit speaks to either through framework/gl.h, keyed on
+# <glad/glad.h>). The kit speaks to either through common/gl/gl.h, keyed on
 # KIT_GLAD_GENERATION (1 or 2).
 set(KIT_GLAD_DIR ${CMAKE_BINARY_DIR}/glad)
 find_program(GLAD_EXECUTABLE glad)

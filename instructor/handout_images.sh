@@ -107,13 +107,13 @@ mistake() {
     die "catalogue entry '$2' no longer applies to the solutions: update the mistake images"
 }
 
-# A kit root (framework/shaders/ + solutions/) whose earlier-lab solution carries a mistake,
+# A kit root (shaders/ + solutions/) whose earlier-lab solution carries a mistake,
 # for showing a lab-2 mistake through lab 3's tone mapping (stages after N take
 # labs 1..N from KIT_ROOT/solutions).
 mistake_root() {
   local dest="$1"
   mkdir -p "$dest/solutions"
-  mkdir -p "$dest/framework" && cp -r "$ROOT/framework/shaders" "$dest/framework/shaders"
+  cp -r "$ROOT/shaders" "$dest/shaders"
   cp -r "$SOL/01-gbuffer" "$dest/solutions/"
   shift
   mistake "$dest/solutions" "$@"

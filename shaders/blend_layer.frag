@@ -1,5 +1,5 @@
 #version 330 core
-// The forward pass's over operator (framework/forward_pass.h): one BLEND draw was
+// The forward pass's over operator (common/render/forward_pass.h): one BLEND draw was
 // drawn into a layer G-buffer and lit by the stage's lighting pass into u_hdr;
 // this lays it over the scene's HDR target, which GL blends as
 // a * L_layer + (1 - a) * L_behind (glBlendFunc SRC_ALPHA, ONE_MINUS_SRC_ALPHA),

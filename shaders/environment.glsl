@@ -1,4 +1,4 @@
-// Lab 6's environment and the maps the lab precomputes from it (framework/ibl.h).
+// Lab 6's environment and the maps the lab precomputes from it (common/render/ibl.h).
 //
 // Equirectangular convention (the instructors' CPU reference of lab 6 mirrors it):
 // u runs with the azimuth phi = (u - 0.5) 2 pi, u = 0.5 looking along -Z and

@@ -1,4 +1,4 @@
-// G-buffer layout: the one place both C++ (framework/gbuffer.cpp) and GLSL
+// G-buffer layout: the one place both C++ (common/render/gbuffer.cpp) and GLSL
 // (every geometry and lighting shader, via #include "gbuffer_layout.h") read.
 // Only #define lines live here so the file is valid in both languages.
 //
@@ -20,7 +20,7 @@
 // colour never glowed.)
 //
 // Albedo alpha: the base colour alpha (factor * texel * COLOR_0). The lighting pass ignores
-// it; the forward pass (framework/forward_pass.h) blends BLEND materials by it: from
+// it; the forward pass (common/render/forward_pass.h) blends BLEND materials by it: from
 // stage 2 they are drawn into a layer G-buffer of their own, after lighting, not
 // into this one. MASK fragments below their cutoff are discarded in the geometry
 // pass and leave the attachments as cleared (mask 0).
@@ -46,7 +46,7 @@
 #define KIT_UNIT_BLOOM 8
 #define KIT_UNIT_LDR 9
 // Lab 6 (image-based lighting): the environment and what is precomputed from it
-// (framework/ibl.h, framework/shaders/environment.glsl).
+// (common/render/ibl.h, shaders/environment.glsl).
 #define KIT_UNIT_ENVIRONMENT 10
 #define KIT_UNIT_IRRADIANCE 11
 #define KIT_UNIT_PREFILTERED 12

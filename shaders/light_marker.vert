@@ -1,5 +1,5 @@
 #version 330 core
-// A light marker (framework/forward_pass.h): the enclosing-sphere mesh, scaled to
+// A light marker (common/render/forward_pass.h): the enclosing-sphere mesh, scaled to
 // u_marker_radius and moved to the light's position.
 #include "gbuffer_layout.h"
 

@@ -9,7 +9,7 @@
 // u_alpha_cutoff is not part of the surface. Discarding it leaves the G-buffer as
 // cleared there (coverage mask 0) and writes no depth, so what lies behind shows.
 // OPAQUE ignores alpha; BLEND is drawn like OPAQUE here, into the forward pass's
-// layer G-buffer (framework/forward_pass.h), which blends it by albedo.a.
+// layer G-buffer (common/render/forward_pass.h), which blends it by albedo.a.
 // A program drawing no MASK material has no discard (KIT_HAS_ALPHA_MASK undefined,
 // material_uniforms.glsl): llvmpipe then tests depth before the shader runs.
 void kit_alpha_discard(float base_color_alpha) {

@@ -4,7 +4,7 @@
 
 // Which material features the helpers below compile. The renderer builds one program
 // per feature set its scene's draws use and defines KIT_MATERIAL_VARIANT with the
-// KIT_HAS_* of the draw's material (framework/material_variants.h); the helpers give the
+// KIT_HAS_* of the draw's material (common/render/material_variants.h); the helpers give the
 // same values either way, and cost nothing for a feature a draw does not use. A
 // program built without KIT_MATERIAL_VARIANT has every feature.
 #ifndef KIT_MATERIAL_VARIANT

@@ -1,5 +1,5 @@
 // Draco-compressed glTF (KHR_draco_mesh_compression), decoded by libdraco in the
-// loader (framework/draco_mesh.*): a compressed copy of a kit scene, written by
+// loader (common/scene/draco_mesh.*): a compressed copy of a kit scene, written by
 // libdraco's encoder (tests/support/draco_scenes.h), loads to the vertices and
 // indices of the original, within the quantization step where positions are
 // quantized (computed in double); a corrupt Draco buffer and accessors that
@@ -18,14 +18,14 @@
 #include <string>
 #include <vector>
 
-#include "draco_mesh.h"
+#include "scene/draco_mesh.h"
 #include "draco_scenes.h"
-#include "error.h"
-#include "image_io.h"
+#include "base/error.h"
+#include "images/image_io.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
-#include "scene.h"
-#include "stages.h"
+#include "scene/scene.h"
+#include "render/stages.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;

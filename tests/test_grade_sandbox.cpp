@@ -33,7 +33,7 @@
 #include "kit_test.h"
 #include "kit_test_files.h"
 #include "sandbox.h"
-#include "stages.h"
+#include "render/stages.h"
 #include "submission.h"
 
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-// PNG and EXR through libpng and OpenEXR (framework/image_codecs.h), checked against
+// PNG and EXR through libpng and OpenEXR (common/images/image_codecs.h), checked against
 // OpenImageIO reading and writing the same files: the kit read every image through
 // OpenImageIO before, and its references and scenes must read the same. JPEG and other
 // formats go through OpenImageIO in a module loaded on first use (openimageio_formats.h).
@@ -10,14 +10,14 @@
 #include <iterator>
 #include <vector>
 
-#include "error.h"
-#include "ibl.h"
-#include "image_codecs.h"
-#include "image_io.h"
+#include "base/error.h"
+#include "render/ibl.h"
+#include "images/image_codecs.h"
+#include "images/image_io.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
-#include "scene.h"
-#include "texture_decode.h"
+#include "scene/scene.h"
+#include "images/texture_decode.h"
 
 namespace fs = std::filesystem;
 
@@ -240,6 +240,6 @@ TEST(ImageCodecs, ProgramsDoNotLinkOpenImageIo) {
     EXPECT_NE(output.find("libpng"), std::string::npos) << program;
   }
   std::string output;
-  ASSERT_EQ(kit::test::run(std::string("ldd ") + KIT_BUILD_DIR + "/framework/libkit_openimageio.so", &output), 0) << output;
+  ASSERT_EQ(kit::test::run(std::string("ldd ") + KIT_BUILD_DIR + "/common/libkit_openimageio.so", &output), 0) << output;
   EXPECT_NE(output.find("libOpenImageIO"), std::string::npos) << output;
 }

@@ -1,4 +1,4 @@
-// --look-at (framework/look_at.h, a shared flag of cli.h): parsing, refusals, and
+// --look-at (common/scene/look_at.h, a shared flag of cli.h): parsing, refusals, and
 // the view matrix against glm::lookAt evaluated in double.
 #include <gtest/gtest.h>
 
@@ -6,9 +6,9 @@
 
 #include <string>
 
-#include "error.h"
-#include "look_at.h"
-#include "scene.h"
+#include "base/error.h"
+#include "scene/look_at.h"
+#include "scene/scene.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The OBJ/MTL loader (framework/obj_scene.*): every test writes its own OBJ, MTL
+// The OBJ/MTL loader (common/scene/obj_scene.*): every test writes its own OBJ, MTL
 // and PNG files, and expected values are computed from those numbers in double
 // (the MTL conversion by the formulas obj_scene.cpp documents).
 #include <gtest/gtest.h>
@@ -8,14 +8,14 @@
 #include <filesystem>
 #include <string>
 
-#include "error.h"
+#include "base/error.h"
 #include "gbuffer_layout.h"
-#include "image_io.h"
+#include "images/image_io.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
-#include "obj_scene.h"
-#include "scene.h"
-#include "texture_decode.h"
+#include "scene/obj_scene.h"
+#include "scene/scene.h"
+#include "images/texture_decode.h"
 
 namespace fs = std::filesystem;
 

@@ -1,4 +1,4 @@
-// The glTF loader (framework/scene.*): broken files fail with a kit::Error naming
+// The glTF loader (common/scene/scene.*): broken files fail with a kit::Error naming
 // the file and the problem, never a crash; valid kit scenes load with the
 // counts, lights, camera, transforms and tangents the glTF JSON describes.
 // Expected values come from the JSON itself (nlohmann/json) in double precision.
@@ -23,13 +23,13 @@
 #include <stdexcept>
 #include <string>
 
-#include "error.h"
+#include "base/error.h"
 #include "gbuffer_layout.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
-#include "scene.h"
-#include "stages.h"
-#include "texture_decode.h"
+#include "scene/scene.h"
+#include "render/stages.h"
+#include "images/texture_decode.h"
 #include "tiny_scenes.h"
 
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-// The shader include resolver (framework/shader_source.*): name rules, confinement
+// The shader include resolver (common/gl/shader_source.*): name rules, confinement
 // to the shader folders, once-only inclusion, #version rules, file checks, and
 // compile/link errors mapped back to the file and line that caused them.
 #include <gtest/gtest.h>
@@ -8,13 +8,13 @@
 #include <string>
 #include <vector>
 
-#include "error.h"
-#include "gl_objects.h"
-#include "interface_check.h"
+#include "base/error.h"
+#include "gl/gl_objects.h"
+#include "render/interface_check.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
-#include "shader_source.h"
-#include "stages.h"
+#include "gl/shader_source.h"
+#include "render/stages.h"
 
 namespace fs = std::filesystem;
 using kit::ShaderFolder;
@@ -395,9 +395,9 @@ class ShaderProgramTest : public ShaderSourceTest {
     ShaderSourceTest::SetUp();
     kit::test::context();
   }
-  // The test's "lab" folder first, then the kit's framework/shaders/ (fullscreen.vert, uniforms).
+  // The test's "lab" folder first, then the kit's shaders/ (fullscreen.vert, uniforms).
   ShaderLibrary lab_then_kit() {
-    return ShaderLibrary({{folder("lab"), "lab", {}}, {kit::shaders_dir(), "framework/shaders", {}}});
+    return ShaderLibrary({{folder("lab"), "lab", {}}, {kit::shaders_dir(), "shaders", {}}});
   }
 };
 
@@ -467,7 +467,7 @@ TEST_F(ShaderSourceGl, LinkErrorIsReported) {
   // Declared, called, never defined: each stage compiles, the program cannot link.
   write("lab", "link.frag", kVersion + "vec3 kit_missing_helper();\nout vec4 c;\nvoid main() { c = vec4(kit_missing_helper(), 1.0); }\n");
   std::string m = error_of([&] { kit::Program(lab_then_kit(), "fullscreen.vert", "link.frag"); });
-  EXPECT_NE(m.find("link error (framework/shaders/fullscreen.vert + lab/link.frag)"), std::string::npos) << m;
+  EXPECT_NE(m.find("link error (shaders/fullscreen.vert + lab/link.frag)"), std::string::npos) << m;
   EXPECT_NE(m.find("kit_missing_helper"), std::string::npos) << m;
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }

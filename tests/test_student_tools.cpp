@@ -13,12 +13,12 @@
 #include <filesystem>
 #include <string>
 
-#include "image_io.h"
+#include "images/image_io.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
 #include "kit_test_images.h"
-#include "stages.h"
-#include "watchdog.h"
+#include "render/stages.h"
+#include "base/watchdog.h"
 
 namespace fs = std::filesystem;
 
@@ -99,8 +99,7 @@ class StudentTools : public ::testing::Test {
   void SetUp() override {
     const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
     root_ = kit::test::temp_dir(std::string("student_tools/") + info->name());
-    fs::create_directories(root_ / "framework");
-    fs::copy(kit::shaders_dir(), root_ / "framework" / "shaders", fs::copy_options::recursive);
+    fs::copy(kit::shaders_dir(), root_ / "shaders", fs::copy_options::recursive);
     // "Solutions" of lab 1 that differ from the lab's own files (grey albedo), to tell them apart.
     lab("solutions", "01-gbuffer", kGbufferVert,
         replaced(kGbufferFrag, "vec4(u_base_color_factor.rgb, 1.0)", "vec4(0.5, 0.5, 0.5, 1.0)"));

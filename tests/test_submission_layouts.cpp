@@ -20,7 +20,7 @@
 
 #include "kit_test.h"
 #include "kit_test_files.h"
-#include "stages.h"
+#include "render/stages.h"
 #include "submission.h"
 
 namespace fs = std::filesystem;

@@ -1,4 +1,4 @@
-// Large textures' mip chains made on the CPU (framework/texture_prepare.h): the box
+// Large textures' mip chains made on the CPU (common/images/texture_prepare.h): the box
 // filter in linear light for sRGB colour and as stored for linear data, checked at
 // known texels against the same means computed in double with the sRGB formulas
 // themselves; odd sides, chain sizes and the S3TC block layout.
@@ -7,7 +7,7 @@
 #include <cmath>
 #include <vector>
 
-#include "texture_prepare.h"
+#include "images/texture_prepare.h"
 
 namespace {
 

@@ -21,7 +21,7 @@
 
 #include "kit_test.h"
 #include "kit_test_files.h"
-#include "texture_prepare.h"
+#include "images/texture_prepare.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;

@@ -5,7 +5,7 @@
 #include <cstdlib>
 #include <system_error>
 
-#include "error.h"
+#include "base/error.h"
 
 namespace kit {
 

@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "context.h"
-#include "look_at.h"
-#include "renderer.h"
-#include "watchdog.h"
+#include "gl/context.h"
+#include "scene/look_at.h"
+#include "render/renderer.h"
+#include "base/watchdog.h"
 
 namespace kit {
 

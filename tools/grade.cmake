@@ -1,6 +1,6 @@
 # kit-grade: the autograder (tools/grade/). Included from tools/CMakeLists.txt;
 # needs kitcore and the scenes, and OpenSSL for SHA-1. A grading run never loads
-# OpenImageIO (framework/openimageio_formats.h says why).
+# OpenImageIO (common/images/openimageio_formats.h says why).
 find_package(nlohmann_json 3 REQUIRED)
 find_package(OpenSSL REQUIRED)
 # How a submission is found, sanitized and fingerprinted (submission.cpp, with the

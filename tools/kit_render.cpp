@@ -12,9 +12,9 @@
 #include <iostream>
 
 #include "cli.h"
-#include "context.h"
-#include "error.h"
-#include "pass_clock.h"
+#include "gl/context.h"
+#include "base/error.h"
+#include "gl/pass_clock.h"
 
 namespace {
 

@@ -9,7 +9,7 @@
 #include <imgui_impl_glfw.h>
 #include <imgui_impl_opengl3.h>
 
-#include "gl.h"  // glad before GLFW: GLFW_INCLUDE_NONE keeps GLFW's own GL header out
+#include "gl/gl.h"  // glad before GLFW: GLFW_INCLUDE_NONE keeps GLFW's own GL header out
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
@@ -31,8 +31,8 @@
 #include <vector>
 
 #include "cli.h"
-#include "error.h"
-#include "window.h"
+#include "base/error.h"
+#include "gl/window.h"
 
 namespace fs = std::filesystem;
 

@@ -1,4 +1,4 @@
-#include "watchdog.h"
+#include "base/watchdog.h"
 
 #include <unistd.h>
 

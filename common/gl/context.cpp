@@ -1,7 +1,7 @@
-#include "context.h"
+#include "gl/context.h"
 
 // glad's header must come before any system GL header (osmesa.h includes GL/gl.h).
-#include "gl.h"
+#include "gl/gl.h"
 //
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
@@ -24,7 +24,7 @@
 #include <cstring>
 #include <vector>
 
-#include "error.h"
+#include "base/error.h"
 
 namespace kit {
 

@@ -1,11 +1,11 @@
-#include "gl_objects.h"
+#include "gl/gl_objects.h"
 
 #include <glm/gtc/type_ptr.hpp>
 
 #include <algorithm>
 #include <sstream>
 
-#include "error.h"
+#include "base/error.h"
 #include "gbuffer_layout.h"
 
 namespace kit {

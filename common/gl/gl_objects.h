@@ -10,8 +10,8 @@
 #include <utility>
 #include <vector>
 
-#include "gl.h"
-#include "shader_source.h"
+#include "gl/gl.h"
+#include "gl/shader_source.h"
 
 namespace kit {
 
@@ -219,7 +219,7 @@ class Mesh {
 };
 
 // The one full-screen draw: a single triangle covering the viewport, its
-// positions made in framework/shaders/fullscreen.vert from gl_VertexID.
+// positions made in shaders/fullscreen.vert from gl_VertexID.
 class FullscreenTriangle {
  public:
   FullscreenTriangle();

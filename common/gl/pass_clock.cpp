@@ -1,9 +1,9 @@
-#include "pass_clock.h"
+#include "gl/pass_clock.h"
 
 #include <algorithm>
 #include <map>
 
-#include "gl.h"
+#include "gl/gl.h"
 
 namespace kit {
 

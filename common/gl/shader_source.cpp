@@ -1,11 +1,11 @@
-#include "shader_source.h"
+#include "gl/shader_source.h"
 
 #include <algorithm>
 #include <climits>
 #include <fstream>
 #include <sstream>
 
-#include "error.h"
+#include "base/error.h"
 
 namespace fs = std::filesystem;
 

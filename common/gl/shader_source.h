@@ -2,7 +2,7 @@
 // Shader text assembly with a tiny, confined #include resolver.
 //
 // A shader is looked up by plain file name in an ordered list of folders (the
-// stage's lab folder first, then earlier steps' solutions, then framework/shaders/). An
+// stage's lab folder first, then earlier steps' solutions, then shaders/). An
 // `#include "name"` line is resolved the same way. Names may not hold '/', '\'
 // or "..", and a file whose real path (symlinks followed) leaves its folder is
 // refused, so a submission can never make the kit read anything but shader text

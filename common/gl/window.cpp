@@ -1,10 +1,10 @@
-#include "window.h"
+#include "gl/window.h"
 
 #define GLFW_INCLUDE_NONE  // GL declarations come from glad
 #include <GLFW/glfw3.h>
 
-#include "error.h"
-#include "gl.h"
+#include "base/error.h"
+#include "gl/gl.h"
 
 namespace kit {
 

@@ -3,7 +3,7 @@
 // context, loaded through glfwGetProcAddress.
 #include <string>
 
-#include "context.h"
+#include "gl/context.h"
 
 struct GLFWwindow;
 

@@ -1,4 +1,4 @@
-#include "image_codecs.h"
+#include "images/image_codecs.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -13,9 +13,9 @@
 #include <cstdio>
 #include <cstring>
 
-#include "error.h"
-#include "safe_file.h"
-#include "text.h"
+#include "base/error.h"
+#include "base/safe_file.h"
+#include "base/text.h"
 
 namespace kit {
 

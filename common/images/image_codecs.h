@@ -8,8 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "image_io.h"
-#include "scene.h"
+#include "images/image_io.h"
 
 namespace kit {
 

@@ -1,11 +1,11 @@
-#include "image_io.h"
+#include "images/image_io.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "error.h"
-#include "image_codecs.h"
-#include "openimageio_formats.h"
+#include "base/error.h"
+#include "images/image_codecs.h"
+#include "images/openimageio_formats.h"
 
 namespace kit {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "gl_objects.h"
+#include "gl/gl_objects.h"
 
 namespace kit {
 
@@ -18,6 +18,12 @@ struct Image {
   Image(int w, int h, int c) : width(w), height(h), channels(c), pixels(static_cast<size_t>(w) * h * c, 0.0f) {}
   float& at(int x, int y, int c) { return pixels[(static_cast<size_t>(y) * width + x) * channels + c]; }
   float at(int x, int y, int c) const { return pixels[(static_cast<size_t>(y) * width + x) * channels + c]; }
+};
+
+// 8 bits a channel, as textures are decoded and uploaded.
+struct ImageRgba8 {
+  int width = 0, height = 0;
+  std::vector<unsigned char> pixels;  // RGBA8, top row first
 };
 
 // How hard a PNG's zlib stream is squeezed: Smallest is zlib's default level (6),

@@ -1,8 +1,8 @@
-#include "openimageio_formats.h"
+#include "images/openimageio_formats.h"
 
 #include <dlfcn.h>
 
-#include "error.h"
+#include "base/error.h"
 
 namespace kit {
 

@@ -2,14 +2,14 @@
 // OpenImageIO, for the formats beyond PNG and EXR (image_codecs.h): JPEG textures, and
 // images and environments in any format it reads (Radiance .hdr, TIFF, ...). It is
 // called through a module of the kit's own (libkit_openimageio.so, built beside the
-// programs, framework/openimageio/) that is loaded the first time a file needs it:
+// programs, common/images/openimageio/) that is loaded the first time a file needs it:
 // linked into a program, OpenImageIO's ~260 shared libraries cost 0.2 s and 130 MB
 // at every start, a fifth of grading one submission, which reads PNG and EXR alone.
 #include <cstddef>
 #include <string>
 
-#include "image_codecs.h"
-#include "texture_decode.h"
+#include "images/image_codecs.h"
+#include "images/texture_decode.h"
 
 namespace kit {
 

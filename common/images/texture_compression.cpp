@@ -1,8 +1,8 @@
-#include "texture_compression.h"
+#include "images/texture_compression.h"
 
 #include <algorithm>
 
-#include "text.h"
+#include "base/text.h"
 
 namespace kit {
 

@@ -1,8 +1,8 @@
-#include "texture_decode.h"
+#include "images/texture_decode.h"
 
-#include "error.h"
-#include "image_codecs.h"
-#include "openimageio_formats.h"
+#include "base/error.h"
+#include "images/image_codecs.h"
+#include "images/openimageio_formats.h"
 
 namespace kit {
 

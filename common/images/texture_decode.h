@@ -4,10 +4,21 @@
 #include <cstddef>
 #include <string>
 
-#include "error.h"
-#include "scene.h"
+#include "base/error.h"
+#include "images/image_io.h"
 
 namespace kit {
+
+// An image of a scene. Loading keeps only its encoded bytes, with the header
+// checked: SceneGpu decodes the images materials use, once each and on worker
+// threads, uploads each in the format its material slots need, and keeps no
+// decoded copy (decode_scene_image below decodes one for tests and tools).
+struct SceneImage {
+  std::string what;                    // how messages name it: "scene.gltf: image 3 ('wood.png')"
+  int width = 0, height = 0;
+  std::vector<unsigned char> encoded;  // PNG or JPEG bytes; empty when `decoded` holds the pixels
+  ImageRgba8 decoded;                  // pixels made in memory (tests, generated scenes)
+};
 
 constexpr int kMaxTextureSide = 16384;  // pixels per side of a decoded texture
 

@@ -1,4 +1,4 @@
-#include "texture_prepare.h"
+#include "images/texture_prepare.h"
 
 #include <algorithm>
 #include <array>
@@ -13,7 +13,7 @@
 #define STB_DXT_IMPLEMENTATION
 #include <stb/stb_dxt.h>
 
-#include "error.h"
+#include "base/error.h"
 
 namespace kit {
 

@@ -8,9 +8,8 @@
 #include <cstddef>
 #include <vector>
 
-#include "image_io.h"
-#include "scene.h"
-#include "texture_compression.h"
+#include "images/image_io.h"
+#include "images/texture_compression.h"
 
 namespace kit {
 

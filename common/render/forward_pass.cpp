@@ -1,12 +1,12 @@
-#include "forward_pass.h"
+#include "render/forward_pass.h"
 
 #include <algorithm>
 #include <cmath>
 #include <map>
 
-#include "error.h"
+#include "base/error.h"
 #include "gbuffer_layout.h"
-#include "renderer.h"
+#include "render/renderer.h"
 
 namespace kit {
 

@@ -16,10 +16,10 @@
 #include <optional>
 #include <vector>
 
-#include "gbuffer.h"
-#include "gl_objects.h"
-#include "material_variants.h"
-#include "scene.h"
+#include "render/gbuffer.h"
+#include "gl/gl_objects.h"
+#include "render/material_variants.h"
+#include "scene/scene.h"
 
 namespace kit {
 
@@ -68,7 +68,7 @@ glm::vec3 light_marker_radiance(const Light& light);
 class ForwardPass {
  public:
   // `library` is the stage's: blend_layer.frag and the marker shaders come from
-  // framework/shaders.
+  // shaders.
   ForwardPass(const ShaderLibrary& library, int width, int height);
   // Whether its programs are what `library` would build now (Program::built_from).
   bool built_from(const ShaderLibrary& library) const;

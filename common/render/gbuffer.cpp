@@ -1,6 +1,6 @@
-#include "gbuffer.h"
+#include "render/gbuffer.h"
 
-#include "error.h"
+#include "base/error.h"
 #include "gbuffer_layout.h"
 
 namespace kit {

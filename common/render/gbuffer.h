@@ -1,10 +1,10 @@
 #pragma once
 // The G-buffer: KIT_GBUF_COUNT colour attachments and a depth texture in one FBO. The
-// layout (formats, channel meaning, texture units) is in framework/shaders/gbuffer_layout.h.
+// layout (formats, channel meaning, texture units) is in shaders/gbuffer_layout.h.
 #include <array>
 
 #include "gbuffer_layout.h"
-#include "gl_objects.h"
+#include "gl/gl_objects.h"
 
 namespace kit {
 

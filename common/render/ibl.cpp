@@ -1,4 +1,4 @@
-#include "ibl.h"
+#include "render/ibl.h"
 
 #include <algorithm>
 #include <chrono>
@@ -6,12 +6,12 @@
 #include <cstdio>
 #include <optional>
 
-#include "error.h"
-#include "image_codecs.h"
-#include "openimageio_formats.h"
-#include "pass_clock.h"
-#include "texture_prepare.h"
-#include "stages.h"
+#include "base/error.h"
+#include "images/image_codecs.h"
+#include "images/openimageio_formats.h"
+#include "gl/pass_clock.h"
+#include "images/texture_prepare.h"
+#include "render/stages.h"
 #include "gbuffer_layout.h"
 
 namespace kit {

@@ -17,9 +17,9 @@
 #include <string>
 #include <vector>
 
-#include "error.h"
-#include "gl_objects.h"
-#include "image_io.h"
+#include "base/error.h"
+#include "gl/gl_objects.h"
+#include "images/image_io.h"
 
 namespace kit {
 

@@ -1,11 +1,11 @@
-#include "interface_check.h"
+#include "render/interface_check.h"
 
 #include <algorithm>
 #include <cctype>
 #include <set>
 #include <vector>
 
-#include "error.h"
+#include "base/error.h"
 
 namespace kit {
 

@@ -8,13 +8,13 @@
 // compiles a stage, so kit-render, kit-view and the grader refuse the same pairs.
 #include <string>
 
-#include "shader_source.h"
-#include "stages.h"
+#include "gl/shader_source.h"
+#include "render/stages.h"
 
 namespace kit {
 
 // Checks the vertex/fragment pairs made of the stage's own files (gbuffer.vert
-// with gbuffer.frag; framework/shaders/fullscreen.vert with each full-screen .frag the
+// with gbuffer.frag; shaders/fullscreen.vert with each full-screen .frag the
 // lab supplies). Throws kit::Error ("link error (A + B):" then one line per input,
 // "B:LINE: fragment shader input `name' ...") on a mismatch.
 void check_stage_interfaces(const Stage& stage, const ShaderLibrary& library);

@@ -1,10 +1,10 @@
-#include "material_variants.h"
+#include "render/material_variants.h"
 
 #include <algorithm>
 
-#include "error.h"
+#include "base/error.h"
 #include "gbuffer_layout.h"
-#include "renderer.h"
+#include "render/renderer.h"
 
 namespace kit {
 

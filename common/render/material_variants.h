@@ -13,9 +13,9 @@
 #include <utility>
 #include <vector>
 
-#include "gl_objects.h"
-#include "scene.h"
-#include "shader_source.h"
+#include "gl/gl_objects.h"
+#include "scene/scene.h"
+#include "gl/shader_source.h"
 
 namespace kit {
 

@@ -1,4 +1,4 @@
-#include "renderer.h"
+#include "render/renderer.h"
 
 #include <glm/gtc/constants.hpp>
 #include <glm/gtc/matrix_inverse.hpp>
@@ -6,10 +6,10 @@
 #include <algorithm>
 #include <chrono>
 
-#include "error.h"
+#include "base/error.h"
 #include "gbuffer_layout.h"
-#include "interface_check.h"
-#include "mesh_optimize.h"
+#include "render/interface_check.h"
+#include "scene/mesh_optimize.h"
 
 namespace kit {
 
@@ -19,7 +19,7 @@ constexpr TextureFormat kHdrFormat{GL_RGBA16F, GL_RGBA, GL_FLOAT};
 constexpr TextureFormat kLdrFormat{GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE};
 constexpr TextureFormat kDebugFormat{GL_RGBA32F, GL_RGBA, GL_FLOAT};
 
-// Debug view modes understood by framework/shaders/debug_view.frag.
+// Debug view modes understood by shaders/debug_view.frag.
 int debug_mode(View view) {
   switch (view) {
     case View::Position: return 0;
@@ -744,7 +744,7 @@ const Texture2D& Renderer::display_texture(View view) {
     if (!stage_.lighting) throw Error("view 'hdr' needs a lit stage (lighting or later)");
     return hdr_;
   }
-  // Display mapping in framework/shaders/debug_view.frag.
+  // Display mapping in shaders/debug_view.frag.
   gbuffer_.bind_textures();
   const Program& d = programs_->debug;
   set_frame_uniforms(d);

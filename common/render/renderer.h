@@ -9,14 +9,14 @@
 #include <optional>
 #include <string>
 
-#include "forward_pass.h"
-#include "gbuffer.h"
-#include "ibl.h"
-#include "image_io.h"
-#include "material_variants.h"
-#include "pass_clock.h"
-#include "scene.h"
-#include "stages.h"
+#include "render/forward_pass.h"
+#include "render/gbuffer.h"
+#include "render/ibl.h"
+#include "images/image_io.h"
+#include "render/material_variants.h"
+#include "gl/pass_clock.h"
+#include "scene/scene.h"
+#include "render/stages.h"
 
 namespace kit {
 

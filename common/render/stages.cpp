@@ -1,8 +1,8 @@
-#include "stages.h"
+#include "render/stages.h"
 
 #include <cstdlib>
 
-#include "error.h"
+#include "base/error.h"
 
 namespace fs = std::filesystem;
 
@@ -41,7 +41,7 @@ fs::path kit_root() {
   return fs::path(env && *env ? env : KIT_SOURCE_DIR);
 }
 
-fs::path shaders_dir() { return kit_root() / "framework" / "shaders"; }
+fs::path shaders_dir() { return kit_root() / "shaders"; }
 
 fs::path scene_dir() {
   const char* env = std::getenv("KIT_SCENE_DIR");
@@ -100,7 +100,7 @@ ShaderLibrary stage_library(const Stage& stage, const fs::path& lab_root) {
     if (it->number >= stage.number) continue;
     folders.push_back({root / "solutions" / it->folder, "solutions/" + it->folder, it->files});
   }
-  folders.push_back({shaders_dir(), "framework/shaders", {}});
+  folders.push_back({shaders_dir(), "shaders", {}});
   return ShaderLibrary(std::move(folders));
 }
 

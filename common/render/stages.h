@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "no_dangling.h"
-#include "shader_source.h"
+#include "base/no_dangling.h"
+#include "gl/shader_source.h"
 
 namespace kit {
 
@@ -28,10 +28,10 @@ KIT_NO_DANGLING const Stage& find_stage(const std::string& name_or_number);
 // GCC 14's -Wdangling-reference warns at every reference bound from a call given a temporary.
 KIT_NO_DANGLING const Stage& find_stage(int number);
 
-// The kit's source tree (holds framework/shaders/, labs/, solutions/). Taken from
+// The kit's source tree (holds shaders/, labs/, solutions/). Taken from
 // $KIT_ROOT when set, else the path compiled in.
 std::filesystem::path kit_root();
-// The framework's shaders and shared GLSL modules: <kit root>/framework/shaders.
+// The framework's shaders and shared GLSL modules: <kit root>/shaders.
 std::filesystem::path shaders_dir();
 // Where the build wrote the kit's generated scenes and environments: $KIT_SCENE_DIR
 // when set, else the path compiled in.
@@ -50,7 +50,7 @@ std::vector<int> gradable_labs();
 std::vector<int> labs_with_solutions();
 
 // The shader folders a stage is assembled from: `lab_root`/NN-name for this
-// step's files, then solutions/ of every earlier step (latest first), then framework/shaders/.
+// step's files, then solutions/ of every earlier step (latest first), then shaders/.
 ShaderLibrary stage_library(const Stage& stage, const std::filesystem::path& lab_root);
 
 }  // namespace kit

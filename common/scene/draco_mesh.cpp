@@ -1,6 +1,6 @@
-#include "draco_mesh.h"
+#include "scene/draco_mesh.h"
 
-#include "error.h"
+#include "base/error.h"
 
 #if KIT_HAS_DRACO
 #include <draco/compression/decode.h>

@@ -1,9 +1,9 @@
-#include "gltf_accessors.h"
+#include "scene/gltf_accessors.h"
 
 #include <algorithm>
 #include <cstring>
 
-#include "gltf_loader.h"
+#include "scene/gltf_loader.h"
 
 namespace kit::gltf {
 

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "draco_mesh.h"
-#include "error.h"
+#include "scene/draco_mesh.h"
+#include "base/error.h"
 
 namespace kit::gltf {
 

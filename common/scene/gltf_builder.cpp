@@ -15,11 +15,11 @@
 #include <string>
 #include <vector>
 
-#include "draco_mesh.h"
-#include "error.h"
+#include "scene/draco_mesh.h"
+#include "base/error.h"
 #include "gbuffer_layout.h"
-#include "gltf_accessors.h"
-#include "gltf_loader.h"
+#include "scene/gltf_accessors.h"
+#include "scene/gltf_loader.h"
 
 namespace kit::gltf {
 

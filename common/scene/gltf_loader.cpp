@@ -1,4 +1,4 @@
-#include "gltf_loader.h"
+#include "scene/gltf_loader.h"
 
 #include <tiny_gltf.h>
 
@@ -15,10 +15,10 @@
 #include <type_traits>
 #include <vector>
 
-#include "draco_mesh.h"
-#include "error.h"
-#include "safe_file.h"
-#include "texture_decode.h"
+#include "scene/draco_mesh.h"
+#include "base/error.h"
+#include "base/safe_file.h"
+#include "images/texture_decode.h"
 
 namespace kit::gltf {
 

@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "scene.h"
+#include "scene/scene.h"
 
 namespace tinygltf {
 class Model;

@@ -1,4 +1,4 @@
-#include "look_at.h"
+#include "scene/look_at.h"
 
 #include <glm/gtc/matrix_transform.hpp>
 
@@ -7,7 +7,7 @@
 #include <cstdio>
 #include <vector>
 
-#include "error.h"
+#include "base/error.h"
 
 namespace kit {
 

@@ -7,7 +7,7 @@
 #include <optional>
 #include <string>
 
-#include "scene.h"
+#include "scene/scene.h"
 
 namespace kit {
 

@@ -1,4 +1,4 @@
-#include "mesh_optimize.h"
+#include "scene/mesh_optimize.h"
 
 #include <meshoptimizer.h>
 

@@ -20,7 +20,7 @@
 
 #include <cstddef>
 
-#include "scene.h"
+#include "scene/scene.h"
 
 namespace kit {
 

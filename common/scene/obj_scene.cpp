@@ -1,8 +1,8 @@
-#include "obj_scene.h"
+#include "scene/obj_scene.h"
 
-#include "error.h"
+#include "base/error.h"
 #include "gbuffer_layout.h"
-#include "image_codecs.h"
+#include "images/image_codecs.h"
 
 #if KIT_HAS_OBJ
 #include <tiny_obj_loader.h>
@@ -17,8 +17,8 @@
 #include <map>
 #include <unordered_map>
 
-#include "safe_file.h"
-#include "texture_decode.h"
+#include "base/safe_file.h"
+#include "images/texture_decode.h"
 #endif
 
 namespace kit {

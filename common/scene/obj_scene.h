@@ -20,7 +20,7 @@
 // or a texture that is not PNG/JPEG, is a warning in Scene::warnings and is left out.
 #include <string>
 
-#include "scene.h"
+#include "scene/scene.h"
 
 namespace kit {
 

@@ -1,4 +1,4 @@
-#include "scene.h"
+#include "scene/scene.h"
 
 #include <malloc.h>  // malloc_trim
 
@@ -9,9 +9,9 @@
 #include <exception>
 #include <new>
 
-#include "error.h"
-#include "gltf_loader.h"
-#include "obj_scene.h"
+#include "base/error.h"
+#include "scene/gltf_loader.h"
+#include "scene/obj_scene.h"
 
 namespace kit {
 

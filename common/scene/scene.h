@@ -11,26 +11,11 @@
 #include <vector>
 
 #include "gbuffer_layout.h"
-#include "gl_objects.h"
-#include "texture_compression.h"
+#include "gl/gl_objects.h"
+#include "images/texture_compression.h"
+#include "images/texture_decode.h"
 
 namespace kit {
-
-struct ImageRgba8 {
-  int width = 0, height = 0;
-  std::vector<unsigned char> pixels;  // RGBA8, top row first
-};
-
-// An image of a scene. Loading keeps only its encoded bytes, with the header
-// checked: SceneGpu decodes the images materials use, once each and on worker
-// threads, uploads each in the format its material slots need, and keeps no
-// decoded copy (texture_decode.h decodes one for tests and tools).
-struct SceneImage {
-  std::string what;                    // how messages name it: "scene.gltf: image 3 ('wood.png')"
-  int width = 0, height = 0;
-  std::vector<unsigned char> encoded;  // PNG or JPEG bytes; empty when `decoded` holds the pixels
-  ImageRgba8 decoded;                  // pixels made in memory (tests, generated scenes)
-};
 
 // A glTF sampler with its filters and wrap modes (GL enum values, which glTF
 // uses too); the default is glTF's when a texture names none: repeat, and

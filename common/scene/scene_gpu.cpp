@@ -1,4 +1,4 @@
-#include "scene.h"
+#include "scene/scene.h"
 
 #include <malloc.h>  // malloc_trim
 
@@ -15,9 +15,9 @@
 #include <thread>
 #include <vector>
 
-#include "error.h"
-#include "texture_decode.h"
-#include "texture_prepare.h"
+#include "base/error.h"
+#include "images/texture_decode.h"
+#include "images/texture_prepare.h"
 
 namespace kit {
 

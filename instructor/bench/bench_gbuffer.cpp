@@ -3,8 +3,8 @@
 #include <cstdio>
 
 #include "bench_layout.h"
-#include "error.h"
-#include "gbuffer.h"
+#include "base/error.h"
+#include "render/gbuffer.h"
 #include "gbuffer_layout.h"
 
 namespace kit::bench {

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "gl_objects.h"
+#include "gl/gl_objects.h"
 
 namespace kit::bench {
 

@@ -11,8 +11,8 @@
 #include <string>
 #include <vector>
 
-#include "ibl.h"
-#include "image_io.h"
+#include "render/ibl.h"
+#include "images/image_io.h"
 
 namespace kit::bench {
 

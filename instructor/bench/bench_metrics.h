@@ -1,7 +1,7 @@
 #pragma once
 // How far an image is from its reference, as kit-bench reports it (through
 // OpenImageIO's ImageBufAlgo::compare over the RGB channels).
-#include "image_io.h"
+#include "images/image_io.h"
 
 namespace kit::bench {
 

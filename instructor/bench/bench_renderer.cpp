@@ -9,11 +9,11 @@
 
 #include "bench_ibl.h"
 #include "bench_layout.h"
-#include "error.h"
-#include "forward_pass.h"
+#include "base/error.h"
+#include "render/forward_pass.h"
 #include "gbuffer_layout.h"
-#include "mesh_optimize.h"
-#include "stages.h"
+#include "scene/mesh_optimize.h"
+#include "render/stages.h"
 
 namespace kit::bench {
 
@@ -120,7 +120,7 @@ Texture2D target(Framebuffer& fbo, int width, int height, TextureFormat format, 
 
 ShaderLibrary bench_library() {
   // instructor/bench/shaders first (its names are the bench's own), then the reference
-  // solutions of every lab (stage 5 and the earlier steps), then framework/shaders/.
+  // solutions of every lab (stage 5 and the earlier steps), then shaders/.
   const Stage& last = find_stage("postprocess");
   ShaderLibrary stage = stage_library(last, kit_root() / "solutions");
   std::vector<ShaderFolder> folders = {{kit_root() / "instructor" / "bench" / "shaders", "instructor/bench/shaders", {}}};

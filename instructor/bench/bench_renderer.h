@@ -11,8 +11,8 @@
 #include <vector>
 
 #include "bench_gbuffer.h"
-#include "no_dangling.h"
-#include "renderer.h"
+#include "base/no_dangling.h"
+#include "render/renderer.h"
 
 namespace kit::bench {
 

@@ -22,13 +22,13 @@
 #include <iterator>
 
 #include "cli.h"
-#include "context.h"
+#include "gl/context.h"
 #include "cpu_reference.h"
-#include "error.h"
-#include "pass_clock.h"
+#include "base/error.h"
+#include "gl/pass_clock.h"
 #include "measure.h"
 #include "measure_ibl.h"
-#include "stages.h"
+#include "render/stages.h"
 
 namespace fs = std::filesystem;
 

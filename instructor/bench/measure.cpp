@@ -7,9 +7,9 @@
 #include <fstream>
 #include <limits>
 
-#include "error.h"
-#include "ibl.h"
-#include "pass_clock.h"
+#include "base/error.h"
+#include "render/ibl.h"
+#include "gl/pass_clock.h"
 
 namespace kit::bench {
 

@@ -8,10 +8,10 @@
 #include <memory>
 #include <thread>
 
-#include "error.h"
+#include "base/error.h"
 #include "ibl_reference.h"
-#include "pass_clock.h"
-#include "stages.h"
+#include "gl/pass_clock.h"
+#include "render/stages.h"
 
 namespace kit::bench {
 

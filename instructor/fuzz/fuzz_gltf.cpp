@@ -1,4 +1,4 @@
-// libFuzzer harness: the glTF loader (framework/scene.*, framework/safe_file.*, framework/draco_mesh.*).
+// libFuzzer harness: the glTF loader (common/scene/scene.*, common/base/safe_file.*, common/scene/draco_mesh.*).
 //
 // The input is the text of a .gltf file, or a .glb when it starts with "glTF",
 // written as scene.gltf / scene.glb into a private temp folder that also holds
@@ -17,8 +17,8 @@
 #include <fstream>
 #include <string>
 
-#include "error.h"
-#include "scene.h"
+#include "base/error.h"
+#include "scene/scene.h"
 
 namespace fs = std::filesystem;
 

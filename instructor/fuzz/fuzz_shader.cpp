@@ -1,4 +1,4 @@
-// libFuzzer harness: the shader assembler (framework/shader_source.*) on the
+// libFuzzer harness: the shader assembler (common/gl/shader_source.*) on the
 // path the Renderer takes before it needs GL: kit::stage_library over a lab
 // root, kit::check_stage_interfaces (the varying check the Renderer runs first),
 // then ShaderLibrary::assemble of every top-level shader that reads the file
@@ -14,7 +14,7 @@
 //
 // With $KIT_FUZZ_WRITE_SEEDS set to a folder, it writes its seed inputs there and
 // exits: each lab file's starter (labs/) and solution text behind its byte, and
-// the framework's shaders (framework/shaders/) in the slot of a file of their kind.
+// the framework's shaders (shaders/) in the slot of a file of their kind.
 #include <stdlib.h>
 
 #include <algorithm>
@@ -26,10 +26,10 @@
 #include <string>
 #include <vector>
 
-#include "error.h"
-#include "interface_check.h"
-#include "shader_source.h"
-#include "stages.h"
+#include "base/error.h"
+#include "render/interface_check.h"
+#include "gl/shader_source.h"
+#include "render/stages.h"
 
 namespace fs = std::filesystem;
 
@@ -111,7 +111,7 @@ void write_seeds(const fs::path& dir) {
   for (const auto& entry : fs::directory_iterator(kit::shaders_dir())) {
     std::string ext = entry.path().extension().string();
     if (ext == ".vert" || ext == ".frag" || ext == ".glsl")
-      seed("framework-" + entry.path().filename().string(), slot_of_kind(ext), read_all(entry.path()));
+      seed("shaders-" + entry.path().filename().string(), slot_of_kind(ext), read_all(entry.path()));
   }
 }
 

@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "stages.h"
+#include "render/stages.h"
 #include "submission.h"
 
 namespace {

@@ -95,7 +95,7 @@ data += b"\0" * (-len(data) % 4)
 body = struct.pack("<II", len(text), 0x4E4F534A) + text + struct.pack("<II", len(data), 0x004E4942) + data
 open(dst, "wb").write(struct.pack("<4sII", b"glTF", 2, 12 + len(body)) + body)
 PY
-# The shader harness writes its own seeds (labs/, solutions/ and framework/shaders/
+# The shader harness writes its own seeds (labs/, solutions/ and shaders/
 # texts behind the byte that picks the lab file they stand in for).
 KIT_FUZZ_WRITE_SEEDS="$seeds/shader" "$BIN_DIR/fuzz_shader" >"$out/seeds-shader.log" 2>&1 ||
   { cat "$out/seeds-shader.log" >&2; say "FAILED: fuzz_shader could not write its seeds"; exit 1; }

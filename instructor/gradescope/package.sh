@@ -79,7 +79,7 @@ while IFS= read -r -d '' f; do
 done < <(list_files | sort -zu)
 
 [ -x "$STAGE/kit/kit" ] || die "the kit script is missing from the file list (is $ROOT the kit?)"
-for needed in solutions framework/shaders tools/grade; do
+for needed in solutions shaders tools/grade; do
   [ -d "$STAGE/kit/$needed" ] || die "$needed/ is missing from the file list: the autograder cannot grade without it"
 done
 

@@ -54,7 +54,7 @@ class CatalogueError(Exception):
 
 
 def stage_labs():
-    """The lab numbers of the stage table (framework/stages.cpp), as its labs/NN-name folders."""
+    """The lab numbers of the stage table (common/render/stages.cpp), as its labs/NN-name folders."""
     return sorted(int(p.name[:2]) for p in (ROOT / "labs").iterdir() if p.is_dir() and re.match(r"\d\d-", p.name))
 
 

@@ -7,7 +7,7 @@
 #include <limits>
 #include <string>
 
-#include "error.h"
+#include "base/error.h"
 #include "gbuffer_layout.h"
 
 namespace kit::reference {
@@ -43,19 +43,19 @@ dvec3 pixel_rgb(const Image& image, int x, int y) { return {image.at(x, y, 0), i
 
 const std::vector<MirroredConstant>& mirrored_constants() {
   static const std::vector<MirroredConstant> kConstants = {
-      {"KIT_MIN_N_DOT_V", "framework/shaders/guards.glsl", {KIT_MIN_N_DOT_V}},
-      {"KIT_MIN_N_DOT_L", "framework/shaders/guards.glsl", {KIT_MIN_N_DOT_L}},
-      {"KIT_MIN_V_DOT_H", "framework/shaders/guards.glsl", {KIT_MIN_V_DOT_H}},
-      {"KIT_MIN_ROUGHNESS", "framework/shaders/guards.glsl", {KIT_MIN_ROUGHNESS}},
-      {"KIT_MIN_DENOMINATOR", "framework/shaders/guards.glsl", {KIT_MIN_DENOMINATOR}},
-      {"KIT_MIN_GGX_DENOMINATOR", "framework/shaders/guards.glsl", {KIT_MIN_GGX_DENOMINATOR}},
-      {"KIT_MIN_DISTANCE_SQUARED", "framework/shaders/guards.glsl", {KIT_MIN_DISTANCE_SQUARED}},
-      {"KIT_MIN_CONE_COS_GAP", "framework/shaders/guards.glsl", {KIT_MIN_CONE_COS_GAP}},
-      {"KIT_MIN_SPOT_SOLID_ANGLE", "framework/shaders/guards.glsl", {KIT_MIN_SPOT_SOLID_ANGLE}},
-      {"KIT_HDR_MAX", "framework/shaders/guards.glsl", {KIT_HDR_MAX}},
-      {"KIT_MIN_TANGENT_LENGTH_SQUARED", "framework/shaders/guards.glsl", {KIT_MIN_TANGENT_LENGTH_SQUARED}},
-      {"KIT_PI", "framework/shaders/math.glsl", {KIT_PI}},
-      {"KIT_LUMINANCE", "framework/shaders/math.glsl", {KIT_LUMINANCE[0], KIT_LUMINANCE[1], KIT_LUMINANCE[2]}},
+      {"KIT_MIN_N_DOT_V", "shaders/guards.glsl", {KIT_MIN_N_DOT_V}},
+      {"KIT_MIN_N_DOT_L", "shaders/guards.glsl", {KIT_MIN_N_DOT_L}},
+      {"KIT_MIN_V_DOT_H", "shaders/guards.glsl", {KIT_MIN_V_DOT_H}},
+      {"KIT_MIN_ROUGHNESS", "shaders/guards.glsl", {KIT_MIN_ROUGHNESS}},
+      {"KIT_MIN_DENOMINATOR", "shaders/guards.glsl", {KIT_MIN_DENOMINATOR}},
+      {"KIT_MIN_GGX_DENOMINATOR", "shaders/guards.glsl", {KIT_MIN_GGX_DENOMINATOR}},
+      {"KIT_MIN_DISTANCE_SQUARED", "shaders/guards.glsl", {KIT_MIN_DISTANCE_SQUARED}},
+      {"KIT_MIN_CONE_COS_GAP", "shaders/guards.glsl", {KIT_MIN_CONE_COS_GAP}},
+      {"KIT_MIN_SPOT_SOLID_ANGLE", "shaders/guards.glsl", {KIT_MIN_SPOT_SOLID_ANGLE}},
+      {"KIT_HDR_MAX", "shaders/guards.glsl", {KIT_HDR_MAX}},
+      {"KIT_MIN_TANGENT_LENGTH_SQUARED", "shaders/guards.glsl", {KIT_MIN_TANGENT_LENGTH_SQUARED}},
+      {"KIT_PI", "shaders/math.glsl", {KIT_PI}},
+      {"KIT_LUMINANCE", "shaders/math.glsl", {KIT_LUMINANCE[0], KIT_LUMINANCE[1], KIT_LUMINANCE[2]}},
       {"KIT_BLUR_WEIGHTS", "solutions/05-postprocess/blur.frag",
        {KIT_BLUR_WEIGHTS[0], KIT_BLUR_WEIGHTS[1], KIT_BLUR_WEIGHTS[2], KIT_BLUR_WEIGHTS[3], KIT_BLUR_WEIGHTS[4]}},
   };
@@ -234,7 +234,7 @@ dvec3 light_radiance(const ShadingLight& light, dvec3 p, const ShadingSettings& 
   // The illuminance on a surface facing it, at every stage and under both models.
   if (light.type == KIT_LIGHT_DIRECTIONAL) return light.color * light.intensity;
   if (settings.stage <= 2) {
-    // framework/shaders/attenuation.glsl: no falloff; a spot lights only inside its outer cone.
+    // shaders/attenuation.glsl: no falloff; a spot lights only inside its outer cone.
     const dvec3 radiance = light.color * light.intensity;
     if (light.type == KIT_LIGHT_SPOT) {
       const dvec3 to_point = glm::normalize(p - light.position);

@@ -2,7 +2,7 @@
 // CPU reference for the shading of labs 2-5, evaluated in double precision.
 //
 // Every function here mirrors one shader function and says which; the guards
-// are the constants of framework/shaders/guards.glsl under the same names. Tests evaluate
+// are the constants of shaders/guards.glsl under the same names. Tests evaluate
 // it on the renderer's read-back G-buffer to check the GPU numerically
 // (instructor/tests/test_lab_equations.cpp), and evaluate it with guards switched off to
 // show what each guard prevents (instructor/tests/test_stability.cpp).
@@ -11,8 +11,8 @@
 //   Lab 2  solutions/02-lighting/brdf.glsl      fresnel_schlick, distribution_ggx,
 //                                               geometry_cook_torrance, cook_torrance
 //          solutions/02-lighting/lighting.frag  shade, shade_gbuffer
-//          framework/shaders/attenuation.glsl             light_radiance with stage 2
-//          framework/shaders/tonemap.glsl                 display with stage 2 (clamp)
+//          shaders/attenuation.glsl             light_radiance with stage 2
+//          shaders/tonemap.glsl                 display with stage 2 (clamp)
 //   Lab 3  solutions/03-attenuation/*.glsl      spot_cone_factor, light_radiance, tonemap
 //   Lab 1  solutions/01-gbuffer/gbuffer.*       base_color, vertex_color (and lab 4's copy)
 //   Lab 4  solutions/04-normalmap/gbuffer.*     world_tangent_frame, mapped_normal
@@ -29,9 +29,9 @@
 #include <utility>
 #include <vector>
 
-#include "image_io.h"
-#include "renderer.h"
-#include "scene.h"
+#include "images/image_io.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
 
 namespace kit::reference {
 
@@ -41,7 +41,7 @@ using glm::dvec3;
 using glm::dvec4;
 
 // --- Constants the shaders define, under the shaders' names --------------------
-// framework/shaders/guards.glsl (each is explained there).
+// shaders/guards.glsl (each is explained there).
 constexpr double KIT_MIN_N_DOT_V = 1e-4;
 constexpr double KIT_MIN_N_DOT_L = 1e-4;
 constexpr double KIT_MIN_V_DOT_H = 1e-4;
@@ -54,7 +54,7 @@ constexpr double KIT_MIN_SPOT_SOLID_ANGLE = 1e-6;
 constexpr double KIT_HDR_MAX = 65504.0;
 // Below this squared length a tangent-frame vector (lab 4) is degenerate and replaced.
 constexpr double KIT_MIN_TANGENT_LENGTH_SQUARED = 1e-12;
-// framework/shaders/math.glsl
+// shaders/math.glsl
 constexpr double KIT_PI = 3.14159265358979323846;
 constexpr double KIT_LUMINANCE[3] = {0.2126, 0.7152, 0.0722};
 // solutions/05-postprocess/blur.frag: centre weight, then offsets 1..4.
@@ -170,7 +170,7 @@ dvec3 cook_torrance(dvec3 n, dvec3 v, dvec3 l, dvec3 albedo, double metallic, do
 // --- Lab 3: attenuation (solutions/03-attenuation/attenuation.glsl) --------------------
 // 0 outside the outer cone, 1 inside the inner cone, smoothstep in between.
 double spot_cone_factor(const ShadingLight& light, dvec3 p, const Guards& guards = {});
-// Radiance arriving at p: stage 2 mirrors framework/shaders/attenuation.glsl (no falloff,
+// Radiance arriving at p: stage 2 mirrors shaders/attenuation.glsl (no falloff,
 // hard outer cone), stage 3 on mirrors solutions/03-attenuation/attenuation.glsl. A
 // directional light gives colour * intensity at every stage (no falloff, cone or range).
 dvec3 light_radiance(const ShadingLight& light, dvec3 p, const ShadingSettings& settings);
@@ -186,7 +186,7 @@ dvec3 shade(const SurfaceSample& surface, const dvec3& camera_position, const st
 // --- Display -------------------------------------------------------------------------
 // solutions/03-attenuation/tonemap.glsl: Reinhard c/(c+1) on max(c, 0), then pow(1/gamma).
 dvec3 tonemap(dvec3 hdr, double gamma);
-// The stage's display mapping: clamp to [0,1] at stage 2 (framework/shaders/tonemap.glsl), tonemap after.
+// The stage's display mapping: clamp to [0,1] at stage 2 (shaders/tonemap.glsl), tonemap after.
 dvec3 display(dvec3 hdr, const ShadingSettings& settings);
 
 // --- Whole frames -----------------------------------------------------------------------

@@ -5,7 +5,7 @@
 #include <limits>
 #include <vector>
 
-#include "error.h"
+#include "base/error.h"
 
 namespace kit::reference {
 

@@ -28,7 +28,7 @@
 #include <vector>
 
 #include "cpu_reference.h"
-#include "image_io.h"
+#include "images/image_io.h"
 
 namespace kit::reference {
 
@@ -37,7 +37,7 @@ using glm::dvec2;
 // brdf.glsl cook_torrance: F0 = mix(vec3(0.04), albedo, metallic), the dielectric
 // reflectance at normal incidence.
 constexpr double KIT_DIELECTRIC_F0 = 0.04;
-// framework/shaders/guards.glsl: below this squared length a direction has no
+// shaders/guards.glsl: below this squared length a direction has no
 // angles; kit_equirect_uv maps it to the pole overhead.
 constexpr double KIT_MIN_DIRECTION_LENGTH_SQUARED = 1e-12;
 

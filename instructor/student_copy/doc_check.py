@@ -15,7 +15,7 @@ Two rules, on the files of COPY (a folder written by ./kit student-copy):
 
 2. No student-facing document names an instructor path or command. Student-facing:
    every Markdown file of the copy, and the comments of the shaders (.glsl, .frag,
-   .vert) under labs/, framework/ and solutions/. Instructor-only: the instructor/
+   .vert) under labs/, shaders/ and solutions/. Instructor-only: the instructor/
    folder, handouts/instructors.md, the instructors' programs and scripts
    (kit-bench, measure.sh, self_check.py, ...), the commands a copy refuses
    (./kit bench, student-copy, gradescope-package, handout-images), kit-grade's
@@ -32,7 +32,7 @@ import sys
 from pathlib import Path
 
 SHADER_SUFFIXES = {".glsl", ".frag", ".vert"}
-SHADER_FOLDERS = ("labs", "framework", "solutions")
+SHADER_FOLDERS = ("labs", "shaders", "solutions")
 
 # What a student document must not name, with the reason printed for a hit.
 FORBIDDEN = [

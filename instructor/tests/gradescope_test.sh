@@ -25,7 +25,7 @@ mkdir -p "$AG/source"
 unzip -q "$TMP/autograder.zip" -d "$AG/source"
 listing="$(unzip -Z1 "$TMP/autograder.zip")"
 for f in setup.sh run_autograder autograder.conf kit/kit kit/CMakeLists.txt kit/tools/grade/grading.json \
-         kit/solutions/01-gbuffer/gbuffer.frag kit/solutions/05-postprocess/blur.frag kit/framework/shaders/guards.glsl; do
+         kit/solutions/01-gbuffer/gbuffer.frag kit/solutions/05-postprocess/blur.frag kit/shaders/guards.glsl; do
   grep -qx "$f" <<<"$listing" || fail "the zip has no $f"
 done
 for f in setup.sh run_autograder kit/kit; do

@@ -67,12 +67,12 @@ rm -rf "$WORK/planted"
 cp -r "$WORK/copy2" "$WORK/planted"
 printf '\n![chart](../instructor/bench/results/ibl_speed_accuracy.png)\n\nRun `./kit bench --ibl-only`.\n' \
   >>"$WORK/planted/handouts/06-ibl.md"
-printf '// see instructor/reference/ibl_reference.h\n' >>"$WORK/planted/framework/shaders/environment.glsl"
+printf '// see instructor/reference/ibl_reference.h\n' >>"$WORK/planted/shaders/environment.glsl"
 if "$PY" "$ROOT/instructor/student_copy/doc_check.py" "$WORK/planted" >"$WORK/planted.log" 2>&1; then
   fail "witness: a dead link and instructor names planted in the copy were not reported"
 else
   for expected in "handouts/06-ibl.md:.*is not in the copy" "handouts/06-ibl.md:.*instructor command" \
-                  "framework/shaders/environment.glsl:.*instructor/ folder"; do
+                  "shaders/environment.glsl:.*instructor/ folder"; do
     grep -q "$expected" "$WORK/planted.log" && pass "witness: doc_check reports '$expected'" \
       || fail "witness: doc_check does not report '$expected': $(head -3 "$WORK/planted.log")"
   done

@@ -10,7 +10,7 @@
 #include "bench_metrics.h"
 #include "bench_reference.h"
 #include "bench_renderer.h"
-#include "error.h"
+#include "base/error.h"
 #include "gbuffer_layout.h"
 #include "kit_test.h"
 

@@ -11,7 +11,7 @@
 
 #include "kit_test.h"
 #include "kit_test_files.h"
-#include "stages.h"
+#include "render/stages.h"
 #include "tiny_scenes.h"
 
 namespace {

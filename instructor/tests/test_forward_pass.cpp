@@ -1,4 +1,4 @@
-// The forward pass (framework/forward_pass.*): glTF BLEND materials drawn after the
+// The forward pass (common/render/forward_pass.*): glTF BLEND materials drawn after the
 // lighting pass, back to front, and laid over the deferred result with the over
 // operator, checked at known pixels against the blend equation evaluated on the CPU
 // in double (the CPU reference's shade() of each surface, found by casting the
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "forward_pass.h"
+#include "render/forward_pass.h"
 #include "gbuffer_layout.h"
 #include "reference_frames.h"
 #include "tiny_scenes.h"

@@ -1,4 +1,4 @@
-// The G-buffer (framework/gbuffer.*, framework/shaders/gbuffer_layout.h) and what the
+// The G-buffer (common/render/gbuffer.*, shaders/gbuffer_layout.h) and what the
 // reference geometry pass (solutions/01-gbuffer) writes into it, checked pixel
 // by pixel against ray casts through the scene's camera in double precision.
 #include <gtest/gtest.h>
@@ -20,15 +20,15 @@
 #include <vector>
 
 #include "cpu_reference.h"
-#include "error.h"
-#include "gbuffer.h"
+#include "base/error.h"
+#include "render/gbuffer.h"
 #include "gbuffer_layout.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
 #include "reference_frames.h"
 #include "shader_variants.h"
-#include "stages.h"
-#include "texture_prepare.h"
+#include "render/stages.h"
+#include "images/texture_prepare.h"
 #include "tiny_scenes.h"
 
 namespace fs = std::filesystem;
@@ -833,7 +833,7 @@ TEST(GBufferMaterialModes, DoubleSidedBackFaceNormalFacesTheViewer) {
 }
 
 // ---------------------------------------------------------------------------
-// Large textures uploaded as S3TC blocks (framework/texture_prepare.h; from 1024 x
+// Large textures uploaded as S3TC blocks (common/images/texture_prepare.h; from 1024 x
 // 1024 texels, --compress-textures on, as auto does for a scene over the texture budget):
 // the albedo the geometry pass writes from the compressed texture against the same
 // texture uploaded as RGBA8.

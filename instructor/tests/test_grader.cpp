@@ -23,14 +23,14 @@
 #include "references.h"
 #include "render_child.h"
 #include "report.h"
-#include "stages.h"
+#include "render/stages.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
 
 namespace {
 
-// Every lab of the stage table (framework/stages.cpp) is graded.
+// Every lab of the stage table (common/render/stages.cpp) is graded.
 const int kLabCount = static_cast<int>(kit::stages().size());
 // Short wall-clock limit for the run holding the endless loop.
 constexpr int kShortTimeoutSeconds = 5;

@@ -21,10 +21,10 @@
 #include <string>
 #include <vector>
 
-#include "error.h"
+#include "base/error.h"
 #include "gbuffer_layout.h"
-#include "ibl.h"
-#include "no_dangling.h"
+#include "render/ibl.h"
+#include "base/no_dangling.h"
 #include "ibl_reference.h"
 #include "kit_test.h"
 #include "kit_test_files.h"

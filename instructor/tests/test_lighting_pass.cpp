@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "error.h"
+#include "base/error.h"
 #include "kit_test.h"
 #include "shader_variants.h"
-#include "stages.h"
+#include "render/stages.h"
 #include "tiny_scenes.h"
 
 namespace {

@@ -1,4 +1,4 @@
-// Geometry-pass optimisation (framework/mesh_optimize.h): welding, triangle and
+// Geometry-pass optimisation (common/scene/mesh_optimize.h): welding, triangle and
 // vertex reordering keep the mesh and the rendered G-buffer; frustum culling
 // is conservative and leaves the image bitwise unchanged. Suite names start
 // with MeshOptimize, the file's name.
@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "kit_test.h"
-#include "mesh_optimize.h"
+#include "scene/mesh_optimize.h"
 
 namespace {
 

@@ -9,10 +9,10 @@
 #include <string>
 #include <utility>
 
-#include "error.h"
+#include "base/error.h"
 #include "kit_test.h"
 #include "kit_test_images.h"
-#include "stages.h"
+#include "render/stages.h"
 
 namespace {
 

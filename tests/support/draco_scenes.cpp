@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "kit_test_files.h"
-#include "stages.h"
+#include "render/stages.h"
 
 namespace kit::test {
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <map>
 
-#include "error.h"
+#include "base/error.h"
 
 namespace kit::test {
 

@@ -7,10 +7,10 @@
 #include <memory>
 #include <string>
 
-#include "context.h"
-#include "image_io.h"
-#include "no_dangling.h"
-#include "renderer.h"
+#include "gl/context.h"
+#include "images/image_io.h"
+#include "base/no_dangling.h"
+#include "render/renderer.h"
 
 namespace kit::test {
 

@@ -4,7 +4,7 @@
 #include <iterator>
 #include <stdexcept>
 
-#include "stages.h"  // resolve_scene
+#include "render/stages.h"  // resolve_scene
 
 namespace kit::test {
 

@@ -2,7 +2,7 @@
 // Image comparisons shared by the tests that check images for identity or difference.
 #include <string>
 
-#include "image_io.h"
+#include "images/image_io.h"
 
 namespace kit::test {
 

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "scene.h"
+#include "scene/scene.h"
 
 namespace kit::test {
 

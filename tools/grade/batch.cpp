@@ -13,9 +13,9 @@
 #include <fstream>
 #include <set>
 
-#include "error.h"
+#include "base/error.h"
 #include "grading_run.h"
-#include "pass_clock.h"
+#include "gl/pass_clock.h"
 #include "report.h"
 #include "submission.h"
 

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-#include "error.h"
+#include "base/error.h"
 
 namespace kit::grade {
 
@@ -68,7 +68,7 @@ const std::vector<RenderSpec>& renders() {
     // and the metallic-roughness texture's channels differ (tools/scenes/scene_catalogue.cpp).
     for (View view : {View::Albedo, View::Material, View::Emission})
       r.push_back(gbuffer(std::string("lab1-texturing-") + view_name(view), 1, "texturing", view));
-    // Lab 2: no falloff and a clamped display yet (framework/shaders/attenuation.glsl, tonemap.glsl),
+    // Lab 2: no falloff and a clamped display yet (shaders/attenuation.glsl, tonemap.glsl),
     // so both the HDR buffer and the display image show the BRDF alone.
     for (const char* scene : {"default", "sphere"}) {
       std::string s = scene;

@@ -10,12 +10,12 @@
 #include <string>
 #include <vector>
 
-#include "renderer.h"
+#include "render/renderer.h"
 
 namespace kit::grade {
 
 // The size every check is rendered at (lab 6's precomputed maps have their own,
-// fixed by the framework: framework/ibl.h). 256x192 (4:3 like the scenes' cameras)
+// fixed by the framework: common/render/ibl.h). 256x192 (4:3 like the scenes' cameras)
 // keeps a whole submission under ~2 s on llvmpipe, yet each sphere of the
 // default scene still covers ~200 pixels, so one wrong term in a BRDF, a falloff
 // or a tangent frame changes far more pixels than the tolerances allow.

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "renderer.h"
+#include "render/renderer.h"
 
 namespace kit::grade {
 

@@ -7,7 +7,7 @@
 
 #include "checks.h"
 #include "config.h"
-#include "image_io.h"
+#include "images/image_io.h"
 
 namespace kit::grade {
 

@@ -7,8 +7,8 @@
 #include <fstream>
 #include <vector>
 
-#include "error.h"
-#include "stages.h"
+#include "base/error.h"
+#include "render/stages.h"
 
 namespace fs = std::filesystem;
 

@@ -14,15 +14,15 @@
 #include <fstream>
 #include <memory>
 
-#include "error.h"
+#include "base/error.h"
 #include "grading_run.h"
-#include "pass_clock.h"
+#include "gl/pass_clock.h"
 #include "references.h"
-#include "renderer.h"
+#include "render/renderer.h"
 #include "render_child.h"
 #include "report.h"
-#include "scene.h"
-#include "stages.h"
+#include "scene/scene.h"
+#include "render/stages.h"
 #include "submission.h"
 
 namespace fs = std::filesystem;
@@ -259,7 +259,7 @@ fs::path grader_cache_dir() {
 }
 
 // Mesa's shader cache as the kit's own renders leave it (solutions/ and
-// framework/shaders/ only, never a submission's file).
+// shaders/ only, never a submission's file).
 fs::path shader_cache_seed() {
   fs::path cache = grader_cache_dir();
   return cache.empty() ? cache : cache / "mesa-shader-cache";

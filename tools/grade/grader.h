@@ -9,7 +9,7 @@
 
 #include "compare.h"
 #include "config.h"
-#include "context.h"
+#include "gl/context.h"
 #include "sandbox.h"
 
 namespace kit::grade {

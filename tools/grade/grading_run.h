@@ -14,9 +14,9 @@
 
 #include "compare.h"
 #include "grader.h"
-#include "image_io.h"
+#include "images/image_io.h"
 #include "references.h"
-#include "scene.h"
+#include "scene/scene.h"
 #include "submission.h"
 
 namespace kit::grade {

@@ -14,11 +14,11 @@
 #include <thread>
 
 #include "batch.h"
-#include "error.h"
+#include "base/error.h"
 #include "grader.h"
 #include "reference_maintenance.h"
 #include "submission.h"
-#include "stages.h"
+#include "render/stages.h"
 
 namespace fs = std::filesystem;
 

@@ -5,11 +5,11 @@
 #include <string>
 #include <vector>
 
-#include "error.h"
+#include "base/error.h"
 #include "grading_run.h"
 #include "references.h"
 #include "report.h"
-#include "stages.h"
+#include "render/stages.h"
 
 namespace fs = std::filesystem;
 

@@ -5,10 +5,10 @@
 #include <fstream>
 #include <set>
 
-#include "error.h"
+#include "base/error.h"
 #include "render_child.h"
 #include "report.h"
-#include "stages.h"
+#include "render/stages.h"
 #include "submission.h"
 
 namespace fs = std::filesystem;

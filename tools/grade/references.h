@@ -14,7 +14,7 @@
 
 #include "checks.h"
 #include "compare.h"
-#include "image_io.h"
+#include "images/image_io.h"
 
 namespace kit::grade {
 

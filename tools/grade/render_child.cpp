@@ -8,13 +8,13 @@
 #include <memory>
 
 #include "checks.h"
-#include "error.h"
-#include "gl.h"
-#include "pass_clock.h"
-#include "renderer.h"
+#include "base/error.h"
+#include "gl/gl.h"
+#include "gl/pass_clock.h"
+#include "render/renderer.h"
 #include "sandbox.h"
 #include "report.h"
-#include "stages.h"
+#include "render/stages.h"
 
 namespace fs = std::filesystem;
 

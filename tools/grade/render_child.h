@@ -11,9 +11,9 @@
 #include <map>
 #include <string>
 
-#include "context.h"
-#include "image_io.h"
-#include "scene.h"
+#include "gl/context.h"
+#include "images/image_io.h"
+#include "scene/scene.h"
 
 namespace kit::grade {
 

@@ -18,7 +18,7 @@
 #include <thread>
 #include <utility>
 
-#include "error.h"
+#include "base/error.h"
 
 namespace fs = std::filesystem;
 

@@ -12,10 +12,10 @@
 #include <set>
 #include <sstream>
 
-#include "error.h"
-#include "safe_file.h"
-#include "shader_source.h"
-#include "stages.h"
+#include "base/error.h"
+#include "base/safe_file.h"
+#include "gl/shader_source.h"
+#include "render/stages.h"
 
 namespace fs = std::filesystem;
 

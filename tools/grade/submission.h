@@ -13,12 +13,12 @@
 // from is recorded (LabFiles::folder) and told to the student in the notes.
 //
 // For every lab graded, only the file names that lab expects (the table in
-// framework/stages.cpp) are copied into a private temporary lab root; the renderer
+// common/render/stages.cpp) are copied into a private temporary lab root; the renderer
 // never sees anything else. Refused: symbolic links (checked with lstat and opened
 // with O_NOFOLLOW; the search never descends into one), anything that is not a
 // regular file, hard links (a regular file with more than one name: its other
 // name may lie outside the submission; checked with fstat on the descriptor
-// opened with O_NOFOLLOW, by kit's safe reader, framework/safe_file.h), files
+// opened with O_NOFOLLOW, by kit's safe reader, common/base/safe_file.h), files
 // over kit::kMaxShaderFileBytes, and text the shader reader refuses (empty, NUL
 // bytes, not UTF-8). A zip is listed first, every line of the listing read, and
 // refused as a whole when an entry is absolute or has a ".." component
@@ -34,7 +34,7 @@
 #include <vector>
 
 #include "sandbox.h"
-#include "text.h"  // lower_case: lab folders and a batch's own file names match in any case
+#include "base/text.h"  // lower_case: lab folders and a batch's own file names match in any case
 
 namespace kit::grade {
 

@@ -16,7 +16,7 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Environments for lab 6 (framework/ibl.h): equirectangular, RGB half-float EXR, in
+// Environments for lab 6 (common/render/ibl.h): equirectangular, RGB half-float EXR, in
 // OUT_DIR/environments/. The mapping is environment.glsl's: texel (x, y) of a
 // W x H image looks along phi = ((x + 0.5) / W - 0.5) 2 pi, theta = (y + 0.5) / H pi
 // from +Y, direction (sin theta sin phi, cos theta, -sin theta cos phi).

@@ -1,4 +1,4 @@
-// The environments kit-scenes writes for lab 6 (framework/ibl.h).
+// The environments kit-scenes writes for lab 6 (common/render/ibl.h).
 #pragma once
 
 #include <filesystem>

@@ -6,8 +6,8 @@
 
 #include <memory>
 
-#include "error.h"
-#include "openimageio_formats.h"
+#include "base/error.h"
+#include "images/openimageio_formats.h"
 
 namespace {
 

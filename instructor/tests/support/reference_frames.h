@@ -9,8 +9,8 @@
 
 #include "cpu_reference.h"
 #include "kit_test.h"  // small_settings, kSmallWidth, kSmallHeight
-#include "renderer.h"
-#include "shader_source.h"
+#include "render/renderer.h"
+#include "gl/shader_source.h"
 
 namespace kit::test {
 

@@ -32,7 +32,7 @@ ShaderLibrary full_root_library(const Stage& stage, const fs::path& root) {
     if (it->number > stage.number) continue;
     folders.push_back({root / it->folder, label + "/" + it->folder, it->files});
   }
-  folders.push_back({shaders_dir(), "framework/shaders", {}});
+  folders.push_back({shaders_dir(), "shaders", {}});
   return ShaderLibrary(std::move(folders));
 }
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "shader_source.h"
-#include "stages.h"
+#include "gl/shader_source.h"
+#include "render/stages.h"
 
 namespace kit::test {
 
@@ -25,7 +25,7 @@ struct LineSwap {
 std::filesystem::path variant_root(const std::string& name, const std::vector<LineSwap>& swaps);
 
 // The shader folders for `stage` with its own step and every earlier step taken
-// from `root` (a full lab root, as variant_root makes), then framework/shaders/. Unlike
+// from `root` (a full lab root, as variant_root makes), then shaders/. Unlike
 // stage_library, a variant of an earlier step (say lab 2's lighting.frag) is then
 // used by a later stage too.
 ShaderLibrary full_root_library(const Stage& stage, const std::filesystem::path& root);
