@@ -76,7 +76,8 @@ EOF
 }
 
 echo
-echo "1. one full submission (solutions/, 6 labs, 46 checks)"
+checks="$("$PY" -c 'import json, sys; print(sum(len(l["checks"]) for l in json.load(open(sys.argv[1]))["labs"].values()))' "$ROOT/tools/grade/grading.json")"
+echo "1. one full submission (solutions/, every lab, $checks checks)"
 # Each submission's render children use a private shader cache that starts as a
 # copy of the seed in $XDG_CACHE_HOME/kit-grade/ (written by --check-references):
 # cold is no seed, warm is the seed of the solutions.
