@@ -457,6 +457,29 @@ TEST(GradeSandbox, KitGradeReportsOutOfMemory) {
   EXPECT_EQ(read_json(dir / "out-default" / "summary.json")["labs"][lab_key()]["status"], "graded");
 }
 
+// Grading renders with Mesa's software rasteriser unless --gpu asks for the platform's
+// first device, and summary.json and the report say which (common/gl/context.h).
+TEST(GradeSandbox, KitGradeNamesTheDeviceItRenderedWith) {
+  fs::path dir = kit::test::temp_dir("sandbox-kit-grade-device");
+  copy_starters(dir / "alice");
+  std::string output;
+  for (const char* backend : {"egl", kit::default_headless_backend_name()}) {
+    const fs::path out = dir / (std::string("out-") + backend);
+    ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "alice") + labs_flag() + "--backend " + backend + " --out " +
+                                       quoted(out)), &output), 0) << output;
+    json summary = read_json(out / "summary.json");
+    EXPECT_EQ(summary["device"], "software") << backend;
+    const std::string renderer = summary.value("renderer", "");
+    EXPECT_TRUE(contains(renderer, "llvmpipe") || contains(renderer, "softpipe")) << renderer;
+    EXPECT_FALSE(contains(read_file(out / "report.html"), "Graded with --gpu")) << backend;
+  }
+  ASSERT_EQ(kit::test::run(kit_grade(quoted(dir / "alice") + labs_flag() + "--backend egl --gpu --out " +
+                                     quoted(dir / "out-gpu")), &output), 0) << output;
+  EXPECT_EQ(read_json(dir / "out-gpu" / "summary.json")["device"], "gpu");
+  EXPECT_TRUE(contains(read_file(dir / "out-gpu" / "report.html"), "Graded with --gpu"));
+  EXPECT_TRUE(contains(read_file(dir / "out-gpu" / "results.json"), "Graded with --gpu"));
+}
+
 // kit-grade end to end: a shader that never ends is stopped by the CPU limit,
 // long before the wall-clock backstop.
 TEST(GradeSandbox, KitGradeStopsAnEndlessLoopByCpuTime) {

@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
   kit::View pending = kit::View::Final;
   bool timings = false;
   int frames = 1;
+  kit::name_gl_crashes("kit-render");
   return kit::run_tool("kit-render", 1, [&]() -> int {
     for (int i = 1; i < argc; ++i)
       if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {

@@ -976,6 +976,7 @@ class Viewer {
 
 int main(int argc, char** argv) {
   ViewerOptions options;
+  kit::name_gl_crashes("kit-view");
   return kit::run_tool("kit-view", 1, [&]() -> int {
     for (int i = 1; i < argc; ++i)
       if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {

@@ -20,7 +20,11 @@
 #endif
 
 #include <malloc.h>
+#include <signal.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <cstdlib>
 #include <cstring>
 #include <vector>
 
@@ -48,6 +52,88 @@ const char* backend_name(Backend backend) {
   }
   return "?";
 }
+
+const char* device_name(Device device) { return device == Device::Software ? "software" : "any"; }
+
+int choose_egl_device(const std::vector<std::string>& device_extensions, Device device) {
+  auto software = [&](size_t i) {
+    // Whole-word match: an extension string is a space-separated list.
+    const std::string padded = " " + device_extensions[i] + " ";
+    return padded.find(" EGL_MESA_device_software ") != std::string::npos;
+  };
+  for (size_t i = 0; i < device_extensions.size(); ++i)
+    if (software(i) == (device == Device::Software)) return static_cast<int>(i);
+  if (device == Device::Any && !device_extensions.empty()) return 0;
+  return -1;
+}
+
+namespace {
+
+// The crash message's parts, written by the signal handler with write(2) alone (nothing
+// else is safe there): fixed buffers filled before any crash can happen.
+char g_crash_tool[64] = "kit";
+char g_crash_gl[512] = "before any OpenGL context was created";
+char g_alternate_stack[64 * 1024];
+
+void copy_into(char* buffer, size_t size, const std::string& text) {
+  const size_t n = std::min(size - 1, text.size());
+  std::memcpy(buffer, text.data(), n);
+  buffer[n] = '\0';
+}
+
+void write_text(const char* text) {
+  ssize_t ignored = write(STDERR_FILENO, text, std::strlen(text));
+  (void)ignored;
+}
+
+const char* signal_word(int sig) {
+  switch (sig) {
+    case SIGSEGV: return "SIGSEGV, a segmentation fault";
+    case SIGBUS: return "SIGBUS";
+    case SIGILL: return "SIGILL";
+    case SIGFPE: return "SIGFPE";
+    case SIGABRT: return "SIGABRT, an abort";
+  }
+  return "a fatal signal";
+}
+
+void on_crash(int sig) {
+  write_text(g_crash_tool);
+  write_text(": crashed (");
+  write_text(signal_word(sig));
+  write_text(") ");
+  write_text(g_crash_gl);
+  write_text(". A crash there is most likely in the OpenGL implementation, not in your shaders: try "
+             "another backend (--backend egl or osmesa) or driver (unset GALLIUM_DRIVER), and see "
+             "docs/troubleshooting.md.\n");
+  raise(sig);  // SA_RESETHAND restored the default action: the program ends as it would have
+}
+
+// "GALLIUM_DRIVER=zink" when a Mesa driver is forced by the environment, else "".
+std::string forced_driver() {
+  std::string text;
+  for (const char* name : {"GALLIUM_DRIVER", "MESA_LOADER_DRIVER_OVERRIDE", "LIBGL_ALWAYS_SOFTWARE"})
+    if (const char* value = std::getenv(name); value && *value)
+      text += std::string(text.empty() ? "" : ", ") + name + "=" + value;
+  return text;
+}
+
+}  // namespace
+
+void name_gl_crashes(const char* tool) {
+  copy_into(g_crash_tool, sizeof g_crash_tool, tool);
+  stack_t stack{};
+  stack.ss_sp = g_alternate_stack;
+  stack.ss_size = sizeof g_alternate_stack;
+  sigaltstack(&stack, nullptr);
+  struct sigaction action {};
+  action.sa_handler = on_crash;
+  action.sa_flags = SA_RESETHAND | SA_ONSTACK;
+  sigemptyset(&action.sa_mask);
+  for (int sig : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT}) sigaction(sig, &action, nullptr);
+}
+
+void note_gl_in_use(const std::string& what) { copy_into(g_crash_gl, sizeof g_crash_gl, what); }
 
 std::string GlContext::describe() const {
   auto str = [](GLenum e) {
@@ -101,16 +187,23 @@ class OSMesaContextImpl : public GlContext {
 
 class EglContextImpl : public GlContext {
  public:
-  EglContextImpl() {
+  explicit EglContextImpl(Device device) {
     auto get_platform_display = reinterpret_cast<PFNEGLGETPLATFORMDISPLAYEXTPROC>(
         eglGetProcAddress("eglGetPlatformDisplayEXT"));
     if (!get_platform_display) throw Error("egl: eglGetPlatformDisplayEXT is not available");
-    std::string tried;
-    display_ = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
-    if (!initialize()) {
-      tried = "surfaceless";
-      display_ = device_display(get_platform_display);
-      if (!initialize()) throw Error("egl: no display could be initialised (tried " + tried + " and device enumeration)");
+    if (device == Device::Software) {
+      // Never surfaceless here: it opens the GPU's Mesa driver where the machine has one.
+      display_ = device_display(get_platform_display, Device::Software);
+      if (!initialize())
+        throw Error("egl: no EGL device reports EGL_MESA_device_software (Mesa's software rasteriser), so "
+                    "grading cannot render as it is measured (is libegl-mesa0 installed?); --gpu grades on "
+                    "whatever device there is");
+    } else {
+      display_ = get_platform_display(EGL_PLATFORM_SURFACELESS_MESA, EGL_DEFAULT_DISPLAY, nullptr);
+      if (!initialize()) {
+        display_ = device_display(get_platform_display, Device::Any);
+        if (!initialize()) throw Error("egl: no display could be initialised (tried surfaceless and device enumeration)");
+      }
     }
     if (!eglBindAPI(EGL_OPENGL_API)) throw Error("egl: desktop OpenGL API not available");
     const EGLint context_attribs[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
@@ -143,21 +236,32 @@ class EglContextImpl : public GlContext {
     EGLint major = 0, minor = 0;
     return eglInitialize(display_, &major, &minor) == EGL_TRUE;
   }
-  // Fallback for drivers without the Mesa surfaceless platform (e.g. NVIDIA):
-  // the first enumerated device.
-  static EGLDisplay device_display(PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display) {
+  // An enumerated device's display, chosen by choose_egl_device: the software device,
+  // or (Any: drivers without Mesa's surfaceless platform, e.g. NVIDIA) a GPU first.
+  // Devices whose display does not initialise are passed over.
+  static EGLDisplay device_display(PFNEGLGETPLATFORMDISPLAYEXTPROC get_platform_display, Device device) {
     auto query_devices = reinterpret_cast<PFNEGLQUERYDEVICESEXTPROC>(eglGetProcAddress("eglQueryDevicesEXT"));
-    if (!query_devices) return EGL_NO_DISPLAY;
+    auto query_string = reinterpret_cast<PFNEGLQUERYDEVICESTRINGEXTPROC>(eglGetProcAddress("eglQueryDeviceStringEXT"));
+    if (!query_devices || !query_string) return EGL_NO_DISPLAY;
     EGLDeviceEXT devices[16];
     EGLint count = 0;
-    if (!query_devices(16, devices, &count) || count == 0) return EGL_NO_DISPLAY;
-    for (EGLint i = 0; i < count; ++i) {
-      EGLDisplay d = get_platform_display(EGL_PLATFORM_DEVICE_EXT, devices[i], nullptr);
+    if (!query_devices(16, devices, &count) || count <= 0) return EGL_NO_DISPLAY;
+    std::vector<EGLDeviceEXT> candidates(devices, devices + count);
+    while (!candidates.empty()) {
+      std::vector<std::string> extensions;
+      for (EGLDeviceEXT d : candidates) {
+        const char* e = query_string(d, EGL_EXTENSIONS);
+        extensions.push_back(e ? e : "");
+      }
+      const int chosen = choose_egl_device(extensions, device);
+      if (chosen < 0) return EGL_NO_DISPLAY;
+      EGLDisplay d = get_platform_display(EGL_PLATFORM_DEVICE_EXT, candidates[chosen], nullptr);
       EGLint major = 0, minor = 0;
       if (d != EGL_NO_DISPLAY && eglInitialize(d, &major, &minor)) {
         eglTerminate(d);
         return d;
       }
+      candidates.erase(candidates.begin() + chosen);
     }
     return EGL_NO_DISPLAY;
   }
@@ -182,19 +286,26 @@ void keep_freed_memory_for_reuse() {
   mallopt(M_TRIM_THRESHOLD, kTrimThresholdBytes);
 }
 
-std::unique_ptr<GlContext> create_headless_context(Backend backend) {
+std::unique_ptr<GlContext> create_headless_context(Backend backend, Device device) {
   keep_freed_memory_for_reuse();
+  const std::string forced = forced_driver();
+  note_gl_in_use(std::string("while creating the ") + backend_name(backend) + " context (device: " +
+                 device_name(device) + (forced.empty() ? "" : ", " + forced) + ")");
+  std::unique_ptr<GlContext> context;
   switch (backend) {
     case Backend::OSMesa:
 #if KIT_HAS_OSMESA
-      return std::make_unique<OSMesaContextImpl>();
+      context = std::make_unique<OSMesaContextImpl>();
+      break;
 #else
       throw Error("osmesa: this build of the kit has no OSMesa backend (use egl)");
 #endif
-    case Backend::EGL: return std::make_unique<EglContextImpl>();
-    case Backend::Window: break;
+    case Backend::EGL: context = std::make_unique<EglContextImpl>(device); break;
+    case Backend::Window:
+      throw Error("create_headless_context: the window backend is created by the viewer (kit::Window)");
   }
-  throw Error("create_headless_context: the window backend is created by the viewer (kit::Window)");
+  note_gl_in_use("with " + context->describe() + (forced.empty() ? "" : " (" + forced + ")"));
+  return context;
 }
 
 }  // namespace kit

@@ -4,6 +4,7 @@
 // backends differ only in how the context is made and how GL is loaded.
 #include <memory>
 #include <string>
+#include <vector>
 
 namespace kit {
 
@@ -32,10 +33,39 @@ class GlContext {
   std::string describe() const;
 };
 
-// Creates and makes current a headless context (OSMesa or EGL surfaceless,
-// falling back to EGL device enumeration). Throws kit::Error with the reason.
-// Also sets glibc's malloc to keep freed memory for reuse (keep_freed_memory_for_reuse).
-std::unique_ptr<GlContext> create_headless_context(Backend backend);
+// Which OpenGL implementation a headless context asks for.
+//   Any:      what the platform gives first: EGL's surfaceless platform takes the GPU's
+//             Mesa driver where there is one, device enumeration NVIDIA's. For speed
+//             (kit-render, the viewer's headless twin, the tests).
+//   Software: Mesa's CPU rasteriser (llvmpipe, or softpipe with GALLIUM_DRIVER), the
+//             implementations grading's tolerances are measured on, whatever GPU the
+//             machine has: the EGL device that reports EGL_MESA_device_software. OSMesa
+//             is always Mesa's software rasteriser.
+enum class Device { Any, Software };
+const char* device_name(Device device);  // "any" | "software"
+
+// The EGL device to open, given each enumerated device's extension string, in order:
+// for Software the first that reports EGL_MESA_device_software; for Any the first that
+// does not (a GPU), else the first. -1 when none fits.
+int choose_egl_device(const std::vector<std::string>& device_extensions, Device device);
+
+// Creates and makes current a headless context (OSMesa, or EGL: surfaceless, falling
+// back to device enumeration, for Any; the software device for Software). Throws
+// kit::Error with the reason. Also sets glibc's malloc to keep freed memory for reuse
+// (keep_freed_memory_for_reuse).
+std::unique_ptr<GlContext> create_headless_context(Backend backend, Device device = Device::Any);
+
+// After this, a fatal signal (SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT) prints
+// "TOOL: crashed (SIGSEGV) ..." naming the GL backend and driver in use, or being
+// created, before the program ends with that signal as it would have: a crash inside
+// the OpenGL implementation (GALLIUM_DRIVER=zink without a Vulkan driver, say) then
+// says where it happened instead of a bare "Segmentation fault". For the programs a
+// person runs (kit-render, kit-view); the grader's render children report crashes
+// themselves.
+void name_gl_crashes(const char* tool);
+// What a crash message names as the GL in use: set by the backends as a context is
+// created ("while creating ...") and once it is current (its describe()).
+void note_gl_in_use(const std::string& what);
 // Fixed malloc thresholds so a renderer's per-frame allocations are not returned to the
 // kernel and faulted back in every frame (context.cpp says what it cost).
 void keep_freed_memory_for_reuse();

@@ -22,6 +22,7 @@ Window::Window(int width, int height, const std::string& title, bool visible) {
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
   glfwWindowHint(GLFW_VISIBLE, visible ? GLFW_TRUE : GLFW_FALSE);
   keep_freed_memory_for_reuse();  // context.h: the viewer renders a frame after another
+  note_gl_in_use("while creating the window's GL context (GLFW)");
   window_ = glfwCreateWindow(width, height, title.c_str(), nullptr, nullptr);
   if (!window_) {
     glfwTerminate();
@@ -30,6 +31,7 @@ Window::Window(int width, int height, const std::string& title, bool visible) {
   glfwMakeContextCurrent(window_);
   glfwSwapInterval(1);
   load_gl(reinterpret_cast<GlProcLoader>(glfwGetProcAddress), "window");
+  note_gl_in_use("with " + describe());
 }
 
 Window::~Window() {

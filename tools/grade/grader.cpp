@@ -422,7 +422,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
       }
       fs::path dir = e.temp / ("lab" + std::to_string(task.lab));
       fs::create_directories(dir);
-      RenderJob job{task.lab, e.prepared->lab_root, dir, run.options.backend, &run.scenes};
+      RenderJob job{task.lab, e.prepared->lab_root, dir, run.options.backend, run.options.device, &run.scenes};
       auto child = std::make_unique<Child>(Child::fork_function([job] { return render_lab(job); }, run.options.limits,
                                                                 dir / "child.log", render_setup(run, e, dir)));
       running.push_back({task, dir, std::move(child)});
@@ -473,6 +473,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
           e.outcome.references_renderer = run.references_renderer;
           e.outcome.measured_on = run.config.measured_on_text();
           e.outcome.within_measured = run.config.measured_on_renderer(e.outcome.renderer);
+          e.outcome.gpu = run.options.device == Device::Any;
         } catch (const nlohmann::json::exception&) {
         }
       }

@@ -19,6 +19,9 @@ struct Options {
   std::filesystem::path out;           // --out
   int jobs = 1;                        // --jobs: labs rendered at the same time
   Backend backend = kDefaultHeadlessBackend;   // --backend
+  // Mesa's software rasteriser, the implementations the tolerances were measured on,
+  // whatever GPU the machine has; --gpu: whatever device the platform gives first.
+  Device device = Device::Software;
   Limits limits;                       // --timeout, --cpu-limit, --memory-limit
   std::filesystem::path config;        // --config (default tools/grade/grading.json)
   std::filesystem::path references;    // --references (default tools/grade/references)
@@ -74,6 +77,7 @@ struct SubmissionOutcome {
   std::string references_renderer;  // what rendered the references they were compared with
   std::string measured_on;          // the implementations the tolerances were measured on (Config)
   bool within_measured = true;      // `renderer` is one of them: else the report says so
+  bool gpu = false;                 // graded with --gpu: the report says the verdict is the GPU's
   double seconds = 0.0;
   Thousandths total() const;
   Thousandths max_total() const;

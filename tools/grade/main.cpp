@@ -46,6 +46,9 @@ void usage() {
       "  --out DIR             result folder (default out/grade/<submission name>)\n"
       "  --jobs N              labs (and batch submissions) rendered at once (default: cores, at most %d)\n"
       "  --backend NAME        osmesa | egl (default: osmesa where this build has it, else egl)\n"
+      "  --gpu                 render with whatever device the platform gives first (a GPU), not Mesa's software\n"
+      "                        rasteriser (the default: the implementations the tolerances were measured on);\n"
+      "                        the report then says the verdict comes from the GPU\n"
       "  --cpu-limit S         the time limit: CPU seconds a lab's renderer may use, all its threads together\n"
       "                        (RLIMIT_CPU, default %lu); CPU time does not grow when the machine is busy\n"
       "  --timeout S           wall-clock backstop per lab (default %.0f): a renderer still running after S s is\n"
@@ -182,6 +185,8 @@ int main(int argc, char** argv) {
       } else if (flag == "--batch") {
         batch = value();
         mode = Mode::Batch;
+      } else if (flag == "--gpu") {
+        options.device = kit::Device::Any;
       } else if (flag == "--force") {
         options.force = true;
       } else if (flag == "--keep-temp") {

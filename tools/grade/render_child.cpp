@@ -85,7 +85,7 @@ int render_lab(const RenderJob& job) {
   auto t0 = Clock::now();
   std::unique_ptr<GlContext> context;
   try {
-    context = create_headless_context(job.backend);
+    context = create_headless_context(job.backend, job.device);
   } catch (const Error& e) {
     write_text(error_file, e.what());
     return kChildEnvironmentError;

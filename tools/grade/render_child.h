@@ -29,6 +29,7 @@ struct RenderJob {
   std::filesystem::path lab_root;  // the sanitized copy of the submission's lab files
   std::filesystem::path out_dir;   // where the child writes its files
   Backend backend = kDefaultHeadlessBackend;
+  Device device = Device::Software;
   const std::map<std::string, Scene>* scenes = nullptr;  // loaded by the parent before forking
 };
 

@@ -29,6 +29,13 @@ std::string outside_measured_note(const SubmissionOutcome& s) {
          "(docs/grading.md, The same grade on any computer).";
 }
 
+// --gpu: said in every report, whatever rendered, since the choice was the grader's.
+std::string gpu_note(const SubmissionOutcome& s) {
+  return "Graded with --gpu: rendered by " + (s.renderer.empty() ? std::string("the first device") : s.renderer) +
+         " on purpose, not by Mesa's software rasteriser that official grades use; where that is not one of the "
+         "implementations the tolerances were measured on, the verdict comes from outside them.";
+}
+
 const char* status_words(const std::string& status) {
   if (status == kCompileError) return "compile error";
   if (status == kTimeout) return "timed out";
@@ -186,6 +193,7 @@ nlohmann::json results_json(const SubmissionOutcome& s) {
   }
   std::string output = "**Total: " + format_points(s.total()) + " / " + format_points(s.max_total()) + "**";
   if (!s.renderer.empty()) output += " (rendered with " + md_escape(s.renderer) + ")";
+  if (s.gpu) output += "\n\n" + md_escape(gpu_note(s));
   if (!s.renderer.empty() && !s.within_measured) output += "\n\n" + md_escape(outside_measured_note(s));
   output += "\n\n| Lab | Score | Result |\n|---|---|---|\n";
   for (const auto& [number, lab] : s.labs) {
@@ -258,6 +266,9 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
           {"references_renderer", s.references_renderer},
           {"tolerances_measured_on", s.measured_on},
           {"within_measured_implementations", s.within_measured},
+          // Which device rendered: "software" (Mesa's software rasteriser, chosen explicitly: OSMesa
+          // or EGL's EGL_MESA_device_software device) or "gpu" (--gpu: the platform's first device).
+          {"device", s.gpu ? "gpu" : "software"},
           {"execution_time", rounded(s.seconds)}};
 }
 
@@ -280,6 +291,7 @@ std::string report_html(const SubmissionOutcome& s) {
        format_score(kDiffScale) + ".</p>\n";
   h += "<p>References rendered with " + html_escape(s.references_renderer.empty() ? "(unknown)" : s.references_renderer) +
        "; tolerances measured on " + html_escape(s.measured_on.empty() ? "(none listed)" : s.measured_on) + ".</p>\n";
+  if (s.gpu) h += "<p class=\"note\">" + html_escape(gpu_note(s)) + "</p>\n";
   if (!s.renderer.empty() && !s.within_measured) h += "<p class=\"note\">" + html_escape(outside_measured_note(s)) + "</p>\n";
   if (!s.problem.empty()) h += "<h2>The submission could not be graded</h2>\n<pre>" + html_escape(s.problem) + "</pre>\n";
   if (!s.notes.empty()) {
