@@ -223,6 +223,43 @@ TEST(Grader, SolutionsScoreFullMarksOnEgl) {
   EXPECT_NE(r.summary["renderer"].get<std::string>().find("egl"), std::string::npos) << r.summary["renderer"];
 }
 
+// Lab 5 in a kit without lab 5's solution (a student copy for lab 5, a Classroom 50
+// bundle): the custom effect cannot be isolated on the reference bloom, so it is graded
+// on the submission's own, and the notes say so. A correct lab keeps full marks there
+// (before, every check was a compile error: "bright.frag" not found); a bloom mistake
+// costs more there than with the kit's solution, which the note tells the student.
+TEST(Grader, Lab5GradesInAKitWithoutItsSolution) {
+  const fs::path root = kit::test::temp_dir("grader-kit-without-lab5");
+  fs::copy(kit::shaders_dir(), root / "shaders", fs::copy_options::recursive);
+  for (int n = 1; n < 5; ++n) copy_lab("solutions", n, root / "solutions");
+  const std::string tables = "--labs 5 --references " + quoted(kit::kit_root() / "tools" / "grade" / "references") +
+                             " --config " + quoted(kit::kit_root() / "tools" / "grade" / "grading.json");
+  const fs::path correct = kit::test::temp_dir("grader-lab5-correct"), wrong = kit::test::temp_dir("grader-lab5-bloom");
+  copy_lab("solutions", 5, correct);
+  copy_lab("solutions", 5, wrong);
+  const std::string folder = kit::find_stage(5).folder;
+  fs::copy_file(kit::kit_root() / "labs" / folder / "bright.frag", wrong / folder / "bright.frag",
+                fs::copy_options::overwrite_existing);
+  auto own_bloom_noted = [](const GradeRun& r) {
+    for (const auto& note : r.summary["notes"])
+      if (note.get<std::string>().find("graded on your own bloom") != std::string::npos) return true;
+    return false;
+  };
+
+  GradeRun stripped = grade(correct, "lab5-stripped", tables, "KIT_ROOT=" + quoted(root) + " ");
+  expect_ran(stripped);
+  expect_full_marks(stripped, 5);
+  EXPECT_TRUE(own_bloom_noted(stripped)) << stripped.summary["notes"];
+  GradeRun full = grade(correct, "lab5-full", tables);
+  expect_full_marks(full, 5);
+  EXPECT_FALSE(own_bloom_noted(full)) << full.summary["notes"];
+
+  GradeRun wrong_stripped = grade(wrong, "lab5-bloom-stripped", tables, "KIT_ROOT=" + quoted(root) + " ");
+  GradeRun wrong_full = grade(wrong, "lab5-bloom-full", tables);
+  EXPECT_LT(lab(wrong_stripped, 5)["score"].get<double>(), lab(wrong_full, 5)["score"].get<double>());
+  EXPECT_LT(lab(wrong_full, 5)["score"].get<double>(), lab(full, 5)["max_score"].get<double>());
+}
+
 // The starters (labs/) pass only the checks handouts/instructors.md lists as
 // their documented minimum: what the starter code already does right.
 TEST(Grader, StartersScoreTheDocumentedMinimum) {

@@ -469,11 +469,16 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
       std::ifstream child_report(done.dir / "child.json");
       if (child_report) {
         try {
-          e.outcome.renderer = nlohmann::json::parse(child_report).value("renderer", "");
+          const nlohmann::json child = nlohmann::json::parse(child_report);
+          e.outcome.renderer = child.value("renderer", "");
           e.outcome.references_renderer = run.references_renderer;
           e.outcome.measured_on = run.config.measured_on_text();
           e.outcome.within_measured = run.config.measured_on_renderer(e.outcome.renderer);
           e.outcome.gpu = run.options.device == Device::Any;
+          const auto renders = lab_renders(done.task.lab);
+          if (child.value("custom_effect_on_own_bloom", false) &&
+              std::any_of(renders.begin(), renders.end(), [](const RenderSpec* r) { return r->isolate_custom; }))
+            e.outcome.notes.push_back("lab " + std::to_string(done.task.lab) + ": " + kOwnBloomNote);
         } catch (const nlohmann::json::exception&) {
         }
       }

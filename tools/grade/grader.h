@@ -30,6 +30,13 @@ struct Options {
   bool quiet = false;                  // no per-lab lines (batch prints one line per submission)
 };
 
+// Said in the notes when lab 5's custom effect was rendered on the submission's own bloom
+// (render_child.cpp, isolated_custom_library): a kit without lab 5's solution.
+constexpr const char* kOwnBloomNote =
+    "this kit has no reference solution of this lab (a student copy), so the custom effect was graded on your own "
+    "bloom; the official grader isolates it on the reference bloom, so a bloom mistake costs points here that it "
+    "does not there, and a correct lab gets the same marks in both";
+
 // Statuses a lab ends with (summary.json "status").
 constexpr const char* kGraded = "graded";
 constexpr const char* kCompileError = "compile_error";
