@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# instructor/fresh_debian.sh DIR [--suite SUITE] [--copy SRC:DEST]... -- COMMAND [ARG ...]
+# instructor/distros/fresh_debian.sh DIR [--suite SUITE] [--copy SRC:DEST]... -- COMMAND [ARG ...]
 #
 # Runs COMMAND as root inside DIR, a Debian chroot made fresh with debootstrap (minbase,
 # ca-certificates) when DIR does not exist yet: the stand-in here for a platform's clean
