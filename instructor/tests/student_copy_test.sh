@@ -45,6 +45,13 @@ for n in $LABS; do
   done
 done
 [ -f "$WORK/copy2/tools/grade/references/manifest.json" ] || fail "copy 2 has no grader references"
+# The dev container comes with every copy (its ctest, tests/devcontainer, runs in step 3's ./kit test).
+for n in $LABS; do
+  for f in .devcontainer/devcontainer.json .devcontainer/Dockerfile .devcontainer/install.sh; do
+    [ -f "$WORK/copy$n/$f" ] || fail "copy $n lacks $f"
+    git -C "$WORK/copy$n" ls-files --error-unmatch "$f" >/dev/null 2>&1 || fail "copy $n's repository does not track $f"
+  done
+done
 grep -q "for \*\*lab 2\*\*" "$WORK/copy2/README.md" || fail "copy 2's README is not the students' one"
 
 # 2. Witnesses: the leak check finds a solution line planted in a handout, and a
