@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "base/fatal_signals.h"
 
 namespace kit {
 
@@ -73,17 +74,11 @@ namespace {
 // else is safe there): fixed buffers filled before any crash can happen.
 char g_crash_tool[64] = "kit";
 char g_crash_gl[512] = "before any OpenGL context was created";
-char g_alternate_stack[64 * 1024];
 
 void copy_into(char* buffer, size_t size, const std::string& text) {
   const size_t n = std::min(size - 1, text.size());
   std::memcpy(buffer, text.data(), n);
   buffer[n] = '\0';
-}
-
-void write_text(const char* text) {
-  ssize_t ignored = write(STDERR_FILENO, text, std::strlen(text));
-  (void)ignored;
 }
 
 const char* signal_word(int sig) {
@@ -98,12 +93,12 @@ const char* signal_word(int sig) {
 }
 
 void on_crash(int sig) {
-  write_text(g_crash_tool);
-  write_text(": crashed (");
-  write_text(signal_word(sig));
-  write_text(") ");
-  write_text(g_crash_gl);
-  write_text(". A crash there is most likely in the OpenGL implementation, not in your shaders: try "
+  write_stderr(g_crash_tool);
+  write_stderr(": crashed (");
+  write_stderr(signal_word(sig));
+  write_stderr(") ");
+  write_stderr(g_crash_gl);
+  write_stderr(". A crash there is most likely in the OpenGL implementation, not in your shaders: try "
              "another backend (--backend egl or osmesa) or driver (unset GALLIUM_DRIVER), and see "
              "docs/troubleshooting.md.\n");
   raise(sig);  // SA_RESETHAND restored the default action: the program ends as it would have
@@ -122,15 +117,7 @@ std::string forced_driver() {
 
 void name_gl_crashes(const char* tool) {
   copy_into(g_crash_tool, sizeof g_crash_tool, tool);
-  stack_t stack{};
-  stack.ss_sp = g_alternate_stack;
-  stack.ss_size = sizeof g_alternate_stack;
-  sigaltstack(&stack, nullptr);
-  struct sigaction action {};
-  action.sa_handler = on_crash;
-  action.sa_flags = SA_RESETHAND | SA_ONSTACK;
-  sigemptyset(&action.sa_mask);
-  for (int sig : {SIGSEGV, SIGBUS, SIGILL, SIGFPE, SIGABRT}) sigaction(sig, &action, nullptr);
+  on_fatal_signals(on_crash);
 }
 
 void note_gl_in_use(const std::string& what) { copy_into(g_crash_gl, sizeof g_crash_gl, what); }

@@ -9,16 +9,8 @@
 # a low score exits 0 and a broken set-up does not.
 #
 # usage: instructor/tests/classroom50_test.sh PATH/TO/kit-grade
-set -euo pipefail
-
-GRADER="$(realpath "${1:?usage: classroom50_test.sh PATH/TO/kit-grade}")"
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-PY=/usr/bin/python3
-TMP="$(mktemp -d)"
-trap 'rm -rf "$TMP"' EXIT
-failures=0
-fail() { printf 'FAIL: %s\n' "$*"; failures=$((failures + 1)); }
-pass() { printf 'ok: %s\n' "$*"; }
+# shellcheck source=support/platform_test.sh
+source "$(dirname "${BASH_SOURCE[0]}")/support/platform_test.sh"
 
 KIT_GRADE_BIN="$GRADER" "$ROOT/instructor/classroom50/package.sh" "$TMP/c50" --labs 2 >/dev/null 2>"$TMP/package.log" || { cat "$TMP/package.log"; exit 1; }
 BUNDLE="$TMP/c50/autograders/lab02-lighting"
@@ -121,5 +113,4 @@ else
   pass "a broken set-up (no kit-grade) exits non-zero: $(grep -m1 '::error::' "$TMP/broken.log" || true)"
 fi
 
-if [ "$failures" -gt 0 ]; then echo "classroom50: $failures check(s) failed"; exit 1; fi
-echo "classroom50: every check passed"
+finish

@@ -7,16 +7,8 @@
 # is checked against Gradescope's schema.
 #
 # usage: instructor/tests/gradescope_test.sh PATH/TO/kit-grade
-set -euo pipefail
-
-GRADER="$(realpath "${1:?usage: gradescope_test.sh PATH/TO/kit-grade}")"
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-PY=/usr/bin/python3
-TMP="$(mktemp -d)"
-trap 'rm -rf "$TMP"' EXIT
-failures=0
-fail() { printf 'FAIL: %s\n' "$*"; failures=$((failures + 1)); }
-pass() { printf 'ok: %s\n' "$*"; }
+# shellcheck source=support/platform_test.sh
+source "$(dirname "${BASH_SOURCE[0]}")/support/platform_test.sh"
 
 # --- the package ---------------------------------------------------------
 "$ROOT/instructor/gradescope/package.sh" --out "$TMP/autograder.zip" >/dev/null 2>"$TMP/package.log" || { cat "$TMP/package.log"; exit 1; }
@@ -215,8 +207,4 @@ else
   fail "setup.sh failed (log below)"; sed 's/^/    /' "$TMP/setup.log" | tail -20
 fi
 
-if [ "$failures" -gt 0 ]; then
-  echo "gradescope: $failures check(s) failed"
-  exit 1
-fi
-echo "gradescope: every check passed"
+finish

@@ -7,13 +7,8 @@
 # points must agree.
 #
 # usage: instructor/tests/platforms_test.sh PATH/TO/kit-grade
-set -euo pipefail
-
-GRADER="$(realpath "${1:?usage: platforms_test.sh PATH/TO/kit-grade}")"
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-PY=/usr/bin/python3
-TMP="$(mktemp -d)"
-trap 'rm -rf "$TMP"' EXIT
+# shellcheck source=support/platform_test.sh
+source "$(dirname "${BASH_SOURCE[0]}")/support/platform_test.sh"
 LABS=(1 2 3)
 
 SUB="$TMP/submission"
@@ -80,4 +75,4 @@ print(f"ok: {len(gradescope)} checks of labs {', '.join(labs)}: the same pass/fa
       f"PrairieLearn and Classroom 50 ({passed} passed); shares " +
       ", ".join(f"lab {n} {a:.3f}" for n, (a, b) in shares.items()))
 PY
-echo "platforms: every check passed"
+finish

@@ -7,16 +7,8 @@
 # checked: valid JSON, under 1 MB, PrairieLearn's fields, images for every failed check.
 #
 # usage: instructor/tests/prairielearn_test.sh PATH/TO/kit-grade
-set -euo pipefail
-
-GRADER="$(realpath "${1:?usage: prairielearn_test.sh PATH/TO/kit-grade}")"
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
-PY=/usr/bin/python3
-TMP="$(mktemp -d)"
-trap 'rm -rf "$TMP"' EXIT
-failures=0
-fail() { printf 'FAIL: %s\n' "$*"; failures=$((failures + 1)); }
-pass() { printf 'ok: %s\n' "$*"; }
+# shellcheck source=support/platform_test.sh
+source "$(dirname "${BASH_SOURCE[0]}")/support/platform_test.sh"
 
 # --- the package -----------------------------------------------------------------------
 PL="$TMP/course"
@@ -173,5 +165,4 @@ assert "left out" in r["output"], r["output"][-300:]
 assert any(t.get("images") for t in r["tests"]), "no image at all fitted"
 PY
 
-if [ "$failures" -gt 0 ]; then echo "prairielearn: $failures check(s) failed"; exit 1; fi
-echo "prairielearn: every check passed"
+finish

@@ -19,6 +19,7 @@
 #include <utility>
 
 #include "base/error.h"
+#include "base/fatal_signals.h"
 
 namespace fs = std::filesystem;
 
@@ -45,14 +46,8 @@ constexpr long kMemoryMarginMinKib = 32 * 1024;
 
 // What a forked child's fatal-signal handler needs, set before the body runs.
 rlim_t g_child_memory_limit_mib = 0;  // 0: no address-space limit applies
-alignas(16) char g_alternate_stack[64 * 1024];
 
-// Async-signal-safe output: decimal numbers and text to stderr.
-void write_text(const char* text) {
-  ssize_t ignored = write(STDERR_FILENO, text, std::strlen(text));
-  (void)ignored;
-}
-
+// Async-signal-safe output: decimal numbers to stderr (text: write_stderr).
 void write_number(long value) {
   char digits[24];
   int n = 0;
@@ -64,7 +59,7 @@ void write_number(long value) {
   char out[24];
   for (int i = 0; i < n; ++i) out[i] = digits[n - 1 - i];
   out[n] = '\0';
-  write_text(out);
+  write_stderr(out);
 }
 
 // In a forked child, at a fatal signal: out of memory when the address space had
@@ -73,29 +68,19 @@ void write_number(long value) {
 void on_fatal_signal(int sig) {
   long peak = peak_address_space_kib();
   if (reached_memory_limit(peak, g_child_memory_limit_mib)) {
-    write_text("kit-grade: child: out of memory: signal ");
+    write_stderr("kit-grade: child: out of memory: signal ");
     write_number(sig);
-    write_text(" with its peak address space at ");
+    write_stderr(" with its peak address space at ");
     write_number(peak / 1024);
-    write_text(" MiB of the ");
+    write_stderr(" MiB of the ");
     write_number(static_cast<long>(g_child_memory_limit_mib));
-    write_text(" MiB limit\n");
+    write_stderr(" MiB limit\n");
     _exit(kOutOfMemoryExit);
   }
   raise(sig);  // SA_RESETHAND restored the default action: it ends the child on return
 }
 
-void catch_fatal_signals() {
-  stack_t stack{};
-  stack.ss_sp = g_alternate_stack;
-  stack.ss_size = sizeof g_alternate_stack;
-  sigaltstack(&stack, nullptr);
-  struct sigaction action {};
-  action.sa_handler = on_fatal_signal;
-  action.sa_flags = SA_RESETHAND | SA_ONSTACK;
-  sigemptyset(&action.sa_mask);
-  for (int sig : {SIGSEGV, SIGBUS, SIGABRT, SIGILL}) sigaction(sig, &action, nullptr);
-}
+void catch_fatal_signals() { on_fatal_signals(on_fatal_signal); }
 
 // How many more processes the child's user may have: its count now plus the
 // allowance. 0 when RLIMIT_NPROC does not apply (root) or is not wanted.
