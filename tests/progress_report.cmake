@@ -1,7 +1,8 @@
 # ./kit progress-report end to end (tests/progress_report_test.py): the PDF of the
 # starters' labs 1-2 with a notes file (pages, images on a lab page, the notes'
 # text), a lab that does not compile, no references and no notes (a student
-# copy), an unwritable output. Uses poppler-utils (pdfinfo, pdftoppm, pdftotext)
+# copy), an unwritable output, and no words over words on any page (also in a
+# report of every lab with its solution). Uses poppler-utils (pdfinfo, pdftoppm, pdftotext)
 # and Debian's python3 with matplotlib. Included from tests/CMakeLists.txt.
 if(TARGET kit-grade AND TARGET kit-render)
   find_program(KIT_REPORT_PYTHON NAMES python3 PATHS /usr/bin NO_DEFAULT_PATH)
@@ -12,7 +13,7 @@ if(TARGET kit-grade AND TARGET kit-render)
   set_tests_properties(progress_report PROPERTIES LABELS slow
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
     TIMEOUT 300
-    # It takes about 15 s: started first, as kit_test's SLOW suites are.
+    # It takes about 20 s: started first, as kit_test's SLOW suites are.
     COST 100
     FIXTURES_REQUIRED kit_grade_seed)
 endif()

@@ -2,15 +2,23 @@
 """./kit progress-report end to end (tests/progress_report.cmake).
 
 Uses only what a student copy has: the starters in labs/ of the labs this kit
-can assemble (labs 1 and 2 in the instructor's kit; a student copy's own lab).
+can assemble (labs 1 and 2 in the instructor's kit; a student copy's own lab),
+and for 6. the solutions/ it holds.
   1. those labs with a notes file: the PDF has a title, a page per lab and notes,
      page 2 shows images, the notes and the grades are in its text;
   2. a lab that does not compile: still a page, with the grader's message;
   3. no references (as in a student copy) and no notes file: a template is
      written and the PDF still comes out, with the student's render;
-  4. an unwritable output: a clear error, exit status 1.
+  4. an unwritable output: a clear error, exit status 1;
+  5. no kit-grade: a clear error.
+  6. No words drawn over words (pdftotext -bbox-layout's boxes): on every page of
+     the PDFs above (the starters' checks fail) and of a report of every lab this
+     kit can grade, with the solutions it has (passing checks, every lab's titles);
+     and the checker itself finds the column headers of the old layout, which ran
+     into each other.
 Run: progress_report_test.py KIT_GRADE KIT_RENDER WORK_DIR
 """
+import html
 import json
 import os
 import re
@@ -81,11 +89,63 @@ def pdf_text(path, page=None):
     return subprocess.run(args, capture_output=True, text=True, check=True).stdout
 
 
+WORD = re.compile(r'<word xMin="([-\d.]+)" yMin="([-\d.]+)" xMax="([-\d.]+)" yMax="([-\d.]+)">(.*?)</word>', re.S)
+
+
+def pdf_word_boxes(path):
+    """[[(xMin, yMin, xMax, yMax, word), ...] per page] from pdftotext -bbox-layout (points, from the top)."""
+    run = subprocess.run([tool("pdftotext"), "-bbox-layout", path, "-"], capture_output=True, text=True, check=True)
+    pages = run.stdout.split("<page ")[1:]
+    return [[(float(a), float(b), float(c), float(d), html.unescape(w)) for a, b, c, d, w in WORD.findall(p)]
+            for p in pages]
+
+
+def word_overlaps(path, epsilon=0.5):
+    """Words drawn over other words: [(page, word, other word)], pages counted from 1. Two boxes
+    overlap when they share more than epsilon points in both directions; a word drawn twice in
+    the same place (fake bold, a shadow) is not text over text and is left out."""
+    found = []
+    for number, words in enumerate(pdf_word_boxes(path), 1):
+        words.sort(key=lambda w: w[1])
+        for i, a in enumerate(words):
+            for b in words[i + 1:]:
+                if b[1] >= a[3] - epsilon:
+                    break  # sorted by yMin: no later word reaches up into a
+                if min(a[2], b[2]) - max(a[0], b[0]) <= epsilon or min(a[3], b[3]) - max(a[1], b[1]) <= epsilon:
+                    continue
+                if a[4] == b[4] and all(abs(p - q) <= epsilon for p, q in zip(a[:4], b[:4])):
+                    continue
+                found.append((number, a[4], b[4]))
+    return found
+
+
 def page_png(path, page, out_prefix):
     subprocess.run([tool("pdftoppm"), "-f", str(page), "-l", str(page), "-r", "60", "-png", "-singlefile",
                     path, out_prefix], check=True)
     import matplotlib.image as mpimg  # numpy arrays, from Debian's python3-matplotlib
     return mpimg.imread(out_prefix + ".png")
+
+
+def overlap_witness(path):
+    """A PDF of two pages drawn with the report's own Pdf class: page 1 the lab page's column
+    headers fitted to 0.56 in columns (lab 1's) and a word drawn twice in one place; page 2 the
+    headers as the old layout drew them, 8 pt on one line each, running into each other."""
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("progress_report", SCRIPT)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    pdf = module.Pdf(path)
+    heads = ("your render", "reference", "difference x16")
+    pdf.new_page()
+    size = min(pdf.fitted(h, 0.56, 8, "bold")[1] for h in heads)
+    for i, head in enumerate(heads):
+        pdf.wrapped(5.0 + i * 0.66, 2.0, 0.56, head, size=size, style="bold", line=1.25)
+    pdf.text(1.0, 3.0, "twice", size=9)
+    pdf.text(1.0, 3.0, "twice", size=9)
+    pdf.new_page()
+    for i, head in enumerate(heads):
+        pdf.text(5.0 + i * 0.66, 2.0, head, size=8, style="bold")
+    pdf.close()
 
 
 def image_area_stats(pixels):
@@ -156,6 +216,25 @@ def main():
         lab_page = pdf_text(out, 2) if os.path.exists(out) else ""
         check("compile error" in lab_page and broken_file in lab_page and "syntax error" in lab_page,
               "compile error: the lab page holds the grader's message")
+
+        for name in ("report.pdf", "broken.pdf"):
+            overlaps = word_overlaps(os.path.join(work, name)) if os.path.exists(os.path.join(work, name)) else ["none"]
+            check(not overlaps, f"{name}: no words over words: {overlaps[:5]}")
+
+        # 6. Every lab this kit can grade, each with its solution where the kit has it
+        # (a student copy has those of the labs before its own), else its starter.
+        every = os.path.join(work, "every-lab")
+        for n, folder in gradable_labs():
+            source = os.path.join(ROOT, "solutions", folder)
+            shutil.copytree(source if os.path.isdir(source) else os.path.join(ROOT, "labs", folder),
+                            os.path.join(every, folder))
+        out = os.path.join(work, "every-lab.pdf")
+        run = report(kit_grade, kit_render, "--labs-dir", every, "--notes", notes, "--out", out)
+        check(run.returncode == 0, "every lab: exit status 0")
+        pages = 2 + len(gradable_labs())
+        check(os.path.exists(out) and pdf_pages(out) == pages, f"every lab: {pages} pages (title, a page per lab, notes)")
+        overlaps = word_overlaps(out) if os.path.exists(out) else ["none"]
+        check(not overlaps, f"every lab: no words over words: {overlaps[:5]}")
     else:
         print("tools/grade/references/ is missing (a student copy): the graded runs are skipped")
 
@@ -172,6 +251,8 @@ def main():
     text = pdf_text(out) if os.path.exists(out) else ""
     check("Not graded here" in text and "references" in text, "no references: the lab page says why it is not graded")
     check("Progress notes" in text, "no notes: the PDF holds the template")
+    overlaps = word_overlaps(out) if os.path.exists(out) else ["none"]
+    check(not overlaps, f"no references: no words over words: {overlaps[:5]}")
 
     # 4. An output that cannot be written.
     blocker = os.path.join(work, "a-file")
@@ -182,6 +263,14 @@ def main():
     run = report(os.path.join(work, "no-kit-grade"), kit_render, "--labs", str(first), "--notes", notes,
                  "--out", os.path.join(work, "x.pdf"))
     check(run.returncode == 1 and "kit-grade is not built" in run.stderr, "no kit-grade: exit 1 naming it")
+
+    # The checker sees text over text: the old layout's column headers, and nothing on the page
+    # that fits them to their columns.
+    witness = os.path.join(work, "overlap-witness.pdf")
+    overlap_witness(witness)
+    overlaps = word_overlaps(witness)
+    check(bool(overlaps) and all(page == 2 for page, _, _ in overlaps) and (2, "render", "reference") in overlaps,
+          f"witness: the old headers overlap on page 2 ('render' over 'reference'), page 1 has none: {overlaps}")
 
     if failures:
         print(f"{len(failures)} check(s) failed")

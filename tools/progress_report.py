@@ -321,6 +321,8 @@ class Pdf:
         from matplotlib.backends.backend_pdf import PdfPages
         from matplotlib.font_manager import FontProperties
         from matplotlib.textpath import TextToPath
+        from matplotlib.transforms import Bbox, TransformedBbox
+        self.Bbox, self.TransformedBbox = Bbox, TransformedBbox
         import matplotlib.pyplot as plt
         self.plt = plt
         self.pages = PdfPages(path)
@@ -328,6 +330,7 @@ class Pdf:
         self.FontProperties = FontProperties
         self.figure = None
         self.count = 0
+        self.widths = {}
 
     def new_page(self):
         self.end_page()
@@ -354,8 +357,53 @@ class Pdf:
     def width(self, text, style="normal", size=10):
         if not text:
             return 0.0
-        w, _, _ = self.measure.get_text_width_height_descent(text, self.font(style, size), ismath=False)
-        return w / 72.0
+        key = (text, style, size)
+        if key not in self.widths:  # a page measures the same words many times
+            w, _, _ = self.measure.get_text_width_height_descent(text, self.font(style, size), ismath=False)
+            self.widths[key] = w / 72.0
+        return self.widths[key]
+
+    @staticmethod
+    def line_height(size, line=1.35):
+        """Inches from one line's top to the next's. DejaVu's glyph box (ascent + descent)
+        is 1.17 em: line spacing below about 1.2 lays lines over each other."""
+        return size * line / 72.0
+
+    def lines(self, text, width, size=9, style="normal"):
+        """text (newlines kept) broken into lines no wider than width inches, measured:
+        at spaces, and inside a word only where the word alone is wider than the line."""
+        out = []
+        for paragraph in text.split("\n"):
+            current = ""
+            for word in paragraph.split():
+                candidate = current + " " + word if current else word
+                if self.width(candidate, style, size) <= width:
+                    current = candidate
+                    continue
+                if current:
+                    out.append(current)
+                while self.width(word, style, size) > width and len(word) > 1:
+                    low, high = 1, len(word) - 1  # the longest head that fits: a binary search
+                    while low < high:
+                        mid = (low + high + 1) // 2
+                        low, high = (mid, high) if self.width(word[:mid], style, size) <= width else (low, mid - 1)
+                    cut = low
+                    out.append(word[:cut])
+                    word = word[cut:]
+                current = word
+            out.append(current)
+        return out
+
+    def fitted(self, text, width, size, style="normal", max_lines=2, smallest=5.5):
+        """(lines, size): text in at most max_lines lines of width inches, without breaking a
+        word, at the largest size from size down to smallest (then broken wherever it must)."""
+        s = size
+        while True:
+            lines = self.lines(text, width, s, style)
+            whole = all(self.width(w, style, s) <= width for w in text.split())
+            if (len(lines) <= max_lines and whole) or s <= smallest:
+                return lines, s
+            s = max(smallest, s - 0.5)
 
     def text(self, x, y_top, text, size=10, style="normal", color="#222", ha="left", va="top", **kw):
         """Text at x inches from the left, y_top inches from the top."""
@@ -363,21 +411,33 @@ class Pdf:
                          ha=ha, va=va, parse_math=False, **kw)
 
     def image(self, path, x, y_top, w, h, title=None, border="#999"):
+        """An image fitted into the box, centred, with a thin border. Drawn as a BboxImage and a
+        rectangle, not an Axes: an Axes (ticks, spines) costs about ten times as much, and a
+        report of every lab has 160 images."""
         import matplotlib.image as mpimg
-        ax = self.figure.add_axes([x / A4[0], (A4[1] - y_top - h) / A4[1], w / A4[0], h / A4[1]])
-        ax.set_xticks([])
-        ax.set_yticks([])
-        for spine in ax.spines.values():
-            spine.set_edgecolor(border)
-        if path and os.path.exists(path):
-            # "equal": lab 6's maps (2:1, square, 256x252) keep their shape inside the 4:3 box.
-            ax.imshow(mpimg.imread(path), interpolation="nearest", aspect="equal")
+        from matplotlib.patches import Rectangle
+        pixels = mpimg.imread(path) if path and os.path.exists(path) else None
+        if pixels is not None:
+            # Lab 6's maps (2:1, square, 256x252) keep their shape inside the 4:3 box.
+            scale = min(w / pixels.shape[1], h / pixels.shape[0])
+            dw, dh = pixels.shape[1] * scale, pixels.shape[0] * scale
+            bx, by = x + (w - dw) / 2, y_top + (h - dh) / 2
         else:
-            ax.set_facecolor("#eee")
-            ax.text(0.5, 0.5, "no image", ha="center", va="center", fontsize=7, color="#777",
-                    transform=ax.transAxes, parse_math=False)
+            bx, by, dw, dh = x, y_top, w, h
+        bounds = (bx / A4[0], (A4[1] - by - dh) / A4[1], dw / A4[0], dh / A4[1])
+        if pixels is not None:
+            image = mpimg.BboxImage(self.TransformedBbox(self.Bbox.from_bounds(*bounds), self.figure.transFigure),
+                                    interpolation="nearest", origin="upper")
+            image.set_data(pixels)
+            self.figure.add_artist(image)
+        else:
+            self.text(x + w / 2, y_top + h / 2, "no image", size=7, color="#777", ha="center", va="center")
+        self.figure.patches.append(Rectangle(bounds[:2], bounds[2], bounds[3], transform=self.figure.transFigure,
+                                             facecolor="none" if pixels is not None else "#eee", edgecolor=border,
+                                             linewidth=0.8, zorder=2 if pixels is not None else 0))
         if title:
-            self.text(x, y_top + h + 0.01, title, size=7, color="#555")
+            lines, size = self.fitted(title, w, 7, max_lines=1)
+            self.text(x, y_top + h + 0.01, " ".join(lines), size=size, color="#555")
 
     def box(self, x, y_top, w, h, color):
         from matplotlib.patches import Rectangle
@@ -385,16 +445,14 @@ class Pdf:
                                              transform=self.figure.transFigure, facecolor=color, edgecolor="none"))
 
     def wrapped(self, x, y, width, text, size=9, style="normal", color="#222", line=1.35, max_lines=None):
-        """Plain text wrapped to width inches; returns the y below it."""
-        chars = max(10, int(width / (self.width("n" * 20, style, size) / 20)))
-        lines = []
-        for paragraph in text.split("\n"):
-            lines += textwrap.wrap(paragraph, chars, break_long_words=True, replace_whitespace=False) or [""]
+        """Plain text wrapped to width inches (measured); returns the y below it. Beyond
+        max_lines the last line says how many more there were."""
+        lines = self.lines(text, width, size, style)
         if max_lines and len(lines) > max_lines:
             lines = lines[:max_lines - 1] + [f"[... {len(lines) - max_lines + 1} more lines]"]
         for l in lines:
             self.text(x, y, l, size=size, style=style, color=color)
-            y += size * line / 72.0
+            y += self.line_height(size, line)
         return y
 
 
@@ -419,8 +477,10 @@ def title_page(pdf, info, labs, summary, timings, problem):
             ("Total score", f"{format_score(total)} / {format_score(max_total)}" if summary else "not graded (see below)")]
     for key, value in rows:
         pdf.text(x, y, key, size=11, color="#555")
-        pdf.text(x + 1.6, y, value, size=11, style="bold" if key == "Total score" else "normal")
-        y += 0.32
+        # A long name or version wraps in its column.
+        below = pdf.wrapped(x + 1.6, y, A4[0] - MARGIN - x - 1.6, value, size=11, line=1.3,
+                            style="bold" if key == "Total score" else "normal")
+        y = max(y + 0.32, below + 0.12)
     y += 0.3
     pdf.text(x, y, "Labs", size=14, style="bold")
     y += 0.35
@@ -440,7 +500,8 @@ def title_page(pdf, info, labs, summary, timings, problem):
         else:
             pdf.text(columns[1], y, "not graded", size=10, color="#777")
             result = ""
-        pdf.text(columns[2], y, result, size=10)
+        lines, size = pdf.fitted(result, columns[3] - columns[2] - 0.1, 10, max_lines=1)
+        pdf.text(columns[2], y, " ".join(lines), size=size)
         pdf.text(columns[3], y, format_ms(t["median_ms"]) if "median_ms" in t else "not measured", size=10,
                  color="#222" if "median_ms" in t else "#777")
         y += 0.27
@@ -468,7 +529,8 @@ def title_page(pdf, info, labs, summary, timings, problem):
     y = pdf.wrapped(x, y, width, timing, size=9) + 0.12
     if summary and (summary.get("problem") or summary.get("notes")):
         text = "Grader: " + " ".join([summary.get("problem", "")] + summary.get("notes", [])).strip()
-        pdf.wrapped(x, y, width, text, size=9, color="#c62828")
+        pdf.wrapped(x, y, width, text, size=9, color="#c62828",
+                    max_lines=max(1, int((A4[1] - MARGIN - y) / pdf.line_height(9))))
 
 
 def ordered_checks(lab, entry, results):
@@ -481,19 +543,87 @@ def ordered_checks(lab, entry, results):
 
 def lab_header(pdf, lab, line, color, timing):
     x = MARGIN
-    pdf.text(x, 0.75, f"Lab {lab}: {STAGES[lab]}", size=18, style="bold")
-    pdf.text(A4[0] - MARGIN, 0.78, line, size=13, style="bold", color=color, ha="right")
+    title = f"Lab {lab}: {STAGES[lab]}"
+    pdf.text(x, 0.75, title, size=18, style="bold")
     y = 1.2
+    if x + pdf.width(title, "bold", 18) + 0.3 + pdf.width(line, "bold", 13) <= A4[0] - MARGIN:
+        pdf.text(A4[0] - MARGIN, 0.78, line, size=13, style="bold", color=color, ha="right")
+    else:  # a long verdict would run into the title: it gets a line of its own
+        pdf.text(A4[0] - MARGIN, 1.1, line, size=13, style="bold", color=color, ha="right")
+        y = 1.5
     if "median_ms" in timing:
         frames = ", ".join("%.1f" % t for t in timing["frames_ms"])
-        pdf.text(x, y, f"Frame time: {format_ms(timing['median_ms'])}", size=10, style="bold")
-        y = pdf.wrapped(x + 1.75, y, A4[0] - 2 * MARGIN - 1.75,
+        label = f"Frame time: {format_ms(timing['median_ms'])}"
+        pdf.text(x, y, label, size=10, style="bold")
+        indent = max(1.75, pdf.width(label, "bold", 10) + 0.15)
+        y = pdf.wrapped(x + indent, y, A4[0] - 2 * MARGIN - indent,
                         f"median of {len(timing['frames_ms'])} frames ({frames} ms) after one warm-up frame; "
                         f"default scene, {TIMING_SIZE}; {timing['command']}", size=7.5, color="#555")
     else:
         y = pdf.wrapped(x, y, A4[0] - 2 * MARGIN, "Frame time: not measured: " + timing.get("error", "the lab did not render"),
                         size=9, color="#777", max_lines=3)
     return y + 0.15
+
+
+# The lab pages' check rows (inches, points): a title in bold, the verdict line, the numbers.
+TITLE_SIZE, TITLE_LINE = 8.5, 1.25
+VERDICT_GAP, VERDICT_H = 0.02, 0.17  # the verdict line starts VERDICT_GAP below the title; the numbers VERDICT_H below it
+NUMBERS_SIZE, NUMBERS_LINE = 6.5, 1.35
+PAGE_BOTTOM = A4[1] - MARGIN - 0.1
+ROW_MAX, ROW_MIN = 1.42, 0.55
+IMAGE_GAP = 0.1
+
+
+def continued_page(pdf, lab):
+    """A lab page's continuation: a small header; returns the y to go on at."""
+    pdf.new_page()
+    pdf.text(MARGIN, 0.75, f"Lab {lab}: {STAGES[lab]} (continued)", size=12, style="bold")
+    return 1.15
+
+
+def check_layout(pdf, checks, top):
+    """Sizes a lab's check rows to share the page below top: the column headers, then a row per
+    check, as tall as the images (the same for every row: up to ROW_MAX, less when a lab has many
+    checks; lab 1 has 15) or as its text needs at least (its title, however many lines it wraps
+    to, the verdict and two lines of numbers), whichever is more. The text column has the width
+    the images leave. Returns (img_w, text_w, column heads [(lines, size)], the heads' height,
+    [(title lines, row height)]); the rows may not fit when the text alone is too tall."""
+    title_lh = pdf.line_height(TITLE_SIZE, TITLE_LINE)
+    numbers_lh = pdf.line_height(NUMBERS_SIZE, NUMBERS_LINE)
+
+    def layout(row_h):
+        img_w = min((row_h - 0.18) * 4 / 3, (A4[0] - 2 * MARGIN - 2.35 - 2 * IMAGE_GAP) / 3)  # text column >= 2.3 in
+        text_w = A4[0] - 2 * MARGIN - 3 * img_w - 2 * IMAGE_GAP - 0.05
+        names = ("your render", "reference", "difference x16")
+        size = min(pdf.fitted(h, img_w, 8, "bold")[1] for h in names)  # one size for the three
+        heads = [(pdf.lines(h, img_w, size, "bold"), size) for h in names]
+        head_h = max(len(lines) * pdf.line_height(size, 1.25) for lines, size in heads) + 0.07
+        rows = []
+        for key, c in checks:
+            title = pdf.lines(c.get("title", key), text_w - 0.12, TITLE_SIZE, "bold")
+            text_h = len(title) * title_lh + VERDICT_GAP + VERDICT_H + 2 * numbers_lh
+            rows.append((title, max(row_h, text_h)))
+        return img_w, text_w, heads, head_h, rows
+
+    def height(l):
+        return l[3] + sum(h for _, h in l[4])
+
+    # The tallest rows that fit (the text column narrows as the images grow, so a bisection),
+    # down to ROW_MIN: below that the images would be too small to see, and rows go on a new page.
+    low, high = ROW_MIN, ROW_MAX
+    if height(layout(high)) <= PAGE_BOTTOM - top:
+        return layout(high)
+    for _ in range(20):
+        mid = (low + high) / 2
+        low, high = (mid, high) if height(layout(mid)) <= PAGE_BOTTOM - top else (low, mid)
+    return layout(low)
+
+
+def column_heads(pdf, y, columns, heads, head_h):
+    for cx, (lines, size) in zip(columns, heads):
+        for i, l in enumerate(lines):
+            pdf.text(cx, y + i * pdf.line_height(size, 1.25), l, size=size, style="bold", color="#555")
+    return y + head_h
 
 
 def lab_page(pdf, lab, entry, results, grade_dir, timing):
@@ -507,61 +637,74 @@ def lab_page(pdf, lab, entry, results, grade_dir, timing):
     y = lab_header(pdf, lab, line, verdict_color(entry["score"] >= entry["max_score"] - 1e-9), timing)
     checks = ordered_checks(lab, entry, results)
     x = MARGIN
-    text_w = 2.25
     if not graded:
         pdf.text(x, y, "The grader's message", size=11, style="bold", color="#c62828")
         y += 0.25
         y = pdf.wrapped(x, y, A4[0] - 2 * MARGIN, entry.get("message") or "(no message)", size=7.5, style="code",
                         max_lines=45) + 0.25
+        if y + 0.55 > PAGE_BOTTOM:
+            y = continued_page(pdf, lab)
         pdf.text(x, y, "Checks (none rendered)", size=11, style="bold")
         y += 0.3
         for key, c in checks:
-            pdf.text(x, y, c.get("title", key), size=9)
+            title = pdf.lines(c.get("title", key), 3.35, 9)
+            if y + len(title) * pdf.line_height(9) > PAGE_BOTTOM:
+                y = continued_page(pdf, lab)
             pdf.text(x + 3.5, y, "not graded", size=9, color="#c62828")
             pdf.text(x + 5.0, y, f"{format_score(c['score'])} / {format_score(c['max_score'])}", size=9)
-            y += 0.22
+            y = pdf.wrapped(x, y, 3.35, c.get("title", key), size=9) + 0.22 - pdf.line_height(9)
         return
-    # Rows share the page below the header: up to 1.42 in each, less when a lab has more checks (lab 1 has 12).
-    row_h = min(1.42, (A4[1] - MARGIN - 0.25 - y) / max(1, len(checks)))
-    gap = 0.1
-    img_w = min((row_h - 0.18) * 4 / 3, (A4[0] - 2 * MARGIN - 2.35 - 2 * gap) / 3)  # text column >= 2.3 in
+    img_w, text_w, heads, head_h, rows = check_layout(pdf, checks, y)
     img_h = img_w * 3 / 4
-    text_w = A4[0] - 2 * MARGIN - 3 * img_w - 2 * gap - 0.05
-    numbers_lines = max(2, int((row_h - 0.4) / (6.5 * 1.35 / 72)))
-    columns = [x + text_w + i * (img_w + gap) for i in range(3)]
-    for cx, head in zip(columns, ["your render", "reference", "difference x16"]):
-        pdf.text(cx, y, head, size=8, style="bold", color="#555")
-    y += 0.2
-    for key, c in checks:
+    columns = [x + text_w + i * (img_w + IMAGE_GAP) for i in range(3)]
+    numbers_lh = pdf.line_height(NUMBERS_SIZE, NUMBERS_LINE)
+    y = column_heads(pdf, y, columns, heads, head_h)
+    for (key, c), (title, row_h) in zip(checks, rows):
         passed = c["passed"]
-        pdf.box(x - 0.08, y, 0.04, img_h, verdict_color(passed))
-        below = pdf.wrapped(x, y, text_w - 0.12, c.get("title", key), size=8.5, style="bold", line=1.25, max_lines=3)
-        pdf.text(x, below + 0.02, ("passed" if passed else "failed") +
-                 f"   {format_score(c['score'])} / {format_score(c['max_score'])}",
-                 size=8.5, style="bold", color=verdict_color(passed))
+        below = y + len(title) * pdf.line_height(TITLE_SIZE, TITLE_LINE)
+        numbers_top = below + VERDICT_GAP + VERDICT_H
         words = ((c.get("note") + ". ") if c.get("note") else "") + (c.get("summary") or "")
-        pdf.wrapped(x, below + 0.22, text_w - 0.12, words, size=6.5, color="#444",
-                    max_lines=max(2, numbers_lines - round((below - y - 0.15) / 0.15)))
+        numbers = pdf.lines(words, text_w - 0.12, NUMBERS_SIZE)
+        # The numbers get the lines left in the row (two at least: one and the count of the rest);
+        # a row that needs more than its share is taller, and goes to a new page if it must.
+        room = max(2, int((y + row_h - numbers_top) / numbers_lh + 1e-6))
+        if len(numbers) > room:
+            numbers = numbers[:room - 1] + [f"[... {len(numbers) - room + 1} more lines]"]
+        height = max(row_h, numbers_top - y + len(numbers) * numbers_lh)
+        if y + height > PAGE_BOTTOM + 1e-6:
+            y = column_heads(pdf, continued_page(pdf, lab), columns, heads, head_h)
+            below = y + len(title) * pdf.line_height(TITLE_SIZE, TITLE_LINE)
+            numbers_top = below + VERDICT_GAP + VERDICT_H
+        pdf.box(x - 0.08, y, 0.04, img_h, verdict_color(passed))
+        for i, l in enumerate(title):
+            pdf.text(x, y + i * pdf.line_height(TITLE_SIZE, TITLE_LINE), l, size=TITLE_SIZE, style="bold")
+        pdf.text(x, below + VERDICT_GAP, ("passed" if passed else "failed") +
+                 f"   {format_score(c['score'])} / {format_score(c['max_score'])}",
+                 size=TITLE_SIZE, style="bold", color=verdict_color(passed))
+        for i, l in enumerate(numbers):
+            pdf.text(x, numbers_top + i * numbers_lh, l, size=NUMBERS_SIZE, color="#444")
         # The toggle check compares the effect on with your own render with it off.
         ref_title = "yours, effect off" if key == "custom-on" else None
         for i, (cx, field) in enumerate(zip(columns, ["image", "reference", "diff"])):
             path = os.path.join(grade_dir, c[field]) if c.get(field) else None
             pdf.image(path, cx, y, img_w, img_h, title=ref_title if i == 1 else None)
-        y += row_h
+        y += height
 
 
 def ungraded_lab_page(pdf, lab, timing, problem):
     pdf.new_page()
     y = lab_header(pdf, lab, "not graded", "#777", timing)
     x = MARGIN
-    y = pdf.wrapped(x, y, A4[0] - 2 * MARGIN, "Not graded here: " + problem, size=9, color="#c62828") + 0.2
+    y = pdf.wrapped(x, y, A4[0] - 2 * MARGIN, "Not graded here: " + problem, size=9, color="#c62828",
+                    max_lines=25) + 0.2
     if "image" in timing:
-        w = A4[0] - 2 * MARGIN
+        w = min(A4[0] - 2 * MARGIN, (A4[1] - MARGIN - y - 0.2) * 4 / 3)  # a long message leaves less room
         pdf.text(x, y, f"Your render: default scene, {TIMING_SIZE} (kit-render)", size=9, style="bold")
         pdf.image(timing["image"], x, y + 0.2, w, w * 3 / 4)
     elif "error" in timing:
         pdf.text(x, y, "kit-render's message", size=11, style="bold", color="#c62828")
-        pdf.wrapped(x, y + 0.25, A4[0] - 2 * MARGIN, timing["error"], size=7.5, style="code", max_lines=50)
+        pdf.wrapped(x, y + 0.25, A4[0] - 2 * MARGIN, timing["error"], size=7.5, style="code",
+                    max_lines=max(1, min(50, int((A4[1] - MARGIN - y - 0.25) / pdf.line_height(7.5)))))
 
 
 def notes_pages(pdf, notes_text, notes_path):
@@ -572,7 +715,8 @@ def notes_pages(pdf, notes_text, notes_path):
     def page():
         pdf.new_page()
         pdf.text(left, 0.55, "Notes", size=9, color="#888")
-        pdf.text(left + 0.5, 0.55, os.path.basename(notes_path), size=9, color="#888", style="code")
+        pdf.text(left + max(0.5, pdf.width("Notes", "normal", 9) + 0.1), 0.55, os.path.basename(notes_path), size=9,
+                 color="#888", style="code")
         state["y"] = top
 
     def room(height):
