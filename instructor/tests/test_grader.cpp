@@ -691,6 +691,7 @@ TEST(GraderVerdicts, MeasuredImplementationsAndCheckTolerancesComeFromGradingJso
   EXPECT_TRUE(config.measured_on_renderer(
       "egl: llvmpipe (LLVM 19.1.7, 256 bits) / 4.5 (Core Profile) Mesa 25.0.7-2+deb13u1"));
   EXPECT_TRUE(config.measured_on_renderer("osmesa: softpipe / 3.3 (Core Profile) Mesa 22.3.6"));
+  EXPECT_TRUE(config.measured_on_renderer("egl: zink (llvmpipe (LLVM 15.0.6, 256 bits)) / 4.6 (Core Profile) Mesa 22.3.6"));
   EXPECT_FALSE(config.measured_on_renderer("egl: llvmpipe (LLVM 17.0.6, 256 bits) / 4.5 (Core Profile) Mesa 24.2.8"));
   EXPECT_FALSE(config.measured_on_renderer("egl: NVIDIA H100 80GB HBM3/PCIe/SSE2 / 4.6.0 NVIDIA 580.65.06"));
   EXPECT_FALSE(config.measured_on_renderer(""));
