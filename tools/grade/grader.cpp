@@ -306,6 +306,7 @@ void prepare(const Run& run, Entry& e) {
   e.outcome.source = e.source;
   e.outcome.problem = e.prepared->problem;
   e.outcome.notes = e.prepared->notes;
+  e.outcome.gpu = run.options.device == Device::Any;
   e.outcome.content_hash = e.content_hash;
 }
 
@@ -469,19 +470,18 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
       std::ifstream child_report(done.dir / "child.json");
       if (child_report) {
         try {
-          const nlohmann::json child = nlohmann::json::parse(child_report);
-          e.outcome.renderer = child.value("renderer", "");
+          e.outcome.renderer = nlohmann::json::parse(child_report).value("renderer", "");
           e.outcome.references_renderer = run.references_renderer;
           e.outcome.measured_on = run.config.measured_on_text();
           e.outcome.within_measured = run.config.measured_on_renderer(e.outcome.renderer);
-          e.outcome.gpu = run.options.device == Device::Any;
-          const auto renders = lab_renders(done.task.lab);
-          if (child.value("custom_effect_on_own_bloom", false) &&
-              std::any_of(renders.begin(), renders.end(), [](const RenderSpec* r) { return r->isolate_custom; }))
-            e.outcome.notes.push_back("lab " + std::to_string(done.task.lab) + ": " + kOwnBloomNote);
         } catch (const nlohmann::json::exception&) {
         }
       }
+      // A graded lab whose custom effect was rendered on the submission's own bloom.
+      const auto renders = lab_renders(done.task.lab);
+      if (lab.status == kGraded && !custom_effect_isolated(find_stage(done.task.lab)) &&
+          std::any_of(renders.begin(), renders.end(), [](const RenderSpec* r) { return r->isolate_custom; }))
+        e.outcome.notes.push_back("lab " + std::to_string(done.task.lab) + ": " + kOwnBloomNote);
       complete(e, std::move(lab));
     }
   }

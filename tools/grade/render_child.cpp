@@ -35,12 +35,11 @@ void write_text(const fs::path& path, const std::string& text) {
 
 // The library for lab 5's isolated custom effect: the submission's
 // custom_effect.frag in front of the solution's stage 5, so the toggle is
-// graded whatever the submission's bloom does. A kit without that solution (a
-// student copy for lab 5, a Classroom 50 bundle) isolates nothing: the effect is
-// rendered on the submission's own bloom, which a correct lab gets the same marks
-// for (kOwnBloomNote says so in the report).
+// graded whatever the submission's bloom does; where the kit has no such solution
+// (custom_effect_isolated), the submission's own stage, which a correct lab gets the
+// same marks for.
 ShaderLibrary isolated_custom_library(const Stage& stage, const fs::path& lab_root) {
-  if (!fs::is_directory(kit_root() / "solutions" / stage.folder)) return stage_library(stage, lab_root);
+  if (!custom_effect_isolated(stage)) return stage_library(stage, lab_root);
   std::vector<ShaderFolder> folders = stage_library(stage, kit_root() / "solutions").folders();
   ShaderFolder student = stage_library(stage, lab_root).folders().front();
   student.only = {"custom_effect.frag"};
@@ -54,6 +53,8 @@ bool same_frame_settings(const RenderSettings& a, const RenderSettings& b) {
 }
 
 }  // namespace
+
+bool custom_effect_isolated(const Stage& stage) { return fs::is_directory(kit_root() / "solutions" / stage.folder); }
 
 fs::path raw_image_path(const fs::path& dir, const std::string& render_id) { return dir / (render_id + ".raw"); }
 
@@ -95,7 +96,6 @@ int render_lab(const RenderJob& job) {
     return kChildEnvironmentError;
   }
   report["renderer"] = context->describe();
-  report["custom_effect_on_own_bloom"] = !fs::is_directory(kit_root() / "solutions" / stage.folder);
   report["seconds"]["context"] = seconds_since(t0);
 
   // One Renderer per (scene, isolated custom effect), built on first use; stage 6's

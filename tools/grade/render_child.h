@@ -33,6 +33,12 @@ struct RenderJob {
   const std::map<std::string, Scene>* scenes = nullptr;  // loaded by the parent before forking
 };
 
+// Whether lab `stage`'s custom effect is isolated on the kit's own solution of the lab
+// (render_child.cpp, isolated_custom_library): false in a kit without that solution (a
+// student copy for lab 5, a Classroom 50 bundle), where the effect is rendered on the
+// submission's own bloom and the report says so (kOwnBloomNote).
+bool custom_effect_isolated(const Stage& stage);
+
 // Runs in the child; returns its exit status.
 int render_lab(const RenderJob& job);
 
