@@ -88,10 +88,7 @@ def main():
         if not labs.is_dir():
             labs = work / "labs"
             labs.mkdir()
-        command = [str(grader), str(labs), "--labs", str(lab), "--out", str(out),
-                   "--config", str(config), "--references", str(KIT / "tools" / "grade" / "references")]
-        run = subprocess.run(command, env=dict(os.environ, KIT_ROOT=str(KIT)), capture_output=True, text=True)
-        sys.stderr.write(run.stdout + run.stderr)
+        run = platform_results.run_kit_grade(grader, labs, lab, KIT, out)
         if not (out / "summary.json").is_file():
             return broken(f"kit-grade stopped with exit status {run.returncode} and wrote no summary")
         result = platform_results.classroom50(out, [lab], config, os.environ, cwd=Path.cwd())

@@ -39,22 +39,11 @@ while [ $# -gt 0 ]; do
   esac
 done
 [ -n "$DEST" ] || { usage >&2; die "DIR is missing"; }
-if [ -n "$LABS" ]; then
-  [[ "$LABS" =~ ^[0-9]+(,[0-9]+)*$ ]] || die "--labs expects lab numbers separated by commas (got '$LABS')"
-fi
 case "$DEST" in /*) ;; *) DEST="$PWD/$DEST" ;; esac
 if [ -e "$DEST" ] && [ -n "$(ls -A "$DEST" 2>/dev/null)" ]; then die "$DEST exists and is not empty"; fi
 
-mapfile -t FOLDERS < <(cd "$ROOT/labs" && ls -d [0-9][0-9]-*/ | tr -d /)
-if [ -n "$LABS" ]; then
-  wanted=()
-  for n in ${LABS//,/ }; do
-    f="$(printf '%s\n' "${FOLDERS[@]}" | grep "^$(printf '%02d' "$((10#$n))")-" || true)"
-    [ -n "$f" ] || die "--labs: the kit has no lab $n (labs/)"
-    wanted+=("$f")
-  done
-  FOLDERS=("${wanted[@]}")
-fi
+FOLDERS_TEXT="$(python3 "$ROOT/instructor/platforms/platform_results.py" folders --kit "$ROOT" --labs "$LABS")" || die "no bundle written"
+mapfile -t FOLDERS <<<"$FOLDERS_TEXT"
 
 GRADER="${KIT_GRADE_BIN:-$ROOT/build/default/tools/kit-grade}"
 [ -x "$GRADER" ] || die "no kit-grade at $GRADER (./kit setup builds it)"

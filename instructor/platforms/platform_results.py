@@ -17,6 +17,8 @@ verdict for the same submission:
                              entrypoint both use it)
   self_contained_report(out) report.html with its images inlined (one file, for a
                              Classroom 50 release asset)
+  run_kit_grade(...)         kit-grade on one lab, with the kit's references and
+                             grading.json (the PrairieLearn entrypoint, autograder.py)
 
 Python 3.11 standard library only: it runs in Gradescope's and PrairieLearn's
 images and on Classroom 50's runner. It is copied beside the PrairieLearn
@@ -24,6 +26,9 @@ entrypoint and the Classroom 50 autograder.py by their package scripts; this
 file is the one source.
 
 Command line (for the shell scripts):
+  platform_results.py folders --kit KIT [--labs 1,2]
+      prints the NN-name folders of the labs (every lab of KIT, or those --labs names),
+      one a line; exit 1 naming a lab KIT does not have
   platform_results.py stage --kit KIT --lab N --submission DIR --dest DIR
       prints the staged folder when the lab's files lay loose in DIR (and at least one
       was found), nothing otherwise; missing files are named on stderr
@@ -36,6 +41,7 @@ import json
 import os
 import re
 import shutil
+import subprocess
 import sys
 from pathlib import Path
 
@@ -69,6 +75,31 @@ def lab_folder(kit, lab):
             if d.is_dir() and d.name.startswith(prefix):
                 return d.name, sorted(p.name for p in d.iterdir() if p.is_file())
     raise LookupError(f"the kit at {kit} has no lab {lab} (solutions/ or labs/)")
+
+
+def lab_folders(kit, spec=""):
+    """The NN-name folders of the kit's labs (solutions/ and labs/ together) in order, or
+    those `spec` ("1,2") names. LookupError for a malformed spec or a lab the kit has not."""
+    if not spec:
+        return sorted({d.name for parent in ("solutions", "labs") if (Path(kit) / parent).is_dir()
+                       for d in (Path(kit) / parent).iterdir() if d.is_dir() and re.match(r"^\d\d-", d.name)})
+    if not re.fullmatch(r"\d+(,\d+)*", spec):
+        raise LookupError(f"expects lab numbers separated by commas (got '{spec}')")
+    return [lab_folder(kit, n)[0] for n in spec.split(",")]
+
+
+def run_kit_grade(grader, submission, lab, kit, out, extra=(), timeout=None):
+    """kit-grade on lab `lab` of `submission` into `out`, against `kit`: its earlier labs'
+    solutions and shaders (KIT_ROOT), references and grading.json, never those of the
+    machine's kit or the student's checkout. Returns the finished process (what it printed
+    is passed on to stderr); raises subprocess.TimeoutExpired past `timeout` seconds."""
+    grade = Path(kit) / "tools" / "grade"
+    command = [str(grader), str(submission), "--labs", str(lab), "--out", str(out),
+               "--config", str(grade / "grading.json"), "--references", str(grade / "references"), *extra]
+    run = subprocess.run(command, env=dict(os.environ, KIT_ROOT=str(kit)), capture_output=True, text=True,
+                         timeout=timeout)
+    sys.stderr.write(run.stdout + run.stderr)
+    return run
 
 
 def check_order(config, lab):
@@ -303,12 +334,22 @@ def self_contained_report(out, dest):
 def main(argv=None):
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     sub = parser.add_subparsers(dest="command", required=True)
+    folders = sub.add_parser("folders", help="the NN-name folders of the kit's labs, or of --labs")
+    folders.add_argument("--kit", required=True, type=Path)
+    folders.add_argument("--labs", default="")
     stage = sub.add_parser("stage", help="put a lab's loose files into NN-name/")
     stage.add_argument("--kit", required=True, type=Path)
     stage.add_argument("--lab", required=True, type=int)
     stage.add_argument("--submission", required=True, type=Path)
     stage.add_argument("--dest", required=True, type=Path)
     args = parser.parse_args(argv)
+    if args.command == "folders":
+        try:
+            print("\n".join(lab_folders(args.kit, args.labs)))
+        except LookupError as e:
+            print(f"--labs: {e}", file=sys.stderr)
+            return 1
+        return 0
     if args.command == "stage":
         try:
             folder, files = lab_folder(args.kit, args.lab)

@@ -92,18 +92,12 @@ def grade(lab, n, folder, files, work, start):
     cpu = os.environ.get("KIT_CPU_LIMIT") or str(lab.get("cpu_limit", 20))
     wall = os.environ.get("KIT_TIMEOUT") or str(lab.get("wall_limit", 40))
     out = work / "out"
-    command = [GRADER, str(staged), "--labs", str(n), "--out", str(out),
-               "--config", str(KIT / "tools" / "grade" / "grading.json"),
-               "--references", str(KIT / "tools" / "grade" / "references"),
-               "--cpu-limit", cpu, "--timeout", wall]
-    env = dict(os.environ, KIT_ROOT=str(KIT))
-    say(" ".join(command))
+    say(f"grading lab {n} of {staged}")
     try:
-        run = subprocess.run(command, env=env, capture_output=True, text=True,
-                             timeout=float(wall) + 30)  # kit-grade stops the renderer itself at `wall`
+        run = platform_results.run_kit_grade(GRADER, staged, n, KIT, out, ["--cpu-limit", cpu, "--timeout", wall],
+                                             timeout=float(wall) + 30)  # kit-grade stops the renderer at `wall`
     except (OSError, subprocess.TimeoutExpired) as e:
         return autograder_problem(f"kit-grade did not run to the end ({e}).")
-    sys.stderr.write(run.stdout + run.stderr)
     if not (out / "summary.json").is_file():
         return autograder_problem(f"kit-grade stopped with exit status {run.returncode} and wrote no summary.")
     try:

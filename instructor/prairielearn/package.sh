@@ -52,24 +52,13 @@ done
 [ -n "$DEST" ] || { usage >&2; die "DIR is missing"; }
 [[ "$TIMEOUT" =~ ^[0-9]+$ ]] && [ "$TIMEOUT" -ge 10 ] && [ "$TIMEOUT" -le 600 ] ||
   die "--timeout must be 10-600 s (PrairieLearn's limit is 600 s)"
-if [ -n "$LABS" ]; then
-  [[ "$LABS" =~ ^[0-9]+(,[0-9]+)*$ ]] || die "--labs expects lab numbers separated by commas (got '$LABS')"
-fi
 [ -x "$GRADER" ] || die "no kit-grade at $GRADER (./kit setup builds it)"
 case "$DEST" in /*) ;; *) DEST="$PWD/$DEST" ;; esac
 if [ -e "$DEST" ] && [ -n "$(ls -A "$DEST" 2>/dev/null)" ]; then die "$DEST exists and is not empty"; fi
 
-# The labs: every folder of solutions/ unless --labs names some.
-mapfile -t FOLDERS < <(cd "$ROOT/solutions" && ls -d [0-9][0-9]-*/ | tr -d /)
-if [ -n "$LABS" ]; then
-  wanted=()
-  for n in ${LABS//,/ }; do
-    f="$(printf '%s\n' "${FOLDERS[@]}" | grep "^$(printf '%02d' "$((10#$n))")-" || true)"
-    [ -n "$f" ] || die "--labs: the kit has no lab $n (solutions/)"
-    wanted+=("$f")
-  done
-  FOLDERS=("${wanted[@]}")
-fi
+# The labs: every lab of the kit unless --labs names some.
+FOLDERS_TEXT="$(python3 "$ROOT/instructor/platforms/platform_results.py" folders --kit "$ROOT" --labs "$LABS")" || die "no questions written"
+mapfile -t FOLDERS <<<"$FOLDERS_TEXT"
 
 mkdir -p "$DEST"
 MEASURE="$(mktemp -d)"
