@@ -21,6 +21,7 @@ struct Comparison {
   size_t allowed_failing_pixels = 0;  // the most that may fail (fail_percent of the image, rounded down)
   size_t edge_pixels = 0;        // pixels at the reference's edges over the threshold that its neighbourhood
                                  // explains (a renderer may draw an edge one pixel over: compare.cpp, is_edge)
+  size_t filter_pixels = 0;      // pixels over the threshold that the reference's filter allowance explains
   size_t covered_pixels = 0;     // pixels where the reference or the submission shows more than the background
   double covered_mean_error = 0.0;  // mean per-pixel error over them (largest channel difference; Normal: degrees),
                                     // each pixel's capped at fail_threshold
@@ -47,14 +48,22 @@ using Background = std::array<float, 4>;
 // compare_images, rather than counting the same reference again for every submission.
 Background reference_background(Metric metric, const Image& reference);
 
+// Each pixel's difference between `image` and `reference` under `metric`, before edges
+// are considered (one channel): the largest channel difference of the compared values
+// (HDR compressed), for normals the angle in degrees (180 where one of them has none, 0
+// where neither has). What a reference's filter allowance is made of (references.h).
+Image pixel_differences(Metric metric, const Image& image, const Image& reference);
+
 // Compares `image` (the submission's) with `reference` under `metric`: it fails when
 // more than allowed_failing_pixels() pixels are over fail_threshold (at the reference's
 // edges, measured from the range of its 3x3 neighbourhood: compare.cpp says why), when one pixel
 // differs by more than hard_fail, when the mean error over the covered pixels is over
 // max_mean_error, or when the image holds NaN/Inf. `background`: the reference's, when
-// already found (reference_background); otherwise it is found here.
+// already found (reference_background); otherwise it is found here. `allowance`: the
+// reference's filter allowance (pixel_differences units, one channel) where it has one:
+// each pixel's difference is counted less that much (at least 0).
 Comparison compare_images(Metric metric, const Tolerance& tolerance, const Image& image, const Image& reference,
-                          const Background* background = nullptr);
+                          const Background* background = nullptr, const Image* allowance = nullptr);
 
 // The image as the report shows it (RGB, [0,1]): G-buffer vectors as (v+1)/2,
 // positions over the reference's bounds, HDR through Reinhard and gamma 2.2,

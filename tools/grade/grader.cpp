@@ -231,9 +231,11 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
     const Check& check = *c.check;
     const Image& image = renders.at(check.image);
     const bool own = compares_own_renders(check.metric);  // its "reference" is the submission's own render
-    const Image& reference = own ? renders.at(check.reference) : run.references.at(check.reference).image;
+    const LoadedReference* stored = own ? nullptr : &run.references.at(check.reference);
+    const Image& reference = own ? renders.at(check.reference) : stored->image;
     const Background* background = own ? nullptr : &run.backgrounds.at({check.reference, check.metric});
-    c.comparison = compare_images(check.metric, run.config.tolerance(check), image, reference, background);
+    const Image* allowance = stored && stored->allowance.width > 0 ? &stored->allowance : nullptr;
+    c.comparison = compare_images(check.metric, run.config.tolerance(check), image, reference, background, allowance);
     size_t hdr_bad = child.contains("hdr_non_finite") ? child["hdr_non_finite"].value(check.image, size_t{0}) : 0;
     if (hdr_bad > 0 && !compares_own_renders(check.metric)) {
       c.comparison.passed = false;
@@ -324,6 +326,7 @@ ChildSetup render_setup(const Run& run, const Entry& e, const fs::path& dir) {
   setup.environment = {{"MESA_SHADER_CACHE_DIR", cache.string()},
                        {kSingleFileCacheVariable, "1"},
                        {"XDG_CACHE_HOME", (e.temp / "cache").string()}};
+  setup.environment.insert(setup.environment.end(), run.child_environment.begin(), run.child_environment.end());
   return setup;
 }
 
@@ -489,7 +492,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
 }
 
 Run make_run(const Options& options, bool need_references) {
-  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}};
+  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}, {}};
   if (need_references) {
     run.references_dir = options.references.empty() ? default_references_dir() : options.references;
     require_current_references(run.references_dir);

@@ -32,24 +32,42 @@ int update_references(const Options& options) {
   for (const Stage& s : stages()) o.labs.push_back(s.number);
   Run run = make_run(o, false);
   write_cache_seed(run);
-  std::map<std::string, Image> collected;
-  run.collect = &collected;
-  std::vector<Entry> entries(1);
-  entries[0].source = kit_root() / "solutions";
-  entries[0].result_dir = run.temp / "unused";
   std::string failures, renderer;
-  bool completed = run_entries(run, entries, [&](Entry& e) {
-    renderer = e.outcome.renderer;
-    for (const auto& [n, lab] : e.outcome.labs)
-      if (lab.status != kGraded) failures += "\n  " + lab_title(n) + ": " + lab.status + ": " + lab.message;
-  });
+  // The solutions rendered once, with the run's children as they are set now.
+  auto render_solutions = [&](std::map<std::string, Image>& collected) {
+    run.collect = &collected;
+    std::vector<Entry> entries(1);
+    entries[0].source = kit_root() / "solutions";
+    entries[0].result_dir = run.temp / "unused";
+    return run_entries(run, entries, [&](Entry& e) {
+      renderer = e.outcome.renderer;
+      for (const auto& [n, lab] : e.outcome.labs)
+        if (lab.status != kGraded) failures += "\n  " + lab_title(n) + ": " + lab.status + ": " + lab.message;
+    });
+  };
+  std::map<std::string, Image> collected;
+  bool completed = render_solutions(collected);
+  const std::string reference_renderer = renderer;
+  // The filter renderings (references.h), where llvmpipe made the references: only it
+  // reads GALLIVM_PERF. Their children write no shader cache (the seed's programs were
+  // compiled without it) and read none.
+  std::vector<std::map<std::string, Image>> variants;
+  const bool llvmpipe = renderer.find("llvmpipe") != std::string::npos;
+  if (llvmpipe) run.writes_cache_seed = false;
+  for (size_t i = 0; completed && failures.empty() && llvmpipe && i < kFilterRenderings.size(); ++i) {
+    run.child_environment = {{"GALLIVM_PERF", kFilterRenderings[i].name}, {"MESA_SHADER_CACHE_DISABLE", "true"}};
+    completed = render_solutions(variants.emplace_back());
+  }
   remove_run_temp(run);
   if (!completed) return 130;
   if (!failures.empty()) throw Error("the solutions did not render:" + failures);
   fs::path dir = o.references.empty() ? default_references_dir() : o.references;
-  write_references(dir, collected, renderer);
-  std::printf("kit-grade: %zu references written to %s (%s); check them with --check-references\n",
-              reference_renders().size(), dir.c_str(), renderer.c_str());
+  const std::map<std::string, Image> allowances = filter_allowances(collected, variants);
+  write_references(dir, collected, allowances, reference_renderer);
+  std::printf("kit-grade: %zu references written to %s (%s), %zu with a filter allowance%s; check them with "
+              "--check-references\n",
+              reference_renders().size(), dir.c_str(), reference_renderer.c_str(), allowances.size(),
+              llvmpipe ? "" : " (only llvmpipe renders the filter renderings)");
   return 0;
 }
 

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <fstream>
 #include <set>
 
@@ -61,7 +62,61 @@ void remove_older_versions(const fs::path& cache, const std::string& id, const s
   }
 }
 
+constexpr const char* kAllowanceSuffix = ".allowance.exr";
+
+// The image in `file`, decoded once and kept in `cache` as "<key>-<SHA-1 of file>.raw"
+// (`stem` receives "<cache>/<key>-<SHA-1>"). Throws kit::Error when the file cannot be read.
+Image read_cached_image(const fs::path& file, const std::string& key, const fs::path& cache, fs::path* stem) {
+  const std::string digest = file_digest(file, true);
+  if (digest.empty()) throw Error(file.string() + ": cannot read the reference");
+  *stem = cache / (key + "-" + digest);
+  const fs::path raw = suffixed(*stem, ".raw");
+  try {
+    return read_raw_image(raw);
+  } catch (const Error&) {  // not cached yet, or damaged: decoded below
+  }
+  Image image = read_image(file.string());
+  remove_older_versions(cache, key, digest);
+  const fs::path temp = suffixed(raw, ".tmp-" + std::to_string(getpid()));
+  try {
+    write_raw_image(temp, image);
+    fs::rename(temp, raw);  // a run beside this one reads the whole file or none
+  } catch (const std::exception&) {  // Error, or filesystem_error: the cache is only a cache
+    std::error_code ec;
+    fs::remove(temp, ec);
+  }
+  return image;
+}
+
 }  // namespace
+
+const std::vector<FilterRendering> kFilterRenderings = {
+    {"brilinear", "trilinear filtering as GPUs approximate it: only near a level's midpoint are two mip levels blended"},
+    {"rho_approx", "the level of detail from an approximate length of the texture coordinates' derivatives"},
+    {"brilinear,rho_approx,no_quad_lod", "both, with a level of detail for each pixel rather than each 2x2 quad"},
+};
+
+std::map<std::string, Image> filter_allowances(const std::map<std::string, Image>& renders,
+                                               const std::vector<std::map<std::string, Image>>& variants) {
+  std::map<std::string, Image> out;
+  for (const Stage& stage : stages())
+    for (const Check* check : lab_checks(stage.number)) {
+      auto reference = renders.find(check->reference);
+      if (compares_own_renders(check->metric) || reference == renders.end()) continue;
+      for (const std::map<std::string, Image>& variant : variants) {
+        auto other = variant.find(check->reference);
+        if (other == variant.end()) throw Error("the solutions' render '" + check->reference + "' is missing");
+        const Image d = pixel_differences(check->metric, other->second, reference->second);
+        Image& allowance = out.try_emplace(check->reference, Image(d.width, d.height, 1)).first->second;
+        for (size_t i = 0; i < d.pixels.size(); ++i) allowance.pixels[i] = std::max(allowance.pixels[i], d.pixels[i]);
+      }
+    }
+  for (auto it = out.begin(); it != out.end();)
+    it = std::all_of(it->second.pixels.begin(), it->second.pixels.end(), [](float v) { return v == 0.0f; })
+             ? out.erase(it)
+             : std::next(it);
+  return out;
+}
 
 fs::path default_references_dir() { return kit_root() / "tools" / "grade" / "references"; }
 
@@ -83,7 +138,8 @@ nlohmann::json manifest_entry(const RenderSpec& spec) {
   return entry;
 }
 
-void write_references(const fs::path& dir, const std::map<std::string, Image>& renders, const std::string& renderer) {
+void write_references(const fs::path& dir, const std::map<std::string, Image>& renders,
+                      const std::map<std::string, Image>& allowances, const std::string& renderer) {
   fs::create_directories(dir);
   std::set<std::string> wanted;
   for (const RenderSpec* spec : reference_renders()) {
@@ -93,6 +149,14 @@ void write_references(const fs::path& dir, const std::map<std::string, Image>& r
     write_image((dir / file).string(), it->second);
     wanted.insert(file);
   }
+  nlohmann::json allowance_ids = nlohmann::json::array(), renderings = nlohmann::json::array();
+  for (const auto& [id, allowance] : allowances) {
+    write_image((dir / (id + kAllowanceSuffix)).string(), allowance);
+    wanted.insert(id + kAllowanceSuffix);
+    allowance_ids.push_back(id);
+  }
+  if (!allowances.empty())
+    for (const FilterRendering& f : kFilterRenderings) renderings.push_back({{"GALLIVM_PERF", f.name}, {"about", f.about}});
   // Files of checks that no longer exist would only confuse.
   for (const auto& entry : fs::directory_iterator(dir)) {
     std::string name = entry.path().filename().string();
@@ -105,7 +169,13 @@ void write_references(const fs::path& dir, const std::map<std::string, Image>& r
                 "checked by `kit-grade --check-references`. Do not edit by hand."},
       {"renderer", renderer},
       {"size", {kGradeWidth, kGradeHeight}},
-      {"images", expected_images()}};
+      {"images", expected_images()},
+      {"filter_allowance",
+       {{"about", "Per pixel, how far each listed reference moves when the solutions are rendered again under "
+                  "GPU-like texture filtering (llvmpipe with each GALLIVM_PERF below): <id>.allowance.exr, in the "
+                  "units its checks compare (tools/grade/references.h)."},
+        {"renderings", renderings},
+        {"images", allowance_ids}}}};
   std::ofstream out(dir / kManifestName);
   out << manifest.dump(1) << "\n";
   if (!out) throw Error((dir / kManifestName).string() + ": cannot write");
@@ -137,6 +207,13 @@ std::vector<std::string> manifest_differences(const fs::path& dir) {
   }
   for (const auto& [id, e] : have)
     if (!expected_ids.count(id)) out.push_back(id + ": reference of a check that no longer exists");
+  const nlohmann::json allowance = stored.value("filter_allowance", nlohmann::json::object());
+  if (!allowance.is_object() || !allowance.value("images", nlohmann::json::array()).is_array())
+    out.push_back("filter_allowance: not an object with a list of images");
+  else
+    for (const auto& id : allowance.value("images", nlohmann::json::array()))
+      if (!id.is_string() || !fs::exists(dir / (id.get<std::string>() + kAllowanceSuffix)))
+        out.push_back(id.dump() + ": its filter allowance file is missing");
   return out;
 }
 
@@ -153,26 +230,16 @@ std::map<std::string, LoadedReference> load_lab_references(const fs::path& dir, 
   for (const Check* check : lab_checks(lab)) {
     if (compares_own_renders(check->metric) || out.count(check->reference)) continue;
     const RenderSpec& spec = find_render(check->reference);
-    const fs::path file = dir / (spec.id + "." + reference_extension(spec));
-    const std::string digest = file_digest(file, true);
-    if (digest.empty()) throw Error(file.string() + ": cannot read the reference");
     LoadedReference& reference = out[spec.id];
-    reference.cache_stem = cache / (spec.id + "-" + digest);
-    const fs::path raw = suffixed(reference.cache_stem, ".raw");
-    try {
-      reference.image = read_raw_image(raw);
-      continue;
-    } catch (const Error&) {  // not cached yet, or damaged: decoded below
-    }
-    reference.image = read_image(file.string());
-    remove_older_versions(cache, spec.id, digest);
-    const fs::path temp = suffixed(raw, ".tmp-" + std::to_string(getpid()));
-    try {
-      write_raw_image(temp, reference.image);
-      fs::rename(temp, raw);  // a run beside this one reads the whole file or none
-    } catch (const std::exception&) {  // Error, or filesystem_error: the cache is only a cache
-      std::error_code ec;
-      fs::remove(temp, ec);
+    reference.image = read_cached_image(dir / (spec.id + "." + reference_extension(spec)), spec.id, cache,
+                                        &reference.cache_stem);
+    // Listed in the manifest wherever it exists (manifest_differences checks that).
+    const fs::path allowance = dir / (spec.id + kAllowanceSuffix);
+    std::error_code ec;
+    if (fs::exists(allowance, ec)) {
+      fs::path stem;
+      reference.allowance = read_cached_image(allowance, spec.id + ".allowance", cache, &stem);
+      if (reference.allowance.channels != 1) throw Error(allowance.string() + ": a filter allowance has one channel");
     }
   }
   return out;

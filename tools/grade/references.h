@@ -23,9 +23,30 @@ std::filesystem::path default_references_dir();  // <kit root>/tools/grade/refer
 // The manifest's "images" entry for a render: what it was rendered with.
 nlohmann::json manifest_entry(const RenderSpec& spec);
 
-// Writes the references (from the solutions' raw renders, by render id) and the manifest.
+// A reference's filter allowance. GL leaves a texture lookup's filter partly to the
+// implementation (how trilinear weights are rounded, the level of detail's formula, one
+// level of detail per 2x2 quad or per pixel), and GPUs take those freedoms where Mesa's
+// CPU rasterisers do not. llvmpipe takes them too when asked (GALLIVM_PERF), so
+// --update-references renders the solutions once more under each of
+// kFilterRenderings, and a reference's allowance is, per pixel, the largest difference
+// (pixel_differences) between its render and those: how far the right answer itself moves
+// under GPU-like filtering. A submission's difference there counts that much less
+// (compare_images). A reference no texture filter touches has none (no file).
+struct FilterRendering {
+  const char* name;   // GALLIVM_PERF's value
+  const char* about;  // what it approximates, as the manifest says it
+};
+extern const std::vector<FilterRendering> kFilterRenderings;
+
+// The allowances of `renders` (the solutions' renders, by render id) from `variants` (the
+// same renders under each of kFilterRenderings): only those with a pixel over 0.
+std::map<std::string, Image> filter_allowances(const std::map<std::string, Image>& renders,
+                                               const std::vector<std::map<std::string, Image>>& variants);
+
+// Writes the references (from the solutions' raw renders, by render id), their filter
+// allowances ("<id>.allowance.exr") and the manifest.
 void write_references(const std::filesystem::path& dir, const std::map<std::string, Image>& renders,
-                      const std::string& renderer);
+                      const std::map<std::string, Image>& allowances, const std::string& renderer);
 
 // What rendered the references: the manifest's "renderer" ("" when it names none).
 std::string references_renderer(const std::filesystem::path& dir);
@@ -43,6 +64,7 @@ void require_current_references(const std::filesystem::path& dir);
 // changes gets new ones.
 struct LoadedReference {
   Image image;
+  Image allowance;  // its filter allowance; 0x0 where it has none
   std::filesystem::path cache_stem;
 };
 
