@@ -28,6 +28,7 @@ set(KIT_SCENE_FILES
   ${KIT_SCENES_DIR}/materials/materials.gltf
   ${KIT_SCENES_DIR}/sun/sun.gltf
   ${KIT_SCENES_DIR}/texturing/texturing.gltf
+  ${KIT_SCENES_DIR}/closeup/closeup.gltf
   ${KIT_SCENES_DIR}/range/range.gltf
   ${KIT_SCENES_DIR}/matte/matte.gltf
   ${KIT_SCENES_DIR}/crowd/crowd.gltf)
@@ -51,6 +52,8 @@ set(KIT_SCENE_BYPRODUCTS
   ${KIT_SCENES_DIR}/texturing/packed_orm.png
   ${KIT_SCENES_DIR}/texturing/checker.png
   ${KIT_SCENES_DIR}/texturing/bumps_normal.png
+  ${KIT_SCENES_DIR}/closeup/closeup.bin
+  ${KIT_SCENES_DIR}/closeup/brick_normal.png
   ${KIT_SCENES_DIR}/range/range.bin
   ${KIT_SCENES_DIR}/matte/matte.bin
   ${KIT_SCENES_DIR}/crowd/crowd.bin

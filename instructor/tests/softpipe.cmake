@@ -14,3 +14,17 @@ if(TARGET kit-grade)
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
     COST 150)
 endif()
+
+# GPU-like texture filtering (llvmpipe's GALLIVM_PERF approximations): the solutions keep
+# full marks through the references' filter allowances, with a witness that they would not
+# without them (grade_filtering_test.sh). About 15 s.
+if(TARGET kit-grade)
+  add_test(NAME grade_solutions_gpu_like_filtering
+           COMMAND ${CMAKE_CURRENT_LIST_DIR}/grade_filtering_test.sh $<TARGET_FILE:kit-grade>
+                   ${CMAKE_SOURCE_DIR}/solutions ${CMAKE_SOURCE_DIR}/tools/grade/references
+                   ${CMAKE_BINARY_DIR}/test-tmp/grade_filtering)
+  set_tests_properties(grade_solutions_gpu_like_filtering PROPERTIES LABELS slow
+    TIMEOUT 300
+    ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
+    COST 100)
+endif()

@@ -266,7 +266,8 @@ TEST(Grader, StartersScoreTheDocumentedMinimum) {
   GradeRun r = grade(kit::kit_root() / "labs", "starters");
   expect_ran(r);
   const std::map<int, std::set<std::string>> documented = {
-      {1, {}}, {2, {}}, {3, {}}, {4, {}}, {5, {"default-off", "custom-off", "custom-on-postprocess-off"}}, {6, {}}};
+      {1, {}}, {2, {}}, {3, {}}, {4, {"default-final"}},
+      {5, {"default-off", "custom-off", "custom-on-postprocess-off"}}, {6, {}}};
   for (const auto& [number, passing] : documented) {
     EXPECT_EQ(lab(r, number)["status"], "graded");
     for (const auto& [key, check] : lab(r, number)["checks"].items())
@@ -362,7 +363,7 @@ TEST(Grader, NanInAPrecomputedMapIsNamed) {
 }
 
 // Checks that read other views of one frame (the same scene and settings) share it: lab 1's
-// fifteen G-buffer checks read four frames (one a scene), lab 4's six checks three, and every
+// fifteen G-buffer checks read four frames (one a scene), lab 4's eight checks four, and every
 // check still gets full marks against references that were rendered one by one.
 TEST(Grader, ChecksOfOneFrameReadIt) {
   GradeRun r = grade(kit::kit_root() / "solutions", "one-frame", "--labs 1,4 --keep-temp");
@@ -381,7 +382,7 @@ TEST(Grader, ChecksOfOneFrameReadIt) {
   const json lab1 = read_json(submission / "lab1" / "child.json");
   const json lab4 = read_json(submission / "lab4" / "child.json");
   EXPECT_EQ(lab1["seconds"]["render_each"].size(), 4u) << lab1.dump();
-  EXPECT_EQ(lab4["seconds"]["render_each"].size(), 3u) << lab4.dump();
+  EXPECT_EQ(lab4["seconds"]["render_each"].size(), 4u) << lab4.dump();
   fs::remove_all(kept);
 }
 
@@ -667,6 +668,53 @@ TEST(GraderVerdicts, AnEdgeOnePixelOverPassesAndMovedOrInteriorChangesFail) {
   EXPECT_TRUE(normal_shift.passed) << normal_shift.summary;
   EXPECT_EQ(normal_shift.edge_pixels, static_cast<size_t>(kH));
   EXPECT_FALSE(kit::grade::compare_images(Metric::Normal, normal_tol, normals(103), normals(100)).passed);
+}
+
+// A reference's filter allowance (references.h): where the solutions' own render moves
+// under GPU-like filtering, a submission's difference counts that much less. A render
+// that moves as the solutions' does passes; the same difference beyond the allowance, or
+// where the allowance is 0, fails. pixel_differences is what the allowance is made of.
+TEST(GraderVerdicts, FilterAllowanceForgivesOnlyTheReferencesOwnSpread) {
+  const kit::grade::Tolerance& tol = grading_config().tolerance(Metric::Ldr);
+  const kit::Image reference = synthetic_ldr();
+  const kit::Image filtered = with_offset(reference, 0.1f, 500);  // texel pixels another filter moves
+  kit::grade::Comparison plain = kit::grade::compare_images(Metric::Ldr, tol, filtered, reference);
+  EXPECT_FALSE(plain.passed) << "witness: 500 pixels 0.1 off fail without an allowance";
+  const kit::Image allowance = kit::grade::pixel_differences(Metric::Ldr, filtered, reference);
+  ASSERT_EQ(allowance.channels, 1);
+  size_t moved = 0;
+  for (float v : allowance.pixels) moved += v > 0.0f;
+  EXPECT_EQ(moved, 500u);
+  kit::grade::Comparison allowed = kit::grade::compare_images(Metric::Ldr, tol, filtered, reference, nullptr, &allowance);
+  EXPECT_TRUE(allowed.passed) << allowed.summary;
+  EXPECT_EQ(allowed.filter_pixels, 500u);
+  EXPECT_NE(allowed.summary.find("500 pixels are within the reference's own spread"), std::string::npos) << allowed.summary;
+  // Twice as far off at the same pixels: 0.1 over the allowance, over the threshold.
+  EXPECT_FALSE(kit::grade::compare_images(Metric::Ldr, tol, with_offset(reference, 0.2f, 500), reference, nullptr,
+                                          &allowance).passed);
+  // A faint offset everywhere else still fails the mean error: the allowance is per pixel.
+  kit::Image wide = with_offset(reference, 3.0f / 255.0f, kPixels / 5);
+  EXPECT_FALSE(kit::grade::compare_images(Metric::Ldr, tol, wide, reference, nullptr, &allowance).passed);
+
+  // Normals: 2.7 degrees off on a band where the allowance is 2.5 passes; 6 fails.
+  const kit::grade::Tolerance& normal_tol = grading_config().tolerance(Metric::Normal);
+  auto tilted = [](double degrees) {
+    kit::Image image(kW, kH, 4);
+    for (int y = 0; y < kH; ++y)
+      for (int x = 0; x < kW; ++x) {
+        const double a = x < 40 ? degrees * 3.14159265358979 / 180.0 : 0.0;
+        image.at(x, y, 0) = static_cast<float>(std::sin(a));
+        image.at(x, y, 2) = static_cast<float>(std::cos(a));
+      }
+    return image;
+  };
+  const kit::Image flat = tilted(0.0);
+  const kit::Image normal_allowance = kit::grade::pixel_differences(Metric::Normal, tilted(2.5), flat);
+  EXPECT_NEAR(normal_allowance.at(0, 0, 0), 2.5f, 1e-3f);
+  EXPECT_FALSE(kit::grade::compare_images(Metric::Normal, normal_tol, tilted(2.7), flat).passed) << "witness";
+  const kit::grade::Comparison within = kit::grade::compare_images(Metric::Normal, normal_tol, tilted(2.7), flat, nullptr, &normal_allowance);
+  EXPECT_TRUE(within.passed) << within.summary;
+  EXPECT_FALSE(kit::grade::compare_images(Metric::Normal, normal_tol, tilted(6.0), flat, nullptr, &normal_allowance).passed);
 }
 
 // Metric::Same compares two renders of one submission, made on one machine: exact, with

@@ -118,6 +118,10 @@ const std::vector<RenderSpec>& renders() {
     // textures read two UV sets (lab 4's geometry pass reads them as lab 1's does).
     r.push_back(final_image("lab4-texturing-final", 4, "texturing"));
     r.push_back(gbuffer("lab4-texturing-normal", 4, "texturing", View::Normal));
+    // The bricks magnified (the closeup scene says why): a faint mistake over every mapped
+    // normal shows here, where the filter cannot hide it under its own approximation.
+    r.push_back(final_image("lab4-closeup-final", 4, "closeup"));
+    r.push_back(gbuffer("lab4-closeup-normal", 4, "closeup", View::Normal));
     // Lab 5: bloom at two thresholds and on the sphere's highlight, the toggle off
     // (must equal stage 4), and the free-choice effect isolated on the solution's bloom.
     auto off = [](RenderSpec& s) { s.postprocess = false; };
@@ -221,6 +225,8 @@ const std::vector<Check>& checks() {
       {4, "default-normal", "default scene, mapped normal", Metric::Normal, "lab4-default-normal", "lab4-default-normal"},
       {4, "texturing-final", "texturing scene (two UV sets, scaled normal map), final image", Metric::Ldr, "lab4-texturing-final", "lab4-texturing-final"},
       {4, "texturing-normal", "texturing scene, mapped normal (normal scale 0.4, tangent under non-uniform scale)", Metric::Normal, "lab4-texturing-normal", "lab4-texturing-normal"},
+      {4, "closeup-final", "brick close-up (magnified normal map, grazing light), final image", Metric::Ldr, "lab4-closeup-final", "lab4-closeup-final"},
+      {4, "closeup-normal", "brick close-up, mapped normal (no filter approximation)", Metric::Normal, "lab4-closeup-normal", "lab4-closeup-normal"},
 
       {5, "default-bloom", "default scene, bloom on", Metric::Ldr, "lab5-default-bloom", "lab5-default-bloom"},
       {5, "default-threshold05", "default scene, bloom threshold 0.5", Metric::Ldr, "lab5-default-threshold05", "lab5-default-threshold05"},

@@ -246,6 +246,26 @@ GltfSceneWriter build_normal_map_scene(const Textures& tex) {
   return b;
 }
 
+// The normalmap scene's brick quads seen from 0.9 m, for kit-grade's lab 4: the normal
+// map is magnified (about 2 pixels a texel), so every lookup reads level 0 through the
+// magnification filter, which GL fixes up to precision. Where the map is minified (the
+// normalmap scene), the mip levels' blend and the level of detail are the
+// implementation's to approximate, and GPUs move the right answer there by 0.4 degrees
+// on average (tools/grade/references.h, the filter allowance): a mistake smaller than
+// that, like a texel decoded as (255 t - 128) / 127, shows only here. The camera looks
+// across the seam between the plain and the mirrored quad, turned 18 degrees off the
+// quads' normal, and the light grazes from the left so the bevels' slopes show.
+GltfSceneWriter build_closeup_scene(const Textures& tex) {
+  GltfSceneWriter b("closeup");
+  const glm::vec3 x(1, 0, 0), y(0, 1, 0);
+  const int grey = b.add_material(normal_mapped_grey(b.add_texture("brick_normal.png", tex.brick_normal)));
+  b.add_mesh_node("quad", {-1.0, 0.0, 0}, b.add_geometry(make_quad(x, y, {2, 2}, {1, 1}, false)), grey);
+  b.add_mesh_node("quad_mirrored", {1.0, 0.0, 0}, b.add_geometry(make_quad(x, y, {2, 2}, {1, 1}, true)), grey);
+  b.add_point_light("light", {-1.2, 0.4, 0.6}, kWhite, 3.0);
+  b.add_camera({0.28, 0.1, 0.86}, {0.0, 0.0, 0.0}, 0.8);
+  return b;
+}
+
 // Each texture reference of a material read its own way, for kit-grade's labs 1 and 4:
 //  * left, a quad with two UV sets (TEXCOORD_1 is TEXCOORD_0 turned a quarter and halved)
 //    whose base colour reads UV set 0 and its metallic-roughness and emissive textures UV
@@ -512,6 +532,7 @@ void write_kit_scenes(const fs::path& out_dir) {
   build_sun_scene().write(out_dir);
   build_materials_scene(textures).write(out_dir);
   build_texturing_scene(textures).write(out_dir);
+  build_closeup_scene(textures).write(out_dir);
   build_range_scene().write(out_dir);
   build_matte_scene().write(out_dir);
   build_crowd_scene().write(out_dir);
