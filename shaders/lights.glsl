@@ -24,6 +24,8 @@ struct Light {
     float cos_outer;   // cos(penumbra/outer cone angle): no light outside
     float flux;        // radiant flux derived from intensity (handouts/03-attenuation.md); 0 for a
                        // directional light, which has no finite flux
+    float volume_radius;  // lab 7: the radius of its light volume, where its light is cut off
+                          // (common/render/light_volumes.h); 0 for a directional light
 };
 
 Light kit_light(int i) {
@@ -50,6 +52,7 @@ Light kit_light(int i) {
     light.cos_inner = t3.x;
     light.cos_outer = t3.y;
     light.flux = t3.z;
+    light.volume_radius = t3.w;
     return light;
 }
 

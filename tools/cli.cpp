@@ -10,16 +10,17 @@
 namespace kit {
 
 const char* common_options_help() {
-  return "  --stage NAME          gbuffer | lighting | attenuation | normalmap | postprocess | ibl (or 1-6);\n"
-         "                        default: the stage of the lab folder --shaders names, else gbuffer\n"
+  return "  --stage NAME          gbuffer | lighting | attenuation | normalmap | postprocess | ibl |\n"
+         "                        lightvolumes (or 1-7); default: the stage of the lab folder\n"
+         "                        --shaders names, else gbuffer\n"
          "  --shaders DIR         your lab files: a folder holding NN-name/ lab folders (default: labs/),\n"
          "                        or one lab folder itself (labs/02-lighting)\n"
          "  --solution            the reference solutions (solutions/) instead of your labs\n"
          "  --timeout S           seconds the shaders may take to compile and draw before the run stops\n"
          "                        with a message (default 30, as the grader's; 0: no limit)\n"
          "  --scene NAME|FILE     kit scene name (default, sphere, grazing, normalmap, spot, sun,\n"
-         "                        highlight, materials, texturing, closeup, range, matte, crowd)\n"
-         "                        or a .gltf/.glb/.obj file\n"
+         "                        highlight, materials, texturing, closeup, lights, inside,\n"
+         "                        range, matte, crowd) or a .gltf/.glb/.obj file\n"
          "  --camera N            the scene file's camera N, counted from 0 in the order of its node tree\n"
          "                        (default: its first camera, else one that frames the scene)\n"
          "  --backend NAME        osmesa | egl (default: osmesa where this build has it, else egl)\n"

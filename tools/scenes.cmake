@@ -29,6 +29,8 @@ set(KIT_SCENE_FILES
   ${KIT_SCENES_DIR}/sun/sun.gltf
   ${KIT_SCENES_DIR}/texturing/texturing.gltf
   ${KIT_SCENES_DIR}/closeup/closeup.gltf
+  ${KIT_SCENES_DIR}/lights/lights.gltf
+  ${KIT_SCENES_DIR}/inside/inside.gltf
   ${KIT_SCENES_DIR}/range/range.gltf
   ${KIT_SCENES_DIR}/matte/matte.gltf
   ${KIT_SCENES_DIR}/crowd/crowd.gltf)
@@ -53,6 +55,8 @@ set(KIT_SCENE_BYPRODUCTS
   ${KIT_SCENES_DIR}/texturing/checker.png
   ${KIT_SCENES_DIR}/texturing/bumps_normal.png
   ${KIT_SCENES_DIR}/closeup/closeup.bin
+  ${KIT_SCENES_DIR}/lights/lights.bin
+  ${KIT_SCENES_DIR}/inside/inside.bin
   ${KIT_SCENES_DIR}/closeup/brick_normal.png
   ${KIT_SCENES_DIR}/range/range.bin
   ${KIT_SCENES_DIR}/matte/matte.bin

@@ -194,11 +194,16 @@ void check_pair(const ShaderLibrary& library, const std::string& vertex, const s
 
 void check_stage_interfaces(const Stage& stage, const ShaderLibrary& library) {
   auto has = [&](const std::string& f) { return std::find(stage.files.begin(), stage.files.end(), f) != stage.files.end(); };
-  if (has("gbuffer.vert") || has("gbuffer.frag")) check_pair(library, "gbuffer.vert", "gbuffer.frag");
+  // A fragment shader pairs with the vertex shader of its own name where the stage has
+  // one (gbuffer, light_volume), else with the full-screen pass's.
   for (const std::string& file : stage.files) {
-    bool fragment = file.size() > 5 && file.compare(file.size() - 5, 5, ".frag") == 0;
-    if (fragment && file != "gbuffer.frag") check_pair(library, "fullscreen.vert", file);
+    const bool fragment = file.size() > 5 && file.compare(file.size() - 5, 5, ".frag") == 0;
+    if (!fragment) continue;
+    const std::string vertex = file.substr(0, file.size() - 5) + ".vert";
+    const bool own = has(vertex) || file == "gbuffer.frag";  // lab 1's pair, also where only one of them is the lab's
+    check_pair(library, own ? vertex : "fullscreen.vert", file);
   }
+  if (has("gbuffer.vert") && !has("gbuffer.frag")) check_pair(library, "gbuffer.vert", "gbuffer.frag");
 }
 
 }  // namespace kit

@@ -70,6 +70,8 @@ struct Renderer::Programs {
   Program lighting, display, bright, blur, composite, custom, debug;
   // Stage 6: the lab's precompute shaders, its IBL pass, and the framework's background.
   Program irradiance, prefilter, brdf_lut, ibl, background;
+  // Stage 7: the lab's light volumes, and the framework's programs that count their work.
+  Program volume, volume_count, volume_coverage, surface_count;
 };
 
 View parse_view(const std::string& name) {
@@ -107,7 +109,8 @@ bool same_image_settings(const RenderSettings& a, const RenderSettings& b) {
          a.blur_passes == b.blur_passes && a.clear_color == b.clear_color && a.extra_lights == b.extra_lights &&
          a.frustum_culling == b.frustum_culling && a.texture_compression == b.texture_compression &&
          a.default_light_rig == b.default_light_rig &&
-         a.light_markers == b.light_markers && a.environment == b.environment && a.ibl == b.ibl;
+         a.light_markers == b.light_markers && a.environment == b.environment && a.ibl == b.ibl &&
+         a.count_light_volume_work == b.count_light_volume_work;
 }
 
 bool is_precomputed_map(View view) {
@@ -146,6 +149,7 @@ std::vector<Light> spawned_lights(const Scene& scene, int count) {
                            lo.z + extent.z * (0.5f + 0.5f * radius * std::sin(angle)));
     l.color = glm::vec3(0.5f + 0.5f * std::cos(angle), 0.5f + 0.5f * std::cos(angle + 2.1f), 0.5f + 0.5f * std::cos(angle + 4.2f));
     l.intensity = 0.5f;
+    l.range = kSpawnedLightRange * std::max(glm::length(extent), 1e-3f);
     out.push_back(l);
   }
   return out;
@@ -194,10 +198,12 @@ std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const Re
                                   : scene.lights;
   std::vector<Light> extra = spawned_lights(scene, settings.extra_lights);
   lights.insert(lights.end(), extra.begin(), extra.end());
+  if (stage.light_volumes)
+    std::stable_partition(lights.begin(), lights.end(), [](const Light& l) { return l.type == KIT_LIGHT_DIRECTIONAL; });
   return lights;
 }
 
-LightBuffers::LightBuffers(const std::vector<Light>& lights) {
+LightBuffers::LightBuffers(const std::vector<Light>& lights, const std::vector<float>& volume_radii) {
   auto all_of_type = [&](int type) {
     return !lights.empty() &&
            std::all_of(lights.begin(), lights.end(), [type](const Light& l) { return l.type == type; });
@@ -217,7 +223,8 @@ LightBuffers::LightBuffers(const std::vector<Light>& lights) {
     const float row[16] = {l.position.x, l.position.y, l.position.z, static_cast<float>(l.type),
                            l.direction.x, l.direction.y, l.direction.z, l.range,
                            l.color.r, l.color.g, l.color.b, l.intensity,
-                           std::cos(l.inner_cone), std::cos(l.outer_cone), light_flux(l), 0.0f};
+                           std::cos(l.inner_cone), std::cos(l.outer_cone), light_flux(l),
+                           i < volume_radii.size() ? volume_radii[i] : 0.0f};
     std::copy(row, row + 16, &texels[i * KIT_LIGHT_TEXELS * 4]);
   }
   if (in_texture) {
@@ -395,6 +402,12 @@ void Renderer::build_programs() {
     build(&Programs::custom, "fullscreen.vert", "custom_effect.frag");
   }
   build(&Programs::debug, "fullscreen.vert", "debug_view.frag");
+  if (stage_.light_volumes) {
+    build(&Programs::volume, "light_volume.vert", "light_volume.frag");
+    build(&Programs::volume_count, "light_volume.vert", "light_volume_count.frag");
+    build(&Programs::volume_coverage, "light_volume_coverage.vert", "light_volume_count.frag");
+    build(&Programs::surface_count, "fullscreen.vert", "light_volume_count.frag");
+  }
   if (stage_.ibl) {
     build(&Programs::irradiance, "fullscreen.vert", "irradiance.frag");
     build(&Programs::prefilter, "fullscreen.vert", "prefilter.frag");
@@ -412,6 +425,8 @@ void Renderer::build_programs() {
   // The maps are made by the precompute programs alone: kept, they would come out the same.
   const bool maps_current = ibl_ && was_kept(&Programs::irradiance) && was_kept(&Programs::prefilter) &&
                             was_kept(&Programs::brdf_lut);
+  // Read before the programs change hands: a pragma that does not parse keeps the old set.
+  if (stage_.light_volumes) volume_state_ = parse_light_volume_state(library_.assemble("light_volume.vert"));
   programs_ = std::move(p);
   programs_defines_ = library_.defines();
   if (!keep_forward) forward_ = std::move(forward);
@@ -467,7 +482,7 @@ std::vector<std::filesystem::path> Renderer::shader_paths() const {
   const Programs& p = *programs_;
   for (const Program* program : std::initializer_list<const Program*>{
            geometry, &p.lighting, &p.display, &p.bright, &p.blur, &p.composite, &p.custom, &p.irradiance,
-           &p.prefilter, &p.brdf_lut, &p.ibl})
+           &p.prefilter, &p.brdf_lut, &p.ibl, &p.volume})
     out.insert(out.end(), program->source_paths().begin(), program->source_paths().end());
   return out;
 }
@@ -512,13 +527,20 @@ void Renderer::resize(int width, int height) {
 void Renderer::upload_lights() {
   frame_lights_ = frame_lights(scene_, stage_, settings_);
   light_count_ = static_cast<int>(frame_lights_.size());
-  lights_ = LightBuffers(frame_lights_);
+  directional_count_ = static_cast<int>(std::count_if(frame_lights_.begin(), frame_lights_.end(),
+                                                      [](const Light& l) { return l.type == KIT_LIGHT_DIRECTIONAL; }));
+  std::vector<float> radii;
+  const float epsilon = light_volume_epsilon(frame_lights_, settings_.gamma);
+  for (const Light& l : frame_lights_)
+    radii.push_back(l.type == KIT_LIGHT_DIRECTIONAL ? 0.0f : light_cutoff_radius(l, epsilon, settings_.attenuation_model));
+  lights_ = LightBuffers(frame_lights_, radii);
   lights_.apply_defines(library_);
   apply_attenuation_model_define(library_, settings_.attenuation_model);
   if (programs_ && library_.defines() != programs_defines_) build_programs();
   lights_extra_ = settings_.extra_lights;
   lights_default_rig_ = settings_.default_light_rig;
   lights_attenuation_model_ = settings_.attenuation_model;
+  lights_gamma_ = settings_.gamma;
 }
 
 void set_frame_uniforms(const Program& p, const FrameCamera& camera, const RenderSettings& settings, int light_count) {
@@ -582,6 +604,98 @@ void Renderer::lighting_pass(const Program& lighting) const {
   triangle_.pass_over_surfaces(lighting, lighting_fbo_, settings_.width, settings_.height);
 }
 
+namespace {
+
+// Draws `instances` volumes of `sphere` with `program` (in use, uniforms set) under
+// `state`, into the bound target; `colour` false writes no colour (counting draws). GL's
+// defaults are restored after. Depth clamping keeps a volume that reaches past the far
+// plane: its faces there are clamped to depth 1, where the depth test still decides.
+void draw_light_volumes(const Mesh& sphere, int instances, const LightVolumeState& state, bool colour) {
+  glDepthMask(GL_FALSE);
+  if (state.depth == LightVolumeState::Depth::Off) {
+    glDisable(GL_DEPTH_TEST);
+  } else {
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(state.depth == LightVolumeState::Depth::LessEqual ? GL_LEQUAL : GL_GEQUAL);
+  }
+  if (state.cull == LightVolumeState::Cull::None) {
+    glDisable(GL_CULL_FACE);
+  } else {
+    glEnable(GL_CULL_FACE);
+    glCullFace(state.cull == LightVolumeState::Cull::Back ? GL_BACK : GL_FRONT);
+  }
+  if (colour && state.blend_add) {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+  } else {
+    glDisable(GL_BLEND);
+  }
+  if (!colour) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+  glEnable(GL_DEPTH_CLAMP);
+  sphere.draw_instanced(instances);
+  glDisable(GL_DEPTH_CLAMP);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glCullFace(GL_BACK);
+  glDisable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+}
+
+// The samples `draw` lets through (GL_SAMPLES_PASSED: one per pixel here, exact).
+template <typename Draw>
+uint64_t samples_passed(Draw draw) {
+  GLuint query = 0;
+  glGenQueries(1, &query);
+  glBeginQuery(GL_SAMPLES_PASSED, query);
+  draw();
+  glEndQuery(GL_SAMPLES_PASSED);
+  GLuint64 samples = 0;
+  glGetQueryObjectui64v(query, GL_QUERY_RESULT, &samples);
+  glDeleteQueries(1, &query);
+  return samples;
+}
+
+}  // namespace
+
+void Renderer::light_volume_pass() {
+  const Programs& p = *programs_;
+  const int volumes = light_count_ - directional_count_;
+  volume_work_ = LightVolumeWork{};
+  volume_work_.volume_lights = volumes;
+  if (volumes <= 0) return;
+  if (volume_sphere_.index_count() == 0) volume_sphere_ = enclosing_sphere_mesh(kLightVolumeSubdivisions);
+  lighting_fbo_.bind();  // the HDR target with the G-buffer's depth
+  glViewport(0, 0, settings_.width, settings_.height);
+  auto set_uniforms = [&](const Program& program) {
+    set_frame_uniforms(program);
+    program.set("u_volume_light_offset", directional_count_);
+  };
+  set_uniforms(p.volume);
+  draw_light_volumes(volume_sphere_, volumes, volume_state_, true);
+  if (!settings_.count_light_volume_work) return;
+  // The same volumes under the same state, through a fragment shader that writes
+  // nothing: every fragment the student's fragment shader was run for.
+  set_uniforms(p.volume_count);
+  volume_work_.shaded_fragments =
+      samples_passed([&] { draw_light_volumes(volume_sphere_, volumes, volume_state_, false); });
+  // The framework's own spheres, back faces only and no depth test: every pixel each
+  // volume covers on screen, once (also with the camera inside it).
+  set_uniforms(p.volume_coverage);
+  LightVolumeState coverage;
+  coverage.cull = LightVolumeState::Cull::Front;
+  coverage.depth = LightVolumeState::Depth::Off;
+  volume_work_.volume_coverage = samples_passed([&] { draw_light_volumes(volume_sphere_, volumes, coverage, false); });
+  // The pixels the full-screen loop shades: those with a surface.
+  set_frame_uniforms(p.surface_count);
+  volume_work_.surface_pixels = samples_passed([&] {
+    glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
+    triangle_.pass_over_surfaces(p.surface_count, lighting_fbo_, settings_.width, settings_.height);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  });
+}
+
 void Renderer::render(const FrameCamera& camera, PassTimes* pass_times) {
   used_.clear();
   PassClock clock(pass_times);
@@ -599,14 +713,15 @@ void Renderer::render(const FrameCamera& camera, PassTimes* pass_times) {
 
 void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
   if (settings_.extra_lights != lights_extra_ || settings_.default_light_rig != lights_default_rig_ ||
-      settings_.attenuation_model != lights_attenuation_model_)
+      settings_.attenuation_model != lights_attenuation_model_ ||
+      (stage_.light_volumes && settings_.gamma != lights_gamma_))
     upload_lights();
   if (ibl_ && (settings_.environment != ibl_environment_ || !(settings_.ibl == ibl_settings_))) update_ibl();
   clock.lap("setup");
   camera_ = camera;
   const Programs& p = *programs_;
   for (const Program* program : {&p.lighting, &p.display, &p.bright, &p.blur, &p.composite, &p.custom,
-                                 &p.irradiance, &p.prefilter, &p.brdf_lut, &p.ibl, &p.background}) {
+                                 &p.irradiance, &p.prefilter, &p.brdf_lut, &p.ibl, &p.background, &p.volume}) {
     bool drawn = program->valid() && (program != &p.display || !stage_.postprocess) &&
                  (program != &p.blur || settings_.blur_passes > 0);
     if (drawn) used_.push_back(program);
@@ -631,8 +746,17 @@ void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
   gbuffer_.bind_textures();
   lights_.bind();
   set_frame_uniforms(p.lighting);
+  // Stage 7: the full-screen pass lights with the directional lights alone (they lead
+  // the list); the volumes add the others.
+  if (stage_.light_volumes) p.lighting.set("u_light_count", directional_count_);
   lighting_pass(p.lighting);
   check_gl("lighting pass");
+  if (stage_.light_volumes) {
+    light_volume_pass();
+    p.lighting.use();
+    p.lighting.set("u_light_count", light_count_);  // the forward pass lights with all of them
+    check_gl("light volume pass (light_volume.vert, light_volume.frag)");
+  }
   clock.lap("lighting");
 
   // 2''. Stage 6: the environment's light added (ibl.frag), then the environment

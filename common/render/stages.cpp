@@ -17,6 +17,8 @@ const std::vector<Stage>& stages() {
       {4, "normalmap", "04-normalmap", {"gbuffer.vert", "gbuffer.frag"}, true, false},
       {5, "postprocess", "05-postprocess", {"bright.frag", "blur.frag", "composite.frag", "custom_effect.frag"}, true, true},
       {6, "ibl", "06-ibl", {"ibl.frag", "irradiance.frag", "prefilter.frag", "brdf_lut.frag"}, true, true, true},
+      // Direct light only: the environment's light would hide the small lights this lab is about.
+      {7, "lightvolumes", "07-lightvolumes", {"light_volume.vert", "light_volume.frag"}, true, true, false, true},
   };
   return kStages;
 }

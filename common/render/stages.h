@@ -19,12 +19,14 @@ struct Stage {
   bool lighting;                   // runs the full-screen lighting pass
   bool postprocess;                // runs bright pass, blur, composite and the custom effect
   bool ibl = false;                // lit by an environment too: lab 6's precompute passes and IBL pass (ibl.h)
+  bool light_volumes = false;      // point and spot lights drawn as light volumes (light_volumes.h); the
+                                   // full-screen pass keeps the directional lights and emission
 };
 
 const std::vector<Stage>& stages();
 // By name ("lighting") or number ("2"); throws kit::Error listing the valid names.
 KIT_NO_DANGLING const Stage& find_stage(const std::string& name_or_number);
-// The stage numbered `number` (1-6). Taking the int itself, not std::to_string(number):
+// The stage numbered `number` (1-7). Taking the int itself, not std::to_string(number):
 // GCC 14's -Wdangling-reference warns at every reference bound from a call given a temporary.
 KIT_NO_DANGLING const Stage& find_stage(int number);
 

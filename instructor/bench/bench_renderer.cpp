@@ -157,6 +157,9 @@ std::vector<Light> small_lights(const Scene& scene, int count, SmallLightRange r
     float spread = std::fmod(golden * static_cast<float>(i), 1.0f);
     light.position.y = scene.bounds_min.y + kSmallLightMinHeight + kSmallLightHeightSpan * spread;
     light.intensity = kSmallLightsTotalIntensity / static_cast<float>(count);
+    // Ranged: where its light falls to kSmallLightRangeRadiance (not spawned_lights' own range,
+    // made for lights of another intensity); unlimited: none.
+    light.range = 0.0f;
     if (range == SmallLightRange::Ranged) light.range = light_cutoff_radius(light, kSmallLightRangeRadiance, 0);
   }
   return lights;
@@ -167,15 +170,6 @@ std::vector<Light> bench_lights(const Scene& scene, int extra, SmallLightRange r
   std::vector<Light> small = small_lights(scene, extra, range);
   lights.insert(lights.end(), small.begin(), small.end());
   return lights;
-}
-
-float light_cutoff_radius(const Light& light, float epsilon, int attenuation_model) {
-  if (light.type == KIT_LIGHT_DIRECTIONAL) return std::numeric_limits<float>::infinity();
-  const float c_max = std::max(light.color.r, std::max(light.color.g, light.color.b));
-  float r2 = light.intensity * c_max / (glm::pi<float>() * epsilon);
-  if (attenuation_model == 1) r2 -= 1.0f;
-  const float radius = std::sqrt(std::max(r2, 0.0f));
-  return light.range > 0.0f ? std::min(radius, light.range) : radius;
 }
 
 void require_positional_lights(const std::vector<Light>& lights, const std::string& method) {

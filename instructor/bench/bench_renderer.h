@@ -63,22 +63,8 @@ std::vector<Light> small_lights(const Scene& scene, int count, SmallLightRange r
 // The scene's own lights followed by `extra` small lights.
 std::vector<Light> bench_lights(const Scene& scene, int extra, SmallLightRange range = SmallLightRange::Ranged);
 
-// Where a light's contribution falls below epsilon: the radius of its light volume
-// and of its culling sphere in tiled deferred, at most its glTF range.
-//
-// Bound: outgoing radiance from one light is f L_i (n.l) with n.l <= 1, the spot
-// cone factor <= 1, the range window <= 1 and L_i <= I c_max / r^2 (I the glTF
-// intensity in candela: the physical model's flux / (4 pi r^2) is exactly I / r^2
-// for a point light and at most that for a spot). For f the bound is the
-// Lambertian lobe at albedo 1, 1/pi. Setting I c_max / (pi r^2) = epsilon gives
-// r = sqrt(I c_max / (pi epsilon)); with seed 002's simple model I / (1 + r^2) the
-// same bound gives r^2 = I c_max / (pi epsilon) - 1. The bound leaves out the
-// specular lobe: a glossy highlight of a light outside its radius is lost. A light
-// with a range adds exactly nothing past it (lights.glsl kit_range_window), so
-// when the range is the smaller radius, culling that light is exact. A directional
-// light reaches everywhere: +infinity (the culled methods refuse it, see
-// require_positional_lights).
-float light_cutoff_radius(const Light& light, float epsilon, int attenuation_model);
+// light_cutoff_radius (render/light_volumes.h) bounds each light of the culling methods,
+// lab 7's volumes among them.
 // Light volumes and tiles bound each light by a sphere around its position; a
 // directional light has neither, so those methods throw kit::Error naming it.
 void require_positional_lights(const std::vector<Light>& lights, const std::string& method);

@@ -101,7 +101,7 @@ TEST(Backends, BadCommandLinesFailClearly) {
   const std::string missing_scene = (dir / "no_such_scene.gltf").string();
   // Each run costs ~0.3 s of process start-up (Mesa's libraries), so one case per flag.
   const std::pair<std::string, std::string> cases[] = {
-      {"--stage bogus" + out, "unknown stage 'bogus' (stages: gbuffer, lighting, attenuation, normalmap, postprocess, ibl)"},
+      {"--stage bogus" + out, "unknown stage 'bogus' (stages: gbuffer, lighting, attenuation, normalmap, postprocess, ibl, lightvolumes)"},
       {"--view bogus" + out, "unknown view 'bogus' (views: final, position, normal, albedo, material, emission, depth, hdr, and at stage 6 irradiance, prefiltered, brdf-lut)"},
       {"--size 0x120" + out, "--size must be between 1x1 and 8192x8192 (got '0x120')"},
       {"--size 160" + out, "--size expects WxH, e.g. 640x480 (got '160')"},

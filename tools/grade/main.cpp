@@ -1,7 +1,7 @@
 // kit-grade: the autograder. handouts/instructors.md explains every flag, the
 // checks, the tolerances and the output files.
 //
-//   kit-grade SUBMISSION [--labs 1-6] [--out DIR] [--jobs N] [--backend osmesa|egl]
+//   kit-grade SUBMISSION [--labs 1-7] [--out DIR] [--jobs N] [--backend osmesa|egl]
 //   kit-grade --batch FOLDER --out DIR [--jobs N] [--force]   (regrades what changed since its result)
 //   kit-grade --update-references | --check-references
 //
@@ -30,7 +30,7 @@ constexpr int kMaxDefaultJobs = 2;
 
 void usage() {
   std::printf(
-      "usage: kit-grade SUBMISSION [--labs 1-6] [--out DIR] [options]\n"
+      "usage: kit-grade SUBMISSION [--labs 1-7] [--out DIR] [options]\n"
       "       kit-grade --batch FOLDER --out DIR [--force] [options]\n"
       "       kit-grade --update-references | --check-references [--references DIR]\n"
       "       kit-grade --self-check [self_check.py options]\n"

@@ -1,5 +1,6 @@
 #include "scene_catalogue.h"
 
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <stdexcept>
@@ -327,6 +328,60 @@ GltfSceneWriter build_range_scene() {
   return b;
 }
 
+// Many small lights, for kit-grade's lab 7 (light volumes): 128 coloured point lights of
+// 0.08 cd, 0.15 to 0.4 m above a 12 x 12 m floor among five spheres, each with a glTF range
+// of 0.9 m (so its volume is exact: lights.glsl kit_range_window), a dim directional light
+// and an emissive sphere (both stay in the full-screen pass). Every light lights a patch of
+// floor a few hundred pixels wide: the full-screen loop shades each pixel for all 128, the
+// volumes for the few that reach it.
+GltfSceneWriter build_lights_scene() {
+  GltfSceneWriter b("lights");
+  add_grey_floor(b, 0.6);
+  const Geometry ball = b.add_geometry(make_sphere(0.5f, 48, 24, {1, 1}, false));
+  const glm::dvec3 balls[5] = {{-2.5, 0.5, -1.5}, {0.0, 0.5, -2.5}, {2.5, 0.5, -1.0}, {-1.2, 0.5, 1.2}, {1.6, 0.5, 1.8}};
+  for (int i = 0; i < 5; ++i) {
+    const double roughness = 0.25 + 0.15 * i, metallic = i % 2 == 0 ? 0.0 : 1.0;
+    const MaterialDesc m = plain_material("ball_" + std::to_string(i), glm::dvec4(0.8, 0.75 - 0.1 * i, 0.5 + 0.1 * i, 1.0),
+                                          roughness, metallic);
+    b.add_mesh_node("ball_" + std::to_string(i), balls[i], ball, b.add_material(m));
+  }
+  MaterialDesc glow = plain_material("glow", glm::dvec4(0.0, 0.0, 0.0, 1.0), 0.5);
+  glow.emissive = glm::dvec3(1.0, 0.6, 0.2);
+  b.add_mesh_node("emitter", {0.0, 0.25, 0.3}, b.add_geometry(make_sphere(0.25f, 32, 16, {1, 1}, false)), b.add_material(glow));
+  b.add_directional_light("moon", {0.0, 5.0, 0.0}, glm::normalize(glm::dvec3(0.3, -1.0, -0.4)), {0.6, 0.7, 1.0}, 0.15);
+  // A jittered 16 x 8 grid over the floor: deterministic, no two lights on one spot.
+  constexpr int kColumns = 16, kRows = 8;
+  for (int i = 0; i < kColumns * kRows; ++i) {
+    const int col = i % kColumns, row = i / kColumns;
+    const double jx = std::fmod(0.618034 * (i + 1), 1.0) - 0.5, jz = std::fmod(0.754878 * (i + 1), 1.0) - 0.5;
+    const glm::dvec3 at(-5.4 + (col + 0.5 + 0.6 * jx) * (10.8 / kColumns), 0.15 + 0.25 * std::fmod(0.5698 * i, 1.0),
+                        -4.0 + (row + 0.5 + 0.6 * jz) * (8.0 / kRows));
+    const double hue = 6.2831853 * i / (kColumns * kRows);
+    const glm::dvec3 colour(0.6 + 0.4 * std::cos(hue), 0.6 + 0.4 * std::cos(hue + 2.094), 0.6 + 0.4 * std::cos(hue + 4.189));
+    b.add_point_light("small_" + std::to_string(i), at, colour, 0.08, 0.9);
+  }
+  b.add_camera({0.0, 5.5, 7.0}, {0.0, 0.0, -0.5}, 0.8);
+  return b;
+}
+
+// The camera inside a light's volume, for kit-grade's lab 7: a point light with a 4 m range
+// 2 m in front of the camera, over a floor before a wall, and a second light with a short
+// range (1.2 m) to the right, seen from outside. A volume drawn with its front faces only
+// leaves the first light out: its front faces are behind the camera.
+GltfSceneWriter build_inside_scene() {
+  GltfSceneWriter b("inside");
+  add_grey_floor(b, 0.5);
+  const MaterialDesc wall = plain_material("wall", glm::dvec4(0.7, 0.65, 0.6, 1.0), 0.8);
+  b.add_mesh_node("wall", {0.0, 2.0, -2.0}, b.add_geometry(make_quad({1, 0, 0}, {0, 1, 0}, {12, 4}, {1, 1}, false)),
+                  b.add_material(wall));
+  const MaterialDesc blue = plain_material("blue", glm::dvec4(0.2, 0.35, 0.8, 1.0), 0.35);
+  b.add_mesh_node("ball", {-0.6, 0.45, -0.6}, b.add_geometry(make_sphere(0.45f, 48, 24, {1, 1}, false)), b.add_material(blue));
+  b.add_point_light("around_camera", {0.0, 1.3, 1.2}, {1.0, 0.9, 0.8}, 2.0, 4.0);
+  b.add_point_light("short", {1.6, 0.4, -1.2}, {0.6, 0.8, 1.0}, 1.5, 1.2);
+  b.add_camera({0.2, 1.6, 3.0}, {0.0, 0.8, -1.5}, 0.9);
+  return b;
+}
+
 // glTF material features beyond the metallic-roughness factors, one object each, for
 // kit-grade's labs 1 and 2 and the G-buffer tests:
 //  * a sphere with a black base colour and a red emissive colour times a checker
@@ -533,6 +588,8 @@ void write_kit_scenes(const fs::path& out_dir) {
   build_materials_scene(textures).write(out_dir);
   build_texturing_scene(textures).write(out_dir);
   build_closeup_scene(textures).write(out_dir);
+  build_lights_scene().write(out_dir);
+  build_inside_scene().write(out_dir);
   build_range_scene().write(out_dir);
   build_matte_scene().write(out_dir);
   build_crowd_scene().write(out_dir);
