@@ -19,6 +19,9 @@
 //          renderer.cpp (u_normal_matrix)       normal_matrix
 //   Lab 5  solutions/05-postprocess/*.frag      bright_pass, blur_pass, bloom, composite
 //                                               (the custom effect is left out: identity when off)
+//   Lab 7  solutions/07-lightvolumes/*          shade() per light: a volume adds lab 2's term of its
+//                                               light (test_light_volumes.cpp; ranged lights cut at
+//                                               their range lose nothing)
 //   renderer.cpp light_flux and light_texture   exact_light_flux, uploaded_light, exact_light
 //
 // Images follow image_io.h: rows top-down, RGBA floats. Values are computed in

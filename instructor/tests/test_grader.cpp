@@ -267,7 +267,7 @@ TEST(Grader, StartersScoreTheDocumentedMinimum) {
   expect_ran(r);
   const std::map<int, std::set<std::string>> documented = {
       {1, {}}, {2, {}}, {3, {}}, {4, {"default-final"}},
-      {5, {"default-off", "custom-off", "custom-on-postprocess-off"}}, {6, {}}};
+      {5, {"default-off", "custom-off", "custom-on-postprocess-off"}}, {6, {}}, {7, {}}};
   for (const auto& [number, passing] : documented) {
     EXPECT_EQ(lab(r, number)["status"], "graded");
     for (const auto& [key, check] : lab(r, number)["checks"].items())

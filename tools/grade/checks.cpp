@@ -36,6 +36,7 @@ const char* metric_name(Metric metric) {
     case Metric::Material: return "material";
     case Metric::Changes: return "changes";
     case Metric::Same: return "same";
+    case Metric::Work: return "work";
   }
   return "?";
 }
@@ -174,6 +175,14 @@ const std::vector<RenderSpec>& renders() {
     // reflection and the table's diffuse Fresnel weight C is smallest (about 0.97): an
     // ibl.frag without C is 3 % too bright over the whole floor (elsewhere C is near 1).
     r.push_back(with(hdr("lab6-matte-sun-hdr", 6, "matte"), sun));
+    // Lab 7: 128 small ranged lights (the work the volumes save), the camera inside a
+    // volume (front faces culled, not back), and a spot and a point light whose ranges end
+    // in view (lab 3's range scene). Each frame's HDR buffer is compared with the
+    // solution's, and the same frame's counted work checked (Metric::Work).
+    r.push_back(hdr("lab7-lights-hdr", 7, "lights"));
+    r.push_back(final_image("lab7-lights-final", 7, "lights"));
+    r.push_back(hdr("lab7-inside-hdr", 7, "inside"));
+    r.push_back(hdr("lab7-range-hdr", 7, "range"));
     return r;
   }();
   return kRenders;
@@ -227,6 +236,14 @@ const std::vector<Check>& checks() {
       {4, "texturing-normal", "texturing scene, mapped normal (normal scale 0.4, tangent under non-uniform scale)", Metric::Normal, "lab4-texturing-normal", "lab4-texturing-normal"},
       {4, "closeup-final", "brick close-up (magnified normal map, grazing light), final image", Metric::Ldr, "lab4-closeup-final", "lab4-closeup-final"},
       {4, "closeup-normal", "brick close-up, mapped normal (no filter approximation)", Metric::Normal, "lab4-closeup-normal", "lab4-closeup-normal"},
+
+      {7, "lights-hdr", "128 small lights, HDR", Metric::Hdr, "lab7-lights-hdr", "lab7-lights-hdr"},
+      {7, "lights-final", "128 small lights, final image", Metric::Ldr, "lab7-lights-final", "lab7-lights-final"},
+      {7, "inside-hdr", "camera inside a light's volume, HDR", Metric::Hdr, "lab7-inside-hdr", "lab7-inside-hdr"},
+      {7, "range-hdr", "a spot and a point light with ranges, HDR", Metric::Hdr, "lab7-range-hdr", "lab7-range-hdr"},
+      {7, "lights-work", "128 small lights, fragments shaded", Metric::Work, "lab7-lights-hdr", "lab7-lights-hdr"},
+      {7, "inside-work", "camera inside a volume, fragments shaded", Metric::Work, "lab7-inside-hdr", "lab7-inside-hdr"},
+      {7, "range-work", "spot and point light, fragments shaded", Metric::Work, "lab7-range-hdr", "lab7-range-hdr"},
 
       {5, "default-bloom", "default scene, bloom on", Metric::Ldr, "lab5-default-bloom", "lab5-default-bloom"},
       {5, "default-threshold05", "default scene, bloom threshold 0.5", Metric::Ldr, "lab5-default-threshold05", "lab5-default-threshold05"},
@@ -297,6 +314,7 @@ RenderSettings render_settings(const RenderSpec& spec) {
   s.custom_effect = spec.custom_effect;
   s.bloom_threshold = spec.bloom_threshold;
   s.environment = spec.environment;
+  s.count_light_volume_work = find_stage(spec.stage).light_volumes;  // lab 7's work checks
   return s;
 }
 

@@ -34,10 +34,15 @@ enum class Metric {
   Changes,   // must differ from another render of the submission (custom-effect toggle)
   Same,      // must equal another render of the submission (display images): both come from
              // the same machine, so the right answer is exact on every OpenGL implementation
+  Work,      // lab 7: the fragments the light volumes shaded, counted in the render's frame
+             // (render/light_volumes.h LightVolumeWork), credited only where that frame's
+             // image check passed
 };
 const char* metric_name(Metric metric);  // "ldr", "hdr", ... (the keys in grading.json)
 // Changes and Same compare two renders of the submission: no reference file, no edges.
-inline bool compares_own_renders(Metric metric) { return metric == Metric::Changes || metric == Metric::Same; }
+inline bool compares_own_renders(Metric metric) {
+  return metric == Metric::Changes || metric == Metric::Same || metric == Metric::Work;
+}
 
 struct RenderSpec {
   std::string id;     // unique; also the reference's file name (without extension)

@@ -413,6 +413,7 @@ double largest_possible_difference(Metric metric) {
     case Metric::Albedo:
     case Metric::Changes:
     case Metric::Same: return 1.0;  // RGBA8: values in [0, 1]
+    case Metric::Work: return 0.0;  // no pixels compared
     case Metric::Hdr: return 2.0;      // c / (1 + |c|) lies in (-1, 1)
     case Metric::Normal: return 180.0;
     case Metric::Position:
@@ -602,6 +603,37 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
   } else if (!r.passed && is_uniform(image) && !is_uniform(reference)) {
     r.note = "every pixel is " + pixel_text(image) + ": does the shader write its output?";
   }
+  return r;
+}
+
+Comparison compare_work(const Tolerance& tol, const LightVolumeWork& work, bool image_passed,
+                        const std::string& image_check, int width, int height) {
+  Comparison r;
+  r.diff = Image(width, height, 3);
+  const double loop = static_cast<double>(work.surface_pixels) * work.volume_lights;
+  const double allowed = static_cast<double>(work.volume_coverage) * (1.0 + tol.fail_threshold);
+  const double speedup = work.speedup();
+  const bool within_coverage = static_cast<double>(work.shaded_fragments) <= allowed;
+  const bool fast_enough = speedup >= tol.min_speedup;
+  r.passed = image_passed && within_coverage && fast_enough;
+  r.max_error = static_cast<double>(work.shaded_fragments);
+  char text[640];
+  std::snprintf(text, sizeof text,
+                "%.0f fragments shaded for %d light volumes; the volumes cover %.0f pixels on screen (at most %.0f "
+                "may be shaded, %.3g%% over); the full-screen loop shades %.0f (%.0f surface pixels x %d lights): "
+                "%.1fx fewer (at least %.3gx)",
+                static_cast<double>(work.shaded_fragments), work.volume_lights, static_cast<double>(work.volume_coverage),
+                std::floor(allowed), 100.0 * tol.fail_threshold, loop, static_cast<double>(work.surface_pixels),
+                work.volume_lights, speedup, tol.min_speedup);
+  r.summary = text;
+  if (!image_passed)
+    r.note = "the image of this frame (" + image_check + ") is not right yet, so its work is not credited";
+  else if (!within_coverage)
+    r.note = "more fragments were shaded than the volumes cover: a pixel shaded twice by one light (both faces "
+             "drawn?), a volume larger than its radius, or a full-screen pass per light";
+  else if (!fast_enough)
+    r.note = "the volumes save less work than they should on this scene";
+  if (!r.passed) r.summary = "Over the limit: " + r.summary;
   return r;
 }
 

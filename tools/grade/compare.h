@@ -65,6 +65,14 @@ Image pixel_differences(Metric metric, const Image& image, const Image& referenc
 Comparison compare_images(Metric metric, const Tolerance& tolerance, const Image& image, const Image& reference,
                           const Background* background = nullptr, const Image* allowance = nullptr);
 
+// Lab 7's work check on one frame's counted work (render/light_volumes.h): it fails when
+// the fragments shaded exceed the volumes' own screen coverage by more than fail_threshold
+// (a share of it), when the full-screen loop's work over them is under min_speedup, or
+// when `image_passed` is false: a wrong image gets no credit for speed (`image_check`
+// names that check). The diff is black, `width` x `height`.
+Comparison compare_work(const Tolerance& tolerance, const LightVolumeWork& work, bool image_passed,
+                        const std::string& image_check, int width, int height);
+
 // The image as the report shows it (RGB, [0,1]): G-buffer vectors as (v+1)/2,
 // positions over the reference's bounds, HDR through Reinhard and gamma 2.2,
 // NaN/Inf pixels magenta. `reference` supplies the bounds for positions.

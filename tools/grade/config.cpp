@@ -30,6 +30,7 @@ const RequiredFields kRequired[] = {
     {Metric::Material, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
     {Metric::Changes, {"fail_threshold", "min_changed_percent"}},
     {Metric::Same, {"fail_threshold", "fail_percent", "hard_fail", "max_mean_error"}},
+    {Metric::Work, {"fail_threshold", "min_speedup"}},
 };
 
 double number(const nlohmann::json& object, const char* key, const std::string& where) {
@@ -48,6 +49,7 @@ bool set_tolerance_field(Tolerance& tol, const std::string& field, double v) {
   else if (field == "max_mean_error") tol.max_mean_error = v;
   else if (field == "length_tolerance") tol.length_tolerance = v;
   else if (field == "min_changed_percent") tol.min_changed_percent = v;
+  else if (field == "min_speedup") tol.min_speedup = v;
   else return false;
   return true;
 }

@@ -27,6 +27,10 @@ struct Tolerance {
   double max_mean_error = 0.0;       // mean per-pixel error over the covered pixels (Normal: degrees)
   double length_tolerance = 0.0;     // Normal only: | |n| - 1 | above this fails the pixel
   double min_changed_percent = 0.0;  // Changes only: at least this share of pixels must differ
+  // Work only: fail_threshold is the share by which the shaded fragments may exceed the
+  // volumes' own screen coverage (rasterisers differ at the spheres' edges), and the
+  // full-screen loop's work over the shaded fragments must reach min_speedup.
+  double min_speedup = 0.0;
 };
 
 struct Config {

@@ -144,7 +144,7 @@ void write_report_images(const Run& run, const fs::path& result_dir, const Check
   c.image = base + ".png";
   c.reference = base + ".ref.png";
   c.diff = base + ".diff.png";
-  Metric shown = compares_own_renders(check.metric) ? Metric::Ldr : check.metric;
+  Metric shown = check.metric == Metric::Work ? Metric::Hdr : compares_own_renders(check.metric) ? Metric::Ldr : check.metric;
   write_image((result_dir / c.image).string(), display_image(shown, image, reference), PngEffort::Fastest);
   write_image((result_dir / c.diff).string(), c.comparison.diff, PngEffort::Fastest);
   if (compares_own_renders(check.metric)) {  // its "reference" is the submission's own render
@@ -230,6 +230,30 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
   for (CheckOutcome& c : lab.checks) {
     const Check& check = *c.check;
     const Image& image = renders.at(check.image);
+    if (check.metric == Metric::Work) {
+      // The frame's image check comes before it in the list: credited only where it passed.
+      const CheckOutcome* shown = nullptr;
+      for (const CheckOutcome& other : lab.checks)
+        if (&other != &c && other.compared && other.check->image == check.image && other.check->metric != Metric::Work)
+          shown = &other;
+      LightVolumeWork work;
+      const nlohmann::json counted = child.contains("work") ? child["work"].value(check.image, nlohmann::json()) : nlohmann::json();
+      if (counted.is_object()) {
+        work.volume_lights = counted.value("volume_lights", 0);
+        work.surface_pixels = counted.value("surface_pixels", uint64_t{0});
+        work.shaded_fragments = counted.value("shaded_fragments", uint64_t{0});
+        work.volume_coverage = counted.value("volume_coverage", uint64_t{0});
+      }
+      c.comparison = compare_work(run.config.tolerance(check), work, shown && shown->passed,
+                                  shown ? shown->check->key : check.image, image.width, image.height);
+      if (counted.is_object()) c.comparison.summary += "; state " + counted.value("state", std::string("?"));
+      c.compared = true;
+      c.passed = c.comparison.passed;
+      c.score = c.passed ? c.max_score : 0;
+      write_report_images(run, result_dir, check, image, image, c);
+      c.comparison.diff = Image();
+      continue;
+    }
     const bool own = compares_own_renders(check.metric);  // its "reference" is the submission's own render
     const LoadedReference* stored = own ? nullptr : &run.references.at(check.reference);
     const Image& reference = own ? renders.at(check.reference) : stored->image;

@@ -148,6 +148,14 @@ int render_lab(const RenderJob& job) {
         report["seconds"]["render_each"][spec->id] = seconds;
         last_frame[key] = settings;
       }
+      if (stage.light_volumes) {  // the frame's counted work, for lab 7's work checks
+        const LightVolumeWork& w = renderer->light_volume_work();
+        report["work"][spec->id] = {{"volume_lights", w.volume_lights},
+                                    {"surface_pixels", w.surface_pixels},
+                                    {"shaded_fragments", w.shaded_fragments},
+                                    {"volume_coverage", w.volume_coverage},
+                                    {"state", describe(renderer->light_volume_state())}};
+      }
       auto t = Clock::now();
       write_raw_image(raw_image_path(job.out_dir, spec->id), renderer->read_view(spec->view, spec->raw));
       // A display image cannot hold NaN (RGBA8): count them where they start, in the HDR
