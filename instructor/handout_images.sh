@@ -153,6 +153,7 @@ mistake "$TMP/m-double-gamma" tonemap-gamma-applied-twice
 mistake "$TMP/m-handedness" normalmap-handedness-ignored
 mistake "$TMP/m-tangent-space" normalmap-left-in-tangent-space
 mistake "$TMP/m-horizontal" postprocess-blur-horizontal-only
+mistake "$TMP/m-front-faces" lightvolumes-front-faces-drawn
 # Lab 6: each sample read from level 0 (no filtered importance sampling), and the BRDF
 # table without its n.v guards (n.v = 0 in the first column makes the weight 0/0).
 edit_solution "$TMP/m-prefilter-level0" 06-ibl prefilter.frag \
@@ -258,6 +259,12 @@ spawn render "$TMP/m-prefilter-level0" ibl sphere --environment sun \
   --view prefiltered --out views/lab6-mistake-prefiltered-level0.exr
 # --check-maps off: the kit would stop at the table's NaN; this shows what it would do.
 spawn render "$TMP/m-brdf-no-guard" ibl sphere --environment sun --check-maps off --out lab6-mistake-brdf-no-guard.png
+
+# --- Lab 7: light volumes (the stage runs lab 5's bloom; no environment) ---
+spawn render "$SOL" lightvolumes lights --out lab7-solution-lights.png
+spawn render "$LAB" lightvolumes lights --out lab7-starter-lights.png
+spawn render "$SOL" lightvolumes inside --out lab7-solution-inside.png
+spawn render "$TMP/m-front-faces" lightvolumes inside --out lab7-mistake-front-faces.png
 
 wait_all
 
