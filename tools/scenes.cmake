@@ -52,7 +52,6 @@ set(KIT_SCENE_BYPRODUCTS
   ${KIT_SCENES_DIR}/texturing/texturing.bin
   ${KIT_SCENES_DIR}/texturing/uv_grid.png
   ${KIT_SCENES_DIR}/texturing/packed_orm.png
-  ${KIT_SCENES_DIR}/texturing/checker.png
   ${KIT_SCENES_DIR}/texturing/bumps_normal.png
   ${KIT_SCENES_DIR}/closeup/closeup.bin
   ${KIT_SCENES_DIR}/lights/lights.bin

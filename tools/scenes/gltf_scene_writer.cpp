@@ -221,7 +221,7 @@ void GltfSceneWriter::add_directional_light(const std::string& name, glm::dvec3 
                {name, node_position, look_at_rotation(node_position, node_position + direction), kUnitScale, -1});
 }
 
-void GltfSceneWriter::add_camera(glm::dvec3 eye, glm::dvec3 target, double yfov) {
+void GltfSceneWriter::add_camera(glm::dvec3 eye, glm::dvec3 target, double yfov, double roll_degrees) {
   tinygltf::Camera cam;
   cam.name = "camera";
   cam.type = "perspective";
@@ -229,7 +229,9 @@ void GltfSceneWriter::add_camera(glm::dvec3 eye, glm::dvec3 target, double yfov)
   cam.perspective.znear = kZNear;
   cam.perspective.zfar = kZFar;
   model_.cameras.push_back(cam);
-  const int node = add_node({"camera", eye, look_at_rotation(eye, target), kUnitScale, -1});
+  // The roll turns the camera about its own view axis (its local -Z; +Z turns the same way).
+  const glm::dquat rotation = look_at_rotation(eye, target) * glm::angleAxis(glm::radians(roll_degrees), glm::dvec3(0, 0, 1));
+  const int node = add_node({"camera", eye, rotation, kUnitScale, -1});
   model_.nodes[node].camera = int(model_.cameras.size()) - 1;
 }
 

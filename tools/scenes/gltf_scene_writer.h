@@ -114,8 +114,9 @@ class GltfSceneWriter {
   void add_directional_light(const std::string& name, glm::dvec3 node_position, glm::dvec3 direction,
                              glm::dvec3 color, double lux);
 
-  // No aspect ratio: the renderer uses its viewport's.
-  void add_camera(glm::dvec3 eye, glm::dvec3 target, double yfov);
+  // No aspect ratio: the renderer uses its viewport's. `roll_degrees` turns it about its view
+  // axis, counter-clockwise as seen through it (the image turns clockwise).
+  void add_camera(glm::dvec3 eye, glm::dvec3 target, double yfov, double roll_degrees = 0.0);
 
   // Writes OUT_DIR/<name>/<name>.gltf, <name>.bin and the PNG textures.
   void write(const std::filesystem::path& out_dir) const;

@@ -255,7 +255,10 @@ GltfSceneWriter build_normal_map_scene(const Textures& tex) {
 // on average (tools/grade/references.h, the filter allowance): a mistake smaller than
 // that, like a texel decoded as (255 t - 128) / 127, shows only here. The camera looks
 // across the seam between the plain and the mirrored quad, turned 18 degrees off the
-// quads' normal, and the light grazes from the left so the bevels' slopes show.
+// quads' normal and rolled 20 degrees: it turns about all three axes, so a tangent frame
+// built in another space (view space for the tangent, world space for the normal) is off
+// here, where a camera that only pitches leaves the quads' x tangents alone. The light
+// grazes from the left so the bevels' slopes show.
 GltfSceneWriter build_closeup_scene(const Textures& tex) {
   GltfSceneWriter b("closeup");
   const glm::vec3 x(1, 0, 0), y(0, 1, 0);
@@ -263,7 +266,7 @@ GltfSceneWriter build_closeup_scene(const Textures& tex) {
   b.add_mesh_node("quad", {-1.0, 0.0, 0}, b.add_geometry(make_quad(x, y, {2, 2}, {1, 1}, false)), grey);
   b.add_mesh_node("quad_mirrored", {1.0, 0.0, 0}, b.add_geometry(make_quad(x, y, {2, 2}, {1, 1}, true)), grey);
   b.add_point_light("light", {-1.2, 0.4, 0.6}, kWhite, 3.0);
-  b.add_camera({0.28, 0.1, 0.86}, {0.0, 0.0, 0.0}, 0.8);
+  b.add_camera({0.28, 0.1, 0.86}, {0.0, 0.0, 0.0}, 0.8, 20.0);
   return b;
 }
 
@@ -278,7 +281,7 @@ GltfSceneWriter build_closeup_scene(const Textures& tex) {
 //    along no axis of the scale, so a tangent taken to world space by the normal matrix
 //    instead of the model matrix (which agree where the tangent lies along an axis: the
 //    normalmap scene's quads) turns the bumps' slopes, and an ignored scale steepens them.
-GltfSceneWriter build_texturing_scene(const Textures& tex) {
+GltfSceneWriter build_texturing_scene() {
   GltfSceneWriter b("texturing");
   const glm::vec3 x(1, 0, 0), y(0, 1, 0);
 
@@ -291,7 +294,9 @@ GltfSceneWriter build_texturing_scene(const Textures& tex) {
   uv_sets.metallic_roughness_texture = b.add_texture("packed_orm.png", make_packed_orm());
   uv_sets.metallic_roughness_uv = {1, true, {0.3, 0.0}, -0.6, {1.25, 2.0}};
   uv_sets.emissive = glm::dvec3(0.6, 0.5, 0.4);
-  uv_sets.emissive_texture = b.add_texture("checker.png", tex.checker);
+  // The grid's cells differ from each other (no period inside the texture), so a texture
+  // read at another's UV set or transform cannot land on texels that look the same.
+  uv_sets.emissive_texture = uv_sets.base_color_texture;
   uv_sets.emissive_uv = {1, true, {0.5, 0.25}, 0.0, {2.0, 2.0}};
   MeshData quad = make_quad(x, y, {2.0f, 2.0f}, {1, 1}, false);
   for (const glm::vec2& uv0 : quad.uvs) quad.uvs1.emplace_back(0.5f * uv0.y + 0.25f, 1.0f - 0.5f * uv0.x);
@@ -586,7 +591,7 @@ void write_kit_scenes(const fs::path& out_dir) {
   build_highlight_scene().write(out_dir);
   build_sun_scene().write(out_dir);
   build_materials_scene(textures).write(out_dir);
-  build_texturing_scene(textures).write(out_dir);
+  build_texturing_scene().write(out_dir);
   build_closeup_scene(textures).write(out_dir);
   build_lights_scene().write(out_dir);
   build_inside_scene().write(out_dir);
