@@ -138,6 +138,8 @@ class Row:
         self.status = ""
         self.verdict = ""
         self.details = []  # lines printed under the table (failed rows, known gaps)
+        self.signatures = {}  # check key -> signature, from summary.json (tools/grade/diagnosis.h)
+        self.named = []       # the ids kit-grade named for this lab, closest first
 
     @property
     def passed(self):
@@ -210,6 +212,8 @@ def judge(row, out, status, tail, args, submission):
         row.verdict = "ERROR"
         row.details = [f"summary.json has no usable labs.{row.lab} entry ({e}): {summary_path}"]
         return
+    row.signatures = {key: c["signature"] for key, c in lab.get("checks", {}).items() if c.get("signature")}
+    row.named = [m.get("id") for m in lab.get("likely_mistakes", [])]
     tests = []
     try:
         tests = json.loads((out / "results.json").read_text()).get("tests", [])
@@ -221,6 +225,8 @@ def judge(row, out, status, tail, args, submission):
         message = lab.get("message", "") if isinstance(lab, dict) else ""
         row.details = [f"grading ended with status '{row.status}', so this entry tests nothing "
                        "(an edit that does not compile?)"] + [f"  {line}" for line in str(message).splitlines()[:6]]
+    elif row.kind == "starter":
+        row.verdict = "OK"  # graded for its signatures only
     elif row.kind == "mistake":
         row.verdict = ("GAP" if row.known_gap else "MISSED") if full else "OK"
         if full and row.known_gap:
@@ -302,6 +308,69 @@ def write_entry(entries, entry_id, dest, solutions):
     return 0
 
 
+# --- Naming the mistake (tools/grade/diagnosis.h) -------------------------------------------
+SIGNATURE_CAP = 4.0  # compare.h kSignatureCap: the file stores value / cap * 255
+MIN_NAMED = 0.6      # diagnosis.h kMinNamedSimilarity
+
+
+def family(entry_id):
+    """A mistake's family, the same term of the same formula: the first two words of its id."""
+    return "-".join(entry_id.split("-")[:2])
+
+
+def similarity(a, b):
+    """diagnosis.cpp signature_similarity: the cosine of the checks' signatures, concatenated."""
+    dot = sum(x * y for key in a.keys() & b.keys() for x, y in zip(a[key], b[key]))
+    aa = sum(x * x for v in a.values() for x in v)
+    bb = sum(x * x for v in b.values() for x in v)
+    return dot / (aa * bb) ** 0.5 if aa > 0 and bb > 0 else 0.0
+
+
+def quantised(signatures):
+    return {key: [round(min(max(x, 0.0), SIGNATURE_CAP) / SIGNATURE_CAP * 255) for x in v]
+            for key, v in signatures.items()}
+
+
+def write_signatures(path, rows):
+    mistakes = [{"id": r.id, "lab": r.lab, "description": r.description, "signatures": quantised(r.signatures)}
+                for r in sorted(rows, key=lambda r: (r.lab, r.id))]
+    doc = {"about": "Where each catalogued mistake's error lies, check by check (tools/grade/diagnosis.h): written by "
+                    "`kit grade --self-check --write-signatures`; kit-grade names the closest for a failed lab.",
+           "mistakes": mistakes}
+    path.write_text(json.dumps(doc, separators=(",", ":")) + "\n")
+    print(f"self-check: {len(mistakes)} mistakes' signatures written to {path}")
+
+
+def ranked(row, candidates):
+    """candidates (same lab, not row) by similarity to row, closest first, as (similarity, row)."""
+    scored = [(similarity(row.signatures, c.signatures), c) for c in candidates if c.lab == row.lab and c is not row]
+    return sorted(scored, key=lambda t: -t[0])
+
+
+def naming_figures(caught, rows):
+    """The issue's measures: named first with every signature in; with each left out, a relative
+    (its family) named first or within the first three; and what kit-grade itself named."""
+    quant = {r.id: {k: [q * SIGNATURE_CAP / 255 for q in v] for k, v in quantised(r.signatures).items()} for r in caught}
+    class Q:  # a row with its signatures as the file stores them
+        def __init__(self, r):
+            self.id, self.lab, self.signatures = r.id, r.lab, quant[r.id]
+    stored = [Q(r) for r in caught]
+    with_relatives = [r for r in stored if any(family(o.id) == family(r.id) for o in stored if o is not r)]
+    top1 = top3 = 0
+    for r in with_relatives:
+        others = [(s, o) for s, o in ranked(r, stored) if s >= MIN_NAMED][:3]
+        fams = [family(o.id) for _, o in others]
+        top1 += bool(fams) and fams[0] == family(r.id)
+        top3 += family(r.id) in fams
+    named_right = sum(1 for r in caught if r.named and r.named[0] == r.id)
+    distinct = sum(1 for r in stored if all(similarity(r.signatures, o.signatures) < 0.999 for _, o in ranked(r, stored)))
+    return (f"naming: {len(caught)} caught mistakes; with every signature in, named first by its own: "
+            f"{distinct}/{len(caught)} have signatures unlike any other's (a duplicate ties); kit-grade named the "
+            f"right one first for {named_right}/{len(caught)} (with the mistakes.json it read); "
+            f"each left out: a mistake of its family named first for {top1}/{len(with_relatives)}, within the first "
+            f"three for {top3}/{len(with_relatives)} (families: the first two words of an id)")
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(
         prog="kit grade --self-check",
@@ -332,6 +401,9 @@ def main(argv=None):
                         help="seconds one kit-grade run may take, plus 10 s per entry in a batch (default 300)")
     parser.add_argument("--keep", action="store_true", help="keep the submissions and results (paths are printed)")
     parser.add_argument("--wide", action="store_true", help="do not shorten descriptions")
+    parser.add_argument("--write-signatures", type=Path, metavar="FILE",
+                        help="write each caught mistake's signatures to FILE (tools/grade/references/mistakes.json"
+                             " is the grader's) and print how well they name the mistakes")
     parser.add_argument("--write", nargs=2, metavar=("ID", "DIR"),
                         help="only write entry ID's lab folder, edits applied, to DIR/NN-name/ (no grading; "
                              "instructor/handout_images.sh shows mistakes this way)")
@@ -368,6 +440,14 @@ def main(argv=None):
             files = {p.name: p.read_text(encoding="utf-8") for p in lab_dirs[lab].iterdir() if p.is_file()}
             rows.append(row)
             jobs.append((row, files, lab_dirs[lab].name))
+    if args.write_signatures:  # the starters too: a starter handed in is named as one
+        for lab in labs:
+            starter = ROOT / "labs" / lab_dirs[lab].name
+            if starter.is_dir():
+                row = Row(f"starter-lab{lab}", lab, "starter", "the starter as handed out: its TODOs are still to do")
+                rows.append(row)
+                jobs.append((row, {p.name: p.read_text(encoding="utf-8") for p in starter.iterdir() if p.is_file()},
+                             lab_dirs[lab].name))
     for e in entries:
         row = Row(e["id"], e["lab"], e["kind"], e["description"], e.get("known_gap"))
         rows.append(row)
@@ -412,6 +492,13 @@ def main(argv=None):
                 shutil.rmtree(work, ignore_errors=True)
 
     print_table(rows, args.wide)
+    if args.write_signatures:
+        write_signatures(args.write_signatures,
+                         [r for r in rows if r.kind in ("mistake", "starter") and r.passed and r.signatures])
+    caught = [r for r in rows if r.kind == "mistake" and r.passed and r.signatures]
+    if caught:
+        print()
+        print(naming_figures(caught, rows))
     failed = [r for r in rows if r.failed]
     noted = [r for r in rows if r.failed or r.verdict == "GAP" or (r.known_gap and r.verdict == "OK" and r.score is not None)]
     if noted:

@@ -331,6 +331,43 @@ TEST(Grader, UnmatchedVaryingNamesAreALinkError) {
   EXPECT_EQ(r.summary["labs"].size(), 1u) << "only the lab asked for";
 }
 
+// A failed lab names the catalogued mistake its checks' signatures resemble
+// (tools/grade/diagnosis.h): here a catalogued one, so its own signatures are in
+// mistakes.json. Witness: against the same references without mistakes.json nothing is
+// named; the solution, which fails nothing, names nothing either.
+TEST(Grader, FailedLabNamesTheLikelyMistake) {
+  const fs::path sub = kit::test::temp_dir("grader-named-mistake");
+  copy_lab("solutions", 7, sub);
+  edit(sub / "07-lightvolumes/light_volume.vert", "cull(front) depth(greater_equal) blend(add)",
+       "cull(back) depth(less_equal) blend(add)");
+  GradeRun r = grade(sub, "named-mistake", "--labs 7");
+  expect_ran(r);
+  const json likely = lab(r, 7)["likely_mistakes"];
+  ASSERT_FALSE(likely.empty()) << lab(r, 7).dump();
+  EXPECT_EQ(likely[0]["id"], "lightvolumes-front-faces-drawn");
+  EXPECT_GT(likely[0]["similarity"].get<double>(), 0.99);
+  bool said = false;
+  for (const json& t : r.results["tests"])
+    if (t["status"] == "failed")
+      said = said || t["output"].get<std::string>().find("Looks like: back faces culled") != std::string::npos;
+  EXPECT_TRUE(said) << r.results.dump();
+  EXPECT_NE(read_file(r.out / "report.html").find("handouts/07-lightvolumes.md#common-mistakes"), std::string::npos);
+
+  const fs::path references = kit::test::temp_dir("grader-no-signatures");
+  fs::copy(kit::kit_root() / "tools/grade/references", references, fs::copy_options::recursive);
+  fs::remove(references / "mistakes.json");
+  GradeRun without = grade(sub, "named-mistake-without", "--labs 7 --references " + quoted(references));
+  expect_ran(without);
+  EXPECT_LT(lab(without, 7)["score"].get<double>(), 10.0);
+  EXPECT_TRUE(lab(without, 7)["likely_mistakes"].empty());
+  EXPECT_EQ(read_file(without.out / "report.html").find("Looks like"), std::string::npos);
+
+  GradeRun correct = grade(kit::kit_root() / "solutions", "named-mistake-solution", "--labs 7");
+  expect_full_marks(correct, 7);
+  EXPECT_TRUE(lab(correct, 7)["likely_mistakes"].empty());
+  EXPECT_EQ(read_file(correct.out / "report.html").find("catalogued mistake"), std::string::npos);
+}
+
 // A run reads a lab's references only once one of its children has rendered (so the
 // first children start at once). A reference it cannot read then is the grader's problem
 // for that lab alone: status "error", exit status 2, the file named, the other lab graded.
@@ -715,6 +752,25 @@ TEST(GraderVerdicts, FilterAllowanceForgivesOnlyTheReferencesOwnSpread) {
   const kit::grade::Comparison within = kit::grade::compare_images(Metric::Normal, normal_tol, tilted(2.7), flat, nullptr, &normal_allowance);
   EXPECT_TRUE(within.passed) << within.summary;
   EXPECT_FALSE(kit::grade::compare_images(Metric::Normal, normal_tol, tilted(6.0), flat, nullptr, &normal_allowance).passed);
+}
+
+// The similarity of two mistakes' signatures, against numbers worked by hand: the cosine
+// of the concatenated checks, a check one side lacks counted as zeros.
+TEST(GraderVerdicts, SignatureSimilarityAndNaming) {
+  using Signatures = std::map<std::string, std::vector<float>>;
+  const Signatures a = {{"x", {1.0f, 0.0f}}}, b = {{"x", {0.0f, 1.0f}}}, c = {{"x", {1.0f, 1.0f}}};
+  EXPECT_DOUBLE_EQ(kit::grade::signature_similarity(a, a), 1.0);
+  EXPECT_DOUBLE_EQ(kit::grade::signature_similarity(a, b), 0.0);
+  EXPECT_NEAR(kit::grade::signature_similarity(a, c), 0.70710678, 1e-7);  // 1 / sqrt(2)
+  EXPECT_NEAR(kit::grade::signature_similarity({{"x", {1.0f}}, {"y", {1.0f}}}, {{"x", {1.0f}}}), 0.70710678, 1e-7);
+  EXPECT_DOUBLE_EQ(kit::grade::signature_similarity(a, {{"x", {0.0f, 0.0f}}}), 0.0) << "no error: nothing alike";
+  kit::grade::MistakeSignatures catalogue;
+  catalogue.labs[2] = {{"far", "far off", b}, {"close", "close", c}, {"same", "the same", a}};
+  const auto named = kit::grade::likely_mistakes(catalogue, 2, a);
+  ASSERT_EQ(named.size(), 1u) << "0.71 is more than kNamedBesideBest below 1";
+  EXPECT_EQ(named[0].id, "same");
+  EXPECT_TRUE(kit::grade::likely_mistakes(catalogue, 2, {{"x", {-1.0f, -1.0f}}}).empty()) << "below the floor";
+  EXPECT_TRUE(kit::grade::likely_mistakes(catalogue, 3, a).empty()) << "no signatures for that lab";
 }
 
 // Metric::Same compares two renders of one submission, made on one machine: exact, with

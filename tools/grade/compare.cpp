@@ -535,6 +535,19 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
         }
     r.covered_mean_error = r.covered_pixels ? sum / static_cast<double>(r.covered_pixels) : 0.0;
   }
+  if (metric != Metric::Changes && metric != Metric::Same) {
+    r.signature.assign(static_cast<size_t>(kSignatureColumns * kSignatureRows), 0.0f);
+    std::vector<int> counts(r.signature.size(), 0);
+    const float scale = tol.fail_threshold > 0.0 ? static_cast<float>(1.0 / tol.fail_threshold) : 1.0f;
+    for (int y = 0; y < a.height; ++y)
+      for (int x = 0; x < a.width; ++x) {
+        const size_t tile = static_cast<size_t>(y * kSignatureRows / a.height * kSignatureColumns + x * kSignatureColumns / a.width);
+        r.signature[tile] += std::min(pixel_error.at(x, y, 0) * scale, kSignatureCap);
+        ++counts[tile];
+      }
+    for (size_t i = 0; i < counts.size(); ++i)
+      if (counts[i]) r.signature[i] /= static_cast<float>(counts[i]);
+  }
   // NaN/Inf pixels show at full scale in the diff (their copies above were zeroed).
   for (int y = 0; y < image.height; ++y)
     for (int x = 0; x < image.width; ++x)

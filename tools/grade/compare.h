@@ -4,6 +4,7 @@
 // one pass; the angle between normals for Metric::Normal), and the images the report shows.
 #include <array>
 #include <string>
+#include <vector>
 
 #include "checks.h"
 #include "config.h"
@@ -27,6 +28,12 @@ struct Comparison {
                                     // each pixel's capped at fail_threshold
   double psnr = 0.0;             // dB, of the compared values (inf when identical)
   size_t non_finite = 0;         // pixels of the submission holding NaN or Inf
+  // Where the error lies, coarsely (diagnosis.h): the image cut into kSignatureColumns x
+  // kSignatureRows tiles, row by row, each the mean of its pixels' errors (those the mean error
+  // criterion averages) over fail_threshold, each capped at kSignatureCap. (The tiles' signed
+  // difference as well named a relative of a left-out mistake less often: 35 of 96 first
+  // against 55.) Empty for metrics that compare no pixels with a reference (changes, same, work).
+  std::vector<float> signature;
   std::string summary;           // the numbers in one line of words
   std::string note;              // why it failed when that needs saying (NaN, empty image, size)
   Image diff;                    // |submission - reference| x 16 through a colour map (RGB)
@@ -77,6 +84,9 @@ Comparison compare_work(const Tolerance& tolerance, const LightVolumeWork& work,
 // positions over the reference's bounds, HDR through Reinhard and gamma 2.2,
 // NaN/Inf pixels magenta. `reference` supplies the bounds for positions.
 Image display_image(Metric metric, const Image& image, const Image& reference);
+
+constexpr int kSignatureColumns = 8, kSignatureRows = 6;
+constexpr float kSignatureCap = 4.0f;
 
 // Factor the report's diff images scale |a - b| by before the colour map.
 constexpr float kDiffScale = 16.0f;

@@ -272,6 +272,14 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
     write_report_images(run, result_dir, check, image, reference, c);
     c.comparison.diff = Image();  // written: a batch keeps no images in memory
   }
+  // A failed check: which catalogued mistake do the lab's signatures resemble?
+  if (!run.mistakes.empty() && lab.passed_checks() < static_cast<int>(lab.checks.size())) {
+    std::map<std::string, std::vector<float>> signatures;
+    for (const CheckOutcome& c : lab.checks)
+      if (c.compared && !c.comparison.signature.empty()) signatures[c.check->key] = c.comparison.signature;
+    lab.likely_mistakes = likely_mistakes(run.mistakes, lab.lab, signatures);
+    lab.diagnosed = true;
+  }
   lab.compare_seconds = seconds_since(t0);
 }
 
@@ -516,11 +524,12 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
 }
 
 Run make_run(const Options& options, bool need_references) {
-  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}, {}};
+  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}, {}, {}};
   if (need_references) {
     run.references_dir = options.references.empty() ? default_references_dir() : options.references;
     require_current_references(run.references_dir);
     run.references_renderer = references_renderer(run.references_dir);
+    run.mistakes = load_mistake_signatures(run.references_dir / kMistakeSignaturesFile);
   }
   run.scenes = load_scenes(options.labs);
   const char* tmp = std::getenv("TMPDIR");

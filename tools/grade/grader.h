@@ -9,6 +9,7 @@
 
 #include "compare.h"
 #include "config.h"
+#include "diagnosis.h"
 #include "gl/context.h"
 #include "sandbox.h"
 
@@ -67,6 +68,10 @@ struct LabOutcome {
   long child_max_rss_kib = 0;   // from wait4
   long child_vm_peak_kib = 0;   // the child's peak address space (RLIMIT_AS applies to it)
   std::map<std::string, double> child_timings;  // context, compile, render, readback
+  // Where a check failed: the catalogued mistakes its signatures resemble, closest first
+  // (diagnosis.h); empty when none fits or no signatures were loaded.
+  std::vector<LikelyMistake> likely_mistakes;
+  bool diagnosed = false;  // a check failed and signatures were there to compare with
   int passed_checks() const;
   // The sums of the checks' integer thousandths: exact, and the very numbers printed.
   Thousandths score() const;

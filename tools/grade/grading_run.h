@@ -45,6 +45,7 @@ struct Run {
   // (reference_cache_dir(): between runs, else in this run's temporary folder).
   std::filesystem::path reference_cache;
   std::string references_renderer;  // what rendered the references (their manifest's "renderer")
+  MistakeSignatures mistakes;         // <references>/mistakes.json: none when it is not there
   // Variables set in every render child after the run's own (--update-references: the
   // filter renderings' GALLIVM_PERF).
   std::vector<std::pair<std::string, std::string>> child_environment;

@@ -103,6 +103,30 @@ std::string md_escape(const std::string& text) {
 
 std::string check_name(const CheckOutcome& c) { return lab_title(c.check->lab) + ": " + c.check->title; }
 
+// Where the lab's handout lists its common mistakes.
+std::string common_mistakes_link(int lab) { return "handouts/" + find_stage(lab).folder + ".md#common-mistakes"; }
+
+// "looks like: A (similarity 0.97), or: B (0.95); see handouts/...", or that none fits.
+std::string likely_text(const LabOutcome& lab) {
+  if (!lab.diagnosed) return "";
+  if (lab.likely_mistakes.empty()) return "No catalogued mistake fits these images closely.";
+  std::string out = "Looks like: ";
+  for (size_t i = 0; i < lab.likely_mistakes.size(); ++i) {
+    const LikelyMistake& m = lab.likely_mistakes[i];
+    char similarity[32];
+    std::snprintf(similarity, sizeof similarity, "%.2f", m.similarity);
+    out += (i ? "; or: " : "") + m.description + " (similarity " + similarity + ")";
+  }
+  return out + ". See " + common_mistakes_link(lab.lab) + ".";
+}
+
+nlohmann::json likely_json(const LabOutcome& lab) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const LikelyMistake& m : lab.likely_mistakes)
+    out.push_back({{"id", m.id}, {"description", m.description}, {"similarity", std::round(m.similarity * 1000.0) / 1000.0}});
+  return out;
+}
+
 std::string check_markdown(const LabOutcome& lab, const CheckOutcome& c, bool first) {
   if (!c.compared) {
     std::string out = std::string("**Not graded: ") + status_words(lab.status) + ".**\n\n";
@@ -111,7 +135,9 @@ std::string check_markdown(const LabOutcome& lab, const CheckOutcome& c, bool fi
   }
   std::string out = c.passed ? "Passed. " : "**Failed.** ";
   if (!c.comparison.note.empty()) out += md_escape(c.comparison.note) + "\n\n";
-  return out + md_escape(c.comparison.summary) + ".\n";
+  out += md_escape(c.comparison.summary) + ".\n";
+  if (!c.passed && lab.diagnosed) out += "\n" + md_escape(likely_text(lab)) + "\n";
+  return out;
 }
 
 double rounded(double v) { return std::round(v * 1000.0) / 1000.0; }
@@ -236,6 +262,9 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
         entry["edge_pixels"] = c.comparison.edge_pixels;
         entry["psnr"] = std::isfinite(c.comparison.psnr) ? nlohmann::json(c.comparison.psnr) : nlohmann::json(nullptr);
         entry["non_finite"] = c.comparison.non_finite;
+        nlohmann::json signature = nlohmann::json::array();
+        for (float v : c.comparison.signature) signature.push_back(std::round(v * 1000.0f) / 1000.0f);
+        entry["signature"] = signature;
       }
       checks[c.check->key] = entry;
     }
@@ -248,6 +277,7 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
         {"folder", lab.folder},
         {"checks_passed", lab.passed_checks()},
         {"checks", checks},
+        {"likely_mistakes", likely_json(lab)},
         {"render_ms", rounded(lab.render_ms)},
         {"seconds", {{"child_wall", rounded(lab.child_seconds)}, {"child_cpu", rounded(lab.child_cpu_seconds)},
                      {"compare", rounded(lab.compare_seconds)}}},
@@ -309,6 +339,9 @@ std::string report_html(const SubmissionOutcome& s) {
     if (lab.status != kGraded)
       h += "<h2>" + html_escape(lab_title(number)) + ": " + status_words(lab.status) + "</h2>\n<pre>" +
            html_escape(lab.message) + "</pre>\n";
+  for (const auto& [number, lab] : s.labs)
+    if (lab.diagnosed)
+      h += "<p class=\"likely\"><b>" + html_escape(lab_title(number)) + "</b>: " + html_escape(likely_text(lab)) + "</p>\n";
 
   std::vector<std::pair<const LabOutcome*, const CheckOutcome*>> rows;
   for (const auto& [number, lab] : s.labs)
