@@ -654,6 +654,11 @@ def lab_page(pdf, lab, entry, results, grade_dir, timing):
             pdf.text(x + 5.0, y, f"{format_score(c['score'])} / {format_score(c['max_score'])}", size=9)
             y = pdf.wrapped(x, y, 3.35, c.get("title", key), size=9) + 0.22 - pdf.line_height(9)
         return
+    # The grader's guess at the mistake behind the failed checks (tools/grade/diagnosis.h),
+    # first in each failed check's text.
+    likely = entry.get("likely_mistakes") or []
+    guess = ("Looks like: " + "; or: ".join(f"{m['description']} (similarity {m['similarity']:.2f})" for m in likely)
+             + f" (handouts/{lab:02d}-{STAGES[lab]}.md, Common mistakes). ") if likely else ""
     img_w, text_w, heads, head_h, rows = check_layout(pdf, checks, y)
     img_h = img_w * 3 / 4
     columns = [x + text_w + i * (img_w + IMAGE_GAP) for i in range(3)]
@@ -663,7 +668,7 @@ def lab_page(pdf, lab, entry, results, grade_dir, timing):
         passed = c["passed"]
         below = y + len(title) * pdf.line_height(TITLE_SIZE, TITLE_LINE)
         numbers_top = below + VERDICT_GAP + VERDICT_H
-        words = ((c.get("note") + ". ") if c.get("note") else "") + (c.get("summary") or "")
+        words = (guess if not passed else "") + ((c.get("note") + ". ") if c.get("note") else "") + (c.get("summary") or "")
         numbers = pdf.lines(words, text_w - 0.12, NUMBERS_SIZE)
         # The numbers get the lines left in the row (two at least: one and the count of the rest);
         # a row that needs more than its share is taller, and goes to a new page if it must.

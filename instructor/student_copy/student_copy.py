@@ -26,6 +26,7 @@ Markdown link resolves inside the copy and that no student document names
 instructor/ or an instructor command; any finding fails the command and removes DIR.
 """
 import argparse
+import json
 import os
 import re
 import shutil
@@ -130,6 +131,16 @@ def student_readme(lab, labs, held):
                 .replace("@RELEASED@", released).replace("@LAST@", str(labs[-1][0])))
 
 
+def keep_released_mistakes(path, lab):
+    """The grader's mistake signatures (tools/grade/diagnosis.h) of labs 1..lab only: a later
+    lab's mistakes, described in words, would say what that lab's answer is."""
+    if not path.is_file():
+        return
+    doc = json.loads(path.read_text(encoding="utf-8"))
+    doc["mistakes"] = [m for m in doc.get("mistakes", []) if m.get("lab", 0) <= lab]
+    path.write_text(json.dumps(doc, separators=(",", ":")) + "\n", encoding="utf-8")
+
+
 def main():
     parser = argparse.ArgumentParser(description="Writes the repository handed to students about to start lab N.")
     parser.add_argument("lab", type=int, help="the lab the students are about to start (1 = the first)")
@@ -171,6 +182,7 @@ def main():
                     target.write_text(stripped, encoding="utf-8")
             copied += 1
         (dest / "README.md").write_text(student_readme(args.lab, labs, held), encoding="utf-8")
+        keep_released_mistakes(dest / "tools" / "grade" / "references" / "mistakes.json", args.lab)
 
         leaks = subprocess.run([sys.executable, str(HERE / "leak_check.py"), str(dest), str(args.lab),
                                 "--kit", str(ROOT)], capture_output=True, text=True)
