@@ -42,6 +42,7 @@ import sys
 import tempfile
 import textwrap
 import time
+import types
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -350,20 +351,18 @@ def ranked(row, candidates):
 def naming_figures(caught, rows):
     """The issue's measures: named first with every signature in; with each left out, a relative
     (its family) named first or within the first three; and what kit-grade itself named."""
-    quant = {r.id: {k: [q * SIGNATURE_CAP / 255 for q in v] for k, v in quantised(r.signatures).items()} for r in caught}
-    class Q:  # a row with its signatures as the file stores them
-        def __init__(self, r):
-            self.id, self.lab, self.signatures = r.id, r.lab, quant[r.id]
-    stored = [Q(r) for r in caught]
+    # The rows with their signatures as the file stores them (quantised), each ranked once.
+    stored = [types.SimpleNamespace(id=r.id, lab=r.lab, signatures={
+        k: [q * SIGNATURE_CAP / 255 for q in v] for k, v in quantised(r.signatures).items()}) for r in caught]
+    scores = {r.id: ranked(r, stored) for r in stored}
     with_relatives = [r for r in stored if any(family(o.id) == family(r.id) for o in stored if o is not r)]
     top1 = top3 = 0
     for r in with_relatives:
-        others = [(s, o) for s, o in ranked(r, stored) if s >= MIN_NAMED][:3]
-        fams = [family(o.id) for _, o in others]
+        fams = [family(o.id) for s, o in scores[r.id] if s >= MIN_NAMED][:3]
         top1 += bool(fams) and fams[0] == family(r.id)
         top3 += family(r.id) in fams
     named_right = sum(1 for r in caught if r.named and r.named[0] == r.id)
-    distinct = sum(1 for r in stored if all(similarity(r.signatures, o.signatures) < 0.999 for _, o in ranked(r, stored)))
+    distinct = sum(1 for r in stored if all(s < 0.999 for s, _ in scores[r.id]))
     return (f"naming: {len(caught)} caught mistakes; with every signature in, named first by its own: "
             f"{distinct}/{len(caught)} have signatures unlike any other's (a duplicate ties); kit-grade named the "
             f"right one first for {named_right}/{len(caught)} (with the mistakes.json it read); "
