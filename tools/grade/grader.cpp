@@ -196,6 +196,21 @@ std::string load_references_of(Run& run, int lab) {
   return "";
 }
 
+// Lab 7's work check: the frame's counted work (child.json) against its limits, credited only
+// where the frame's image check (earlier in the list) passed.
+Comparison compare_work_check(const Run& run, const LabOutcome& lab, const CheckOutcome& c, const nlohmann::json& child,
+                              const Image& image) {
+  const CheckOutcome* shown = nullptr;
+  for (const CheckOutcome& other : lab.checks)
+    if (&other != &c && other.compared && other.check->image == c.check->image && other.check->metric != Metric::Work)
+      shown = &other;
+  const nlohmann::json counted = child.contains("work") ? child["work"].value(c.check->image, nlohmann::json()) : nlohmann::json();
+  Comparison r = compare_work(run.config.tolerance(*c.check), work_from_json(counted), shown && shown->passed,
+                              shown ? shown->check->key : c.check->image, image.width, image.height);
+  if (counted.is_object()) r.summary += "; state " + counted.value("state", std::string("?"));
+  return r;
+}
+
 // Compares every check of a lab whose child rendered it.
 void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir, LabOutcome& lab) {
   auto t0 = Clock::now();
@@ -230,36 +245,16 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
   for (CheckOutcome& c : lab.checks) {
     const Check& check = *c.check;
     const Image& image = renders.at(check.image);
-    if (check.metric == Metric::Work) {
-      // The frame's image check comes before it in the list: credited only where it passed.
-      const CheckOutcome* shown = nullptr;
-      for (const CheckOutcome& other : lab.checks)
-        if (&other != &c && other.compared && other.check->image == check.image && other.check->metric != Metric::Work)
-          shown = &other;
-      LightVolumeWork work;
-      const nlohmann::json counted = child.contains("work") ? child["work"].value(check.image, nlohmann::json()) : nlohmann::json();
-      if (counted.is_object()) {
-        work.volume_lights = counted.value("volume_lights", 0);
-        work.surface_pixels = counted.value("surface_pixels", uint64_t{0});
-        work.shaded_fragments = counted.value("shaded_fragments", uint64_t{0});
-        work.volume_coverage = counted.value("volume_coverage", uint64_t{0});
-      }
-      c.comparison = compare_work(run.config.tolerance(check), work, shown && shown->passed,
-                                  shown ? shown->check->key : check.image, image.width, image.height);
-      if (counted.is_object()) c.comparison.summary += "; state " + counted.value("state", std::string("?"));
-      c.compared = true;
-      c.passed = c.comparison.passed;
-      c.score = c.passed ? c.max_score : 0;
-      write_report_images(run, result_dir, check, image, image, c);
-      c.comparison.diff = Image();
-      continue;
-    }
     const bool own = compares_own_renders(check.metric);  // its "reference" is the submission's own render
     const LoadedReference* stored = own ? nullptr : &run.references.at(check.reference);
     const Image& reference = own ? renders.at(check.reference) : stored->image;
-    const Background* background = own ? nullptr : &run.backgrounds.at({check.reference, check.metric});
-    const Image* allowance = stored && stored->allowance.width > 0 ? &stored->allowance : nullptr;
-    c.comparison = compare_images(check.metric, run.config.tolerance(check), image, reference, background, allowance);
+    if (check.metric == Metric::Work) {
+      c.comparison = compare_work_check(run, lab, c, child, image);
+    } else {
+      const Background* background = own ? nullptr : &run.backgrounds.at({check.reference, check.metric});
+      const Image* allowance = stored && stored->allowance.width > 0 ? &stored->allowance : nullptr;
+      c.comparison = compare_images(check.metric, run.config.tolerance(check), image, reference, background, allowance);
+    }
     size_t hdr_bad = child.contains("hdr_non_finite") ? child["hdr_non_finite"].value(check.image, size_t{0}) : 0;
     if (hdr_bad > 0 && !compares_own_renders(check.metric)) {
       c.comparison.passed = false;

@@ -83,6 +83,24 @@ Image read_raw_image(const fs::path& path) {
   return image;
 }
 
+nlohmann::json work_json(const LightVolumeWork& work, const LightVolumeState& state) {
+  return {{"volume_lights", work.volume_lights},
+          {"surface_pixels", work.surface_pixels},
+          {"shaded_fragments", work.shaded_fragments},
+          {"volume_coverage", work.volume_coverage},
+          {"state", describe(state)}};
+}
+
+LightVolumeWork work_from_json(const nlohmann::json& json) {
+  LightVolumeWork work;
+  if (!json.is_object()) return work;
+  work.volume_lights = json.value("volume_lights", 0);
+  work.surface_pixels = json.value("surface_pixels", uint64_t{0});
+  work.shaded_fragments = json.value("shaded_fragments", uint64_t{0});
+  work.volume_coverage = json.value("volume_coverage", uint64_t{0});
+  return work;
+}
+
 int render_lab(const RenderJob& job) {
   const fs::path error_file = job.out_dir / "error.txt";
   const Stage& stage = find_stage(job.lab);
@@ -148,14 +166,8 @@ int render_lab(const RenderJob& job) {
         report["seconds"]["render_each"][spec->id] = seconds;
         last_frame[key] = settings;
       }
-      if (stage.light_volumes) {  // the frame's counted work, for lab 7's work checks
-        const LightVolumeWork& w = renderer->light_volume_work();
-        report["work"][spec->id] = {{"volume_lights", w.volume_lights},
-                                    {"surface_pixels", w.surface_pixels},
-                                    {"shaded_fragments", w.shaded_fragments},
-                                    {"volume_coverage", w.volume_coverage},
-                                    {"state", describe(renderer->light_volume_state())}};
-      }
+      if (stage.light_volumes)  // the frame's counted work, for lab 7's work checks
+        report["work"][spec->id] = work_json(renderer->light_volume_work(), renderer->light_volume_state());
       auto t = Clock::now();
       write_raw_image(raw_image_path(job.out_dir, spec->id), renderer->read_view(spec->view, spec->raw));
       // A display image cannot hold NaN (RGBA8): count them where they start, in the HDR
