@@ -89,6 +89,9 @@ def load_catalogue(path):
             raise CatalogueError(f"{where}: kind must be one of {', '.join(KINDS)}")
         if not e["edits"]:
             raise CatalogueError(f"{where}: needs at least one edit")
+        family = e.get("family")
+        if e["kind"] == "mistake" and not (isinstance(family, str) and re.fullmatch(r"[a-z0-9-]+\.[a-z0-9-]+", family)):
+            raise CatalogueError(f"{where}: a mistake needs a 'family', PART.TERM (the same term of the same formula)")
         if "known_gap" in e and (e["kind"] != "mistake" or not isinstance(e["known_gap"], str) or not e["known_gap"]):
             raise CatalogueError(f"{where}: 'known_gap' is a non-empty reason, and only for mistakes")
         for j, ed in enumerate(e["edits"]):
@@ -132,14 +135,16 @@ def apply_edits(entry, lab_dir):
 
 
 class Row:
-    def __init__(self, entry_id, lab, kind, description, known_gap=None):
+    def __init__(self, entry_id, lab, kind, description, known_gap=None, family=None):
         self.id, self.lab, self.kind, self.description = entry_id, lab, kind, description
+        self.family = family or entry_id
         self.known_gap = known_gap
         self.score = self.max_score = None
         self.status = ""
         self.verdict = ""
         self.details = []  # lines printed under the table (failed rows, known gaps)
         self.signatures = {}  # check key -> signature, from summary.json (tools/grade/diagnosis.h)
+        self.failed_checks = set()  # the keys of the checks it failed
         self.named = []       # the ids kit-grade named for this lab, closest first
 
     @property
@@ -213,7 +218,8 @@ def judge(row, out, status, tail, args, submission):
         row.verdict = "ERROR"
         row.details = [f"summary.json has no usable labs.{row.lab} entry ({e}): {summary_path}"]
         return
-    row.signatures = {key: c["signature"] for key, c in lab.get("checks", {}).items() if c.get("signature")}
+    row.signatures = {key: c.get("signature") or [] for key, c in lab.get("checks", {}).items()}
+    row.failed_checks = {key for key, c in lab.get("checks", {}).items() if not c.get("passed")}
     row.named = [m.get("id") for m in lab.get("likely_mistakes", [])]
     tests = []
     try:
@@ -310,30 +316,35 @@ def write_entry(entries, entry_id, dest, solutions):
 
 
 # --- Naming the mistake (tools/grade/diagnosis.h) -------------------------------------------
-SIGNATURE_CAP = 4.0  # compare.h kSignatureCap: the file stores value / cap * 255
-MIN_NAMED = 0.6      # diagnosis.h kMinNamedSimilarity
+SIGNATURE_CAP = 4.0  # compare.h kSignatureCap
+STEPS = 255          # the file's integers (diagnosis.h)
+FAILED_WEIGHT = 0.5  # diagnosis.h kFailedWeight
+MIN_NAMED = 0.3      # diagnosis.h kMinNamedSimilarity
 
 
-def family(entry_id):
-    """A mistake's family, the same term of the same formula: the first two words of its id."""
-    return "-".join(entry_id.split("-")[:2])
+def encoded(signatures):
+    """The file's integers: round(STEPS x sqrt(tile / cap)) (diagnosis.h check_features)."""
+    return {key: [round(STEPS * (min(max(x, 0.0), SIGNATURE_CAP) / SIGNATURE_CAP) ** 0.5) for x in v]
+            for key, v in signatures.items()}
+
+
+def features(signatures, failed_checks):
+    """diagnosis.cpp, a stored mistake's features: each check's integers / STEPS, then its failed flag."""
+    return {key: [q / STEPS for q in v] + [FAILED_WEIGHT if key in failed_checks else 0.0]
+            for key, v in encoded(signatures).items()}
 
 
 def similarity(a, b):
-    """diagnosis.cpp signature_similarity: the cosine of the checks' signatures, concatenated."""
+    """diagnosis.cpp signature_similarity: the cosine of the checks' features, concatenated."""
     dot = sum(x * y for key in a.keys() & b.keys() for x, y in zip(a[key], b[key]))
     aa = sum(x * x for v in a.values() for x in v)
     bb = sum(x * x for v in b.values() for x in v)
     return dot / (aa * bb) ** 0.5 if aa > 0 and bb > 0 else 0.0
 
 
-def quantised(signatures):
-    return {key: [round(min(max(x, 0.0), SIGNATURE_CAP) / SIGNATURE_CAP * 255) for x in v]
-            for key, v in signatures.items()}
-
-
 def write_signatures(path, rows):
-    mistakes = [{"id": r.id, "lab": r.lab, "description": r.description, "signatures": quantised(r.signatures)}
+    mistakes = [{"id": r.id, "lab": r.lab, "description": r.description, "family": r.family,
+                 "signatures": encoded(r.signatures), "failed": sorted(r.failed_checks)}
                 for r in sorted(rows, key=lambda r: (r.lab, r.id))]
     doc = {"about": "Where each catalogued mistake's error lies, check by check (tools/grade/diagnosis.h): written by "
                     "`kit grade --self-check --write-signatures`; kit-grade names the closest for a failed lab.",
@@ -344,30 +355,30 @@ def write_signatures(path, rows):
 
 def ranked(row, candidates):
     """candidates (same lab, not row) by similarity to row, closest first, as (similarity, row)."""
-    scored = [(similarity(row.signatures, c.signatures), c) for c in candidates if c.lab == row.lab and c is not row]
+    scored = [(similarity(row.features, c.features), c) for c in candidates if c.lab == row.lab and c is not row]
     return sorted(scored, key=lambda t: -t[0])
 
 
 def naming_figures(caught, rows):
-    """The issue's measures: named first with every signature in; with each left out, a relative
+    """The naming measures: named first with every signature in; with each left out, a relative
     (its family) named first or within the first three; and what kit-grade itself named."""
-    # The rows with their signatures as the file stores them (quantised), each ranked once.
-    stored = [types.SimpleNamespace(id=r.id, lab=r.lab, signatures={
-        k: [q * SIGNATURE_CAP / 255 for q in v] for k, v in quantised(r.signatures).items()}) for r in caught]
+    # The rows' features as kit-grade reads them from the file, each ranked once.
+    stored = [types.SimpleNamespace(id=r.id, lab=r.lab, family=r.family,
+                                    features=features(r.signatures, r.failed_checks)) for r in caught]
     scores = {r.id: ranked(r, stored) for r in stored}
-    with_relatives = [r for r in stored if any(family(o.id) == family(r.id) for o in stored if o is not r)]
+    with_relatives = [r for r in stored if any(o.family == r.family for o in stored if o is not r)]
     top1 = top3 = 0
     for r in with_relatives:
-        fams = [family(o.id) for s, o in scores[r.id] if s >= MIN_NAMED][:3]
-        top1 += bool(fams) and fams[0] == family(r.id)
-        top3 += family(r.id) in fams
+        fams = list(dict.fromkeys(o.family for s, o in scores[r.id] if s >= MIN_NAMED))[:3]  # one per family
+        top1 += bool(fams) and fams[0] == r.family
+        top3 += r.family in fams
     named_right = sum(1 for r in caught if r.named and r.named[0] == r.id)
     distinct = sum(1 for r in stored if all(s < 0.999 for s, _ in scores[r.id]))
     return (f"naming: {len(caught)} caught mistakes; with every signature in, named first by its own: "
             f"{distinct}/{len(caught)} have signatures unlike any other's (a duplicate ties); kit-grade named the "
             f"right one first for {named_right}/{len(caught)} (with the mistakes.json it read); "
             f"each left out: a mistake of its family named first for {top1}/{len(with_relatives)}, within the first "
-            f"three for {top3}/{len(with_relatives)} (families: the first two words of an id)")
+            f"three named (one per family) for {top3}/{len(with_relatives)} (families: the catalogue's)")
 
 
 def main(argv=None):
@@ -448,7 +459,7 @@ def main(argv=None):
                 jobs.append((row, {p.name: p.read_text(encoding="utf-8") for p in starter.iterdir() if p.is_file()},
                              lab_dirs[lab].name))
     for e in entries:
-        row = Row(e["id"], e["lab"], e["kind"], e["description"], e.get("known_gap"))
+        row = Row(e["id"], e["lab"], e["kind"], e["description"], e.get("known_gap"), e.get("family"))
         rows.append(row)
         try:
             files = apply_edits(e, lab_dirs[e["lab"]])
@@ -493,8 +504,8 @@ def main(argv=None):
     print_table(rows, args.wide)
     if args.write_signatures:
         write_signatures(args.write_signatures,
-                         [r for r in rows if r.kind in ("mistake", "starter") and r.passed and r.signatures])
-    caught = [r for r in rows if r.kind == "mistake" and r.passed and r.signatures]
+                         [r for r in rows if r.kind in ("mistake", "starter") and r.passed and r.status == "graded"])
+    caught = [r for r in rows if r.kind == "mistake" and r.passed and r.status == "graded"]
     if caught:
         print()
         print(naming_figures(caught, rows))

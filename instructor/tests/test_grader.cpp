@@ -764,11 +764,24 @@ TEST(GraderVerdicts, SignatureSimilarityAndNaming) {
   EXPECT_NEAR(kit::grade::signature_similarity(a, c), 0.70710678, 1e-7);  // 1 / sqrt(2)
   EXPECT_NEAR(kit::grade::signature_similarity({{"x", {1.0f}}, {"y", {1.0f}}}, {{"x", {1.0f}}}), 0.70710678, 1e-7);
   EXPECT_DOUBLE_EQ(kit::grade::signature_similarity(a, {{"x", {0.0f, 0.0f}}}), 0.0) << "no error: nothing alike";
+  // Features (kit::grade::check_features): sqrt(tile / cap) per tile, then the failed flag.
+  const std::vector<float> f = kit::grade::check_features({0.0f, kit::grade::kSignatureCap / 4.0f, 9.0f}, true);
+  ASSERT_EQ(f.size(), 4u);
+  EXPECT_FLOAT_EQ(f[0], 0.0f);
+  EXPECT_FLOAT_EQ(f[1], 0.5f) << "a quarter of the cap: its square root";
+  EXPECT_FLOAT_EQ(f[2], 1.0f) << "capped";
+  EXPECT_FLOAT_EQ(f[3], kit::grade::kFailedWeight);
+  EXPECT_FLOAT_EQ(kit::grade::check_features({}, false).at(0), 0.0f) << "a check with no image: its flag only";
+  // Naming: the closest, then the closest of each other family above the floor.
+  const Signatures d = {{"x", {1.0f, 0.1f}}}, e = {{"x", {0.8f, 0.6f}}};  // 0.995 and 0.8 like a
   kit::grade::MistakeSignatures catalogue;
-  catalogue.labs[2] = {{"far", "far off", b}, {"close", "close", c}, {"same", "the same", a}};
+  catalogue.labs[2] = {{"far", "far off", "2.f", b}, {"close", "close", "2.c", c}, {"same", "the same", "2.s", a},
+                       {"next", "next to it", "2.s", d}, {"other", "another term", "2.o", e}};
   const auto named = kit::grade::likely_mistakes(catalogue, 2, a);
-  ASSERT_EQ(named.size(), 1u) << "0.71 is more than kNamedBesideBest below 1";
+  ASSERT_EQ(named.size(), 3u);
   EXPECT_EQ(named[0].id, "same");
+  EXPECT_EQ(named[1].id, "other") << "'next' (0.995) is of the family already named";
+  EXPECT_EQ(named[2].id, "close");
   EXPECT_TRUE(kit::grade::likely_mistakes(catalogue, 2, {{"x", {-1.0f, -1.0f}}}).empty()) << "below the floor";
   EXPECT_TRUE(kit::grade::likely_mistakes(catalogue, 3, a).empty()) << "no signatures for that lab";
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <set>
 
 #include "base/error.h"
 #include "compare.h"
@@ -13,9 +14,17 @@ namespace kit::grade {
 
 namespace {
 
-constexpr float kQuantum = kSignatureCap / 255.0f;  // one step of the file's values
+constexpr float kSteps = 255.0f;  // the file's integers: 0 .. kSteps
 
 }  // namespace
+
+std::vector<float> check_features(const std::vector<float>& signature, bool failed) {
+  std::vector<float> out;
+  out.reserve(signature.size() + 1);
+  for (float v : signature) out.push_back(std::sqrt(std::clamp(v, 0.0f, kSignatureCap) / kSignatureCap));
+  out.push_back(failed ? kFailedWeight : 0.0f);
+  return out;
+}
 
 MistakeSignatures load_mistake_signatures(const std::filesystem::path& file) {
   MistakeSignatures out;
@@ -27,9 +36,13 @@ MistakeSignatures load_mistake_signatures(const std::filesystem::path& file) {
       MistakeSignature s;
       s.id = m.at("id").get<std::string>();
       s.description = m.at("description").get<std::string>();
+      s.family = m.value("family", s.id);
+      std::set<std::string> failed;
+      for (const auto& key : m.value("failed", nlohmann::json::array())) failed.insert(key.get<std::string>());
       for (const auto& [key, values] : m.at("signatures").items()) {
         std::vector<float>& v = s.checks[key];
-        for (const auto& q : values) v.push_back(static_cast<float>(q.get<int>()) * kQuantum);
+        for (const auto& q : values) v.push_back(std::clamp(static_cast<float>(q.get<int>()), 0.0f, kSteps) / kSteps);
+        v.push_back(failed.count(key) ? kFailedWeight : 0.0f);
       }
       out.labs[m.at("lab").get<int>()].push_back(std::move(s));
     }
@@ -56,17 +69,18 @@ double signature_similarity(const std::map<std::string, std::vector<float>>& a,
 
 std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, int lab,
                                            const std::map<std::string, std::vector<float>>& submission) {
-  std::vector<LikelyMistake> all;
-  auto it = signatures.labs.find(lab);
-  if (it == signatures.labs.end()) return all;
-  for (const MistakeSignature& s : it->second)
-    all.push_back({s.id, s.description, signature_similarity(s.checks, submission)});
-  std::stable_sort(all.begin(), all.end(), [](const auto& x, const auto& y) { return x.similarity > y.similarity; });
   std::vector<LikelyMistake> named;
-  for (const LikelyMistake& m : all) {
+  auto it = signatures.labs.find(lab);
+  if (it == signatures.labs.end()) return named;
+  std::vector<std::pair<LikelyMistake, const std::string*>> all;
+  for (const MistakeSignature& s : it->second)
+    all.push_back({{s.id, s.description, signature_similarity(s.checks, submission)}, &s.family});
+  std::stable_sort(all.begin(), all.end(),
+                   [](const auto& x, const auto& y) { return x.first.similarity > y.first.similarity; });
+  std::set<std::string> families;
+  for (const auto& [m, family] : all) {
     if (named.size() == kMostNamed || m.similarity < kMinNamedSimilarity) break;
-    if (!named.empty() && m.similarity < named.front().similarity - kNamedBesideBest) break;
-    named.push_back(m);
+    if (families.insert(*family).second) named.push_back(m);
   }
   return named;
 }

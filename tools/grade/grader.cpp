@@ -270,8 +270,7 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
   // A failed check: which catalogued mistake do the lab's signatures resemble?
   if (!run.mistakes.empty() && lab.passed_checks() < static_cast<int>(lab.checks.size())) {
     std::map<std::string, std::vector<float>> signatures;
-    for (const CheckOutcome& c : lab.checks)
-      if (c.compared && !c.comparison.signature.empty()) signatures[c.check->key] = c.comparison.signature;
+    for (const CheckOutcome& c : lab.checks) signatures[c.check->key] = check_features(c.comparison.signature, !c.passed);
     lab.likely_mistakes = likely_mistakes(run.mistakes, lab.lab, signatures);
     lab.diagnosed = true;
   }
