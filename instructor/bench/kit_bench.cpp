@@ -28,6 +28,8 @@
 #include "gl/pass_clock.h"
 #include "measure.h"
 #include "measure_ibl.h"
+#include "bench_gbuffer.h"
+#include "render/renderer.h"
 #include "render/stages.h"
 
 namespace fs = std::filesystem;
@@ -40,7 +42,7 @@ constexpr const char* kChartPython = "/usr/bin/python3";
 
 // The full run's sizes and light counts (the configurations).
 constexpr int kFullWidth = 1280, kFullHeight = 720;
-const int kFullSmallLights[] = {32, 256, 1024};
+const int kFullSmallLights[] = {32, 128, 256, 1024};
 // --quick: a smoke test for CI, well under a minute on two cores.
 constexpr int kQuickWidth = 320, kQuickHeight = 180;
 const int kQuickSmallLights[] = {16, 64};
@@ -210,6 +212,49 @@ std::vector<kit::bench::Row> measure_methods(kit::bench::BenchRenderer& renderer
     print_row(rows.back());
   }
   return rows;
+}
+
+// Lab 7's light volumes as the labs run them (the kit's Renderer with the solutions at stage
+// lightvolumes, not the bench's own volumes) on `lights`, against the same reference: where the
+// lab's method stands beside the bench's tiles and volumes (lights_scaling.png). Bloom off,
+// so the display is the loop's tone mapping, read as the 8-bit image; timed after the
+// bench's methods, not round-robin with them. Lights per pixel: the fragments its volumes
+// shaded (an occlusion query) over the pixels with a surface, plus the directional lights.
+kit::bench::Row measure_lab_volumes(const kit::Scene& scene, const std::vector<kit::Light>& lights,
+                                    const kit::RenderSettings& bench_settings, const kit::FrameCamera& camera,
+                                    const kit::bench::Reference& reference, const std::string& scene_name,
+                                    int small_lights, int warmup, int timed) {
+  kit::Scene lit = scene;
+  lit.lights = lights;
+  kit::RenderSettings settings = bench_settings;
+  settings.postprocess = false;
+  settings.extra_lights = 0;
+  settings.count_light_volume_work = true;
+  const kit::Stage& stage = kit::find_stage("lightvolumes");
+  kit::Renderer renderer(stage, kit::stage_library(stage, kit::kit_root() / "solutions"), lit, settings);
+  for (int f = 0; f < warmup; ++f) renderer.render(camera);
+  std::vector<double> ms;
+  for (int f = 0; f < timed; ++f) ms.push_back(kit::bench::timed_ms([&] { renderer.render(camera); }));
+  kit::bench::Row row;
+  row.method = "lab7-volumes";
+  row.family = "lighting";
+  row.scene = scene_name;
+  row.width = settings.width;
+  row.height = settings.height;
+  row.small_lights = small_lights;
+  row.total_lights = static_cast<int>(lights.size());
+  row.bytes_per_pixel = kit::bench::bytes_per_pixel(kit::bench::Layout::Seed002);
+  row.timing = kit::bench::summarize(ms);
+  row.hdr = kit::bench::compare_images(renderer.read_view(kit::View::Hdr, true), reference.hdr);
+  row.ldr = kit::bench::compare_images(renderer.read_view(kit::View::Final, true),
+                                       kit::bench::reference_display(reference.hdr, settings, 0));
+  row.reference = reference.source;
+  const kit::LightVolumeWork& work = renderer.light_volume_work();
+  if (work.surface_pixels > 0)
+    row.lights_per_pixel = static_cast<double>(work.shaded_fragments) / static_cast<double>(work.surface_pixels) +
+                           static_cast<double>(lights.size()) - static_cast<double>(work.volume_lights);
+  print_row(row);
+  return row;
 }
 
 // The labs' own Renderer (the solutions) on `scene`: each pass's median time, and the
@@ -397,6 +442,9 @@ int main(int argc, char** argv) {
       for (kit::bench::Row& row : measure_methods(renderer, c.methods, camera, reference, options.scene,
                                                   c.small_lights, small_range, warmup, timed))
         rows.push_back(std::move(row));
+      if (c.small_lights > 0)
+        rows.push_back(measure_lab_volumes(scene, kit::bench::bench_lights(scene, c.small_lights, small_range), settings,
+                                           camera, reference, options.scene, c.small_lights, warmup, timed));
       kit::bench::write_csv((out / "results.csv").string(), rows);  // partial results survive an interruption
     }
     if (!ibl_only) {
