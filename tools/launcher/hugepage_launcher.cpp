@@ -1,19 +1,16 @@
 // The one place the kit turns on glibc's huge-page malloc: sets
 // GLIBC_TUNABLES=glibc.malloc.hugetlb=1 (a caller's own setting of it stands) and runs
 // KIT_LAUNCHED_PROGRAM, the program beside this one, with the same arguments, in this
-// process (exec: the process id the grader's lock and temporary folders record stays
-// the same). Built twice (tools/CMakeLists.txt, kit_hugepage_launcher): as kit-grade,
-// running the grader kit-grade-main, and as kit-render-hugepages, which `./kit render`
-// runs for kit-render.
+// process (exec: the process id stays the same). Built as kit-render-hugepages
+// (tools/CMakeLists.txt, kit_hugepage_launcher), which `./kit render` runs for kit-render.
 //
-// Why: grading is dominated by page faults (instructor/grading/measure.sh): the
-// parent's images, the forked render children's copy-on-write pages and
-// llvmpipe's buffers; a heavy scene's decoded images fault in the same way. With the
-// tunable glibc's malloc asks for transparent huge pages (madvise), one fault per
-// 2 MiB instead of per 4 KiB: about a third less CPU for a whole submission. glibc
-// reads the tunable only when a process starts, so a program cannot set it for
-// itself without starting twice (loading its libraries again); this program links
-// nothing but the C library.
+// Why: a heavy scene's decoded images and llvmpipe's buffers fault in page by page.
+// With the tunable glibc's malloc asks for transparent huge pages (madvise), one fault
+// per 2 MiB instead of per 4 KiB (docs/performance.md, Loading large models). The
+// grader does without: its many short render children zero more huge pages than they
+// fill (tools/grade.cmake). glibc reads the tunable only when a process starts, so a
+// program cannot set it for itself without starting twice (loading its libraries
+// again); this program links nothing but the C library.
 #include <errno.h>
 #include <limits.h>
 #include <stdlib.h>
