@@ -319,6 +319,8 @@ RenderSettings render_settings(const RenderSpec& spec) {
   s.custom_effect = spec.custom_effect;
   s.bloom_threshold = spec.bloom_threshold;
   s.environment = spec.environment;
+  s.ibl.prefilter_samples = kGradePrefilterSamples;
+  s.ibl.brdf_lut_samples = kGradeBrdfLutSamples;
   s.count_light_volume_work = find_stage(spec.stage).light_volumes;  // lab 7's work checks
   return s;
 }

@@ -22,6 +22,15 @@ namespace kit::grade {
 constexpr int kGradeWidth = 256;
 constexpr int kGradeHeight = 192;
 
+// Stage 6's precompute when grading: 64 GGX samples a prefiltered texel and 128 a BRDF
+// table texel, a quarter of the viewer's (ibl.h IblSettings). The references are made the
+// same way, so a check compares like with like; what a mistake changes in a map (a missing
+// weight, a wrong lobe, a swapped table) does not need 256 samples to show: the self-check
+// catches every lab 6 mistake with these as with the viewer's. Lab 6's render child, two
+// environments' maps and four frames, took 0.99 s of CPU with the viewer's, 0.63 s with these.
+constexpr int kGradePrefilterSamples = 64;
+constexpr int kGradeBrdfLutSamples = 128;
+
 // How a check measures the difference (tolerances per metric in grading.json).
 enum class Metric {
   Ldr,       // display image (RGBA8 final): |a - b| per channel

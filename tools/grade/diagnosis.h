@@ -61,7 +61,7 @@ struct LikelyMistake {
 // catalogue's own figures (handouts/instructors.md, Naming the mistake): with each mistake left
 // out, the share of names whose family was right stays at 0.56-0.58 for any floor from 0.2 to
 // 0.8, while the mistakes named at all fall from 130 to 98 of 135; a floor of 0.3 names a
-// relative first for 71 of 125 against 65 at 0.6, and still leaves the 10 least like any
+// relative first for 72 of 125 against 65 at 0.6, and still leaves the 10 least like any
 // other unnamed.
 constexpr double kMinNamedSimilarity = 0.3;
 // At most this many are named, one per family: the closest, then the closest of each other
