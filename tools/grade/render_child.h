@@ -44,13 +44,13 @@ bool custom_effect_isolated(const Stage& stage);
 // Runs in the child; returns its exit status.
 int render_lab(const RenderJob& job);
 
-// Raw float images between child and parent (not an image file format): the
-// 8 bytes "KITRAW1\0", width, height and channels as int32, then the floats.
 // A lab 7 frame's counted work (render/light_volumes.h) as child.json holds it, and back (zeros
 // for what a report lacks).
 nlohmann::json work_json(const LightVolumeWork& work, const LightVolumeState& state);
 LightVolumeWork work_from_json(const nlohmann::json& json);
 
+// Raw float images between child and parent (not an image file format): the
+// 8 bytes "KITRAW1\0", width, height and channels as int32, then the floats.
 void write_raw_image(const std::filesystem::path& path, const Image& image);
 Image read_raw_image(const std::filesystem::path& path);  // throws kit::Error
 std::filesystem::path raw_image_path(const std::filesystem::path& dir, const std::string& render_id);

@@ -106,7 +106,8 @@ std::string check_name(const CheckOutcome& c) { return lab_title(c.check->lab) +
 // Where the lab's handout lists its common mistakes.
 std::string common_mistakes_link(int lab) { return "handouts/" + find_stage(lab).folder + ".md#common-mistakes"; }
 
-// "looks like: A (similarity 0.97), or: B (0.95); see handouts/...", or that none fits.
+// "Looks like: A (similarity 0.97); or: B (similarity 0.81). See handouts/...", or that
+// none fits.
 std::string likely_text(const LabOutcome& lab) {
   if (!lab.diagnosed) return "";
   if (lab.likely_mistakes.empty()) return "No catalogued mistake fits these images closely.";
