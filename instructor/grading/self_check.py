@@ -319,7 +319,7 @@ def write_entry(entries, entry_id, dest, solutions):
 SIGNATURE_CAP = 4.0  # compare.h kSignatureCap
 STEPS = 255          # the file's integers (diagnosis.h)
 FAILED_WEIGHT = 0.5  # diagnosis.h kFailedWeight
-MIN_NAMED = 0.3      # diagnosis.h kMinNamedSimilarity
+MIN_NAMED = 0.1      # diagnosis.h kMinNamedSimilarity
 
 
 def encoded(signatures):
