@@ -420,6 +420,10 @@ TEST(Grader, ChecksOfOneFrameReadIt) {
   const json lab4 = read_json(submission / "lab4" / "child.json");
   EXPECT_EQ(lab1["seconds"]["render_each"].size(), 4u) << lab1.dump();
   EXPECT_EQ(lab4["seconds"]["render_each"].size(), 4u) << lab4.dump();
+  // A later run removes the folders of runs that died, not what --keep-temp kept.
+  const fs::path empty = kit::test::temp_dir("grader-empty-submission");
+  GradeRun later = grade(empty, "after-keep", "--labs 1");
+  EXPECT_TRUE(fs::is_directory(submission / "lab1")) << "removed by a later run as stale: " << later.output;
   fs::remove_all(kept);
 }
 

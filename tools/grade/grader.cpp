@@ -50,6 +50,8 @@ struct Running {
 
 // A run's temporary folder: kRunTempPrefix, the process id, '-' and mkdtemp's six characters.
 constexpr const char* kRunTempPrefix = "kit-grade-";
+// What --keep-temp renames it to ("kit-grade-kept-<pid>-XXXXXX"): no later run removes it.
+constexpr const char* kKeptTempPrefix = "kit-grade-kept-";
 
 // A fresh private folder (mode 0700) under `base`.
 fs::path make_temp_dir(const fs::path& base, const std::string& prefix) {
@@ -537,7 +539,12 @@ Run make_run(const Options& options, bool need_references) {
 
 void remove_run_temp(const Run& run) {
   if (run.options.keep_temp) {
-    std::fprintf(stderr, "kit-grade: temporary files kept in %s\n", run.temp.c_str());
+    // Renamed out of kRunTempPrefix's pattern, or the next run would remove it as stale.
+    const std::string name = run.temp.filename().string();
+    fs::path kept = run.temp.parent_path() / (kKeptTempPrefix + name.substr(std::strlen(kRunTempPrefix)));
+    std::error_code ec;
+    fs::rename(run.temp, kept, ec);
+    std::fprintf(stderr, "kit-grade: temporary files kept in %s\n", (ec ? run.temp : kept).c_str());
     return;
   }
   std::error_code ec;
