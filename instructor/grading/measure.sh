@@ -2,11 +2,13 @@
 # instructor/grading/measure.sh [BUILD_DIR]: how fast and how big kit-grade is.
 #
 # Measures (not a test: numbers depend on the machine and its load):
-#   1. one full submission (solutions/) at --jobs 1 and --jobs 2, with a cold
-#      Mesa shader cache (no seed) and a warm one (the seed --check-references
-#      writes, as in the Gradescope image): wall, CPU (user+sys of kit-grade and its children) and peak
-#      memory (largest single process from /usr/bin/time -v, and the peak sum of
-#      proportional set sizes of all kit-grade processes, sampled every 10 ms);
+#   1. one full submission (solutions/) at --jobs 1 and --jobs 2, cold (no Mesa
+#      shader seed and no decoded references: the cache emptied before each run,
+#      median of 3) and warm (the seed and references --check-references writes,
+#      as in the Gradescope image, median of 5): wall, CPU (user+sys of kit-grade
+#      and its children) and peak memory (largest single process from
+#      /usr/bin/time -v, and the peak sum of proportional set sizes of all
+#      kit-grade processes, sampled every 10 ms in a run of its own);
 #   2. batch throughput for 20 submissions (10 solutions, 10 starters) at --jobs 2;
 #   3. where the time goes: the parent's fixed cost (an empty submission renders
 #      nothing), the CPU of the grading process against its render children's, and
@@ -27,9 +29,15 @@ trap 'rm -rf "$WORK"' EXIT
 
 echo "machine: $(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg), $(uname -r)"
 
-# Runs kit-grade under /usr/bin/time -v and a PSS sampler; prints one line.
+# measure LABEL RUNS SETUP CMD...: SETUP (shell code: empty the cache for a cold run), then
+# CMD once beside a PSS sampler, for memory only (the sampler, Python reading /proc every
+# 10 ms, takes CPU from the run it watches), then RUNS times under /usr/bin/time -v alone:
+# the medians of wall and CPU. Prints one line; $WORK/time-LABEL and the command's output
+# folder are the last timed run's.
 measure() {
-  local label="$1"; shift
+  local label="$1" runs="$2" setup="$3"; shift 3
+  local i
+  eval "$setup"
   "$PY" - "$WORK/pss-$label" "$WORK" <<'EOF' &
 import os, sys, time
 # Peak sum of Pss over this script's kit-grade processes: their command line
@@ -57,21 +65,32 @@ while time.time() < deadline and not os.path.exists(sys.argv[1] + ".stop"):
 open(sys.argv[1], "w").write(str(peak))
 EOF
   local sampler=$!
-  /usr/bin/time -v -o "$WORK/time-$label" "$@" >"$WORK/out-$label" 2>&1 || true
+  /usr/bin/time -v -o "$WORK/time-$label-sampled" "$@" >"$WORK/out-$label" 2>&1 || true
   touch "$WORK/pss-$label.stop"
   wait "$sampler" || true
-  "$PY" - "$WORK/time-$label" "$WORK/pss-$label" "$label" <<'EOF'
-import re, sys
-t = open(sys.argv[1]).read()
-def field(name):
-    return re.search(re.escape(name) + r":\s*(.+)", t).group(1).strip()
-wall = field("Elapsed (wall clock) time (h:mm:ss or m:ss)")
-parts = [float(p) for p in wall.split(":")]
-seconds = sum(p * 60 ** i for i, p in enumerate(reversed(parts)))
-cpu = float(field("User time (seconds)")) + float(field("System time (seconds)"))
-rss = int(field("Maximum resident set size (kbytes)")) / 1024
-pss = int(open(sys.argv[2]).read() or 0) / 1024
-print(f"  {sys.argv[3]:28s} wall {seconds:6.2f} s   cpu {cpu:6.2f} s   largest process {rss:5.0f} MB   peak PSS sum {pss:5.0f} MB")
+  for i in $(seq 1 "$runs"); do
+    eval "$setup"
+    /usr/bin/time -v -o "$WORK/time-$label-$i" "$@" >"$WORK/out-$label" 2>&1 || true
+  done
+  cp "$WORK/time-$label-$runs" "$WORK/time-$label"
+  "$PY" - "$WORK" "$label" "$runs" <<'EOF'
+import re, statistics, sys
+work, label, runs = sys.argv[1], sys.argv[2], int(sys.argv[3])
+def fields(path):
+    t = open(path).read()
+    def field(name):
+        return re.search(re.escape(name) + r":\s*(.+)", t).group(1).strip()
+    parts = [float(p) for p in field("Elapsed (wall clock) time (h:mm:ss or m:ss)").split(":")]
+    wall = sum(p * 60 ** i for i, p in enumerate(reversed(parts)))
+    cpu = float(field("User time (seconds)")) + float(field("System time (seconds)"))
+    return wall, cpu, int(field("Maximum resident set size (kbytes)")) / 1024
+timed = [fields(f"{work}/time-{label}-{i}") for i in range(1, runs + 1)]
+walls = [w for w, _, _ in timed]
+wall, cpu = statistics.median(walls), statistics.median(c for _, c, _ in timed)
+rss = fields(f"{work}/time-{label}-sampled")[2]
+pss = int(open(f"{work}/pss-{label}").read() or 0) / 1024
+print(f"  {label:26s} wall {wall:5.2f} s ({min(walls):.2f}-{max(walls):.2f}, {runs} runs)  cpu {cpu:5.2f} s  "
+      f"largest process {rss:4.0f} MB  peak PSS sum {pss:4.0f} MB")
 EOF
 }
 
@@ -81,13 +100,15 @@ echo "1. one full submission (solutions/, every lab, $checks checks)"
 # Each submission's render children use a private shader cache that starts as a
 # copy of the seed in $XDG_CACHE_HOME/kit-grade/ (written by --check-references):
 # cold is no seed, warm is the seed of the solutions.
+# Cold empties the whole cache before each run (no seed and no decoded references).
 export XDG_CACHE_HOME="$WORK/cache"
-for cache in cold warm; do
-  rm -rf "$XDG_CACHE_HOME"
-  [ "$cache" = warm ] && "$GRADE" --check-references >/dev/null
-  for jobs in 1 2; do
-    measure "$cache-cache-jobs$jobs" "$GRADE" "$ROOT/solutions" --out "$WORK/one-$cache-$jobs" --jobs "$jobs"
-  done
+for jobs in 1 2; do
+  measure "cold-cache-jobs$jobs" 3 'rm -rf "$XDG_CACHE_HOME"' "$GRADE" "$ROOT/solutions" --out "$WORK/one-cold-$jobs" --jobs "$jobs"
+done
+rm -rf "$XDG_CACHE_HOME"
+"$GRADE" --check-references >/dev/null
+for jobs in 1 2; do
+  measure "warm-cache-jobs$jobs" 5 '' "$GRADE" "$ROOT/solutions" --out "$WORK/one-warm-$jobs" --jobs "$jobs"
 done
 
 echo
@@ -97,7 +118,7 @@ for i in $(seq -w 1 10); do
   cp -r "$ROOT/solutions" "$WORK/batch/solution-$i"
   cp -r "$ROOT/labs" "$WORK/batch/starter-$i"
 done
-measure "batch-20-jobs2" "$GRADE" --batch "$WORK/batch" --out "$WORK/batch-out" --jobs 2
+measure "batch-20-jobs2" 1 'rm -rf "$WORK/batch-out"' "$GRADE" --batch "$WORK/batch" --out "$WORK/batch-out" --jobs 2
 "$PY" - "$WORK/time-batch-20-jobs2" <<'EOF'
 import re, sys
 t = open(sys.argv[1]).read()
@@ -110,7 +131,7 @@ EOF
 echo
 echo "3. where the time goes"
 mkdir -p "$WORK/empty"
-measure "parent only (empty folder)" "$GRADE" "$WORK/empty" --out "$WORK/empty-out" --jobs 1
+measure "parent-only-empty-folder" 3 '' "$GRADE" "$WORK/empty" --out "$WORK/empty-out" --jobs 1
 "$PY" - "$WORK/one-warm-1/summary.json" "$WORK/time-warm-cache-jobs1" "$WORK/one-cold-1/summary.json" "$WORK/time-cold-cache-jobs1" <<'EOF'
 import json, re, sys
 def total_cpu(time_file):
