@@ -656,9 +656,7 @@ def lab_page(pdf, lab, entry, results, grade_dir, timing):
         return
     # The grader's guess at the mistake behind the failed checks (tools/grade/diagnosis.h),
     # first in each failed check's text.
-    likely = entry.get("likely_mistakes") or []
-    guess = ("Looks like: " + "; or: ".join(f"{m['description']} (similarity {m['similarity']:.2f})" for m in likely)
-             + f" (handouts/{lab:02d}-{STAGES[lab]}.md, Common mistakes). ") if likely else ""
+    guess = (entry["likely_text"] + " ") if entry.get("likely_text") else ""
     img_w, text_w, heads, head_h, rows = check_layout(pdf, checks, y)
     img_h = img_w * 3 / 4
     columns = [x + text_w + i * (img_w + IMAGE_GAP) for i in range(3)]

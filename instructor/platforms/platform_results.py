@@ -211,6 +211,8 @@ def prairielearn(out, lab, config=None, limit=PRAIRIELEARN_LIMIT):
             test["output"] = c.get("summary", "") + (f"\n{c['note']}" if c.get("note") else "")
             if not c.get("passed"):
                 failed.append((test, c))
+                if entry.get("likely_text"):  # kit-grade's guess at the mistake (tools/grade/diagnosis.h)
+                    test["output"] = entry["likely_text"] + "\n" + test["output"]
         tests.append(test)
     if not tests:  # a lab with no check listed: one test carries the verdict
         tests.append({"name": label, "points": score, "max_points": max_score,
@@ -298,6 +300,8 @@ def classroom50(out, labs, config, env, cwd="."):
                                   "summary": c.get("summary", "")}}
             if status != "graded" and i == 0:
                 test["kit-grade"]["message"] = (entry or {}).get("message", "not graded")
+            if status == "graded" and not passed and (entry or {}).get("likely_text"):
+                test["kit-grade"]["likely"] = entry["likely_text"]
             tests.append(test)
     return {
         "schema": "classroom50/result/v1",

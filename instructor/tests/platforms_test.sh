@@ -50,13 +50,22 @@ tmp, config, *labs = sys.argv[1:]
 gs = json.load(open(f"{tmp}/autograder/results/results.json"))
 gradescope = {t["name"]: (t["status"] == "passed", round(t["score"], 3)) for t in gs["tests"]}
 pl, c50, shares = {}, {}, {}
+# What each platform tells a student about a failed check: kit-grade's guess at the mistake.
+guesses = {"Gradescope": {t["name"]: t.get("output", "") for t in gs["tests"] if t["status"] != "passed"}}
+guesses["PrairieLearn"], guesses["Classroom 50"] = {}, {}
 for n in labs:
     r = json.load(open(f"{tmp}/grade-{n}/results/results.json"))
     pl.update({t["name"]: (t["points"] >= t["max_points"] > 0, round(t["points"], 3)) for t in r["tests"]})
+    guesses["PrairieLearn"].update({t["name"]: t.get("output", "") for t in r["tests"] if t["points"] < t["max_points"]})
     c = json.load(open(f"{tmp}/c50-{n}.json"))
     c50.update({t["test-name"]: (t["passed"], round(t["kit-grade"]["score"], 3)) for t in c["tests"]})
+    guesses["Classroom 50"].update({t["test-name"]: t["kit-grade"].get("likely", "") for t in c["tests"] if not t["passed"]})
     shares[n] = (r["score"], c["score"] / c["max-score"])
 errors = []
+for platform, texts in guesses.items():
+    for name, text in texts.items():
+        if name.startswith("lab 1") and "Looks like: " not in text:
+            errors.append(f"{platform}: {name} fails without naming a likely mistake: {text[:200]!r}")
 if not (set(gradescope) == set(pl) == set(c50)):
     errors.append(f"the platforms name different checks: {sorted(set(gradescope) ^ set(pl))} {sorted(set(gradescope) ^ set(c50))}")
 for name in sorted(set(gradescope) & set(pl) & set(c50)):

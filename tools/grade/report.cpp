@@ -279,6 +279,7 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
         {"checks_passed", lab.passed_checks()},
         {"checks", checks},
         {"likely_mistakes", likely_json(lab)},
+        {"likely_text", likely_text(lab)},  // the sentence the report shows, for the platforms' own results
         {"render_ms", rounded(lab.render_ms)},
         {"seconds", {{"child_wall", rounded(lab.child_seconds)}, {"child_cpu", rounded(lab.child_cpu_seconds)},
                      {"compare", rounded(lab.compare_seconds)}}},
