@@ -19,6 +19,7 @@
 #include "compare.h"
 #include "config.h"
 #include "grader.h"
+#include "images/image_io.h"
 #include "kit_test.h"
 #include "references.h"
 #include "render_child.h"
@@ -1099,6 +1100,11 @@ TEST(GraderVerdicts, MapsAreComparedAtTheirOwnSizeAndOtherSizesAreRefused) {
       << c.note;
   EXPECT_NE(c.note.find("--update-references"), std::string::npos) << c.note;
   EXPECT_EQ(c.summary, c.note);
+  // Its difference image is blank but writable: the report of every other check is still written.
+  EXPECT_EQ(c.diff.width, 64);
+  EXPECT_EQ(c.diff.height, 32);
+  EXPECT_NO_THROW(kit::write_image((kit::test::temp_dir("grader-size-diff") / "diff.png").string(), c.diff,
+                                   kit::PngEffort::Fastest));
 }
 
 // handouts/instructors.md's tolerance table says what grading.json holds, and calls
