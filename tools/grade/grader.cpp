@@ -361,16 +361,12 @@ ChildSetup render_setup(const Run& run, const Entry& e, const fs::path& dir) {
   setup.environment = {{"MESA_SHADER_CACHE_DIR", cache.string()},
                        {kSingleFileCacheVariable, "1"},
                        {"XDG_CACHE_HOME", (e.temp / "cache").string()}};
-  setup.environment.insert(setup.environment.end(), run.child_environment.begin(), run.child_environment.end());
   // GALLIVM_PERF keeps what the run (a filter rendering) or the caller asked for, plus nopt.
   const char* inherited = std::getenv("GALLIVM_PERF");
   std::string perf = inherited ? inherited : "";
-  auto own = std::find_if(setup.environment.begin(), setup.environment.end(),
-                          [](const auto& v) { return v.first == "GALLIVM_PERF"; });
-  if (own != setup.environment.end()) {
-    perf = own->second;
-    setup.environment.erase(own);
-  }
+  for (const auto& [name, value] : run.child_environment)
+    if (name == "GALLIVM_PERF") perf = value;
+    else setup.environment.emplace_back(name, value);
   setup.environment.emplace_back("GALLIVM_PERF", perf.empty() ? kFastCompileFlag : perf + "," + kFastCompileFlag);
   return setup;
 }
