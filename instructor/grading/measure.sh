@@ -13,7 +13,9 @@
 #   3. where the time goes: the parent's fixed cost (an empty submission renders
 #      nothing), the CPU of the grading process against its render children's, and
 #      per lab the child's context, compile, render and read-back and the parent's
-#      comparison (from summary.json).
+#      comparison (from summary.json); then per scene (each Renderer of a child) its
+#      setup (programs, targets, the scene's upload, lab 6's maps) against its frames,
+#      warm and cold, from the children's child.json of a run kept with --keep-temp.
 # BUILD_DIR defaults to build/default. Prints a report; leaves nothing behind.
 set -euo pipefail
 
@@ -153,3 +155,35 @@ for (path, time_file), label in zip(zip(args[0::2], args[1::2]), ["warm cache, -
               f" {t.get('render', 0):6.3f} {t.get('readback', 0):8.3f} | {sec['compare']:7.3f}  {lab['child_max_rss_kib'] / 1024:6.0f}"
               f"  {lab['child_vm_peak_kib'] / 1024:10.0f}")
 EOF
+
+# per_scene LABEL SETUP: one more run at --jobs 1 (SETUP as for measure), its render
+# children's files kept, read and removed.
+per_scene() {
+  local label="$1" setup="$2" kept
+  eval "$setup"
+  kept="$("$GRADE" "$ROOT/solutions" --out "$WORK/scenes-out" --jobs 1 --keep-temp 2>&1 >/dev/null |
+    sed -n 's/^kit-grade: temporary files kept in //p')"
+  [ -d "$kept" ] || { echo "measure: no kept folder for the $label run" >&2; return 1; }
+  "$PY" - "$label" "$kept" <<'EOF'
+import glob, json, os, sys
+label, kept = sys.argv[1], sys.argv[2]
+print(f"  {label}, --jobs 1, per scene: seconds in the child for its setup, then its frames")
+print("    lab  scene                                setup  frames   draw")
+for path in sorted(glob.glob(os.path.join(kept, "submission-*", "lab*", "child.json"))):
+    child = json.load(open(path))
+    lab = os.path.basename(os.path.dirname(path))[3:]
+    draws = {}
+    for render, seconds in child["seconds"].get("render_each", {}).items():
+        name = child.get("renderer_of", {}).get(render, "?")
+        n, total = draws.get(name, (0, 0.0))
+        draws[name] = (n + 1, total + seconds)
+    for name, setup in child["seconds"].get("compile_each", {}).items():
+        n, total = draws.get(name, (0, 0.0))
+        print(f"    {lab:3s}  {name:35s}  {setup:5.3f}  {n:6d}  {total:5.3f}")
+EOF
+  rm -rf "$kept" "$WORK/scenes-out"
+}
+rm -rf "$XDG_CACHE_HOME"
+"$GRADE" --check-references >/dev/null
+per_scene "warm cache" ''
+per_scene "cold cache" 'rm -rf "$XDG_CACHE_HOME"'

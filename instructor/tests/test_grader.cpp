@@ -421,6 +421,11 @@ TEST(Grader, ChecksOfOneFrameReadIt) {
   const json lab4 = read_json(submission / "lab4" / "child.json");
   EXPECT_EQ(lab1["seconds"]["render_each"].size(), 4u) << lab1.dump();
   EXPECT_EQ(lab4["seconds"]["render_each"].size(), 4u) << lab4.dump();
+  // Each render names the Renderer (scene) whose setup time it belongs to (measure.sh).
+  EXPECT_EQ(lab1["seconds"]["compile_each"].size(), 4u) << lab1.dump();
+  for (const auto& [render, seconds] : lab1["seconds"]["render_each"].items())
+    EXPECT_TRUE(lab1["seconds"]["compile_each"].contains(lab1["renderer_of"].value(render, std::string())))
+        << render << ": " << lab1.dump();
   // A later run removes the folders of runs that died, not what --keep-temp kept.
   const fs::path empty = kit::test::temp_dir("grader-empty-submission");
   GradeRun later = grade(empty, "after-keep", "--labs 1");

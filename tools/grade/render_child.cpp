@@ -134,6 +134,9 @@ int render_lab(const RenderJob& job) {
     }
     const Scene& scene = scene_it->second;
     RenderSettings settings = render_settings(*spec);
+    // Timings per Renderer (instructor/grading/measure.sh breaks a lab down by them).
+    const std::string renderer_name = spec->scene + (spec->isolate_custom ? " (custom effect alone)" : "");
+    report["renderer_of"][spec->id] = renderer_name;
     auto& renderer = renderers[{spec->scene, spec->isolate_custom}];
     if (!renderer) {
       auto t = Clock::now();
@@ -150,7 +153,7 @@ int render_lab(const RenderJob& job) {
       }
       double seconds = seconds_since(t);
       compile += seconds;
-      report["seconds"]["compile_each"].push_back(seconds);
+      report["seconds"]["compile_each"][renderer_name] = seconds;
     }
     try {
       renderer->settings() = settings;
