@@ -4,10 +4,10 @@
 // each shader is compiled once and only uniforms change between settings, and
 // one IblCache, so stage 6's maps are precomputed once per environment.
 // Results go to files in the task folder: one raw image per render, child.json
-// (timings, also per Renderer and per render, the GL renderer's name, NaN/Inf counts
-// of the HDR buffer) and, when
-// the lab could not be rendered, error.txt with the kit::Error text (compiler
-// logs already mapped to the submission's file and line).
+// (timings, also per Renderer and per render, the GL renderer's name, NaN/Inf
+// counts of the HDR buffer) and, when the lab could not be rendered, error.txt
+// with the kit::Error text (compiler logs already mapped to the submission's
+// file and line).
 #include <filesystem>
 #include <map>
 #include <string>
