@@ -320,7 +320,7 @@ constexpr const char* kSingleFileCacheVariable = "MESA_DISK_CACHE_SINGLE_FILE";
 // 256x192 with it, so the passes cost more than they save. With a cold shader cache a
 // submission takes 2.86 s instead of 3.72 s on 2 cores; with the seed it is as fast (the
 // seed is compiled the same way: the flags are part of Mesa's cache key). The solutions'
-// 80 renders are byte-identical with and without it (docs/performance.md, Grading).
+// 62 renders are byte-identical with and without it (docs/performance.md, Grading).
 constexpr const char* kFastCompileFlag = "nopt";
 // The folder Mesa's default (multi-file) cache keeps its files in.
 constexpr const char* kMultiFileCacheFolder = "mesa_shader_cache";
