@@ -314,7 +314,8 @@ class Renderer {
   // The library's defines programs_ were built with: when a build fails, the defines have
   // changed and the programs have not, and the next frame builds again.
   std::vector<std::string> programs_defines_;
-  // The forward pass (BLEND draws, light markers): stages with a lighting pass only.
+  // The forward pass (BLEND draws, light markers): stages with a lighting pass only, and
+  // null until a frame has work for it (build_programs).
   std::unique_ptr<ForwardPass> forward_;
   // Stage 6's environment and maps, and the environment and settings they were made for.
   // Shared with ibl_cache_ (and other Renderers) when it came from there: never changed then.
