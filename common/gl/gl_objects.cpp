@@ -74,19 +74,35 @@ GLuint link(std::initializer_list<GLuint> shaders, const std::string& what) {
 
 }  // namespace
 
+LinkedProgramCache::Handle LinkedProgramCache::find(const std::string& texts) const {
+  auto it = programs_.find(texts);
+  Handle found = it == programs_.end() ? nullptr : it->second.lock();
+  if (found) ++reused_;
+  return found;
+}
+
+void LinkedProgramCache::store(const std::string& texts, const Handle& program) { programs_[texts] = program; }
+
 Program::Program(const ShaderLibrary& library, const std::string& vertex, const std::string& fragment) {
   AssembledShader vs = library.assemble(vertex);
   AssembledShader fs = library.assemble(fragment);
   for (const auto* s : {&vs, &fs}) source_paths_.insert(source_paths_.end(), s->paths.begin(), s->paths.end());
-  GLuint v = compile(GL_VERTEX_SHADER, vs);
-  GLuint f = 0;
-  try {
-    f = compile(GL_FRAGMENT_SHADER, fs);
-  } catch (...) {
-    glDeleteShader(v);
-    throw;
+  LinkedProgramCache* cache = library.program_cache();
+  // '\0' cannot occur in shader text (read_shader_text refuses it): the key splits one way.
+  const std::string texts = cache ? vs.text + '\0' + fs.text : std::string();
+  if (cache) program_ = cache->find(texts);
+  if (!program_) {
+    GLuint v = compile(GL_VERTEX_SHADER, vs);
+    GLuint f = 0;
+    try {
+      f = compile(GL_FRAGMENT_SHADER, fs);
+    } catch (...) {
+      glDeleteShader(v);
+      throw;
+    }
+    program_ = std::make_shared<const GlName<delete_program>>(link({v, f}, vs.files.front() + " + " + fs.files.front()));
+    if (cache) cache->store(texts, program_);
   }
-  program_ = GlName<delete_program>(link({v, f}, vs.files.front() + " + " + fs.files.front()));
   sources_ = {std::move(vs), std::move(fs)};
 }
 
@@ -99,7 +115,7 @@ Program::Program(const ShaderLibrary& library, const std::string& compute) {
   AssembledShader cs = library.assemble(compute);
   source_paths_ = cs.paths;
   GLuint shader = compile(GL_COMPUTE_SHADER, cs);
-  program_ = GlName<delete_program>(link({shader}, cs.files.front()));
+  program_ = std::make_shared<const GlName<delete_program>>(link({shader}, cs.files.front()));
   sources_ = {std::move(cs)};
 }
 
@@ -107,7 +123,7 @@ const Program::Slot& Program::slot(const std::string& name) const {
   auto it = slots_.find(name);
   if (it != slots_.end()) return it->second;
   Slot s;
-  s.location = glGetUniformLocation(program_.get(), name.c_str());
+  s.location = glGetUniformLocation(id(), name.c_str());
   return slots_.emplace(name, s).first->second;
 }
 
@@ -210,8 +226,8 @@ std::string Program::main_file() const { return sources_.empty() ? std::string("
 Program::UniformProblems Program::uniform_problems() const {
   UniformProblems problems;
   GLint count = 0, longest = 0;
-  glGetProgramiv(program_.get(), GL_ACTIVE_UNIFORMS, &count);
-  glGetProgramiv(program_.get(), GL_ACTIVE_UNIFORM_MAX_LENGTH, &longest);
+  glGetProgramiv(id(), GL_ACTIVE_UNIFORMS, &count);
+  glGetProgramiv(id(), GL_ACTIVE_UNIFORM_MAX_LENGTH, &longest);
   std::string pass;
   for (const AssembledShader& s : sources_) pass += (pass.empty() ? "" : " + ") + s.files.front();
   for (GLuint i = 0; i < static_cast<GLuint>(count); ++i) {
@@ -219,8 +235,8 @@ Program::UniformProblems Program::uniform_problems() const {
     GLsizei length = 0;
     GLint size = 0, block = -1;
     GLenum type = 0;
-    glGetActiveUniform(program_.get(), i, static_cast<GLsizei>(buffer.size()), &length, &size, &type, buffer.data());
-    glGetActiveUniformsiv(program_.get(), 1, &i, GL_UNIFORM_BLOCK_INDEX, &block);
+    glGetActiveUniform(id(), i, static_cast<GLsizei>(buffer.size()), &length, &size, &type, buffer.data());
+    glGetActiveUniformsiv(id(), 1, &i, GL_UNIFORM_BLOCK_INDEX, &block);
     if (block != -1) continue;  // a uniform block's member: set through its buffer, not by name
     std::string name(buffer.data(), static_cast<size_t>(length));
     if (name.rfind("gl_", 0) == 0) continue;

@@ -5,6 +5,8 @@
 #include <glm/gtc/type_precision.hpp>  // u16vec4
 
 #include <cstdint>
+#include <map>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -49,6 +51,26 @@ void delete_vertex_array(GLuint id);
 void delete_program(GLuint id);
 void delete_sampler(GLuint id);
 
+// Linked GL programs by the vertex and fragment texts they were built from, for a
+// process that builds the same programs for many scenes: the grader's render child has a
+// Renderer per scene, and half of its program building was repeats, each of which also
+// drew its first frame with llvmpipe code made afresh (docs/performance.md, Grading).
+// Programs built through it (ShaderLibrary::share_programs_through) share one GL program,
+// so they share its uniform values too: it suits callers that set every uniform before
+// each use, as the Renderer does. It holds no program alive: the last Program built from
+// a text deletes it, as without the cache.
+class LinkedProgramCache {
+ public:
+  using Handle = std::shared_ptr<const GlName<delete_program>>;
+  Handle find(const std::string& texts) const;
+  void store(const std::string& texts, const Handle& program);
+  int reused() const { return reused_; }  // how many builds found their program here
+
+ private:
+  std::map<std::string, std::weak_ptr<const GlName<delete_program>>> programs_;
+  mutable int reused_ = 0;
+};
+
 // A linked program from a vertex and a fragment shader found through a
 // ShaderLibrary. Compile and link errors throw kit::Error with the log mapped
 // to the original files and lines. Uniform locations are cached by name.
@@ -59,10 +81,14 @@ class Program {
   // A compute program (needs a GL 4.3 context or ARB_compute_shader at run time;
   // the shader enables the extensions it uses after its #version 330 core line).
   Program(const ShaderLibrary& library, const std::string& compute);
+  Program(Program&&) = default;  // one owner of its GL program, unless built through a LinkedProgramCache
+  Program& operator=(Program&&) = default;
+  Program(const Program&) = delete;
+  Program& operator=(const Program&) = delete;
 
-  GLuint id() const { return program_.get(); }
-  void use() const { glUseProgram(program_.get()); }
-  bool valid() const { return program_.get() != 0; }
+  GLuint id() const { return program_ ? program_->get() : 0; }
+  void use() const { glUseProgram(id()); }
+  bool valid() const { return id() != 0; }
   // Whether `library` assembles `vertex` and `fragment` to the very texts this program was
   // built from: building them again would make the same program.
   bool built_from(const ShaderLibrary& library, const std::string& vertex, const std::string& fragment) const;
@@ -102,7 +128,7 @@ class Program {
   void record(const std::string& name, GLenum type) const;
   std::string declaration_site(const std::string& uniform) const;
 
-  GlName<delete_program> program_;
+  LinkedProgramCache::Handle program_;  // shared with other Programs only through a LinkedProgramCache
   mutable std::unordered_map<std::string, Slot> slots_;
   std::vector<std::filesystem::path> source_paths_;
   std::vector<AssembledShader> sources_;  // for the file and line of a declaration

@@ -47,6 +47,8 @@ constexpr std::size_t kMaxShaderLineBytes = 4096;
 // Every top-level shader must start with this line: the kit targets GL 3.3 core.
 constexpr const char* kRequiredVersionLine = "#version 330 core";
 
+class LinkedProgramCache;  // gl_objects.h
+
 class ShaderLibrary {
  public:
   ShaderLibrary() = default;
@@ -66,12 +68,17 @@ class ShaderLibrary {
   const std::vector<std::string>& defines() const { return defines_; }  // sorted
   // set_define for each (name, on).
   void set_defines(const std::vector<std::pair<std::string, bool>>& defines);
+  // Where programs built from this library (Program) look for a linked program made from
+  // the same texts before compiling one; null (the default) compiles each.
+  void share_programs_through(LinkedProgramCache* cache) { program_cache_ = cache; }
+  LinkedProgramCache* program_cache() const { return program_cache_; }
 
  private:
   void append(const std::string& name, AssembledShader& out, std::vector<std::string>& included,
               int depth, bool top_level) const;
   std::vector<ShaderFolder> folders_;
   std::vector<std::string> defines_;
+  LinkedProgramCache* program_cache_ = nullptr;
 };
 
 // Reads a whole file as shader text: size limit, no NUL bytes, valid UTF-8,

@@ -426,6 +426,8 @@ TEST(Grader, ChecksOfOneFrameReadIt) {
   for (const auto& [render, seconds] : lab1["seconds"]["render_each"].items())
     EXPECT_TRUE(lab1["seconds"]["compile_each"].contains(lab1["renderer_of"].value(render, std::string())))
         << render << ": " << lab1.dump();
+  // Its four Renderers build the display and debug programs once (LinkedProgramCache).
+  EXPECT_GE(lab4.value("programs_reused", 0), 6) << lab4.dump();
   // A later run removes the folders of runs that died, not what --keep-temp kept.
   const fs::path empty = kit::test::temp_dir("grader-empty-submission");
   GradeRun later = grade(empty, "after-keep", "--labs 1");

@@ -12,6 +12,8 @@
 #include "base/error.h"
 #include "kit_test.h"
 #include "kit_test_images.h"
+#include "gl/gl_objects.h"
+#include "render/renderer.h"
 #include "render/stages.h"
 
 namespace {
@@ -139,6 +141,59 @@ TEST(StagesDeterminism, TwoRendersAreBitwiseIdentical) {
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
+// ---- programs shared between Renderers (the grader's render child) ----
+
+// Renderers that build their programs through one LinkedProgramCache share the GL programs,
+// uniform values included. The witness: a value set through one Program is what the other
+// reads. Each Renderer sets every uniform before it draws with it, so two scenes with other
+// cameras and lights, drawn in turn and back again, give the images each gives with programs
+// of its own (a Renderer that set its camera only in its first frame fails here).
+TEST(StagesSharedPrograms, RenderersInTurnDrawWhatEachDrawsAlone) {
+  kit::test::context();
+  const kit::Stage& stage = kit::find_stage("attenuation");
+  kit::LinkedProgramCache cache;
+  auto library = [&](bool shared) {
+    kit::ShaderLibrary l = kit::stage_library(stage, kit::kit_root() / "solutions");
+    if (shared) l.share_programs_through(&cache);
+    return l;
+  };
+  {
+    kit::Program a(library(true), "fullscreen.vert", "debug_view.frag");
+    kit::Program b(library(true), "fullscreen.vert", "debug_view.frag");
+    ASSERT_EQ(a.id(), b.id());
+    EXPECT_EQ(cache.reused(), 1);
+    a.use();
+    a.set("u_view_mode", 4);
+    GLint seen = 0;
+    glGetUniformiv(b.id(), b.location("u_view_mode"), &seen);
+    EXPECT_EQ(seen, 4) << "the programs share uniform values";
+  }
+  const std::string scenes[] = {"range", "lights"};
+  ASSERT_NE(kit::test::scene(scenes[0]).lights.size(), kit::test::scene(scenes[1]).lights.size());
+  const kit::RenderSettings settings = small_settings();
+  auto draw = [&](kit::Renderer& renderer, const std::string& name) {
+    const kit::Scene& scene = kit::test::scene(name);
+    kit::Camera camera = scene.camera ? *scene.camera : kit::framing_camera(scene);
+    renderer.render(kit::frame_camera(camera, static_cast<float>(kWidth) / static_cast<float>(kHeight)));
+    return std::make_pair(renderer.read_view(kit::View::Hdr, true), renderer.read_view(kit::View::Final, true));
+  };
+  std::pair<kit::Image, kit::Image> alone[2];
+  for (int i = 0; i < 2; ++i) {
+    kit::Renderer renderer(stage, library(false), kit::test::scene(scenes[i]), settings);
+    alone[i] = draw(renderer, scenes[i]);
+  }
+  const int reused_before = cache.reused();
+  kit::Renderer first(stage, library(true), kit::test::scene(scenes[0]), settings);
+  kit::Renderer second(stage, library(true), kit::test::scene(scenes[1]), settings);
+  EXPECT_GT(cache.reused(), reused_before) << "the second Renderer built every program again";
+  for (int i : {0, 1, 0, 1}) {
+    SCOPED_TRACE(scenes[i]);
+    const auto drawn = draw(i == 0 ? first : second, scenes[i]);
+    EXPECT_EQ(kit::test::first_difference(drawn.first, alone[i].first), "");
+    EXPECT_EQ(kit::test::first_difference(drawn.second, alone[i].second), "");
+  }
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
 
 // The viewer renders a frame again only when same_image_settings says the settings
 // changed (tools/kit_view.cpp): every field that changes the image must count, and

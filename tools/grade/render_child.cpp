@@ -119,6 +119,9 @@ int render_lab(const RenderJob& job) {
   // One Renderer per (scene, isolated custom effect), built on first use; stage 6's
   // maps are made once per environment and shared between them.
   IblCache ibl_cache;
+  // The Renderers build many of the same programs (display, debug, post, and lighting where
+  // the scenes' light defines agree): each is compiled and linked once (gl_objects.h).
+  LinkedProgramCache program_cache;
   std::map<std::pair<std::string, bool>, std::unique_ptr<Renderer>> renderers;
   // The settings of each Renderer's last frame. Checks that differ only in the view they
   // read (lab 1's G-buffer attachments of one scene, an image and its HDR buffer, lab 6's
@@ -143,6 +146,7 @@ int render_lab(const RenderJob& job) {
       try {
         ShaderLibrary library = spec->isolate_custom ? isolated_custom_library(stage, job.lab_root)
                                                      : stage_library(stage, job.lab_root);
+        library.share_programs_through(&program_cache);
         renderer = std::make_unique<Renderer>(stage, std::move(library), scene, settings, &ibl_cache);
       } catch (const NonFiniteMapError& e) {
         write_text(error_file, e.what());
@@ -186,6 +190,7 @@ int render_lab(const RenderJob& job) {
       return kChildRenderError;
     }
   }
+  report["programs_reused"] = program_cache.reused();
   report["seconds"]["compile"] = compile;
   report["seconds"]["render"] = render;
   report["seconds"]["readback"] = readback;
