@@ -435,6 +435,57 @@ TEST(Grader, ChecksOfOneFrameReadIt) {
   fs::remove_all(kept);
 }
 
+// A report's images may be links to PNGs in the reference cache (write_report_images): a
+// render equal to its reference, a difference image of one colour. Grading another
+// submission into the same folder writes new files, never through those links. The
+// witness: the first run linked them (one file, two names); the second, whose lab 2 lights
+// at half strength, wrote its own renders there, and every cached file kept its bytes.
+TEST(Grader, ReportLinksLeaveTheCacheAsItWas) {
+  const fs::path cache = kit::test::temp_dir("grader-link-cache");
+  const std::string environment = "XDG_CACHE_HOME=" + quoted(cache) + " ";
+  const fs::path out = kit::test::temp_dir("grader-link-out");
+  auto grade_into_out = [&](const fs::path& submission) {
+    std::string output;
+    EXPECT_EQ(kit::test::run(environment + kit::test::tool("kit-grade") + " " + quoted(submission) + " --labs 2 --out " +
+                                 quoted(out) + " --jobs 2",
+                             &output),
+              0)
+        << output;
+  };
+  auto linked_renders = [&] {
+    int linked = 0;
+    for (const auto& entry : fs::directory_iterator(out / "img")) {
+      const std::string name = entry.path().filename().string();
+      const std::string suffix = ".ref.png";
+      if (name.size() <= suffix.size() || name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0) continue;
+      const fs::path render = out / "img" / (name.substr(0, name.size() - suffix.size()) + ".png");
+      linked += fs::equivalent(entry.path(), render);
+    }
+    return linked;
+  };
+  auto cached_files = [&] {
+    std::map<std::string, std::string> bytes;
+    for (const auto& entry : fs::recursive_directory_iterator(cache))
+      if (entry.is_regular_file() && entry.path().extension() == ".png") bytes[entry.path().string()] = read_file(entry.path());
+    return bytes;
+  };
+  grade_into_out(kit::kit_root() / "solutions");
+  EXPECT_GT(linked_renders(), 0) << "no render was linked to its reference's PNG";
+  const auto before = cached_files();
+  ASSERT_FALSE(before.empty());
+  const fs::path dim = kit::test::temp_dir("grader-link-dim");
+  copy_lab("solutions", 2, dim);
+  edit(dim / "02-lighting/lighting.frag", "out_color = vec4(min(radiance, vec3(KIT_HDR_MAX)), 1.0);",
+       "out_color = vec4(min(0.5 * radiance, vec3(KIT_HDR_MAX)), 1.0);");
+  grade_into_out(dim);
+  EXPECT_EQ(linked_renders(), 0) << "a dimmed render still shows as the reference";
+  const auto after = cached_files();
+  for (const auto& [path, content] : before) {
+    ASSERT_TRUE(after.count(path)) << path;
+    EXPECT_TRUE(after.at(path) == content) << path << " changed";
+  }
+}
+
 // Run B: a shader that writes nothing, an #include outside the allowed folders,
 // binary garbage and a wrong #version, with the solution in lab 4.
 TEST(Grader, BrokenLabsScoreZeroAndTheOthersFullMarksB) {

@@ -140,6 +140,67 @@ bool classify_child(const Outcome& o, const fs::path& dir, LabOutcome& lab) {
   return false;
 }
 
+// Makes `destination` a link to `cached`, a PNG in the reference cache, writing `cached`
+// first (from make()) when it is missing; copies it where the result folder is on another
+// file system. A linked file costs a fraction of encoding one (a new file costs more than
+// its bytes: kSingleFileCacheVariable says why). False when the cache cannot hold it: the
+// caller writes its own file.
+template <typename Make>
+bool link_cached_png(const fs::path& cached, const fs::path& destination, const Make& make) {
+  std::error_code ec;
+  if (cached.empty()) return false;
+  if (!fs::exists(cached, ec)) {
+    fs::path temp = cached;
+    temp += ".tmp-" + std::to_string(getpid()) + ".png";
+    try {
+      write_image(temp.string(), make(), PngEffort::Fastest);
+      fs::rename(temp, cached);  // a run beside this one links the whole file or writes its own
+    } catch (const std::exception&) {
+      fs::remove(temp, ec);
+      return false;
+    }
+  }
+  fs::remove(destination, ec);
+  fs::create_hard_link(cached, destination, ec);
+  if (ec) fs::copy_file(cached, destination, fs::copy_options::overwrite_existing);
+  return true;
+}
+
+// Writes a report image as a new file: the path may name a cached PNG linked there by an
+// earlier run into the same folder, and writing through the link would change the cache.
+void write_report_png(const fs::path& path, const Image& image) {
+  std::error_code ec;
+  fs::remove(path, ec);
+  write_image(path.string(), image, PngEffort::Fastest);
+}
+
+bool same_values(const Image& a, const Image& b) {
+  return a.width == b.width && a.height == b.height && a.channels == b.channels &&
+         std::memcmp(a.pixels.data(), b.pixels.data(), a.pixels.size() * sizeof(float)) == 0;
+}
+
+// Where a difference image of one colour all over is kept ("" when it is not one colour):
+// a render that matches its reference has one, and 60 of the solutions' 64 checks share it.
+fs::path uniform_image_path(const Run& run, const Image& image) {
+  if (run.reference_cache.empty() || image.pixels.empty()) return {};
+  const size_t n = static_cast<size_t>(image.channels);
+  for (size_t i = n; i < image.pixels.size(); i += n)
+    if (std::memcmp(&image.pixels[i], image.pixels.data(), n * sizeof(float)) != 0) return {};
+  std::string name = "uniform-" + std::to_string(image.width) + "x" + std::to_string(image.height);
+  for (size_t c = 0; c < n; ++c) {
+    uint32_t bits = 0;
+    std::memcpy(&bits, &image.pixels[c], sizeof bits);
+    char hex[10];
+    std::snprintf(hex, sizeof hex, "-%08x", bits);
+    name += hex;
+  }
+  return run.reference_cache / (name + ".png");
+}
+
+// The report's three images of a check. What looks the same in every report is encoded
+// once and linked: each reference, a render equal to its reference value for value (63 of
+// the solutions' 64 checks, about half of those of a submission with one mistake a lab),
+// and a difference image of one colour.
 void write_report_images(const Run& run, const fs::path& result_dir, const Check& check, const Image& image,
                          const Image& reference, CheckOutcome& c) {
   std::string base = std::string(kImageFolder) + "/lab" + std::to_string(check.lab) + "-" + check.key;
@@ -147,34 +208,21 @@ void write_report_images(const Run& run, const fs::path& result_dir, const Check
   c.reference = base + ".ref.png";
   c.diff = base + ".diff.png";
   Metric shown = check.metric == Metric::Work ? Metric::Hdr : compares_own_renders(check.metric) ? Metric::Ldr : check.metric;
-  write_image((result_dir / c.image).string(), display_image(shown, image, reference), PngEffort::Fastest);
-  write_image((result_dir / c.diff).string(), c.comparison.diff, PngEffort::Fastest);
+  const Image& diff = c.comparison.diff;
+  if (!link_cached_png(uniform_image_path(run, diff), result_dir / c.diff, [&] { return diff; }))
+    write_report_png(result_dir / c.diff, diff);
+  auto shown_reference = [&] { return display_image(shown, reference, reference); };
   if (compares_own_renders(check.metric)) {  // its "reference" is the submission's own render
-    write_image((result_dir / c.reference).string(), display_image(shown, reference, reference), PngEffort::Fastest);
+    write_report_png(result_dir / c.image, display_image(shown, image, reference));
+    write_report_png(result_dir / c.reference, shown_reference());
     return;
   }
-  // A reference looks the same in every submission's report: encoded once, kept in the
-  // reference cache beside the reference, then linked (copied where the result folder is
-  // on another file system): a new file costs more than its bytes
-  // (kSingleFileCacheVariable says why).
   fs::path cached = run.references.at(check.reference).cache_stem;
   cached += std::string(".") + metric_name(check.metric) + ".png";
-  std::error_code ec;
-  if (!fs::exists(cached, ec)) {
-    fs::path temp = cached;
-    temp += ".tmp-" + std::to_string(getpid()) + ".png";
-    try {
-      write_image(temp.string(), display_image(shown, reference, reference), PngEffort::Fastest);
-      fs::rename(temp, cached);  // a run beside this one links the whole file or writes its own
-    } catch (const std::exception&) {  // the cache is only a cache: the report gets its own file
-      fs::remove(temp, ec);
-      write_image((result_dir / c.reference).string(), display_image(shown, reference, reference), PngEffort::Fastest);
-      return;
-    }
-  }
-  fs::remove(result_dir / c.reference, ec);
-  fs::create_hard_link(cached, result_dir / c.reference, ec);
-  if (ec) fs::copy_file(cached, result_dir / c.reference, fs::copy_options::overwrite_existing);
+  const bool linked = link_cached_png(cached, result_dir / c.reference, shown_reference);
+  if (!linked) write_report_png(result_dir / c.reference, shown_reference());
+  if (!(linked && same_values(image, reference) && link_cached_png(cached, result_dir / c.image, shown_reference)))
+    write_report_png(result_dir / c.image, display_image(shown, image, reference));
 }
 
 // Loads a lab's references the first time one of its children has rendered: the
