@@ -180,7 +180,7 @@ bool same_values(const Image& a, const Image& b) {
 }
 
 // Where a difference image of one colour all over is kept ("" when it is not one colour):
-// a render that matches its reference has one, and 60 of the solutions' 64 checks share it.
+// a render that matches its reference has one, and 57 of the solutions' 64 checks share it.
 fs::path uniform_image_path(const Run& run, const Image& image) {
   if (run.reference_cache.empty() || image.pixels.empty()) return {};
   const size_t n = static_cast<size_t>(image.channels);
@@ -198,8 +198,8 @@ fs::path uniform_image_path(const Run& run, const Image& image) {
 }
 
 // The report's three images of a check. What looks the same in every report is encoded
-// once and linked: each reference, a render equal to its reference value for value (63 of
-// the solutions' 64 checks, about half of those of a submission with one mistake a lab),
+// once and linked: each reference, a render equal to its reference value for value (59 of
+// the solutions' 64 checks, about a third of those of a submission with one mistake a lab),
 // and a difference image of one colour.
 void write_report_images(const Run& run, const fs::path& result_dir, const Check& check, const Image& image,
                          const Image& reference, CheckOutcome& c) {
