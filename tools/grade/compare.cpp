@@ -171,12 +171,6 @@ float distance_to_neighbourhood(const Image& image, const Image& reference, int 
   return nearest;
 }
 
-bool is_uniform(const Image& image) {
-  for (size_t i = static_cast<size_t>(image.channels); i < image.pixels.size(); ++i)
-    if (image.pixels[i] != image.pixels[i % static_cast<size_t>(image.channels)]) return false;
-  return true;
-}
-
 std::string pixel_text(const Image& image) {
   std::string out = "(";
   for (int c = 0; c < image.channels; ++c) {
@@ -424,6 +418,12 @@ double largest_possible_difference(Metric metric) {
 
 size_t allowed_failing_pixels(const Tolerance& tolerance, size_t pixels) {
   return static_cast<size_t>(std::floor(tolerance.fail_percent / 100.0 * static_cast<double>(pixels) + 1e-9));
+}
+
+bool is_uniform(const Image& image) {
+  for (size_t i = static_cast<size_t>(image.channels); i < image.pixels.size(); ++i)
+    if (image.pixels[i] != image.pixels[i % static_cast<size_t>(image.channels)]) return false;
+  return true;
 }
 
 Background reference_background(Metric metric, const Image& reference) {
