@@ -74,7 +74,7 @@ GLuint link(std::initializer_list<GLuint> shaders, const std::string& what) {
 
 }  // namespace
 
-LinkedProgramCache::Handle LinkedProgramCache::find(const std::string& texts) const {
+LinkedProgramCache::Handle LinkedProgramCache::find(const std::string& texts) {
   auto it = programs_.find(texts);
   Handle found = it == programs_.end() ? nullptr : it->second.lock();
   if (found) ++reused_;

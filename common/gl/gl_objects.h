@@ -62,13 +62,13 @@ void delete_sampler(GLuint id);
 class LinkedProgramCache {
  public:
   using Handle = std::shared_ptr<const GlName<delete_program>>;
-  Handle find(const std::string& texts) const;
+  Handle find(const std::string& texts);
   void store(const std::string& texts, const Handle& program);
   int reused() const { return reused_; }  // how many builds found their program here
 
  private:
   std::map<std::string, std::weak_ptr<const GlName<delete_program>>> programs_;
-  mutable int reused_ = 0;
+  int reused_ = 0;
 };
 
 // A linked program from a vertex and a fragment shader found through a

@@ -12,6 +12,7 @@
 #include "base/error.h"
 #include "kit_test.h"
 #include "kit_test_images.h"
+#include "reference_frames.h"
 #include "gl/gl_objects.h"
 #include "render/renderer.h"
 #include "render/stages.h"
@@ -172,9 +173,7 @@ TEST(StagesSharedPrograms, RenderersInTurnDrawWhatEachDrawsAlone) {
   ASSERT_NE(kit::test::scene(scenes[0]).lights.size(), kit::test::scene(scenes[1]).lights.size());
   const kit::RenderSettings settings = small_settings();
   auto draw = [&](kit::Renderer& renderer, const std::string& name) {
-    const kit::Scene& scene = kit::test::scene(name);
-    kit::Camera camera = scene.camera ? *scene.camera : kit::framing_camera(scene);
-    renderer.render(kit::frame_camera(camera, static_cast<float>(kWidth) / static_cast<float>(kHeight)));
+    renderer.render(kit::test::scene_frame_camera(kit::test::scene(name), settings));
     return std::make_pair(renderer.read_view(kit::View::Hdr, true), renderer.read_view(kit::View::Final, true));
   };
   std::pair<kit::Image, kit::Image> alone[2];
