@@ -199,9 +199,8 @@ class SceneGpu {
   const TextureCompressionDecision& texture_compression() const { return compression_; }
   const Mesh& mesh(int primitive) const { return meshes_[static_cast<size_t>(primitive)]; }
   // Scene::images[image] as sampled in one colour space (sRGB or linear); image -1 (no
-  // texture): white(). An image no material samples in that space has an empty texture.
+  // texture): white, in the unit's colour space. An image no material samples in that space has an empty texture.
   const Texture2D& texture(int image, bool srgb) const;
-  const Texture2D& white() const { return white_; }
   const Texture2D& flat_normal() const { return flat_normal_; }
   // The GL sampler of Scene::samplers[index]; index -1: the default TextureSampler.
   const Sampler& sampler(int index) const;
@@ -211,7 +210,7 @@ class SceneGpu {
   std::vector<Sampler> samplers_;
   Sampler default_sampler_;
   std::vector<Texture2D> srgb_, linear_;
-  Texture2D white_, flat_normal_;
+  Texture2D white_srgb_, white_, flat_normal_;  // placeholder_texture
   TextureCompressionDecision compression_;
 };
 

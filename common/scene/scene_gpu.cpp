@@ -3,6 +3,7 @@
 #include <malloc.h>  // malloc_trim
 
 #include <algorithm>
+#include <array>
 #include <condition_variable>
 #include <cstdio>
 #include <cstring>
@@ -208,6 +209,21 @@ void decode_then_upload(const Scene& scene, const std::vector<size_t>& order,
   }
 }
 
+// A texture that stands in for a material's missing one: `texel` everywhere, so any
+// filter, wrap or level reads it exactly. It is shaped as the scenes' own textures are
+// (a power of two, a mip chain, the unit's colour space) because llvmpipe compiles a
+// draw's fragment shader again for each texture's format, power-of-two size and
+// whether it has levels beyond the first: a 1x1 RGBA8 stand-in beside an sRGB mipmapped
+// texture made each combination of present and missing textures a compilation of its
+// own (a fifth of a cold grading run's compile time).
+Texture2D placeholder_texture(GLenum internal_format, std::array<unsigned char, 4> texel) {
+  const std::array<unsigned char, 16> level0 = {texel[0], texel[1], texel[2], texel[3], texel[0], texel[1],
+                                                texel[2], texel[3], texel[0], texel[1], texel[2], texel[3],
+                                                texel[0], texel[1], texel[2], texel[3]};
+  return Texture2D({internal_format, GL_RGBA, GL_UNSIGNED_BYTE}, false,
+                   {{2, 2, level0.data(), level0.size()}, {1, 1, texel.data(), texel.size()}});
+}
+
 }  // namespace
 
 SceneGpu::SceneGpu(const Scene& scene, TextureCompression compression) {
@@ -254,10 +270,9 @@ SceneGpu::SceneGpu(const Scene& scene, TextureCompression compression) {
   for (const TextureSampler& s : scene.samplers) samplers_.emplace_back(s.min_filter, s.mag_filter, s.wrap_s, s.wrap_t);
   const TextureSampler gltf_default;
   default_sampler_ = Sampler(gltf_default.min_filter, gltf_default.mag_filter, gltf_default.wrap_s, gltf_default.wrap_t);
-  const unsigned char white[4] = {255, 255, 255, 255};
-  const unsigned char flat[4] = {128, 128, 255, 255};
-  white_ = Texture2D(1, 1, {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE}, white);
-  flat_normal_ = Texture2D(1, 1, {GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE}, flat);
+  white_srgb_ = placeholder_texture(GL_SRGB8_ALPHA8, {255, 255, 255, 255});
+  white_ = placeholder_texture(GL_RGBA8, {255, 255, 255, 255});
+  flat_normal_ = placeholder_texture(GL_RGBA8, {128, 128, 255, 255});
   check_gl("SceneGpu upload");
 }
 
@@ -266,7 +281,7 @@ const Sampler& SceneGpu::sampler(int index) const {
 }
 
 const Texture2D& SceneGpu::texture(int image, bool srgb) const {
-  if (image < 0) return white_;
+  if (image < 0) return srgb ? white_srgb_ : white_;
   return (srgb ? srgb_ : linear_)[static_cast<size_t>(image)];
 }
 
