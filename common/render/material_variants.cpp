@@ -73,7 +73,9 @@ const Program& GeometryPrograms::for_features(unsigned features) const {
 }
 
 const Program& GeometryPrograms::for_draw(const Scene& scene, const DrawItem& draw) const {
-  return for_features(draw_features(scene, draw));
+  const unsigned features = draw_features(scene, draw);
+  return programs_.count(features) || !programs_.count(kMaterialAllFeatures) ? for_features(features)
+                                                                             : for_features(kMaterialAllFeatures);
 }
 
 std::vector<const Program*> GeometryPrograms::all() const {

@@ -62,7 +62,8 @@ class GeometryPrograms {
   // Whether every variant is one the constructor left to keep_from (nothing was built).
   bool all_kept() const { return built_ == 0; }
 
-  // The program that draws `draw`; throws kit::Error when no variant was built for it.
+  // The program that draws `draw`: its features' variant, else the variant with every
+  // feature (which draws any material); throws kit::Error when neither was built.
   const Program& for_draw(const Scene& scene, const DrawItem& draw) const;
   const Program& for_features(unsigned features) const;
   // Every variant, in feature order.

@@ -239,7 +239,12 @@ LightBuffers::LightBuffers(const std::vector<Light>& lights, const std::vector<f
   glBindBuffer(GL_UNIFORM_BUFFER, 0);
 }
 
-void LightBuffers::apply_defines(ShaderLibrary& library) const { library.set_defines(defines_); }
+void LightBuffers::apply_defines(ShaderLibrary& library, bool specialise) const {
+  std::vector<std::pair<std::string, bool>> defines = defines_;
+  if (!specialise)
+    for (auto& [name, on] : defines) on = on && name == kLightsInTexture;
+  library.set_defines(defines);
+}
 
 void LightBuffers::bind() const {
   if (in_texture())
@@ -389,7 +394,10 @@ void Renderer::build_programs() {
     else
       (*p).*slot = make_program(library_, vertex, fragment);
   };
-  p->geometry = GeometryPrograms(library_, GeometryPrograms::feature_sets(scene_), "gbuffer.vert", "gbuffer.frag",
+  // Not specialised: the variant with every feature draws every material.
+  const std::vector<unsigned> feature_sets = settings_.specialise_shaders ? GeometryPrograms::feature_sets(scene_)
+                                                                          : std::vector<unsigned>{kMaterialAllFeatures};
+  p->geometry = GeometryPrograms(library_, feature_sets, "gbuffer.vert", "gbuffer.frag",
                                  programs_ ? &programs_->geometry : nullptr);
   if (stage_.lighting) {
     build(&Programs::lighting, "fullscreen.vert", "lighting.frag");
@@ -433,6 +441,7 @@ void Renderer::build_programs() {
   if (stage_.light_volumes) volume_state_ = parse_light_volume_state(library_.assemble("light_volume.vert"));
   programs_ = std::move(p);
   programs_defines_ = library_.defines();
+  shaders_specialised_ = settings_.specialise_shaders;
   if (!keep_forward) forward_ = std::move(forward);
   used_.clear();
   if (stage_.ibl && !maps_current) update_ibl();
@@ -538,9 +547,11 @@ void Renderer::upload_lights() {
   for (const Light& l : frame_lights_)
     radii.push_back(l.type == KIT_LIGHT_DIRECTIONAL ? 0.0f : light_cutoff_radius(l, epsilon, settings_.attenuation_model));
   lights_ = LightBuffers(frame_lights_, radii);
-  lights_.apply_defines(library_);
-  apply_attenuation_model_define(library_, settings_.attenuation_model);
-  if (programs_ && library_.defines() != programs_defines_) build_programs();
+  lights_.apply_defines(library_, settings_.specialise_shaders);
+  // -1: neither model's define, u_attenuation_model a uniform (set_frame_uniforms).
+  apply_attenuation_model_define(library_, settings_.specialise_shaders ? settings_.attenuation_model : -1);
+  if (programs_ && (library_.defines() != programs_defines_ || settings_.specialise_shaders != shaders_specialised_))
+    build_programs();
   lights_extra_ = settings_.extra_lights;
   lights_default_rig_ = settings_.default_light_rig;
   lights_attenuation_model_ = settings_.attenuation_model;
@@ -717,7 +728,7 @@ void Renderer::render(const FrameCamera& camera, PassTimes* pass_times) {
 
 void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
   if (settings_.extra_lights != lights_extra_ || settings_.default_light_rig != lights_default_rig_ ||
-      settings_.attenuation_model != lights_attenuation_model_ ||
+      settings_.attenuation_model != lights_attenuation_model_ || settings_.specialise_shaders != shaders_specialised_ ||
       (stage_.light_volumes && settings_.gamma != lights_gamma_))
     upload_lights();
   if (ibl_ && (settings_.environment != ibl_environment_ || !(settings_.ibl == ibl_settings_))) update_ibl();

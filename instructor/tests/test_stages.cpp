@@ -8,6 +8,7 @@
 #include <memory>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "base/error.h"
 #include "kit_test.h"
@@ -194,9 +195,58 @@ TEST(StagesSharedPrograms, RenderersInTurnDrawWhatEachDrawsAlone) {
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
+// ---- programs specialised to the frame (RenderSettings::specialise_shaders) ----
+
+// The grader draws with one lighting and one geometry program per lab instead of one per
+// scene's lights and materials: the same image, bit for bit, on scenes of spot lights, of a
+// sun, of lights with a range, under either attenuation model, with the light volumes, and
+// on the texturing scene's materials (a second UV set, transforms, MASK). The witness that
+// the setting changes the programs: with specialisation, a Renderer per scene builds
+// lighting and geometry programs of its own; without, they share them.
+TEST(StagesSpecialisedShaders, SameImageWithOrWithout) {
+  kit::test::context();
+  const std::string scenes[] = {"spot", "sun", "range", "lights", "texturing"};
+  for (const char* stage_name : {"attenuation", "lightvolumes"}) {
+    const kit::Stage& stage = kit::find_stage(stage_name);
+    int reused[2] = {0, 0};
+    for (bool specialise : {true, false}) {
+      kit::LinkedProgramCache cache;
+      std::vector<std::unique_ptr<kit::Renderer>> renderers;
+      for (const std::string& name : scenes) {
+        kit::ShaderLibrary library = kit::stage_library(stage, kit::kit_root() / "solutions");
+        library.share_programs_through(&cache);
+        kit::RenderSettings settings = small_settings();
+        settings.specialise_shaders = specialise;
+        renderers.push_back(std::make_unique<kit::Renderer>(stage, std::move(library), kit::test::scene(name), settings));
+      }
+      reused[specialise ? 1 : 0] = cache.reused();
+    }
+    EXPECT_GT(reused[0], reused[1]) << stage_name << ": the scenes' programs differ without specialisation too";
+    for (const std::string& name : scenes)
+      for (int model : {0, 1}) {
+        SCOPED_TRACE(std::string(stage_name) + ", " + name + ", attenuation model " + std::to_string(model));
+        kit::Image hdr[2], final_image[2];
+        for (bool specialise : {true, false}) {
+          kit::RenderSettings settings = small_settings();
+          settings.attenuation_model = model;
+          settings.specialise_shaders = specialise;
+          kit::Renderer renderer(stage, kit::stage_library(stage, kit::kit_root() / "solutions"), kit::test::scene(name),
+                                 settings);
+          renderer.render(kit::test::scene_frame_camera(kit::test::scene(name), settings));
+          hdr[specialise] = renderer.read_view(kit::View::Hdr, true);
+          final_image[specialise] = renderer.read_view(kit::View::Final, true);
+        }
+        EXPECT_EQ(kit::test::first_difference(hdr[0], hdr[1]), "");
+        EXPECT_EQ(kit::test::first_difference(final_image[0], final_image[1]), "");
+      }
+  }
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
 // The viewer renders a frame again only when same_image_settings says the settings
 // changed (tools/kit_view.cpp): every field that changes the image must count, and
-// only the size and u_time (which the viewer compares or animates itself) may not.
+// only the size and u_time (which the viewer compares or animates itself) and
+// specialise_shaders (which does not change it) may not.
 TEST(StagesSettings, EveryFieldThatChangesTheImageCounts) {
   const kit::RenderSettings base;
   EXPECT_TRUE(kit::same_image_settings(base, base));
@@ -204,6 +254,7 @@ TEST(StagesSettings, EveryFieldThatChangesTheImageCounts) {
   ignored.width += 1;
   ignored.height += 1;
   ignored.time += 1.0f;
+  ignored.specialise_shaders = !ignored.specialise_shaders;  // the same image (StagesSpecialisedShaders)
   EXPECT_TRUE(kit::same_image_settings(base, ignored)) << "the size and u_time are the viewer's to compare";
 
   using Change = void (*)(kit::RenderSettings&);
