@@ -927,6 +927,14 @@ TEST(GraderVerdicts, ReferenceBackgroundIsTheMostCommonPixelWhereverTheCornerIs)
   // Exactly half each: a tie, so the smaller, whichever is in the corner.
   EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of({0.5f, 0.5f, 0.2f, 0.2f}))), 0.2f);
   EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of({0.2f, 0.2f, 0.5f, 0.5f}))), 0.2f);
+  // The count table is kept between calls: a grading-size image of distinct values but
+  // one thrice, then the small ones again, each counted afresh.
+  std::vector<float> many(256 * 192);
+  for (size_t i = 0; i < many.size(); ++i) many[i] = static_cast<float>(i) / static_cast<float>(many.size());
+  many[10] = many[500] = many[9000] = 0.75f;
+  EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of(many))), 0.75f);
+  EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of({0.5f, 0.5f, 0.2f, 0.3f, 0.4f}))), 0.5f);
+  EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of({0.5f, 0.2f, 0.2f, 0.2f, 0.5f, 0.1f}))), 0.2f);
 }
 
 // The report's PNGs are written fast (zlib level 1, every row Sub-filtered) and still

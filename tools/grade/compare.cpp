@@ -346,13 +346,17 @@ Background most_common_pixel(const Image& image) {
   for (size_t i = 0; i < count; ++i) corner_count += pixel(i) == corner;
   if (2 * corner_count > count) return corner;
 
-  struct Slot {
-    Pixel value{};
-    size_t count = 0;
-  };
+  // Each slot holds a pixel's index + 1 (0: empty) and its value's count. The table is
+  // kept between calls (a thread's own), its used slots emptied after: allocating and
+  // clearing 3 MB for each reference was most of this function's time.
   size_t capacity = 1;
   while (capacity < 2 * count) capacity <<= 1;  // at most half full: short probes
-  std::vector<Slot> table(capacity);
+  thread_local std::vector<uint32_t> first_pixel, counts;
+  thread_local std::vector<size_t> used;
+  if (first_pixel.size() < capacity) {
+    first_pixel.assign(capacity, 0);
+    counts.assign(capacity, 0);
+  }
   auto hash = [](const Pixel& v) {
     uint64_t h = 0x9e3779b97f4a7c15ull;
     for (float f : v) {
@@ -364,18 +368,25 @@ Background most_common_pixel(const Image& image) {
     }
     return static_cast<size_t>(h);
   };
+  used.clear();
   for (size_t i = 0; i < count; ++i) {
     const Pixel v = pixel(i);
     size_t slot = hash(v) & (capacity - 1);
-    while (table[slot].count > 0 && !(table[slot].value == v)) slot = (slot + 1) & (capacity - 1);
-    table[slot].value = v;
-    ++table[slot].count;
+    while (first_pixel[slot] != 0 && !(pixel(first_pixel[slot] - 1) == v)) slot = (slot + 1) & (capacity - 1);
+    if (first_pixel[slot] == 0) {
+      first_pixel[slot] = static_cast<uint32_t>(i + 1);
+      used.push_back(slot);
+    }
+    ++counts[slot];
   }
-  const Slot* best = nullptr;
-  for (const Slot& slot : table)
-    if (slot.count > 0 && (!best || slot.count > best->count || (slot.count == best->count && slot.value < best->value)))
-      best = &slot;
-  return best->value;
+  size_t best = used.front();
+  for (size_t slot : used)
+    if (counts[slot] > counts[best] ||
+        (counts[slot] == counts[best] && pixel(first_pixel[slot] - 1) < pixel(first_pixel[best] - 1)))
+      best = slot;
+  const Pixel value = pixel(first_pixel[best] - 1);
+  for (size_t slot : used) first_pixel[slot] = counts[slot] = 0;
+  return value;
 }
 
 bool shows(const Image& image, int x, int y, const std::array<float, 4>& background) {
