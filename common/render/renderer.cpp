@@ -381,6 +381,7 @@ Renderer::Renderer(const Stage& stage, ShaderLibrary library, const Scene& scene
 Renderer::~Renderer() = default;
 
 void Renderer::build_programs() {
+  lit_frame_.reset();
   check_stage_interfaces(stage_, library_);
   // A program whose shaders assemble to the same texts as the current one's is kept, so
   // a define change (the lights, the attenuation model) or a hot reload builds only the
@@ -461,10 +462,12 @@ std::string Renderer::ibl_cache_key() const {
 ImageBasedLighting* Renderer::image_based_lighting() {
   if (ibl_cache_) throw Error("the environment's maps are shared through an IblCache and cannot be changed");
   // Not from a cache: this Renderer made the maps and is their only owner.
+  lit_frame_.reset();  // a map may change before the next frame
   return std::const_pointer_cast<ImageBasedLighting>(ibl_).get();
 }
 
 void Renderer::update_ibl() {
+  lit_frame_.reset();
   const std::string key = ibl_cache_ ? ibl_cache_key() : std::string();
   std::shared_ptr<const ImageBasedLighting> maps = ibl_cache_ ? ibl_cache_->find(key) : nullptr;
   if (!maps) {
@@ -501,6 +504,7 @@ std::vector<std::filesystem::path> Renderer::shader_paths() const {
 }
 
 void Renderer::allocate_targets() {
+  lit_frame_.reset();
   int w = settings_.width, h = settings_.height;
   // Float targets are sampled with nearest filtering: every pass reads them at
   // texel centres, and a linear filter would spread a NaN into its neighbours
@@ -538,6 +542,7 @@ void Renderer::resize(int width, int height) {
 }
 
 void Renderer::upload_lights() {
+  lit_frame_.reset();
   frame_lights_ = frame_lights(scene_, stage_, settings_);
   light_count_ = static_cast<int>(frame_lights_.size());
   directional_count_ = static_cast<int>(std::count_if(frame_lights_.begin(), frame_lights_.end(),
@@ -711,11 +716,15 @@ void Renderer::light_volume_pass() {
   });
 }
 
-void Renderer::render(const FrameCamera& camera, PassTimes* pass_times) {
+void Renderer::render(const FrameCamera& camera, PassTimes* pass_times) { render_frame(camera, pass_times, false); }
+
+bool Renderer::render_reusing_lit_frame(const FrameCamera& camera) { return render_frame(camera, nullptr, true); }
+
+bool Renderer::render_frame(const FrameCamera& camera, PassTimes* pass_times, bool reuse_lit_frame) {
   used_.clear();
   PassClock clock(pass_times);
   try {
-    render_passes(camera, clock);
+    return render_passes(camera, clock, reuse_lit_frame);
   } catch (const Error& e) {
     // A uniform set with another type than declared is a GL error in its pass: say which.
     std::string mistyped;
@@ -726,7 +735,7 @@ void Renderer::render(const FrameCamera& camera, PassTimes* pass_times) {
   }
 }
 
-void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
+bool Renderer::render_passes(const FrameCamera& camera, PassClock& clock, bool reuse_lit_frame) {
   if (settings_.extra_lights != lights_extra_ || settings_.default_light_rig != lights_default_rig_ ||
       settings_.attenuation_model != lights_attenuation_model_ || settings_.specialise_shaders != shaders_specialised_ ||
       (stage_.light_volumes && settings_.gamma != lights_gamma_))
@@ -746,6 +755,87 @@ void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
   if (forward_ && blend_draws_) used_.push_back(&forward_->blend_program());
   if (forward_ && settings_.light_markers) used_.push_back(&forward_->marker_program());
 
+  const bool reused = reuse_lit_frame && stage_.lighting && lit_frame_current(camera);
+  if (reused) {
+    // The programs the skipped passes drew with lead the list, as they did, and the units
+    // they leave bound for the passes after are bound again (another Renderer's frame, in
+    // the grader's render child, may have bound its own there since).
+    used_.insert(used_.begin(), lit_frame_->drawn.begin(), lit_frame_->drawn.end());
+    gbuffer_.bind_textures();
+    lights_.bind();
+    if (ibl_) ibl_->bind();
+  } else {
+    lit_frame_.reset();
+    const size_t fixed = used_.size();
+    draw_lit_frame(clock);
+    if (!stage_.lighting) return false;
+    lit_frame_ = LitFrame{camera, settings_, std::vector<const Program*>(used_.begin(), used_.end() - static_cast<std::ptrdiff_t>(fixed))};
+  }
+  hdr_.bind(KIT_UNIT_HDR);
+
+  if (!stage_.postprocess) {
+    // 3. Display: tone mapping and gamma (tonemap.glsl) -> LDR.
+    set_frame_uniforms(p.display);
+    fullscreen_pass(p.display, final_fbo_, settings_.width, settings_.height);
+    check_gl("display pass");
+    clock.lap("display");
+    return reused;
+  }
+
+  // 3'. Bloom: bright pass, separable blur ping-pong, composite before tone mapping.
+  set_frame_uniforms(p.bright);
+  fullscreen_pass(p.bright, bloom_fbo_[0], settings_.width, settings_.height);
+  set_frame_uniforms(p.blur);
+  blur_ping_pong(triangle_, p.blur, bloom_, bloom_fbo_, settings_.blur_passes, settings_.width, settings_.height);
+  hdr_.bind(KIT_UNIT_HDR);
+  set_frame_uniforms(p.composite);
+  fullscreen_pass(p.composite, composite_fbo_, settings_.width, settings_.height);
+  composite_.bind(KIT_UNIT_LDR);
+  set_frame_uniforms(p.custom);
+  fullscreen_pass(p.custom, final_fbo_, settings_.width, settings_.height);
+  check_gl("postprocess passes");
+  clock.lap("postprocess");
+  return reused;
+}
+
+bool Renderer::lit_frame_current(const FrameCamera& camera) const {
+  if (!lit_frame_) return false;
+  const FrameCamera& c = lit_frame_->camera;
+  if (c.view != camera.view || c.projection != camera.projection || c.position != camera.position ||
+      c.znear != camera.znear || c.zfar != camera.zfar)
+    return false;
+  const RenderSettings& last = lit_frame_->settings;
+  if (last.width != settings_.width || last.height != settings_.height) return false;
+  // Whether a pass before post-processing reads `uniform` (a lab shader may read any).
+  const Programs& p = *programs_;
+  std::vector<const Program*> before_post = p.geometry.all();
+  for (const Program* program : {&p.lighting, &p.ibl, &p.background, &p.volume, &p.volume_count,
+                                 &p.volume_coverage, &p.surface_count})
+    before_post.push_back(program);
+  if (forward_) {
+    before_post.push_back(&forward_->blend_program());
+    before_post.push_back(&forward_->marker_program());
+  }
+  auto read_before_post = [&](const char* uniform) {
+    return std::any_of(before_post.begin(), before_post.end(),
+                       [&](const Program* program) { return program->valid() && program->has(uniform); });
+  };
+  // The settings only post-processing (or the display pass) reads may differ.
+  RenderSettings s = settings_;
+  if (!read_before_post("u_gamma")) s.gamma = last.gamma;
+  if (!read_before_post("u_postprocess_enabled")) s.postprocess = last.postprocess;
+  if (!read_before_post("u_custom_enabled")) s.custom_effect = last.custom_effect;
+  if (!read_before_post("u_bloom_threshold")) s.bloom_threshold = last.bloom_threshold;
+  s.blur_passes = last.blur_passes;  // a loop count of blur_ping_pong's
+  if (read_before_post("u_time") && s.time != last.time) return false;
+  return same_image_settings(last, s);
+}
+
+
+// Passes 1 to 2' of a frame: everything before post-processing, into the G-buffer and
+// (lit stages) the HDR target.
+void Renderer::draw_lit_frame(PassClock& clock) {
+  const Programs& p = *programs_;
   // 1. Geometry pass: every draw item into the G-buffer; from stage 2, BLEND
   //    materials are left to the forward pass (stage 1 has no lighting to blend).
   const glm::mat4 view_projection = camera_.projection * camera_.view;
@@ -806,30 +896,6 @@ void Renderer::render_passes(const FrameCamera& camera, PassClock& clock) {
     check_gl("forward pass (light markers)");
   }
   if (blend_draws_ || settings_.light_markers) clock.lap("forward");
-  hdr_.bind(KIT_UNIT_HDR);
-
-  if (!stage_.postprocess) {
-    // 3. Display: tone mapping and gamma (tonemap.glsl) -> LDR.
-    set_frame_uniforms(p.display);
-    fullscreen_pass(p.display, final_fbo_, settings_.width, settings_.height);
-    check_gl("display pass");
-    clock.lap("display");
-    return;
-  }
-
-  // 3'. Bloom: bright pass, separable blur ping-pong, composite before tone mapping.
-  set_frame_uniforms(p.bright);
-  fullscreen_pass(p.bright, bloom_fbo_[0], settings_.width, settings_.height);
-  set_frame_uniforms(p.blur);
-  blur_ping_pong(triangle_, p.blur, bloom_, bloom_fbo_, settings_.blur_passes, settings_.width, settings_.height);
-  hdr_.bind(KIT_UNIT_HDR);
-  set_frame_uniforms(p.composite);
-  fullscreen_pass(p.composite, composite_fbo_, settings_.width, settings_.height);
-  composite_.bind(KIT_UNIT_LDR);
-  set_frame_uniforms(p.custom);
-  fullscreen_pass(p.custom, final_fbo_, settings_.width, settings_.height);
-  check_gl("postprocess passes");
-  clock.lap("postprocess");
 }
 
 size_t Renderer::count_non_finite(View view) {

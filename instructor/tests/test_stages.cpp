@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
 #include <utility>
@@ -240,6 +243,83 @@ TEST(StagesSpecialisedShaders, SameImageWithOrWithout) {
         EXPECT_EQ(kit::test::first_difference(final_image[0], final_image[1]), "");
       }
   }
+  EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+}
+
+// ---- post-processing alone drawn again (Renderer::render_reusing_lit_frame) ----
+
+// A frame whose camera and lit-pass settings are the last frame's runs only the post
+// passes, and gives the image a whole frame gives, bit for bit: under another bloom
+// threshold, gamma, blur count, with post-processing off and with the custom effect on.
+// A change the lit passes read (the attenuation model, the camera) draws the whole
+// frame. The witness that the uniform check matters: an attenuation.glsl that reads
+// u_gamma lights another HDR image under gamma 1.0, and there the frame is drawn whole.
+TEST(StagesLitFrameReuse, PostSettingsAloneRunThePostPassesAgain) {
+  kit::test::context();
+  const kit::Stage& stage = kit::find_stage("postprocess");
+  const kit::Scene& scene = kit::test::scene("default");
+  const kit::RenderSettings base = small_settings();
+  const kit::FrameCamera camera = kit::test::scene_frame_camera(scene, base);
+  auto whole = [&](kit::ShaderLibrary library, const kit::RenderSettings& settings, const kit::FrameCamera& at) {
+    kit::Renderer fresh(stage, std::move(library), scene, settings);
+    fresh.render(at);
+    return std::make_pair(fresh.read_view(kit::View::Hdr, true), fresh.read_view(kit::View::Final, true));
+  };
+  auto solutions = [&] { return kit::stage_library(stage, kit::kit_root() / "solutions"); };
+  using Change = void (*)(kit::RenderSettings&);
+  const std::pair<const char*, Change> post_only[] = {
+      {"bloom_threshold", [](kit::RenderSettings& s) { s.bloom_threshold = 0.5f; }},
+      {"gamma", [](kit::RenderSettings& s) { s.gamma = 1.0f; }},
+      {"blur_passes", [](kit::RenderSettings& s) { s.blur_passes = 2; }},
+      {"postprocess", [](kit::RenderSettings& s) { s.postprocess = false; }},
+      {"custom_effect", [](kit::RenderSettings& s) { s.custom_effect = true; }},
+  };
+  kit::Renderer renderer(stage, solutions(), scene, base);
+  EXPECT_FALSE(renderer.render_reusing_lit_frame(camera)) << "the first frame has nothing to reuse";
+  for (const auto& [field, change] : post_only) {
+    SCOPED_TRACE(field);
+    kit::RenderSettings settings = base;
+    change(settings);
+    renderer.settings() = settings;
+    EXPECT_TRUE(renderer.render_reusing_lit_frame(camera));
+    const auto expected = whole(solutions(), settings, camera);
+    EXPECT_EQ(kit::test::first_difference(renderer.read_view(kit::View::Final, true), expected.second), "");
+  }
+  kit::RenderSettings simple = base;
+  simple.attenuation_model = 1;
+  renderer.settings() = simple;
+  EXPECT_FALSE(renderer.render_reusing_lit_frame(camera)) << "the attenuation model changes the lit passes";
+  EXPECT_EQ(kit::test::first_difference(renderer.read_view(kit::View::Final, true), whole(solutions(), simple, camera).second), "");
+  kit::FrameCamera moved = camera;
+  moved.position.x += 0.5f;
+  moved.view[3][0] -= 0.5f;
+  EXPECT_FALSE(renderer.render_reusing_lit_frame(moved)) << "another camera";
+
+  // An attenuation that reads u_gamma (a mistake a student could make): the lit frame
+  // depends on gamma, so a gamma change draws it whole.
+  const std::filesystem::path overlay = kit::test::temp_dir("lit-frame-reuse");
+  std::ifstream in(kit::kit_root() / "solutions" / "03-attenuation" / "attenuation.glsl");
+  std::string attenuation((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string last_return = "return light.color * intensity * kit_range_window(light, p);";
+  ASSERT_NE(attenuation.find(last_return), std::string::npos);
+  attenuation.replace(attenuation.find(last_return), last_return.size(),
+                      "return light.color * intensity * kit_range_window(light, p) * (u_gamma / 2.2);");
+  std::ofstream(overlay / "attenuation.glsl") << attenuation;
+  auto reads_gamma = [&] {
+    std::vector<kit::ShaderFolder> folders = solutions().folders();
+    folders.insert(folders.begin(), kit::ShaderFolder{overlay, "overlay", {"attenuation.glsl"}});
+    return kit::ShaderLibrary(std::move(folders));
+  };
+  kit::RenderSettings gamma1 = base;
+  gamma1.gamma = 1.0f;
+  const auto at_22 = whole(reads_gamma(), base, camera), at_10 = whole(reads_gamma(), gamma1, camera);
+  ASSERT_NE(kit::test::first_difference(at_22.first, at_10.first), "") << "the lit frame does not depend on gamma";
+  kit::Renderer reading(stage, reads_gamma(), scene, base);
+  reading.render_reusing_lit_frame(camera);
+  reading.settings() = gamma1;
+  EXPECT_FALSE(reading.render_reusing_lit_frame(camera)) << "a lit pass reads u_gamma";
+  EXPECT_EQ(kit::test::first_difference(reading.read_view(kit::View::Hdr, true), at_10.first), "");
+  EXPECT_EQ(kit::test::first_difference(reading.read_view(kit::View::Final, true), at_10.second), "");
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 

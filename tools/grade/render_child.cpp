@@ -166,7 +166,10 @@ int render_lab(const RenderJob& job) {
       if (last == last_frame.end() || !same_frame_settings(last->second, settings)) {
         Camera camera = scene.camera ? *scene.camera : framing_camera(scene);
         auto t = Clock::now();
-        renderer->render(frame_camera(camera, static_cast<float>(settings.width) / static_cast<float>(settings.height)));
+        // Lab 5's frames of one scene differ in post-processing alone: its passes run again,
+        // not the whole frame (Renderer::render_reusing_lit_frame).
+        renderer->render_reusing_lit_frame(
+            frame_camera(camera, static_cast<float>(settings.width) / static_cast<float>(settings.height)));
         glFinish();
         double seconds = seconds_since(t);
         render += seconds;
