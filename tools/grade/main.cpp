@@ -13,6 +13,7 @@
 #include <cstring>
 #include <thread>
 
+#include "gl/context.h"
 #include "batch.h"
 #include "base/error.h"
 #include "grader.h"
@@ -147,6 +148,7 @@ int self_check(int argc, char** argv, int first) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  kit::keep_freed_memory_for_reuse();
   kit::grade::Options options;
   options.jobs = std::max(1, std::min(kMaxDefaultJobs, static_cast<int>(std::thread::hardware_concurrency())));
   std::string submission, batch;
