@@ -171,7 +171,7 @@ void ForwardPass::draw_blend_layers(const GeometryPrograms& geometry_programs, c
     glBindFramebuffer(GL_DRAW_FRAMEBUFFER, layer_.framebuffer().id());
     const int x1 = rect.x + rect.width, y1 = rect.y + rect.height;
     glBlitFramebuffer(rect.x, rect.y, x1, y1, rect.x, rect.y, x1, y1, GL_DEPTH_BUFFER_BIT, GL_NEAREST);
-    begin_geometry_pass_on(layer_.framebuffer(), width_, height_, KIT_GBUF_COUNT, glm::vec4(0.0f), false);
+    begin_geometry_pass_on(layer_.framebuffer(), width_, height_, glm::vec4(0.0f), false);
     const Program& geometry = geometry_programs.for_draw(scene, d);
     note_drawn(drawn, geometry);
     geometry.use();

@@ -10,12 +10,12 @@ namespace kit {
 
 // The geometry pass's start on any G-buffer FBO (GBuffer and the bench's layouts):
 // binds `fbo`, sets the viewport, depth test LESS with writes, back-face culling,
-// no blending, and clears colour attachments 0..color_count-1 to `clear` (0 for
-// G-buffers, whose mask must read "no surface") and, with `clear_depth`, depth to 1
-// (the forward pass's layers keep the opaque depth they were given). Clears obey
-// the scissor test.
-void begin_geometry_pass_on(const Framebuffer& fbo, int width, int height, int color_count,
-                            const glm::vec4& clear = glm::vec4(0.0f), bool clear_depth = true);
+// no blending, and clears every colour attachment it draws to (its draw buffers) to
+// `clear` (0 for G-buffers, whose mask must read "no surface") and, with `clear_depth`,
+// depth to 1 (the forward pass's layers keep the opaque depth they were given). Clears
+// obey the scissor test.
+void begin_geometry_pass_on(const Framebuffer& fbo, int width, int height, const glm::vec4& clear = glm::vec4(0.0f),
+                            bool clear_depth = true);
 
 class GBuffer {
  public:

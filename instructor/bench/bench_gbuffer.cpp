@@ -85,7 +85,7 @@ LayoutGBuffer::LayoutGBuffer(Layout layout, int width, int height) : layout_(lay
 }
 
 void LayoutGBuffer::begin_geometry_pass() const {
-  begin_geometry_pass_on(fbo_, width_, height_, static_cast<int>(colors_.size()));
+  begin_geometry_pass_on(fbo_, width_, height_);
 }
 
 void LayoutGBuffer::bind_textures() const {

@@ -268,7 +268,7 @@ void BenchRenderer::geometry_pass(const Method& m) {
   const SceneGpu& gpu = m.optimized_geometry ? *optimized_gpu_ : scene_gpu_;
   const glm::mat4 view_projection = camera_.projection * camera_.view;
   if (m.lighting == Lighting::Forward) {
-    begin_geometry_pass_on(forward_fbo_, settings_.width, settings_.height, 1, glm::vec4(settings_.clear_color, 1.0f));
+    begin_geometry_pass_on(forward_fbo_, settings_.width, settings_.height, glm::vec4(settings_.clear_color, 1.0f));
     const Program& p = program("forward");
     set_uniforms(p, light_count());
     light_buffers_.bind();
