@@ -131,7 +131,8 @@ std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const Re
 
 // Defines KIT_ATTENUATION_MODEL_PHYSICAL (model 0) or KIT_ATTENUATION_MODEL_SIMPLE (1)
 // in `library` and no other, so light_specialisation.glsl (which lights.glsl includes)
-// declares u_attenuation_model as that constant.
+// declares u_attenuation_model as that constant; another model (-1) defines neither, and
+// u_attenuation_model is a uniform.
 void apply_attenuation_model_define(ShaderLibrary& library, int model);
 
 // Whether `stage`'s lighting pass runs only where the G-buffer's depth holds a surface
