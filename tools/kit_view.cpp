@@ -509,13 +509,9 @@ class Viewer {
     int width = 0, height = 0;
     long shader_builds = 0;
   };
-  static bool same_camera(const kit::FrameCamera& a, const kit::FrameCamera& b) {
-    return a.view == b.view && a.projection == b.projection && a.position == b.position && a.znear == b.znear &&
-           a.zfar == b.zfar;
-  }
   static bool same_frame(const FrameInputs& a, const FrameInputs& b) {
-    return same_camera(a.camera, b.camera) && kit::same_image_settings(a.settings, b.settings) && a.width == b.width &&
-           a.height == b.height && a.shader_builds == b.shader_builds;
+    return kit::same_frame_camera(a.camera, b.camera) && kit::same_image_settings(a.settings, b.settings) &&
+           a.width == b.width && a.height == b.height && a.shader_builds == b.shader_builds;
   }
   // The custom effect may animate with u_time: it is rendered every frame.
   bool animated() const { return renderer_ && settings_.custom_effect && renderer_->stage().postprocess; }
@@ -542,7 +538,7 @@ class Viewer {
       inputs.settings = settings_;
       inputs.shader_builds = shader_builds_;
       const bool moving =
-          !full_quality && last_frame_inputs_ && !same_camera(inputs.camera, last_frame_inputs_->camera);
+          !full_quality && last_frame_inputs_ && !kit::same_frame_camera(inputs.camera, last_frame_inputs_->camera);
       const int divisor = moving ? kMovingResolutionDivisor : 1;
       inputs.width = std::max(width / divisor, 1);
       inputs.height = std::max(height / divisor, 1);

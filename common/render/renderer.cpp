@@ -117,6 +117,11 @@ bool is_precomputed_map(View view) {
   return view == View::Irradiance || view == View::Prefiltered || view == View::BrdfLut;
 }
 
+bool same_frame_camera(const FrameCamera& a, const FrameCamera& b) {
+  return a.view == b.view && a.projection == b.projection && a.position == b.position && a.znear == b.znear &&
+         a.zfar == b.zfar;
+}
+
 FrameCamera frame_camera(const Camera& camera, float aspect) {
   FrameCamera f;
   f.view = camera.view;
@@ -769,7 +774,8 @@ bool Renderer::render_passes(const FrameCamera& camera, PassClock& clock, bool r
     const size_t fixed = used_.size();
     draw_lit_frame(clock);
     if (!stage_.lighting) return false;
-    lit_frame_ = LitFrame{camera, settings_, std::vector<const Program*>(used_.begin(), used_.end() - static_cast<std::ptrdiff_t>(fixed))};
+    const auto drawn_end = used_.end() - static_cast<std::ptrdiff_t>(fixed);  // draw_lit_frame puts them first
+    lit_frame_ = LitFrame{camera, settings_, std::vector<const Program*>(used_.begin(), drawn_end)};
   }
   hdr_.bind(KIT_UNIT_HDR);
 
@@ -799,11 +805,7 @@ bool Renderer::render_passes(const FrameCamera& camera, PassClock& clock, bool r
 }
 
 bool Renderer::lit_frame_current(const FrameCamera& camera) const {
-  if (!lit_frame_) return false;
-  const FrameCamera& c = lit_frame_->camera;
-  if (c.view != camera.view || c.projection != camera.projection || c.position != camera.position ||
-      c.znear != camera.znear || c.zfar != camera.zfar)
-    return false;
+  if (!lit_frame_ || !same_frame_camera(lit_frame_->camera, camera)) return false;
   const RenderSettings& last = lit_frame_->settings;
   if (last.width != settings_.width || last.height != settings_.height) return false;
   // Whether a pass before post-processing reads `uniform` (a lab shader may read any).
@@ -830,7 +832,6 @@ bool Renderer::lit_frame_current(const FrameCamera& camera) const {
   if (read_before_post("u_time") && s.time != last.time) return false;
   return same_image_settings(last, s);
 }
-
 
 // Passes 1 to 2' of a frame: everything before post-processing, into the G-buffer and
 // (lit stages) the HDR target.

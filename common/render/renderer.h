@@ -83,6 +83,8 @@ struct FrameCamera {
   float znear = 0.1f, zfar = 100.0f;
 };
 FrameCamera frame_camera(const Camera& camera, float aspect);
+// Whether two cameras are the same, value for value.
+bool same_frame_camera(const FrameCamera& a, const FrameCamera& b);
 
 // Light radiometry the framework derives from glTF units (see handouts/03-attenuation.md):
 // flux = 4*pi*I for a point light, 2*pi*(1 - (cos_inner + cos_outer)/2)*I for a spot light.
