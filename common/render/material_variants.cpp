@@ -74,8 +74,8 @@ const Program& GeometryPrograms::for_features(unsigned features) const {
 
 const Program& GeometryPrograms::for_draw(const Scene& scene, const DrawItem& draw) const {
   const unsigned features = draw_features(scene, draw);
-  return programs_.count(features) || !programs_.count(kMaterialAllFeatures) ? for_features(features)
-                                                                             : for_features(kMaterialAllFeatures);
+  if (!programs_.count(features) && programs_.count(kMaterialAllFeatures)) return for_features(kMaterialAllFeatures);
+  return for_features(features);
 }
 
 std::vector<const Program*> GeometryPrograms::all() const {

@@ -199,7 +199,8 @@ class SceneGpu {
   const TextureCompressionDecision& texture_compression() const { return compression_; }
   const Mesh& mesh(int primitive) const { return meshes_[static_cast<size_t>(primitive)]; }
   // Scene::images[image] as sampled in one colour space (sRGB or linear); image -1 (no
-  // texture): white, in the unit's colour space. An image no material samples in that space has an empty texture.
+  // texture): white in that colour space. An image no material samples in that space has
+  // an empty texture.
   const Texture2D& texture(int image, bool srgb) const;
   const Texture2D& flat_normal() const { return flat_normal_; }
   // The GL sampler of Scene::samplers[index]; index -1: the default TextureSampler.

@@ -217,9 +217,8 @@ void decode_then_upload(const Scene& scene, const std::vector<size_t>& order,
 // texture made each combination of present and missing textures a compilation of its
 // own (a fifth of a cold grading run's compile time).
 Texture2D placeholder_texture(GLenum internal_format, std::array<unsigned char, 4> texel) {
-  const std::array<unsigned char, 16> level0 = {texel[0], texel[1], texel[2], texel[3], texel[0], texel[1],
-                                                texel[2], texel[3], texel[0], texel[1], texel[2], texel[3],
-                                                texel[0], texel[1], texel[2], texel[3]};
+  std::array<unsigned char, 16> level0{};  // 2x2 texels
+  for (size_t i = 0; i < level0.size(); ++i) level0[i] = texel[i % texel.size()];
   return Texture2D({internal_format, GL_RGBA, GL_UNSIGNED_BYTE}, false,
                    {{2, 2, level0.data(), level0.size()}, {1, 1, texel.data(), texel.size()}});
 }

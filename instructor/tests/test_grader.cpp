@@ -928,7 +928,7 @@ TEST(GraderVerdicts, ReferenceBackgroundIsTheMostCommonPixelWhereverTheCornerIs)
   EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of({0.5f, 0.5f, 0.2f, 0.2f}))), 0.2f);
   EXPECT_EQ(grey(kit::grade::reference_background(Metric::Ldr, image_of({0.2f, 0.2f, 0.5f, 0.5f}))), 0.2f);
   // The count table is kept between calls: a grading-size image of distinct values but
-  // one thrice, then the small ones again, each counted afresh.
+  // one (0.75, four times), then the small ones again, each counted afresh.
   std::vector<float> many(256 * 192);
   for (size_t i = 0; i < many.size(); ++i) many[i] = static_cast<float>(i) / static_cast<float>(many.size());
   many[10] = many[500] = many[9000] = 0.75f;

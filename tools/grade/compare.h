@@ -48,12 +48,12 @@ double largest_possible_difference(Metric metric);
 // The most pixels of `pixels` that may fail the per-pixel threshold: fail_percent of them, rounded down.
 size_t allowed_failing_pixels(const Tolerance& tolerance, size_t pixels);
 
-// A reference's background: the value of the pixels where nothing is drawn, as
-// compare_images finds it (the reference's most common pixel as compared under the
-// metric: NaN zeroed, HDR compressed; the smallest such value on a tie).
 // Whether every pixel of `image` has the first pixel's values (a NaN never matches).
 bool is_uniform(const Image& image);
 
+// A reference's background: the value of the pixels where nothing is drawn, as
+// compare_images finds it (the reference's most common pixel as compared under the
+// metric: NaN zeroed, HDR compressed; the smallest such value on a tie).
 using Background = std::array<float, 4>;
 // Every pixel of `reference` counted: a run finds each reference's once and passes it to
 // compare_images, rather than counting the same reference again for every submission.

@@ -13,9 +13,9 @@
 #include <cstring>
 #include <thread>
 
-#include "gl/context.h"
 #include "batch.h"
 #include "base/error.h"
+#include "gl/context.h"
 #include "grader.h"
 #include "reference_maintenance.h"
 #include "submission.h"
