@@ -3,12 +3,13 @@
 #
 # Measures (not a test: numbers depend on the machine and its load):
 #   1. one full submission (solutions/) at --jobs 1 and --jobs 2, cold (no Mesa
-#      shader seed and no decoded references: the cache emptied before each run,
-#      median of 3) and warm (the seed and references --check-references writes,
-#      as in the Gradescope image, median of 5): wall, CPU (user+sys of kit-grade
-#      and its children) and peak memory (largest single process from
-#      /usr/bin/time -v, and the peak sum of proportional set sizes of all
-#      kit-grade processes, sampled every 10 ms in a run of its own);
+#      shader seed: the cache emptied before each run, median of 3; the references
+#      as the build prepared them, and at --jobs 2 without them too) and warm (the
+#      shader seed --check-references writes, as in the Gradescope image, median
+#      of 5): wall, CPU (user+sys of kit-grade and its children) and peak memory
+#      (largest single process from /usr/bin/time -v, and the peak sum of
+#      proportional set sizes of all kit-grade processes, sampled every 10 ms in a
+#      run of its own);
 #   2. batch throughput for 20 submissions (10 solutions, 10 starters) at --jobs 2;
 #   3. where the time goes: the parent's fixed cost (an empty submission renders
 #      nothing), the CPU of the grading process against its render children's, and
@@ -102,11 +103,15 @@ echo "1. one full submission (solutions/, every lab, $checks checks)"
 # Each submission's render children use a private shader cache that starts as a
 # copy of the seed in $XDG_CACHE_HOME/kit-grade/ (written by --check-references):
 # cold is no seed, warm is the seed of the solutions.
-# Cold empties the whole cache before each run (no seed and no decoded references).
+# Cold empties the whole cache before each run: no seed, and no decoded references but
+# those the build prepared (BUILD_DIR/grade-references, tools/grade.cmake), as in a
+# first run after ./kit setup. "unprepared" reads none from there either.
 export XDG_CACHE_HOME="$WORK/cache"
 for jobs in 1 2; do
   measure "cold-cache-jobs$jobs" 3 'rm -rf "$XDG_CACHE_HOME"' "$GRADE" "$ROOT/solutions" --out "$WORK/one-cold-$jobs" --jobs "$jobs"
 done
+KIT_PREPARED_REFERENCES="" measure "cold-unprepared-jobs2" 3 'rm -rf "$XDG_CACHE_HOME"' \
+  "$GRADE" "$ROOT/solutions" --out "$WORK/one-unprepared-2" --jobs 2
 rm -rf "$XDG_CACHE_HOME"
 "$GRADE" --check-references >/dev/null
 for jobs in 1 2; do

@@ -1049,6 +1049,76 @@ TEST(GraderVerdicts, CachedReferencesAreTheDecodedOnes) {
   EXPECT_TRUE(fs::exists(other_id));
 }
 
+// The build prepares the references (kit-grade --prepare-references, tools/grade.cmake)
+// as a run's cache would hold them, and a run reads them there without writing there.
+// Witnesses: the prepared files are the cache's byte for byte; with them a run's cache
+// gets no decoded reference; a reference file that changed since is decoded into the
+// cache again (the prepared file's name holds the old version's digest).
+TEST(GraderVerdicts, PreparedReferencesAreTheCachedOnes) {
+  const fs::path references = kit::test::temp_dir("grader-prepared-files");
+  fs::copy(kit::kit_root() / "tools/grade/references", references, fs::copy_options::recursive);
+  const fs::path prepared = kit::test::temp_dir("grader-prepared");
+  const fs::path cache = kit::test::temp_dir("grader-prepared-cache");
+  const fs::path unprepared = kit::test::temp_dir("grader-unprepared-cache");
+  kit::grade::Options options;
+  options.references = references;
+  options.labs = {2};
+  EXPECT_EQ(kit::grade::prepare_references(options, prepared), 0);
+  const auto read = kit::grade::load_lab_references(references, 2, cache, prepared);
+  const auto decoded = kit::grade::load_lab_references(references, 2, unprepared);
+  ASSERT_EQ(read.size(), decoded.size());
+  auto file_text = [](const fs::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  };
+  for (const auto& [id, reference] : read) {
+    const kit::grade::LoadedReference& other = decoded.at(id);
+    EXPECT_TRUE(reference.prepared) << id;
+    EXPECT_FALSE(other.prepared) << id;
+    EXPECT_EQ(reference.cache_stem.parent_path(), prepared) << id;
+    EXPECT_EQ(reference.cache_stem.filename(), other.cache_stem.filename()) << id;
+    EXPECT_EQ(reference.image.pixels, other.image.pixels) << id;
+    fs::path raw = reference.cache_stem, other_raw = other.cache_stem;
+    raw += ".raw";
+    other_raw += ".raw";
+    EXPECT_EQ(file_text(raw), file_text(other_raw)) << id;
+  }
+  EXPECT_TRUE(fs::is_empty(cache)) << "nothing decoded into the run's cache";
+  // Each check's background and report PNG were prepared: none is made at grading time.
+  for (const kit::grade::Check* check : kit::grade::lab_checks(2)) {
+    if (kit::grade::compares_own_renders(check->metric)) continue;
+    fs::path stem = read.at(check->reference).cache_stem;
+    for (const std::string what : {".background", ".png"}) {
+      fs::path file = stem;
+      file += std::string(".") + kit::grade::metric_name(check->metric) + what;
+      EXPECT_TRUE(fs::is_regular_file(file)) << file;
+    }
+  }
+  // A background the folder lacks is found, not written there.
+  const std::string id = "lab2-default-final";
+  fs::path background = read.at(id).cache_stem;
+  background += ".ldr.background";
+  fs::remove(background);
+  EXPECT_EQ(kit::grade::cached_background(read.at(id), Metric::Ldr),
+            kit::grade::reference_background(Metric::Ldr, decoded.at(id).image));
+  EXPECT_FALSE(fs::exists(background));
+
+  kit::Image changed = decoded.at(id).image;
+  changed.pixels[0] = 0.25f;
+  kit::write_image((references / (id + ".png")).string(), changed);
+  const kit::grade::LoadedReference again = kit::grade::load_lab_references(references, 2, cache, prepared).at(id);
+  EXPECT_FALSE(again.prepared);
+  EXPECT_EQ(again.cache_stem.parent_path(), cache);
+  EXPECT_EQ(again.image.pixels, kit::read_image((references / (id + ".png")).string()).pixels);
+  EXPECT_NE(again.image.pixels, decoded.at(id).image.pixels);
+  // Stale references (here one is missing) are not prepared, and the build goes on:
+  // grading says why they are stale.
+  fs::remove(references / (id + ".png"));
+  const fs::path stale = kit::test::temp_dir("grader-prepared-stale");
+  EXPECT_EQ(kit::grade::prepare_references(options, stale), 0);
+  EXPECT_TRUE(fs::is_empty(stale));
+}
+
 TEST(GraderVerdicts, FastestPngsHoldTheSameBytes) {
   kit::Image image(97, 31, 3);
   for (size_t i = 0; i < image.pixels.size(); ++i)

@@ -140,26 +140,32 @@ bool classify_child(const Outcome& o, const fs::path& dir, LabOutcome& lab) {
   return false;
 }
 
-// Makes `destination` a link to `cached`, a PNG in the reference cache, writing `cached`
-// first (from make()) when it is missing; copies it where the result folder is on another
-// file system. A linked file costs a fraction of encoding one (a new file costs more than
-// its bytes: kSingleFileCacheVariable says why). False when the cache cannot hold it: the
-// caller writes its own file.
+// cache_png writes `cached`, a PNG in the reference cache, from make() unless it is there;
+// link_cached_png then makes `destination` a link to it, or a copy where the result folder
+// is on another file system. A linked file costs a fraction of encoding one (a new file
+// costs more than its bytes: kSingleFileCacheVariable says why). False when the cache
+// cannot hold it: the caller writes its own file.
 template <typename Make>
-bool link_cached_png(const fs::path& cached, const fs::path& destination, const Make& make) {
+bool cache_png(const fs::path& cached, const Make& make) {
   std::error_code ec;
   if (cached.empty()) return false;
-  if (!fs::exists(cached, ec)) {
-    fs::path temp = cached;
-    temp += ".tmp-" + std::to_string(getpid()) + ".png";
-    try {
-      write_image(temp.string(), make(), PngEffort::Fastest);
-      fs::rename(temp, cached);  // a run beside this one links the whole file or writes its own
-    } catch (const std::exception&) {
-      fs::remove(temp, ec);
-      return false;
-    }
+  if (fs::exists(cached, ec)) return true;
+  fs::path temp = cached;
+  temp += ".tmp-" + std::to_string(getpid()) + ".png";
+  try {
+    write_image(temp.string(), make(), PngEffort::Fastest);
+    fs::rename(temp, cached);  // a run beside this one links the whole file or writes its own
+  } catch (const std::exception&) {
+    fs::remove(temp, ec);
+    return false;
   }
+  return true;
+}
+
+template <typename Make>
+bool link_cached_png(const fs::path& cached, const fs::path& destination, const Make& make) {
+  if (!cache_png(cached, make)) return false;
+  std::error_code ec;
   fs::remove(destination, ec);
   fs::create_hard_link(cached, destination, ec);
   if (ec) fs::copy_file(cached, destination, fs::copy_options::overwrite_existing);
@@ -195,6 +201,20 @@ fs::path uniform_image_path(const Run& run, const Image& image) {
   return run.reference_cache / (name + ".png");
 }
 
+// How the report shows a check's images.
+Metric shown_metric(const Check& check) {
+  return check.metric == Metric::Work ? Metric::Hdr : compares_own_renders(check.metric) ? Metric::Ldr : check.metric;
+}
+
+// The cached report PNG of `check`'s reference; "" where the reference is prepared by the
+// build (only read) without it.
+fs::path reference_png(const LoadedReference& reference, const Check& check) {
+  fs::path cached = reference.cache_stem;
+  cached += std::string(".") + metric_name(check.metric) + ".png";
+  std::error_code ec;
+  return reference.prepared && !fs::exists(cached, ec) ? fs::path() : cached;
+}
+
 // The report's three images of a check. What looks the same in every report is encoded
 // once and linked: each reference, a render equal to its reference value for value (59 of
 // the solutions' 64 checks, about a third of those of a submission with one mistake a lab),
@@ -205,7 +225,7 @@ void write_report_images(const Run& run, const fs::path& result_dir, const Check
   c.image = base + ".png";
   c.reference = base + ".ref.png";
   c.diff = base + ".diff.png";
-  Metric shown = check.metric == Metric::Work ? Metric::Hdr : compares_own_renders(check.metric) ? Metric::Ldr : check.metric;
+  const Metric shown = shown_metric(check);
   const Image& diff = c.comparison.diff;
   if (!link_cached_png(uniform_image_path(run, diff), result_dir / c.diff, [&] { return diff; }))
     write_report_png(result_dir / c.diff, diff);
@@ -215,8 +235,7 @@ void write_report_images(const Run& run, const fs::path& result_dir, const Check
     write_report_png(result_dir / c.reference, shown_reference());
     return;
   }
-  fs::path cached = run.references.at(check.reference).cache_stem;
-  cached += std::string(".") + metric_name(check.metric) + ".png";
+  const fs::path cached = reference_png(run.references.at(check.reference), check);
   const bool linked = link_cached_png(cached, result_dir / c.reference, shown_reference);
   if (!linked) write_report_png(result_dir / c.reference, shown_reference());
   if (!(linked && same_values(image, reference) && link_cached_png(cached, result_dir / c.image, shown_reference)))
@@ -231,7 +250,7 @@ std::string load_references_of(Run& run, int lab) {
   auto [problem, first] = run.reference_problems.try_emplace(lab);
   if (!first) return problem->second;
   try {
-    for (auto& [id, reference] : load_lab_references(run.references_dir, lab, run.reference_cache))
+    for (auto& [id, reference] : load_lab_references(run.references_dir, lab, run.reference_cache, run.prepared_references))
       run.references.emplace(id, std::move(reference));
   } catch (const Error& e) {
     problem->second = e.what();
@@ -579,7 +598,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
 }
 
 Run make_run(const Options& options, bool need_references) {
-  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}, {}, {}};
+  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}, {}, {}, {}};
   if (need_references) {
     run.references_dir = options.references.empty() ? default_references_dir() : options.references;
     require_current_references(run.references_dir);
@@ -592,7 +611,10 @@ Run make_run(const Options& options, bool need_references) {
   remove_stale_run_temps(base);
   // Named with this process's id, so a later run can tell when it is gone.
   run.temp = make_temp_dir(base, kRunTempPrefix + std::to_string(getpid()) + "-");
-  if (need_references) run.reference_cache = reference_cache_dir(run.temp);
+  if (need_references) {
+    run.reference_cache = reference_cache_dir(run.temp);
+    run.prepared_references = prepared_references_dir();
+  }
   return run;
 }
 
@@ -678,6 +700,26 @@ int grade_submission(const fs::path& submission, const Options& options) {
   if (grader_error) {
     std::fprintf(stderr, "kit-grade: the grader could not grade every lab (see %s)\n", (options.out / "summary.json").c_str());
     return 2;
+  }
+  return 0;
+}
+
+int prepare_references(const Options& options, const fs::path& out) {
+  const fs::path dir = options.references.empty() ? default_references_dir() : options.references;
+  try {
+    require_current_references(dir);
+    fs::create_directories(out);
+    for (int lab : options.labs)
+      for (const Check* check : lab_checks(lab)) {
+        if (compares_own_renders(check->metric)) continue;
+        // Made as a grading run's cache holds them: the same names and bytes (no prepared folder to read).
+        const LoadedReference reference = load_reference(dir, find_render(check->reference), out);
+        cached_background(reference, check->metric);
+        cache_png(reference_png(reference, *check),
+                  [&] { return display_image(shown_metric(*check), reference.image, reference.image); });
+      }
+  } catch (const std::exception& e) {  // grading makes them in its cache instead
+    std::fprintf(stderr, "kit-grade: the references were not prepared in %s: %s\n", out.c_str(), e.what());
   }
   return 0;
 }

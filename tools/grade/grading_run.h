@@ -44,6 +44,7 @@ struct Run {
   // Where the decoded references and what is made from them are kept
   // (reference_cache_dir(): between runs, else in this run's temporary folder).
   std::filesystem::path reference_cache;
+  std::filesystem::path prepared_references;  // prepared_references_dir(): the build's, only read
   std::string references_renderer;  // what rendered the references (their manifest's "renderer")
   MistakeSignatures mistakes;         // <references>/mistakes.json: none when it is not there
   // Variables set in every render child after the run's own (--update-references: the

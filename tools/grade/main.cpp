@@ -4,6 +4,7 @@
 //   kit-grade SUBMISSION [--labs 1-7] [--out DIR] [--jobs N] [--backend osmesa|egl]
 //   kit-grade --batch FOLDER --out DIR [--jobs N] [--force]   (regrades what changed since its result)
 //   kit-grade --update-references | --check-references
+//   kit-grade --prepare-references DIR   (run by the build: tools/grade.cmake)
 //
 // Exit status: 0 when grading ran (whatever the score), 1 when --check-references
 // finds stale references, 2 when the grader itself could not run.
@@ -33,7 +34,7 @@ void usage() {
   std::printf(
       "usage: kit-grade SUBMISSION [--labs 1-7] [--out DIR] [options]\n"
       "       kit-grade --batch FOLDER --out DIR [--force] [options]\n"
-      "       kit-grade --update-references | --check-references [--references DIR]\n"
+      "       kit-grade --update-references | --check-references | --prepare-references DIR [--references DIR]\n"
       "       kit-grade --self-check [self_check.py options]\n"
       "Grades a student's lab files against the reference solutions. SUBMISSION is a folder or a .zip holding\n"
       "the lab folders (NN-name/file, any case) at most %zu folders deep: 02-lighting/, labs/02-lighting/,\n"
@@ -67,6 +68,8 @@ void usage() {
       "  --keep-temp           keep the sanitized copies and raw renders (path printed)\n"
       "  --update-references   render solutions/ into the references and write their manifest\n"
       "  --check-references    re-render solutions/ and fail (exit 1) when the references are stale\n"
+      "  --prepare-references DIR  decode the references into DIR with their backgrounds and report images\n"
+      "                        (the build does, beside kit-grade; runs read them there)\n"
       "  --self-check          run instructor/grading/self_check.py (the mistake catalogue) with this grader\n"
       "Each lab renders in a child process in the run's temporary folder ($TMPDIR/kit-grade-<pid>-XXXXXX, removed\n"
       "at the end; a later run removes those of runs that were killed) with a Mesa shader cache of its submission's\n"
@@ -152,7 +155,8 @@ int main(int argc, char** argv) {
   kit::grade::Options options;
   options.jobs = std::max(1, std::min(kMaxDefaultJobs, static_cast<int>(std::thread::hardware_concurrency())));
   std::string submission, batch;
-  enum class Mode { Grade, Batch, Update, Check } mode = Mode::Grade;
+  enum class Mode { Grade, Batch, Update, Check, Prepare } mode = Mode::Grade;
+  fs::path prepared;
   return kit::run_tool("kit-grade", 2, [&]() -> int {
     for (int i = 1; i < argc; ++i) {
       std::string flag = argv[i];
@@ -197,6 +201,9 @@ int main(int argc, char** argv) {
         mode = Mode::Update;
       } else if (flag == "--check-references") {
         mode = Mode::Check;
+      } else if (flag == "--prepare-references") {
+        prepared = value();
+        mode = Mode::Prepare;
       } else if (!flag.empty() && flag[0] == '-') {
         throw kit::Error("unknown option '" + flag + "' (see --help)");
       } else if (submission.empty()) {
@@ -214,6 +221,7 @@ int main(int argc, char** argv) {
     switch (mode) {
       case Mode::Update: return kit::grade::update_references(options);
       case Mode::Check: return kit::grade::check_references(options);
+      case Mode::Prepare: return kit::grade::prepare_references(options, prepared);
       case Mode::Batch:
         if (!submission.empty()) throw kit::Error("--batch grades a folder of submissions: no SUBMISSION as well");
         if (options.out.empty()) throw kit::Error("--batch needs --out DIR");

@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdlib>
 #include <fstream>
 #include <set>
 
@@ -65,10 +66,22 @@ void remove_older_versions(const fs::path& cache, const std::string& id, const s
 constexpr const char* kAllowanceSuffix = ".allowance.exr";
 
 // The image in `file`, decoded once and kept in `cache` as "<key>-<SHA-1 of file>.raw"
-// (`stem` receives "<cache>/<key>-<SHA-1>"). Throws kit::Error when the file cannot be read.
-Image read_cached_image(const fs::path& file, const std::string& key, const fs::path& cache, fs::path* stem) {
+// (`stem` receives "<cache>/<key>-<SHA-1>"), or read from `prepared` where it holds that
+// file (`*from_prepared` then true, `stem` there). Throws kit::Error when the file cannot be read.
+Image read_cached_image(const fs::path& file, const std::string& key, const fs::path& cache, const fs::path& prepared,
+                        fs::path* stem, bool* from_prepared) {
   const std::string digest = file_digest(file, true);
   if (digest.empty()) throw Error(file.string() + ": cannot read the reference");
+  *from_prepared = false;
+  if (!prepared.empty()) {
+    try {
+      Image image = read_raw_image(prepared / (key + "-" + digest + ".raw"));
+      *stem = prepared / (key + "-" + digest);
+      *from_prepared = true;
+      return image;
+    } catch (const Error&) {  // not prepared for this version of the file: the cache's
+    }
+  }
   *stem = cache / (key + "-" + digest);
   const fs::path raw = suffixed(*stem, ".raw");
   try {
@@ -225,24 +238,35 @@ void require_current_references(const fs::path& dir) {
   throw Error("references in " + dir.string() + " are stale (run kit-grade --update-references):" + text);
 }
 
-std::map<std::string, LoadedReference> load_lab_references(const fs::path& dir, int lab, const fs::path& cache) {
-  std::map<std::string, LoadedReference> out;
-  for (const Check* check : lab_checks(lab)) {
-    if (compares_own_renders(check->metric) || out.count(check->reference)) continue;
-    const RenderSpec& spec = find_render(check->reference);
-    LoadedReference& reference = out[spec.id];
-    reference.image = read_cached_image(dir / (spec.id + "." + reference_extension(spec)), spec.id, cache,
-                                        &reference.cache_stem);
-    // Listed in the manifest wherever it exists (manifest_differences checks that).
-    const fs::path allowance = dir / (spec.id + kAllowanceSuffix);
-    std::error_code ec;
-    if (fs::exists(allowance, ec)) {
-      fs::path stem;
-      reference.allowance = read_cached_image(allowance, spec.id + ".allowance", cache, &stem);
-      if (reference.allowance.channels != 1) throw Error(allowance.string() + ": a filter allowance has one channel");
-    }
+LoadedReference load_reference(const fs::path& dir, const RenderSpec& spec, const fs::path& cache,
+                               const fs::path& prepared) {
+  LoadedReference reference;
+  reference.image = read_cached_image(dir / (spec.id + "." + reference_extension(spec)), spec.id, cache, prepared,
+                                      &reference.cache_stem, &reference.prepared);
+  // Listed in the manifest wherever it exists (manifest_differences checks that).
+  const fs::path allowance = dir / (spec.id + kAllowanceSuffix);
+  std::error_code ec;
+  if (fs::exists(allowance, ec)) {
+    fs::path stem;
+    bool from_prepared = false;
+    reference.allowance = read_cached_image(allowance, spec.id + ".allowance", cache, prepared, &stem, &from_prepared);
+    if (reference.allowance.channels != 1) throw Error(allowance.string() + ": a filter allowance has one channel");
   }
+  return reference;
+}
+
+std::map<std::string, LoadedReference> load_lab_references(const fs::path& dir, int lab, const fs::path& cache,
+                                                           const fs::path& prepared) {
+  std::map<std::string, LoadedReference> out;
+  for (const Check* check : lab_checks(lab))
+    if (!compares_own_renders(check->metric) && !out.count(check->reference))
+      out.emplace(check->reference, load_reference(dir, find_render(check->reference), cache, prepared));
   return out;
+}
+
+fs::path prepared_references_dir() {
+  const char* env = std::getenv("KIT_PREPARED_REFERENCES");
+  return fs::path(env ? env : KIT_PREPARED_REFERENCES_DIR);
 }
 
 Background cached_background(const LoadedReference& reference, Metric metric) {
@@ -253,6 +277,7 @@ Background cached_background(const LoadedReference& reference, Metric metric) {
     if (in.read(reinterpret_cast<char*>(background.data()), sizeof background) && in.peek() == EOF) return background;
   }
   background = reference_background(metric, reference.image);
+  if (reference.prepared) return background;  // the build's folder is only read
   std::string bytes(reinterpret_cast<const char*>(background.data()), sizeof background);
   try {
     write_file_atomic(path, bytes);

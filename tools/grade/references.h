@@ -66,6 +66,7 @@ struct LoadedReference {
   Image image;
   Image allowance;  // its filter allowance; 0x0 where it has none
   std::filesystem::path cache_stem;
+  bool prepared = false;  // cache_stem is in the build's prepared folder: read, never written
 };
 
 // Loads the references one lab's checks compare with (require_current_references
@@ -73,12 +74,22 @@ struct LoadedReference {
 // children start without waiting for them. Each is decoded once and kept in `cache`
 // (an existing folder) as a raw image under its stem: decoding the 42 EXR and PNG
 // files took 0.15 s of every run's CPU, reading them raw about a tenth of that. A cache
-// file that cannot be read or written is passed over (the file is decoded again).
+// file that cannot be read or written is passed over (the file is decoded again). A
+// reference `prepared` holds in its version (kit-grade --prepare-references: the build
+// makes them beside kit-grade) is read from there, with its backgrounds and report PNGs.
 // Throws kit::Error when a reference file cannot be read.
 std::map<std::string, LoadedReference> load_lab_references(const std::filesystem::path& dir, int lab,
-                                                           const std::filesystem::path& cache);
+                                                           const std::filesystem::path& cache,
+                                                           const std::filesystem::path& prepared = {});
+// One of them: `spec`'s reference and its filter allowance.
+LoadedReference load_reference(const std::filesystem::path& dir, const RenderSpec& spec,
+                               const std::filesystem::path& cache, const std::filesystem::path& prepared = {});
+// The folder the build prepares the references in (tools/grade.cmake), or
+// $KIT_PREPARED_REFERENCES where it is set ("": none).
+std::filesystem::path prepared_references_dir();
 
-// reference_background(metric, reference.image), kept in the cache beside it.
+// reference_background(metric, reference.image), kept in the cache beside it (read
+// from the prepared folder, never written there).
 Background cached_background(const LoadedReference& reference, Metric metric);
 
 }  // namespace kit::grade
