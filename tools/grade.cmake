@@ -32,12 +32,14 @@ add_executable(kit-grade ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
 target_link_libraries(kit-grade PRIVATE kit_grade_core)
 # The references decoded, with their backgrounds and report PNGs, once when kit-grade is
 # built, not in each machine's first grading run (about 0.4 s of its CPU; a run reads them
-# here, references.h). Made again when kit-grade or a reference changes.
+# here, references.h). Made afresh when kit-grade or a reference changes: a file there is
+# named by its reference's SHA-1 alone, and would outlive a change in how it is made.
 set(KIT_PREPARED_REFERENCES_DIR ${CMAKE_BINARY_DIR}/grade-references)
 target_compile_definitions(kit_grade_core PRIVATE KIT_PREPARED_REFERENCES_DIR="${KIT_PREPARED_REFERENCES_DIR}")
 file(GLOB kit_grade_reference_files CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tools/grade/references/*)
 add_custom_command(
   OUTPUT ${KIT_PREPARED_REFERENCES_DIR}/prepared.stamp
+  COMMAND ${CMAKE_COMMAND} -E rm -rf ${KIT_PREPARED_REFERENCES_DIR}
   COMMAND kit-grade --prepare-references ${KIT_PREPARED_REFERENCES_DIR}
   COMMAND ${CMAKE_COMMAND} -E touch ${KIT_PREPARED_REFERENCES_DIR}/prepared.stamp
   DEPENDS kit-grade ${kit_grade_reference_files}
