@@ -1119,6 +1119,18 @@ TEST(GraderVerdicts, PreparedReferencesAreTheCachedOnes) {
   EXPECT_TRUE(fs::is_empty(stale));
 }
 
+// The longest children first (the last lab's), then the lab with the most checks (lab 1),
+// so that its comparison is not left to run alone after every child has finished.
+TEST(GraderVerdicts, LabsStartLongestFirstAndTheCostliestComparisonEarly) {
+  using kit::grade::lab_start_order;
+  EXPECT_EQ(lab_start_order({1, 2, 3, 4, 5, 6, 7}, 2), (std::vector<int>{7, 6, 1, 5, 4, 3, 2}));
+  EXPECT_EQ(lab_start_order({1, 2, 3, 4, 5, 6, 7}, 1), (std::vector<int>{7, 1, 6, 5, 4, 3, 2}));
+  EXPECT_EQ(lab_start_order({1, 2, 3}, 2), (std::vector<int>{3, 2, 1}));  // 1 starts as soon as it can anyway
+  EXPECT_EQ(lab_start_order({2, 3, 4}, 2), (std::vector<int>{4, 3, 2}));  // lab 3 has the most: already early
+  EXPECT_EQ(lab_start_order({5}, 2), (std::vector<int>{5}));
+  EXPECT_TRUE(lab_start_order({}, 2).empty());
+}
+
 TEST(GraderVerdicts, FastestPngsHoldTheSameBytes) {
   kit::Image image(97, 31, 3);
   for (size_t i = 0; i < image.pixels.size(); ++i)

@@ -96,6 +96,9 @@ struct SubmissionOutcome {
   bool grader_error() const;        // a lab could not be rendered for the grader's own reasons
 };
 
+// The order a run starts its labs' render children in (`labs` ascending, `jobs` at once):
+// the longest first, then the lab whose comparison costs most (grader.cpp says why).
+std::vector<int> lab_start_order(const std::vector<int>& labs, int jobs);
 // `kit-grade SUBMISSION`: returns the process exit status.
 int grade_submission(const std::filesystem::path& submission, const Options& options);
 // `kit-grade --prepare-references DIR`: the references of options.labs decoded into DIR
