@@ -1067,10 +1067,6 @@ TEST(GraderVerdicts, PreparedReferencesAreTheCachedOnes) {
   const auto read = kit::grade::load_lab_references(references, 2, cache, prepared);
   const auto decoded = kit::grade::load_lab_references(references, 2, unprepared);
   ASSERT_EQ(read.size(), decoded.size());
-  auto file_text = [](const fs::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), {});
-  };
   for (const auto& [id, reference] : read) {
     const kit::grade::LoadedReference& other = decoded.at(id);
     EXPECT_TRUE(reference.prepared) << id;
@@ -1081,7 +1077,7 @@ TEST(GraderVerdicts, PreparedReferencesAreTheCachedOnes) {
     fs::path raw = reference.cache_stem, other_raw = other.cache_stem;
     raw += ".raw";
     other_raw += ".raw";
-    EXPECT_EQ(file_text(raw), file_text(other_raw)) << id;
+    EXPECT_EQ(read_file(raw), read_file(other_raw)) << id;
   }
   EXPECT_TRUE(fs::is_empty(cache)) << "nothing decoded into the run's cache";
   // Each check's background and report PNG were prepared: none is made at grading time.

@@ -724,15 +724,17 @@ int prepare_references(const Options& options, const fs::path& out) {
   try {
     require_current_references(dir);
     fs::create_directories(out);
-    for (int lab : options.labs)
+    for (int lab : options.labs) {
+      // Made as a grading run's cache holds them: the same names and bytes (no prepared folder to read).
+      const std::map<std::string, LoadedReference> references = load_lab_references(dir, lab, out);
       for (const Check* check : lab_checks(lab)) {
         if (compares_own_renders(check->metric)) continue;
-        // Made as a grading run's cache holds them: the same names and bytes (no prepared folder to read).
-        const LoadedReference reference = load_reference(dir, find_render(check->reference), out);
+        const LoadedReference& reference = references.at(check->reference);
         cached_background(reference, check->metric);
         cache_png(reference_png(reference, *check),
                   [&] { return display_image(shown_metric(*check), reference.image, reference.image); });
       }
+    }
   } catch (const std::exception& e) {  // grading makes them in its cache instead
     std::fprintf(stderr, "kit-grade: the references were not prepared in %s: %s\n", out.c_str(), e.what());
   }

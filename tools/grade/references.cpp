@@ -72,17 +72,18 @@ Image read_cached_image(const fs::path& file, const std::string& key, const fs::
                         fs::path* stem, bool* from_prepared) {
   const std::string digest = file_digest(file, true);
   if (digest.empty()) throw Error(file.string() + ": cannot read the reference");
+  const std::string name = key + "-" + digest;
   *from_prepared = false;
   if (!prepared.empty()) {
     try {
-      Image image = read_raw_image(prepared / (key + "-" + digest + ".raw"));
-      *stem = prepared / (key + "-" + digest);
+      Image image = read_raw_image(prepared / (name + ".raw"));
+      *stem = prepared / name;
       *from_prepared = true;
       return image;
     } catch (const Error&) {  // not prepared for this version of the file: the cache's
     }
   }
-  *stem = cache / (key + "-" + digest);
+  *stem = cache / name;
   const fs::path raw = suffixed(*stem, ".raw");
   try {
     return read_raw_image(raw);
@@ -99,6 +100,24 @@ Image read_cached_image(const fs::path& file, const std::string& key, const fs::
     fs::remove(temp, ec);
   }
   return image;
+}
+
+// `spec`'s reference and its filter allowance.
+LoadedReference load_reference(const fs::path& dir, const RenderSpec& spec, const fs::path& cache,
+                               const fs::path& prepared) {
+  LoadedReference reference;
+  reference.image = read_cached_image(dir / (spec.id + "." + reference_extension(spec)), spec.id, cache, prepared,
+                                      &reference.cache_stem, &reference.prepared);
+  // Listed in the manifest wherever it exists (manifest_differences checks that).
+  const fs::path allowance = dir / (spec.id + kAllowanceSuffix);
+  std::error_code ec;
+  if (fs::exists(allowance, ec)) {
+    fs::path stem;
+    bool from_prepared = false;
+    reference.allowance = read_cached_image(allowance, spec.id + ".allowance", cache, prepared, &stem, &from_prepared);
+    if (reference.allowance.channels != 1) throw Error(allowance.string() + ": a filter allowance has one channel");
+  }
+  return reference;
 }
 
 }  // namespace
@@ -236,23 +255,6 @@ void require_current_references(const fs::path& dir) {
   std::string text;
   for (const std::string& p : problems) text += "\n  " + p;
   throw Error("references in " + dir.string() + " are stale (run kit-grade --update-references):" + text);
-}
-
-LoadedReference load_reference(const fs::path& dir, const RenderSpec& spec, const fs::path& cache,
-                               const fs::path& prepared) {
-  LoadedReference reference;
-  reference.image = read_cached_image(dir / (spec.id + "." + reference_extension(spec)), spec.id, cache, prepared,
-                                      &reference.cache_stem, &reference.prepared);
-  // Listed in the manifest wherever it exists (manifest_differences checks that).
-  const fs::path allowance = dir / (spec.id + kAllowanceSuffix);
-  std::error_code ec;
-  if (fs::exists(allowance, ec)) {
-    fs::path stem;
-    bool from_prepared = false;
-    reference.allowance = read_cached_image(allowance, spec.id + ".allowance", cache, prepared, &stem, &from_prepared);
-    if (reference.allowance.channels != 1) throw Error(allowance.string() + ": a filter allowance has one channel");
-  }
-  return reference;
 }
 
 std::map<std::string, LoadedReference> load_lab_references(const fs::path& dir, int lab, const fs::path& cache,

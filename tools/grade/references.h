@@ -81,9 +81,6 @@ struct LoadedReference {
 std::map<std::string, LoadedReference> load_lab_references(const std::filesystem::path& dir, int lab,
                                                            const std::filesystem::path& cache,
                                                            const std::filesystem::path& prepared = {});
-// One of them: `spec`'s reference and its filter allowance.
-LoadedReference load_reference(const std::filesystem::path& dir, const RenderSpec& spec,
-                               const std::filesystem::path& cache, const std::filesystem::path& prepared = {});
 // The folder the build prepares the references in (tools/grade.cmake), or
 // $KIT_PREPARED_REFERENCES where it is set ("": none).
 std::filesystem::path prepared_references_dir();
