@@ -263,6 +263,15 @@ std::string load_references_of(Run& run, int lab) {
   return "";
 }
 
+// The catalogue's signatures, read when the first lab is compared rather than while the
+// first children wait to start (7 ms of parsing). A file that is not one stops the run,
+// as it did when it was read first.
+void load_mistakes_once(Run& run) {
+  if (run.mistakes_loaded || run.references_dir.empty()) return;
+  run.mistakes = load_mistake_signatures(run.references_dir / kMistakeSignaturesFile);
+  run.mistakes_loaded = true;
+}
+
 // Lab 7's work check: the frame's counted work (child.json) against its limits, credited only
 // where the frame's image check (earlier in the list) passed.
 Comparison compare_work_check(const Run& run, const LabOutcome& lab, const CheckOutcome& c, const nlohmann::json& child,
@@ -583,6 +592,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
       lab.child_cpu_seconds = o.cpu_seconds;
       lab.child_max_rss_kib = o.max_rss_kib;
       if (classify_child(o, done.dir, lab)) {
+        load_mistakes_once(run);
         const std::string problem = load_references_of(run, lab.lab);
         if (problem.empty()) {
           compare_lab(run, done.dir, e.result_dir, lab);
@@ -613,12 +623,11 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
 }
 
 Run make_run(const Options& options, bool need_references) {
-  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}, {}, {}, {}};
+  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}, {}, {}, false, {}};
   if (need_references) {
     run.references_dir = options.references.empty() ? default_references_dir() : options.references;
     require_current_references(run.references_dir);
     run.references_renderer = references_renderer(run.references_dir);
-    run.mistakes = load_mistake_signatures(run.references_dir / kMistakeSignaturesFile);
   }
   run.scenes = load_scenes(options.labs);
   const char* tmp = std::getenv("TMPDIR");

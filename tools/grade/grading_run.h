@@ -46,7 +46,10 @@ struct Run {
   std::filesystem::path reference_cache;
   std::filesystem::path prepared_references;  // prepared_references_dir(): the build's, only read
   std::string references_renderer;  // what rendered the references (their manifest's "renderer")
-  MistakeSignatures mistakes;         // <references>/mistakes.json: none when it is not there
+  // <references>/mistakes.json (none when it is not there), read before the first
+  // comparison (load_mistakes_once) rather than while the first children wait to start.
+  MistakeSignatures mistakes;
+  bool mistakes_loaded = false;
   // Variables set in every render child after the run's own (--update-references: the
   // filter renderings' GALLIVM_PERF).
   std::vector<std::pair<std::string, std::string>> child_environment;
