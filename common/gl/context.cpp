@@ -19,6 +19,7 @@
 #include <GL/osmesa.h>
 #endif
 
+#include <dlfcn.h>
 #include <malloc.h>
 #include <signal.h>
 #include <unistd.h>
@@ -26,6 +27,9 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
+#include <mutex>
+#include <thread>
+#include <type_traits>
 #include <vector>
 
 #include "base/error.h"
@@ -148,6 +152,48 @@ void load_gl(GlProcLoader get_proc, const char* backend) {
 namespace {
 
 #if KIT_HAS_OSMESA
+// OSMesa's entry points, from the library opened at run time rather than linked. Linked,
+// libOSMesa and the LLVM it brings cost a program 20-30 ms of loading before main (3,300
+// page faults; Mesa 22.3), all of it before kit-grade could fork its first render child;
+// opened, it loads on a thread beside kit-grade's own setup (preload_headless_library).
+// KIT_OSMESA_LIBRARY is its soname, from CMake.
+struct OSMesaLibrary {
+  void* handle = nullptr;
+  std::string error;  // why it could not be opened, else ""
+  decltype(&OSMesaCreateContextAttribs) create_context = nullptr;
+  decltype(&OSMesaMakeCurrent) make_current = nullptr;
+  decltype(&OSMesaDestroyContext) destroy_context = nullptr;
+  decltype(&OSMesaGetProcAddress) get_proc_address = nullptr;
+};
+
+OSMesaLibrary open_osmesa() {
+  OSMesaLibrary lib;
+  // RTLD_NOW: every symbol bound once here, not again in each forked render child.
+  lib.handle = dlopen(KIT_OSMESA_LIBRARY, RTLD_NOW | RTLD_LOCAL);
+  if (!lib.handle) {
+    const char* why = dlerror();
+    lib.error = std::string("osmesa: cannot load ") + KIT_OSMESA_LIBRARY + " (" + (why ? why : "?") +
+                "); install libosmesa6, or use --backend egl";
+    return lib;
+  }
+  auto symbol = [&](auto& out, const char* name) {
+    out = reinterpret_cast<std::remove_reference_t<decltype(out)>>(dlsym(lib.handle, name));
+    if (!out && lib.error.empty()) lib.error = std::string("osmesa: ") + KIT_OSMESA_LIBRARY + " has no " + name;
+  };
+  symbol(lib.create_context, "OSMesaCreateContextAttribs");
+  symbol(lib.make_current, "OSMesaMakeCurrent");
+  symbol(lib.destroy_context, "OSMesaDestroyContext");
+  symbol(lib.get_proc_address, "OSMesaGetProcAddress");
+  return lib;
+}
+
+// Opened once per process, by whichever thread asks first.
+const OSMesaLibrary& osmesa() {
+  static const OSMesaLibrary lib = open_osmesa();
+  if (!lib.error.empty()) throw Error(lib.error);
+  return lib;
+}
+
 class OSMesaContextImpl : public GlContext {
  public:
   OSMesaContextImpl() {
@@ -155,18 +201,19 @@ class OSMesaContextImpl : public GlContext {
     const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_DEPTH_BITS, 0,
                            OSMESA_PROFILE, OSMESA_CORE_PROFILE,
                            OSMESA_CONTEXT_MAJOR_VERSION, 3, OSMESA_CONTEXT_MINOR_VERSION, 3, 0};
-    context_ = OSMesaCreateContextAttribs(attribs, nullptr);
+    context_ = lib_.create_context(attribs, nullptr);
     if (!context_) throw Error("osmesa: could not create a GL 3.3 core context");
-    if (!OSMesaMakeCurrent(context_, pixels_.data(), GL_UNSIGNED_BYTE, 1, 1)) {
-      OSMesaDestroyContext(context_);
+    if (!lib_.make_current(context_, pixels_.data(), GL_UNSIGNED_BYTE, 1, 1)) {
+      lib_.destroy_context(context_);
       throw Error("osmesa: could not make the context current");
     }
-    load_gl(reinterpret_cast<GlProcLoader>(OSMesaGetProcAddress), "osmesa");
+    load_gl(reinterpret_cast<GlProcLoader>(lib_.get_proc_address), "osmesa");
   }
-  ~OSMesaContextImpl() override { OSMesaDestroyContext(context_); }
+  ~OSMesaContextImpl() override { lib_.destroy_context(context_); }
   Backend backend() const override { return Backend::OSMesa; }
 
  private:
+  const OSMesaLibrary& lib_ = osmesa();
   OSMesaContext context_ = nullptr;
   std::vector<unsigned char> pixels_ = std::vector<unsigned char>(4);
 };
@@ -293,6 +340,48 @@ std::unique_ptr<GlContext> create_headless_context(Backend backend, Device devic
   }
   note_gl_in_use("with " + context->describe() + (forced.empty() ? "" : " (" + forced + ")"));
   return context;
+}
+
+namespace {
+
+// preload_headless_library's thread: joined before any fork (finish_preloading) and at exit.
+struct Preload {
+  std::thread thread;
+  ~Preload() {
+    if (thread.joinable()) thread.join();
+  }
+};
+
+Preload& preload() {
+  static Preload p;
+  return p;
+}
+
+}  // namespace
+
+void preload_headless_library(Backend backend) {
+#if KIT_HAS_OSMESA
+  if (backend != Backend::OSMesa || preload().thread.joinable()) return;
+  // The thread starts with every signal blocked: a Ctrl-C is the main thread's to handle
+  // (kit-grade's InterruptGuard waits for it there). Its error, if any, is thrown again
+  // where the first context is made.
+  sigset_t all, previous;
+  sigfillset(&all);
+  pthread_sigmask(SIG_BLOCK, &all, &previous);
+  preload().thread = std::thread([] {
+    try {
+      osmesa();
+    } catch (const Error&) {
+    }
+  });
+  pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+#else
+  (void)backend;
+#endif
+}
+
+void finish_preloading() {
+  if (preload().thread.joinable()) preload().thread.join();
 }
 
 }  // namespace kit

@@ -70,6 +70,14 @@ void note_gl_in_use(const std::string& what);
 // kernel and faulted back in every frame (context.cpp says what it cost).
 void keep_freed_memory_for_reuse();
 
+// Starts opening `backend`'s library (OSMesa's, with the LLVM it brings: about 20 ms) on
+// a thread, so that a program's own setup runs beside it; does nothing for EGL (Mesa's
+// driver opens in eglInitialize) or where it is already started. A process that forks
+// calls finish_preloading first: a child must not inherit a half-opened library.
+void preload_headless_library(Backend backend);
+// Waits for preload_headless_library's thread, if one runs.
+void finish_preloading();
+
 // Loads GL entry points through `get_proc` and checks the version is >= 3.3.
 using GlProcLoader = void* (*)(const char* name);
 void load_gl(GlProcLoader get_proc, const char* backend);

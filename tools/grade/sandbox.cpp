@@ -20,6 +20,7 @@
 
 #include "base/error.h"
 #include "base/fatal_signals.h"
+#include "gl/context.h"
 
 namespace fs = std::filesystem;
 
@@ -135,6 +136,7 @@ void enter_child(const Limits& limits, rlim_t processes, const char* log_path, c
 }
 
 pid_t fork_or_throw() {
+  finish_preloading();  // no child inherits a library half opened on another thread
   std::fflush(stdout);  // buffered output would otherwise be written twice
   std::fflush(stderr);
   pid_t pid = fork();
