@@ -27,7 +27,6 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstring>
-#include <mutex>
 #include <thread>
 #include <type_traits>
 #include <vector>
@@ -344,7 +343,8 @@ std::unique_ptr<GlContext> create_headless_context(Backend backend, Device devic
 
 namespace {
 
-// preload_headless_library's thread: joined before any fork (finish_preloading) and at exit.
+// preload_headless_library's thread: joined before any fork and before main returns
+// (finish_preloading); the destructor joins only a thread still running at exit.
 struct Preload {
   std::thread thread;
   ~Preload() {

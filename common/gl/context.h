@@ -73,7 +73,9 @@ void keep_freed_memory_for_reuse();
 // Starts opening `backend`'s library (OSMesa's, with the LLVM it brings: about 20 ms) on
 // a thread, so that a program's own setup runs beside it; does nothing for EGL (Mesa's
 // driver opens in eglInitialize) or where it is already started. A process that forks
-// calls finish_preloading first: a child must not inherit a half-opened library.
+// calls finish_preloading first: a child must not inherit a half-opened library. So does
+// a program before it returns from main: exit would destroy the library's static objects
+// while the thread still constructs them (a hang, seen in a run that forked nothing).
 void preload_headless_library(Backend backend);
 // Waits for preload_headless_library's thread, if one runs.
 void finish_preloading();

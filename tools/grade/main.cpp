@@ -157,7 +157,7 @@ int main(int argc, char** argv) {
   std::string submission, batch;
   enum class Mode { Grade, Batch, Update, Check, Prepare } mode = Mode::Grade;
   fs::path prepared;
-  return kit::run_tool("kit-grade", 2, [&]() -> int {
+  const int status = kit::run_tool("kit-grade", 2, [&]() -> int {
     for (int i = 1; i < argc; ++i) {
       std::string flag = argv[i];
       auto value = [&]() -> std::string {
@@ -237,4 +237,8 @@ int main(int argc, char** argv) {
     }
     return 0;
   });
+  // Before exit runs the destructors of static objects: the library may still be opening
+  // on its thread (a run that forks no child), constructing statics that exit would destroy.
+  kit::finish_preloading();
+  return status;
 }
