@@ -212,12 +212,12 @@ int main(int argc, char** argv) {
         throw kit::Error("one SUBMISSION at a time ('" + submission + "' and '" + flag + "'); use --batch FOLDER for more");
       }
     }
-    // Default: every lab this kit can grade (all in the instructor's kit; a student
-    // copy's own lab). A lab named with --labs whose earlier solutions are missing
-    // is refused here, with what is missing, rather than failing in every submission.
     // The renderer's library opens beside the run's setup (scenes, submission), before the
     // first render child is forked.
     if (mode != Mode::Prepare) kit::preload_headless_library(options.backend);
+    // Default: every lab this kit can grade (all in the instructor's kit; a student
+    // copy's own lab). A lab named with --labs whose earlier solutions are missing
+    // is refused here, with what is missing, rather than failing in every submission.
     if (options.labs.empty()) options.labs = kit::gradable_labs();
     if (mode == Mode::Grade || mode == Mode::Batch)
       for (int lab : options.labs) kit::require_earlier_solutions(kit::find_stage(lab));
