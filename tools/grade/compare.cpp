@@ -26,7 +26,7 @@ constexpr float kDisplayGamma = 2.2f;
 // `channels` channels, with its definitions and its summation order (pixels in rows,
 // sums in double, in batches of 4096 pixels), computed in one pass over the floats:
 // through ImageBuf's iterators the two compares of a check were a sixth of the
-// comparison's time. The images hold no NaN or Inf here (compared_copy).
+// comparison's time. The images hold no NaN or Inf here (compared).
 struct ChannelStats {
   double mean_error = 0.0;  // mean |a - b| over every value
   double psnr = 0.0;        // 20 log10(largest value, at least 1, / RMS error): inf when identical
@@ -76,26 +76,6 @@ ChannelStats channel_stats(const Image& a, const Image& b, int channels, float t
   return s;
 }
 
-// A copy with NaN/Inf replaced by 0, so the statistics stay numbers; the
-// non-finite pixels are counted and fail the check on their own.
-Image finite_copy(const Image& image) {
-  Image out = image;
-  for (float& v : out.pixels)
-    if (!std::isfinite(v)) v = 0.0f;
-  return out;
-}
-
-// HDR compared after c / (1 + |c|): a tolerance of t is absolute near 0 and
-// relative (about t (1 + c)^2 / 1) for bright pixels, which matches how far a
-// tone-mapped display would show the difference. In place: it is given a copy.
-Image compress_hdr(Image image) {
-  for (size_t i = 0; i < image.pixels.size(); ++i) {
-    if (image.channels == 4 && i % 4 == 3) continue;  // alpha as it is
-    float v = image.pixels[i];
-    image.pixels[i] = v / (1.0f + std::fabs(v));
-  }
-  return image;
-}
 
 // ---- Edges: where a conformant renderer may put the reference's values one pixel over ----
 // GL fixes what a pixel shows only up to the implementation's choices: sub-pixel precision
@@ -329,7 +309,7 @@ NormalStats compare_normals(const Image& a, const Image& b, const Tolerance& tol
 // (a strict majority has no tie), found in one pass. Otherwise equal pixels are counted
 // in an open-addressing table (a std::map of them took 3 % of a whole grading run's
 // CPU, sorting the pixels 7 % of the grading process's). The copies compared here hold
-// no NaN (finite_copy zeroes them), so == is an equivalence; -0 hashes as +0, which
+// no NaN (compared zeroes them), so == is an equivalence; -0 hashes as +0, which
 // it equals.
 Background most_common_pixel(const Image& image) {
   using Pixel = std::array<float, 4>;
@@ -403,11 +383,30 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
 
 std::string psnr_text(double psnr) { return std::isfinite(psnr) ? format("%.1f dB", psnr) : "inf (identical)"; }
 
-// An image as it is compared under `metric`: NaN and Inf zeroed, HDR compressed.
-Image compared_copy(Metric metric, const Image& image) {
-  Image copy = finite_copy(image);
-  if (metric == Metric::Hdr) return compress_hdr(std::move(copy));
-  return copy;
+bool all_finite(const Image& image) {
+  for (float v : image.pixels)
+    if (!std::isfinite(v)) return false;
+  return true;
+}
+
+// An image as it is compared under `metric`: NaN and Inf replaced by 0, so the statistics
+// stay numbers (the non-finite pixels are counted and fail the check on their own), and
+// HDR compressed to c / (1 + |c|): a tolerance of t is then absolute near 0 and relative
+// (about t (1 + c)^2) for bright pixels, which matches how far a tone-mapped display
+// would show the difference. `image` itself where that changes nothing (a finite image
+// under any other metric, most of them): copying two images a check was a tenth of the
+// grading process's time. Otherwise the copy, made in `storage`.
+const Image& compared(Metric metric, const Image& image, Image& storage) {
+  const bool hdr = metric == Metric::Hdr;
+  if (!hdr && all_finite(image)) return image;
+  storage = image;
+  const size_t alpha = image.channels == 4 ? 3 : 4;  // alpha as it is; no index % 4 is 4
+  for (size_t i = 0; i < storage.pixels.size(); ++i) {
+    float& v = storage.pixels[i];
+    if (!std::isfinite(v)) v = 0.0f;
+    if (hdr && i % 4 != alpha) v = v / (1.0f + std::fabs(v));
+  }
+  return storage;
 }
 
 }  // namespace
@@ -432,17 +431,24 @@ size_t allowed_failing_pixels(const Tolerance& tolerance, size_t pixels) {
 }
 
 bool is_uniform(const Image& image) {
-  for (size_t i = static_cast<size_t>(image.channels); i < image.pixels.size(); ++i)
-    if (image.pixels[i] != image.pixels[i % static_cast<size_t>(image.channels)]) return false;
+  // Pixel by pixel: an index % channels for every value was most of a report's writing time.
+  const size_t n = static_cast<size_t>(image.channels);
+  if (n == 0) return true;
+  for (size_t p = n; p + n <= image.pixels.size(); p += n)
+    for (size_t c = 0; c < n; ++c)
+      if (image.pixels[p + c] != image.pixels[c]) return false;
   return true;
 }
 
 Background reference_background(Metric metric, const Image& reference) {
-  return most_common_pixel(compared_copy(metric, reference));
+  Image storage;
+  return most_common_pixel(compared(metric, reference, storage));
 }
 
 Image pixel_differences(Metric metric, const Image& image, const Image& reference) {
-  const Image a = compared_copy(metric, image), b = compared_copy(metric, reference);
+  Image storage_a, storage_b;
+  const Image& a = compared(metric, image, storage_a);
+  const Image& b = compared(metric, reference, storage_b);
   if (metric == Metric::Normal) {
     Tolerance any;  // the angle alone is wanted: the length test's tolerance does not matter
     Image out(a.width, a.height, 1);
@@ -476,10 +482,12 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
     return r;
   }
   r.non_finite = count_non_finite(image);
-  const Image a = compared_copy(metric, image), b = compared_copy(metric, reference);
+  Image storage_a, storage_b;
+  const Image& a = compared(metric, image, storage_a);
+  const Image& b = compared(metric, reference, storage_b);
   const double pixels = static_cast<double>(image.width) * image.height;
-  Image error(a.width, a.height, 1);        // for the diff image
-  Image pixel_error(a.width, a.height, 1);  // what the mean over covered pixels averages
+  Image error(a.width, a.height, 1);  // for the diff image
+  Image normal_angle;                 // the normals' angles, where they are compared
   if (metric == Metric::Normal) {
     NormalStats s = compare_normals(a, b, tol, allowance);
     r.max_error = s.max_angle;
@@ -490,8 +498,8 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
     r.edge_pixels = s.edges;
     r.filter_pixels = s.filtered;
     r.psnr = channel_stats(a, b, 3, 1.0f).psnr;  // of the xyz values
-    error = s.error;
-    pixel_error = s.angle;
+    error = std::move(s.error);
+    normal_angle = std::move(s.angle);
     // A normal can point the right way and still be wrong (not unit length): say so.
     if (s.not_unit > 0)
       r.note = format("%.2f%% of the normals differ in length from the reference's by more than %.3g "
@@ -526,8 +534,10 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
           r.max_y = y;
         }
       }
-    pixel_error = error;
   }
+  // What the mean over covered pixels and the signature average: the angle for normals,
+  // else the counted error (the diff image's input until non-finite pixels mark it below).
+  const Image& pixel_error = metric == Metric::Normal ? normal_angle : error;
   r.failing_percent = 100.0 * static_cast<double>(r.failing_pixels) / pixels;
   // The mean of each pixel's error (its largest channel difference; for normals the
   // angle) over the covered pixels: those where the reference or the submission shows
@@ -551,17 +561,21 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
     r.signature.assign(static_cast<size_t>(kSignatureColumns * kSignatureRows), 0.0f);
     std::vector<int> counts(r.signature.size(), 0);
     const float scale = tol.fail_threshold > 0.0 ? static_cast<float>(1.0 / tol.fail_threshold) : 1.0f;
-    for (int y = 0; y < a.height; ++y)
+    std::vector<int> column_tile(static_cast<size_t>(a.width));  // two divisions a pixel were a tenth of this
+    for (int x = 0; x < a.width; ++x) column_tile[static_cast<size_t>(x)] = x * kSignatureColumns / a.width;
+    for (int y = 0; y < a.height; ++y) {
+      const int row_tile = y * kSignatureRows / a.height * kSignatureColumns;
       for (int x = 0; x < a.width; ++x) {
-        const size_t tile = static_cast<size_t>(y * kSignatureRows / a.height * kSignatureColumns + x * kSignatureColumns / a.width);
+        const size_t tile = static_cast<size_t>(row_tile + column_tile[static_cast<size_t>(x)]);
         r.signature[tile] += std::min(pixel_error.at(x, y, 0) * scale, kSignatureCap);
         ++counts[tile];
       }
+    }
     for (size_t i = 0; i < counts.size(); ++i)
       if (counts[i]) r.signature[i] /= static_cast<float>(counts[i]);
   }
   // NaN/Inf pixels show at full scale in the diff (their copies above were zeroed).
-  for (int y = 0; y < image.height; ++y)
+  for (int y = 0; r.non_finite > 0 && y < image.height; ++y)
     for (int x = 0; x < image.width; ++x)
       for (int c = 0; c < image.channels; ++c)
         if (!std::isfinite(image.at(x, y, c))) error.at(x, y, 0) = 1.0f;
