@@ -192,23 +192,37 @@ std::string read_shader_text(const fs::path& path, const std::string& display) {
   return text;
 }
 
-ShaderLibrary::ShaderLibrary(std::vector<ShaderFolder> folders) : folders_(std::move(folders)) {}
+ShaderLibrary::ShaderLibrary(std::vector<ShaderFolder> folders) : folders_(std::move(folders)) {
+  for (const ShaderFolder& folder : folders_) {
+    std::error_code ec;
+    fs::path real = fs::weakly_canonical(folder.path, ec);
+    real_folders_.push_back(ec ? fs::path() : real);  // empty: locate says it cannot resolve it
+  }
+}
 
 fs::path ShaderLibrary::locate(const std::string& name, std::string* display) const {
   if (!is_plain_shader_name(name))
     throw Error("shader name \"" + name + "\" is refused: only plain file names inside the kit's "
                 "shader folders can be loaded or included (no '/', '\\' or '..')");
-  for (const auto& folder : folders_) {
+  for (size_t i = 0; i < folders_.size(); ++i) {
+    const ShaderFolder& folder = folders_[i];
     if (!folder.only.empty() && std::find(folder.only.begin(), folder.only.end(), name) == folder.only.end()) continue;
     fs::path candidate = folder.path / name;
     std::error_code ec;
-    if (!fs::exists(fs::symlink_status(candidate, ec))) continue;
+    const fs::file_status status = fs::symlink_status(candidate, ec);
+    if (!fs::exists(status)) continue;
     std::string shown = folder.label + "/" + name;
-    fs::path real = fs::weakly_canonical(candidate, ec);
-    fs::path root = fs::weakly_canonical(folder.path, ec);
-    if (ec || !is_inside(real, root))
-      throw Error(shown + ": refused, it links outside its folder (" + real.string() + ")");
-    if (!fs::is_regular_file(real, ec)) throw Error(shown + ": not a regular file");
+    const fs::path& root = real_folders_[i];
+    if (root.empty()) throw Error(shown + ": its folder's real path cannot be resolved (" + folder.path.string() + ")");
+    // A plain name (no separator, no "..") that is not a link names a file in the folder itself.
+    fs::path real = root / name;
+    if (fs::is_symlink(status)) {
+      real = fs::weakly_canonical(candidate, ec);
+      if (ec || !is_inside(real, root))
+        throw Error(shown + ": refused, it links outside its folder (" + real.string() + ")");
+    }
+    if (!fs::is_regular_file(fs::is_symlink(status) ? fs::status(real, ec) : status))
+      throw Error(shown + ": not a regular file");
     if (display) *display = shown;
     return real;
   }
@@ -251,11 +265,11 @@ void ShaderLibrary::set_defines(const std::vector<std::pair<std::string, bool>>&
 void ShaderLibrary::append(const std::string& name, AssembledShader& out,
                            std::vector<std::string>& included, int depth, bool top_level) const {
   if (depth > kMaxIncludeDepth) throw Error("#include nesting deeper than " + std::to_string(kMaxIncludeDepth) + " at \"" + name + "\"");
-  std::string display;
-  fs::path path = locate(name, &display);
   // Every file is included once per shader (like #pragma once), which also ends cycles.
   for (const auto& seen : included)
     if (seen == name) return;
+  std::string display;
+  fs::path path = locate(name, &display);
   included.push_back(name);
   std::string text = read_shader_text(path, display);
   int file_index = static_cast<int>(out.files.size());

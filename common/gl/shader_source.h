@@ -77,6 +77,9 @@ class ShaderLibrary {
   void append(const std::string& name, AssembledShader& out, std::vector<std::string>& included,
               int depth, bool top_level) const;
   std::vector<ShaderFolder> folders_;
+  // Each folder's real path, resolved once: a shader assembles from up to a dozen files, and
+  // resolving every one's folder and name again was 30k system calls a grading run.
+  std::vector<std::filesystem::path> real_folders_;
   std::vector<std::string> defines_;
   LinkedProgramCache* program_cache_ = nullptr;
 };
