@@ -348,6 +348,32 @@ TEST_F(ShaderSource, OnlyRestrictsAFolderToItsListedNames) {
   EXPECT_NE(m.find("\"extra.glsl\" not found"), std::string::npos) << m;
 }
 
+// A grading child's libraries share an AssembledShaderCache: a shader is read once, however
+// many libraries assemble it, and the defines, the folders and the name each make their own
+// entry. Without the cache an edit is read (the witness that the cache is what keeps the text).
+TEST_F(ShaderSource, AssembledCacheKeepsTextsByFoldersNameAndDefines) {
+  write("lab", "main.frag", kVersion + "#include \"part.glsl\"\n#ifdef KIT_TEST_SWITCH\n#endif\n");
+  write("lab", "part.glsl", "// part one\n");
+  write("other", "main.frag", kVersion + "// the other folder's\n");
+  kit::AssembledShaderCache cache;
+  ShaderLibrary first = library({"lab"}), second = library({"lab"}), plain = library({"lab"});
+  first.keep_assembled_in(&cache);
+  second.keep_assembled_in(&cache);
+  const kit::AssembledShader before = first.assemble("main.frag");
+  ASSERT_NE(before.text.find("// part one"), std::string::npos) << before.text;
+  write("lab", "part.glsl", "// part two\n");
+  EXPECT_EQ(second.assemble("main.frag").text, before.text);  // kept: not read again
+  EXPECT_EQ(second.assemble("main.frag").files, before.files);
+  EXPECT_NE(plain.assemble("main.frag").text.find("// part two"), std::string::npos);  // no cache: read
+  second.set_define("KIT_TEST_SWITCH", true);  // another text: assembled, reading the edit
+  const std::string defined = second.assemble("main.frag").text;
+  EXPECT_NE(defined.find("#define KIT_TEST_SWITCH\n"), std::string::npos) << defined;
+  EXPECT_NE(defined.find("// part two"), std::string::npos) << defined;
+  ShaderLibrary other = library({"other"});
+  other.keep_assembled_in(&cache);
+  EXPECT_NE(other.assemble("main.frag").text.find("the other folder's"), std::string::npos);
+}
+
 TEST(ShaderSourceLog, MesaAndNvidiaLinesMapToFiles) {
   kit::AssembledShader s;
   s.files = {"lab/main.frag", "lab/brdf.glsl"};

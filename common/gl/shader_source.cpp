@@ -231,7 +231,25 @@ fs::path ShaderLibrary::locate(const std::string& name, std::string* display) co
   throw Error("shader file \"" + name + "\" not found in " + (where.empty() ? "(no folders)" : where));
 }
 
+const AssembledShader* AssembledShaderCache::find(const std::string& key) const {
+  auto it = shaders_.find(key);
+  return it == shaders_.end() ? nullptr : &it->second;
+}
+
 AssembledShader ShaderLibrary::assemble(const std::string& name) const {
+  std::string key;
+  if (assembled_cache_) {
+    // Everything the text depends on but the files' contents: where each name is looked up,
+    // the name, the defines.
+    for (const ShaderFolder& folder : folders_) {
+      key += folder.path.string() + '\n' + folder.label + '\n';
+      for (const std::string& only : folder.only) key += only + ' ';
+      key += '\n';
+    }
+    key += name + '\n';
+    for (const std::string& define : defines_) key += define + ' ';
+    if (const AssembledShader* kept = assembled_cache_->find(key)) return *kept;
+  }
   AssembledShader out;
   std::vector<std::string> included;
   append(name, out, included, 0, true);
@@ -243,6 +261,7 @@ AssembledShader ShaderLibrary::assemble(const std::string& name) const {
     out.text.insert(after_version, "#define " + define + "\n");
     out.lines.insert(out.lines.begin() + 1, out.lines.front());
   }
+  if (assembled_cache_) assembled_cache_->store(key, out);
   return out;
 }
 

@@ -122,6 +122,8 @@ int render_lab(const RenderJob& job) {
   // The Renderers build many of the same programs (display, debug, post, and lighting where
   // the scenes' light defines agree): each is compiled and linked once (gl_objects.h).
   LinkedProgramCache program_cache;
+  // And each shader is assembled once: the lab's files are the child's own copy.
+  AssembledShaderCache assembled_cache;
   std::map<std::pair<std::string, bool>, std::unique_ptr<Renderer>> renderers;
   // The settings of each Renderer's last frame. Checks that differ only in the view they
   // read (lab 1's G-buffer attachments of one scene, an image and its HDR buffer, lab 6's
@@ -147,6 +149,7 @@ int render_lab(const RenderJob& job) {
         ShaderLibrary library = spec->isolate_custom ? isolated_custom_library(stage, job.lab_root)
                                                      : stage_library(stage, job.lab_root);
         library.share_programs_through(&program_cache);
+        library.keep_assembled_in(&assembled_cache);
         renderer = std::make_unique<Renderer>(stage, std::move(library), scene, settings, &ibl_cache);
       } catch (const NonFiniteMapError& e) {
         write_text(error_file, e.what());
