@@ -383,22 +383,17 @@ std::string format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
 
 std::string psnr_text(double psnr) { return std::isfinite(psnr) ? format("%.1f dB", psnr) : "inf (identical)"; }
 
-bool all_finite(const Image& image) {
-  for (float v : image.pixels)
-    if (!std::isfinite(v)) return false;
-  return true;
-}
-
 // An image as it is compared under `metric`: NaN and Inf replaced by 0, so the statistics
 // stay numbers (the non-finite pixels are counted and fail the check on their own), and
 // HDR compressed to c / (1 + |c|): a tolerance of t is then absolute near 0 and relative
 // (about t (1 + c)^2) for bright pixels, which matches how far a tone-mapped display
 // would show the difference. `image` itself where that changes nothing (a finite image
 // under any other metric, most of them): copying two images a check was a tenth of the
-// grading process's time. Otherwise the copy, made in `storage`.
-const Image& compared(Metric metric, const Image& image, Image& storage) {
+// grading process's time. Otherwise the copy, made in `storage`. `finite`: the caller has
+// counted the image's non-finite pixels and found none.
+const Image& compared(Metric metric, const Image& image, Image& storage, bool finite = false) {
   const bool hdr = metric == Metric::Hdr;
-  if (!hdr && all_finite(image)) return image;
+  if (!hdr && (finite || !first_non_finite(image))) return image;
   storage = image;
   const size_t alpha = image.channels == 4 ? 3 : 4;  // alpha as it is; no index % 4 is 4
   for (size_t i = 0; i < storage.pixels.size(); ++i) {
@@ -483,11 +478,11 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
   }
   r.non_finite = count_non_finite(image);
   Image storage_a, storage_b;
-  const Image& a = compared(metric, image, storage_a);
+  const Image& a = compared(metric, image, storage_a, r.non_finite == 0);
   const Image& b = compared(metric, reference, storage_b);
   const double pixels = static_cast<double>(image.width) * image.height;
-  Image error(a.width, a.height, 1);  // for the diff image
-  Image normal_angle;                 // the normals' angles, where they are compared
+  Image error;         // for the diff image
+  Image normal_angle;  // the normals' angles, where they are compared
   if (metric == Metric::Normal) {
     NormalStats s = compare_normals(a, b, tol, allowance);
     r.max_error = s.max_angle;
@@ -506,6 +501,7 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
                       "(normalise the normal)", 100.0 * static_cast<double>(s.not_unit) / pixels, tol.length_tolerance);
   } else {
     const float threshold = static_cast<float>(tol.fail_threshold);
+    error = Image(a.width, a.height, 1);
     const ChannelStats cs = channel_stats(a, b, a.channels, threshold, &error);
     r.mean_error = cs.mean_error;
     r.psnr = cs.psnr;
@@ -575,10 +571,11 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
       if (counts[i]) r.signature[i] /= static_cast<float>(counts[i]);
   }
   // NaN/Inf pixels show at full scale in the diff (their copies above were zeroed).
-  for (int y = 0; r.non_finite > 0 && y < image.height; ++y)
-    for (int x = 0; x < image.width; ++x)
-      for (int c = 0; c < image.channels; ++c)
-        if (!std::isfinite(image.at(x, y, c))) error.at(x, y, 0) = 1.0f;
+  if (r.non_finite > 0)
+    for (int y = 0; y < image.height; ++y)
+      for (int x = 0; x < image.width; ++x)
+        for (int c = 0; c < image.channels; ++c)
+          if (!std::isfinite(image.at(x, y, c))) error.at(x, y, 0) = 1.0f;
   r.diff = colour_mapped(error);
 
   if (metric == Metric::Changes) {
