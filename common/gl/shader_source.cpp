@@ -197,6 +197,9 @@ ShaderLibrary::ShaderLibrary(std::vector<ShaderFolder> folders) : folders_(std::
     std::error_code ec;
     fs::path real = fs::weakly_canonical(folder.path, ec);
     real_folders_.push_back(ec ? fs::path() : real);  // empty: locate says it cannot resolve it
+    folders_key_ += folder.path.string() + '\n' + folder.label + '\n';
+    for (const std::string& only : folder.only) folders_key_ += only + ' ';
+    folders_key_ += '\n';
   }
 }
 
@@ -216,13 +219,14 @@ fs::path ShaderLibrary::locate(const std::string& name, std::string* display) co
     if (root.empty()) throw Error(shown + ": its folder's real path cannot be resolved (" + folder.path.string() + ")");
     // A plain name (no separator, no "..") that is not a link names a file in the folder itself.
     fs::path real = root / name;
+    fs::file_status target = status;
     if (fs::is_symlink(status)) {
       real = fs::weakly_canonical(candidate, ec);
       if (ec || !is_inside(real, root))
         throw Error(shown + ": refused, it links outside its folder (" + real.string() + ")");
+      target = fs::status(real, ec);
     }
-    if (!fs::is_regular_file(fs::is_symlink(status) ? fs::status(real, ec) : status))
-      throw Error(shown + ": not a regular file");
+    if (!fs::is_regular_file(target)) throw Error(shown + ": not a regular file");
     if (display) *display = shown;
     return real;
   }
@@ -241,12 +245,7 @@ AssembledShader ShaderLibrary::assemble(const std::string& name) const {
   if (assembled_cache_) {
     // Everything the text depends on but the files' contents: where each name is looked up,
     // the name, the defines.
-    for (const ShaderFolder& folder : folders_) {
-      key += folder.path.string() + '\n' + folder.label + '\n';
-      for (const std::string& only : folder.only) key += only + ' ';
-      key += '\n';
-    }
-    key += name + '\n';
+    key = folders_key_ + name + '\n';
     for (const std::string& define : defines_) key += define + ' ';
     if (const AssembledShader* kept = assembled_cache_->find(key)) return *kept;
   }

@@ -98,6 +98,7 @@ class ShaderLibrary {
   // Each folder's real path, resolved once: a shader assembles from up to a dozen files, and
   // resolving every one's folder and name again was 30k system calls a grading run.
   std::vector<std::filesystem::path> real_folders_;
+  std::string folders_key_;  // the folders as AssembledShaderCache's keys begin
   std::vector<std::string> defines_;
   LinkedProgramCache* program_cache_ = nullptr;
   AssembledShaderCache* assembled_cache_ = nullptr;
