@@ -16,6 +16,7 @@
 #include <nlohmann/json.hpp>
 #include <signal.h>
 #include <sys/file.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -24,6 +25,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <regex>
 #include <string>
 #include <system_error>
@@ -329,6 +331,68 @@ TEST(GradeSandbox, CpuTimeIsTheTimeLimit) {
   }, limits, dir / "stuck.log");
   EXPECT_EQ(stuck.kind, Outcome::Kind::TimedOut) << stuck.describe();
   EXPECT_TRUE(contains(stuck.describe(), "stopped after 1 s of wall-clock time")) << stuck.describe();
+}
+
+// A worker (kit-grade's render worker: several labs in one process) runs each task under
+// the limits a child of its own would have: the CPU limit and the wall clock count from
+// the task's start. Three tasks of 0.6 s of CPU and 0.8 s of waiting each pass a 1 s CPU
+// limit and a 2 s wall limit that their sum would break; the witness is a fourth task
+// that spins past the limit on its own, and is stopped by it, with its report missing.
+TEST(GradeSandbox, WorkerTasksHaveLimitsOfTheirOwn) {
+  fs::path dir = kit::test::temp_dir("sandbox-worker");
+  Limits limits;
+  limits.cpu_seconds = 1;
+  limits.wall_seconds = 2.0;
+  auto cpu_now = [] {
+    rusage usage{};
+    getrusage(RUSAGE_SELF, &usage);
+    return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
+           1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
+  };
+  Child worker = Child::fork_worker(
+      [&](kit::grade::TaskChannel& channel) {
+        while (int task = channel.next_task()) {
+          kit::grade::TaskChannel::log_to(dir / ("task" + std::to_string(task) + ".log"));
+          std::printf("task %d\n", task);
+          const double start = cpu_now();
+          volatile unsigned long spin = 0;
+          while (task == 4 || cpu_now() - start < 0.6) spin = spin + 1;
+          std::this_thread::sleep_for(std::chrono::milliseconds(800));
+          channel.report(task, 10 * task);
+        }
+        return 0;
+      },
+      limits, 4, dir / "worker.log");
+  double cpu_before = 0.0;
+  for (int task = 1; task <= 4; ++task) {
+    ASSERT_TRUE(worker.send_task(task));
+    std::optional<kit::grade::TaskReport> report;
+    while (!report && !worker.poll()) {
+      kit::grade::poll_pause();
+      report = worker.next_report();
+    }
+    if (task < 4) {
+      ASSERT_TRUE(report) << "task " << task << ": " << worker.outcome().describe();
+      EXPECT_EQ(report->task, task);
+      EXPECT_EQ(report->status, 10 * task);
+      EXPECT_GE(report->cpu_seconds - cpu_before, 0.5);  // its own 0.6 s, as wait4 counts it
+      EXPECT_GT(report->max_rss_kib, 0);
+      cpu_before = report->cpu_seconds;
+      EXPECT_EQ(read_file(dir / ("task" + std::to_string(task) + ".log")), "task " + std::to_string(task) + "\n");
+    } else {
+      EXPECT_FALSE(report);
+      EXPECT_EQ(worker.outcome().kind, Outcome::Kind::CpuLimit) << worker.outcome().describe();
+      EXPECT_LT(worker.outcome().wall_seconds, 2.0);  // since task 4 was sent
+    }
+  }
+  EXPECT_GE(cpu_before, 1.5);  // more than the limit before task 4 started
+  // A worker told to stop ends with its body's status; a task sent to one that is gone fails.
+  Child idle = Child::fork_worker([](kit::grade::TaskChannel& channel) { return channel.next_task() == 0 ? 7 : 1; },
+                                  limits, 1, dir / "idle.log");
+  ASSERT_TRUE(idle.send_task(0));
+  EXPECT_EQ(idle.wait().kind, Outcome::Kind::Exited);
+  EXPECT_EQ(idle.outcome().code, 7);
+  EXPECT_FALSE(idle.send_task(1));
 }
 
 // Running out of address space is named, whether the child sees std::bad_alloc

@@ -5,6 +5,7 @@
 #include <signal.h>
 #include <stdlib.h>
 #include <sys/prctl.h>
+#include <sys/socket.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -93,7 +94,8 @@ rlim_t process_limit(const Limits& limits) {
 // In the child, before the body runs or the program is exec'd: its own session
 // and process group (no controlling terminal), the limits, its working directory
 // and environment, the log as stdout and stderr, no stdin.
-void enter_child(const Limits& limits, rlim_t processes, const char* log_path, const ChildSetup& setup) {
+// `tasks`: how many tasks a worker may run, each under the CPU limit (the hard limit's share).
+void enter_child(const Limits& limits, rlim_t processes, const char* log_path, const ChildSetup& setup, int tasks) {
   setsid();
   prctl(PR_SET_PDEATHSIG, SIGKILL);  // its own group gets no terminal signals: die with the grader
   sigset_t unblock;
@@ -117,7 +119,7 @@ void enter_child(const Limits& limits, rlim_t processes, const char* log_path, c
     _exit(127);
   }
   for (const auto& [name, value] : setup.environment) setenv(name.c_str(), value.c_str(), 1);
-  rlimit cpu{limits.cpu_seconds, limits.cpu_seconds + kCpuHardGraceSeconds};
+  rlimit cpu{limits.cpu_seconds, limits.cpu_seconds * static_cast<rlim_t>(tasks) + kCpuHardGraceSeconds};
   setrlimit(RLIMIT_CPU, &cpu);
   if (!kAddressSanitizerBuild) {
     rlimit as{limits.address_space_mib * kMiB, limits.address_space_mib * kMiB};
@@ -144,24 +146,93 @@ pid_t fork_or_throw() {
   return pid;
 }
 
-// In a forked child that failed: out of memory when its address space had reached the limit.
-[[noreturn]] void exit_child(int code) {
-  std::fflush(nullptr);
+// A forked child's failure status, or kOutOfMemoryExit when its address space had reached
+// the limit (and says so on stderr).
+int failure_or_out_of_memory(int code) {
   if (code != 0 && g_child_memory_limit_mib > 0) {
     long peak = peak_address_space_kib();
     if (reached_memory_limit(peak, g_child_memory_limit_mib)) {
       std::fprintf(stderr, "kit-grade: child: out of memory: failed with its peak address space at %ld MiB of the %lu MiB limit\n",
                    peak / 1024, static_cast<unsigned long>(g_child_memory_limit_mib));
-      std::fflush(nullptr);
       code = kOutOfMemoryExit;
     }
   }
+  return code;
+}
+
+[[noreturn]] void exit_child(int code) {
+  std::fflush(nullptr);
+  code = failure_or_out_of_memory(code);
+  std::fflush(nullptr);
   _exit(code);  // no atexit handlers or static destructors of the parent's state
 }
 
 double seconds_of(const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); }
 
+// In a forked child, after enter_child: runs `body` and ends the process with its status.
+[[noreturn]] void run_forked(const std::function<int()>& body, const Limits& limits) {
+  g_child_memory_limit_mib = kAddressSanitizerBuild ? 0 : limits.address_space_mib;
+  if (g_child_memory_limit_mib > 0) catch_fatal_signals();
+  int code = 1;
+  try {
+    code = body();
+  } catch (const std::bad_alloc&) {
+    std::fprintf(stderr, "kit-grade: child: out of memory (std::bad_alloc) under the %lu MiB limit\n",
+                 static_cast<unsigned long>(limits.address_space_mib));
+    std::fflush(nullptr);
+    _exit(kOutOfMemoryExit);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "kit-grade: child: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "kit-grade: child: unknown exception\n");
+  }
+  exit_child(code);
+}
+
 }  // namespace
+
+int TaskChannel::next_task() {
+  int32_t task = 0;
+  ssize_t n;
+  do {
+    n = recv(socket_, &task, sizeof task, 0);
+  } while (n < 0 && errno == EINTR);
+  if (n != static_cast<ssize_t>(sizeof task) || task <= 0) return 0;
+  // RLIMIT_CPU counts the process's whole life: the task's allowance starts at what it has used.
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  rlimit cpu{};
+  getrlimit(RLIMIT_CPU, &cpu);
+  const auto used = static_cast<rlim_t>(std::ceil(seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime)));
+  cpu.rlim_cur = std::min(used + cpu_seconds_, cpu.rlim_max);
+  setrlimit(RLIMIT_CPU, &cpu);
+  return task;
+}
+
+void TaskChannel::report(int task, int status) {
+  status = failure_or_out_of_memory(status);  // as the status a child of its own would exit with
+  std::fflush(nullptr);  // the task's log is whole when the parent reads it
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  TaskReport r;
+  r.task = task;
+  r.status = status;
+  r.cpu_seconds = seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime);
+  r.max_rss_kib = usage.ru_maxrss;
+  ssize_t n;
+  do {
+    n = send(socket_, &r, sizeof r, MSG_NOSIGNAL);
+  } while (n < 0 && errno == EINTR);
+}
+
+void TaskChannel::log_to(const fs::path& log) {
+  std::fflush(nullptr);
+  int fd = open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (fd < 0) return;
+  dup2(fd, STDOUT_FILENO);
+  dup2(fd, STDERR_FILENO);
+  close(fd);
+}
 
 std::string Outcome::describe() const {
   char buf[200];
@@ -197,7 +268,8 @@ Child::Child(Child&& other) noexcept
       reports_memory_(other.reports_memory_),
       killed_for_time_(other.killed_for_time_),
       started_(other.started_),
-      outcome_(other.outcome_) {}
+      outcome_(other.outcome_),
+      channel_(std::exchange(other.channel_, -1)) {}
 
 Child::~Child() {
   if (pid_ > 0 && outcome_.kind == Outcome::Kind::Running) {
@@ -206,6 +278,12 @@ Child::~Child() {
     while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
     }
   }
+  close_channel();
+}
+
+void Child::close_channel() {
+  if (channel_ >= 0) close(channel_);
+  channel_ = -1;
 }
 
 void Child::kill_all() {
@@ -219,25 +297,65 @@ Child Child::fork_function(const std::function<int()>& body, const Limits& limit
   rlim_t processes = process_limit(limits);
   pid_t pid = fork_or_throw();
   if (pid == 0) {
-    enter_child(limits, processes, log_path.c_str(), setup);
-    g_child_memory_limit_mib = kAddressSanitizerBuild ? 0 : limits.address_space_mib;
-    if (g_child_memory_limit_mib > 0) catch_fatal_signals();
-    int code = 1;
-    try {
-      code = body();
-    } catch (const std::bad_alloc&) {
-      std::fprintf(stderr, "kit-grade: child: out of memory (std::bad_alloc) under the %lu MiB limit\n",
-                   static_cast<unsigned long>(limits.address_space_mib));
-      std::fflush(nullptr);
-      _exit(kOutOfMemoryExit);
-    } catch (const std::exception& e) {
-      std::fprintf(stderr, "kit-grade: child: %s\n", e.what());
-    } catch (...) {
-      std::fprintf(stderr, "kit-grade: child: unknown exception\n");
-    }
-    exit_child(code);
+    enter_child(limits, processes, log_path.c_str(), setup, 1);
+    run_forked(body, limits);
   }
   return Child(pid, limits, true);
+}
+
+Child Child::fork_worker(const std::function<int(TaskChannel&)>& body, const Limits& limits, int max_tasks,
+                         const fs::path& log, const ChildSetup& setup) {
+  std::string log_path = log.string();
+  rlim_t processes = process_limit(limits);
+  // Sequenced packets: each task number and each report is one message, and a send to a
+  // worker that died fails (MSG_NOSIGNAL) instead of raising SIGPIPE in the grader.
+  int ends[2];
+  if (socketpair(AF_UNIX, SOCK_SEQPACKET | SOCK_CLOEXEC, 0, ends) != 0)
+    throw Error(std::string("kit-grade: socketpair failed: ") + std::strerror(errno));
+  pid_t pid;
+  try {
+    pid = fork_or_throw();
+  } catch (...) {
+    close(ends[0]);
+    close(ends[1]);
+    throw;
+  }
+  if (pid == 0) {
+    close(ends[0]);
+    enter_child(limits, processes, log_path.c_str(), setup, std::max(1, max_tasks));
+    TaskChannel channel(ends[1], limits.cpu_seconds);
+    run_forked([&] { return body(channel); }, limits);
+  }
+  close(ends[1]);
+  Child child(pid, limits, true);
+  child.channel_ = ends[0];
+  return child;
+}
+
+bool Child::send_task(int task) {
+  if (channel_ < 0) return false;
+  started_ = std::chrono::steady_clock::now();
+  const int32_t message = task;
+  ssize_t n;
+  do {
+    n = send(channel_, &message, sizeof message, MSG_NOSIGNAL);
+  } while (n < 0 && errno == EINTR);
+  return n == static_cast<ssize_t>(sizeof message);
+}
+
+std::optional<TaskReport> Child::next_report() {
+  if (channel_ < 0) return std::nullopt;
+  TaskReport r;
+  ssize_t n;
+  do {
+    n = recv(channel_, &r, sizeof r, MSG_DONTWAIT);
+  } while (n < 0 && errno == EINTR);
+  if (n != static_cast<ssize_t>(sizeof r)) return std::nullopt;
+  return r;
+}
+
+double Child::elapsed() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
 }
 
 Child Child::exec_program(const std::vector<std::string>& args, const Limits& limits, const fs::path& log,
@@ -249,7 +367,7 @@ Child Child::exec_program(const std::vector<std::string>& args, const Limits& li
   rlim_t processes = process_limit(limits);
   pid_t pid = fork_or_throw();
   if (pid == 0) {
-    enter_child(limits, processes, log_path.c_str(), setup);
+    enter_child(limits, processes, log_path.c_str(), setup, 1);
     execvp(argv[0], argv.data());
     const char msg[] = "kit-grade: could not run the program\n";
     ssize_t ignored = write(STDERR_FILENO, msg, sizeof msg - 1);
@@ -302,8 +420,7 @@ bool Child::poll() {
     outcome_.code = -1;
     return true;
   }
-  double elapsed = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
-  if (elapsed > outcome_.wall_limit && !killed_for_time_) {
+  if (elapsed() > outcome_.wall_limit && !killed_for_time_) {
     killed_for_time_ = true;
     kill_all();
   }

@@ -12,20 +12,22 @@
 // a signal or failure with its peak address space at the limit) ends as
 // Outcome::Kind::OutOfMemory, not as a crash.
 //
-// Render children are fork()ed without exec(): the scenes are loaded once, in the
-// parent, and a child starts rendering at once. What makes that safe: the parent never
+// Render workers are fork()ed without exec(): the scenes are loaded once, in the
+// parent, and a worker starts rendering at once. What makes that safe: the parent never
 // creates a GL context, does all its own work in one thread (OpenEXR without worker
 // threads; OpenImageIO, whose dependencies start threads of their own, is never loaded
-// by a grading run: openimageio_formats.h), and a child only renders with a fresh
-// context, writes raw files and leaves with _exit(), running none of the parent's
+// by a grading run: openimageio_formats.h), and a worker only renders with a context of
+// its own, writes raw files and leaves with _exit(), running none of the parent's
 // destructors.
 #include <signal.h>
 #include <sys/resource.h>
 #include <sys/types.h>
 
 #include <chrono>
+#include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -73,11 +75,49 @@ struct Outcome {
   std::string describe() const;
 };
 
+// A forked child that runs numbered tasks one after another (kit-grade's render
+// workers: one process and GL context for several labs of a submission, instead of a
+// fork, a context and llvmpipe's uncached setup code for each). Each task runs under
+// the limits a single child would: its own CPU limit from when it starts, and the wall
+// clock restarted when the parent sends it. Only RLIMIT_AS is the process's whole life:
+// the parent runs a task again in a fresh child when it ended this one abnormally after
+// another task (grader.cpp says when).
+struct TaskReport {
+  int32_t task = 0;
+  int32_t status = 0;         // the body's status for the task (render_child.h)
+  double cpu_seconds = 0.0;   // the process's CPU time so far, all threads (getrusage)
+  int64_t max_rss_kib = 0;    // its peak resident set so far
+};
+
+// The child's side of a task channel.
+class TaskChannel {
+ public:
+  TaskChannel(int socket, rlim_t cpu_seconds) : socket_(socket), cpu_seconds_(cpu_seconds) {}
+  // Blocks for the next task; 0 when the parent says stop or is gone. Before it returns
+  // a task, the CPU limit is set to the task's own allowance from now.
+  int next_task();
+  // Flushes stdio, then sends the task's status (kOutOfMemoryExit for a failure with the
+  // address space at its limit, as a child's exit status) with the process's CPU time
+  // and peak resident set so far.
+  void report(int task, int status);
+  // stdout and stderr to `log` from now (each task's log of its own).
+  static void log_to(const std::filesystem::path& log);
+
+ private:
+  int socket_;  // the child's end of a SOCK_SEQPACKET pair: one message a task or report
+  rlim_t cpu_seconds_;
+};
+
 class Child {
  public:
   // Runs `body` in a forked child; its return value is the exit status.
   static Child fork_function(const std::function<int()>& body, const Limits& limits, const std::filesystem::path& log,
                              const ChildSetup& setup = {});
+  // Runs `body` in a forked child that takes up to `max_tasks` tasks (send_task); the
+  // body's return value is the exit status. The CPU limit applies to each task and the
+  // wall limit from each send_task; the hard CPU limit is max_tasks times the limit.
+  static Child fork_worker(const std::function<int(TaskChannel&)>& body, const Limits& limits, int max_tasks,
+                           const std::filesystem::path& log, const ChildSetup& setup = {});
   // Runs a program (looked up in PATH) with `args` (args[0] is the program).
   static Child exec_program(const std::vector<std::string>& args, const Limits& limits,
                             const std::filesystem::path& log, const ChildSetup& setup = {});
@@ -96,8 +136,17 @@ class Child {
   const Outcome& outcome() const { return outcome_; }
   pid_t pid() const { return pid_; }
 
+  // A worker's parent side. send_task: the next task (0: stop); restarts the wall clock.
+  // False when the worker is gone.
+  bool send_task(int task);
+  // A report the worker has sent, without waiting; nothing when none is there.
+  std::optional<TaskReport> next_report();
+  // Seconds since the child started, or since the last send_task.
+  double elapsed() const;
+
  private:
   Child(pid_t pid, const Limits& limits, bool reports_memory);
+  void close_channel();
   void reap(int status, const rusage& usage);
   void kill_all();
   pid_t pid_ = -1;
@@ -105,6 +154,7 @@ class Child {
   bool killed_for_time_ = false;
   std::chrono::steady_clock::time_point started_;
   Outcome outcome_;
+  int channel_ = -1;  // a worker's: the parent's end of its socket pair
 };
 
 // Blocks SIGINT and SIGTERM for its lifetime so the polling loop can notice
