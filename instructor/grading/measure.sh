@@ -12,11 +12,12 @@
 #      run of its own);
 #   2. batch throughput for 20 submissions (10 solutions, 10 starters) at --jobs 2;
 #   3. where the time goes: the parent's fixed cost (an empty submission renders
-#      nothing), the CPU of the grading process against its render children's, and
-#      per lab the child's context, compile, render and read-back and the parent's
-#      comparison (from summary.json); then per scene (each Renderer of a child) its
-#      setup (programs, targets, the scene's upload, lab 6's maps) against its frames,
-#      warm and cold, from the children's child.json of a run kept with --keep-temp.
+#      nothing), the CPU of the grading process against its render workers', and
+#      per lab its share of its worker (context: only a worker's first lab makes one;
+#      compile, render and read-back; peaks: the worker's up to that lab's end) and the
+#      parent's comparison (from summary.json); then per scene (each Renderer of a lab)
+#      its setup (programs, targets, the scene's upload, lab 6's maps) against its
+#      frames, warm and cold, from the labs' child.json of a run kept with --keep-temp.
 # BUILD_DIR defaults to build/default. Prints a report; leaves nothing behind.
 set -euo pipefail
 
@@ -44,7 +45,7 @@ measure() {
   "$PY" - "$WORK/pss-$label" "$WORK" <<'EOF' &
 import os, sys, time
 # Peak sum of Pss over this script's kit-grade processes: their command line
-# names the work folder (forked render children keep the parent's).
+# names the work folder (forked render workers keep the parent's).
 peak = 0
 deadline = time.time() + 600
 while time.time() < deadline and not os.path.exists(sys.argv[1] + ".stop"):
@@ -100,7 +101,7 @@ EOF
 echo
 checks="$("$PY" -c 'import json, sys; print(sum(len(l["checks"]) for l in json.load(open(sys.argv[1]))["labs"].values()))' "$ROOT/tools/grade/grading.json")"
 echo "1. one full submission (solutions/, every lab, $checks checks)"
-# Each submission's render children use a private shader cache that starts as a
+# Each submission's render workers use a private shader cache that starts as a
 # copy of the seed in $XDG_CACHE_HOME/kit-grade/ (written by --check-references):
 # cold is no seed, warm is the seed of the solutions.
 # Cold empties the whole cache before each run: no seed, and no decoded references but
@@ -150,9 +151,10 @@ for (path, time_file), label in zip(zip(args[0::2], args[1::2]), ["warm cache, -
     children = sum(lab["seconds"]["child_cpu"] for lab in s["labs"].values())
     cpu = total_cpu(time_file)
     # The grading process's own CPU (start-up, references, comparisons, report): all of
-    # kit-grade's CPU less its render children's (wait4's, in summary.json).
+    # kit-grade's CPU less its labs' (summary.json; a worker's exit after its last lab
+    # counts here).
     print(f"  {label}: execution {s['execution_time']:.2f} s; CPU {cpu:.2f} s: grading process {cpu - children:.2f} s, "
-          f"render children {children:.2f} s")
+          f"render workers {children:.2f} s")
     print("    lab  child wall  cpu    context compile render readback | compare  rss MB  vm peak MB")
     for n, lab in sorted(s["labs"].items()):
         t, sec = lab["child_timings"], lab["seconds"]

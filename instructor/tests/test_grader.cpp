@@ -5,6 +5,7 @@
 // well under two minutes.
 #include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
+#include <csignal>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -19,6 +20,7 @@
 #include "compare.h"
 #include "config.h"
 #include "grader.h"
+#include "grading_run.h"
 #include "images/image_io.h"
 #include "kit_test.h"
 #include "references.h"
@@ -600,6 +602,29 @@ TEST(Grader, BadArgumentsFailWithAMessage) {
   EXPECT_NE(output.find("cannot"), std::string::npos) << output;
 }
 
+
+// A render worker renders a submission's labs one after another in one process
+// (render_child.h). A lab that ends its worker abnormally after another lab is rendered
+// again alone, since RLIMIT_AS and whatever state a crash follows from span the worker's
+// life; as the first lab of a worker, or stopped by a limit that counts from its own
+// start, its verdict stands.
+TEST(Grader, OnlyAWorkersLaterCrashesAreRenderedAgainAlone) {
+  using kit::grade::Outcome;
+  auto ended = [](Outcome::Kind kind, int code) {
+    Outcome o;
+    o.kind = kind;
+    o.code = code;
+    return o;
+  };
+  for (const Outcome& o : {ended(Outcome::Kind::Signaled, SIGSEGV), ended(Outcome::Kind::OutOfMemory, 86),
+                           ended(Outcome::Kind::Exited, 1)}) {
+    EXPECT_TRUE(kit::grade::render_again_alone(o, 1)) << o.describe();
+    EXPECT_TRUE(kit::grade::render_again_alone(o, 6)) << o.describe();
+    EXPECT_FALSE(kit::grade::render_again_alone(o, 0)) << o.describe();
+  }
+  for (const Outcome& o : {ended(Outcome::Kind::TimedOut, 0), ended(Outcome::Kind::CpuLimit, SIGXCPU)})
+    EXPECT_FALSE(kit::grade::render_again_alone(o, 3)) << o.describe();
+}
 
 // ---------------------------------------------------------------------------
 // The grader's verdicts and scores, called directly (kit_grade_core): synthetic

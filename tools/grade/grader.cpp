@@ -40,12 +40,23 @@ constexpr const char* kImageFolder = "img";
 struct Task {
   size_t entry;
   int lab;
+  bool alone = false;  // to be the first lab of a fresh worker (run_entries says when)
 };
 
-struct Running {
+// A render worker (render_child.h) of one submission and the lab it renders now.
+struct Worker {
+  size_t entry = 0;
+  std::unique_ptr<Child> child;
+  int lab = 0;              // the lab in progress; 0 when none
+  int labs_done = 0;        // labs it has reported
+  double cpu_before = 0.0;  // its CPU time when `lab` started
+};
+
+// A lab whose rendering ended, reported or not, and how.
+struct Rendered {
   Task task;
   fs::path dir;
-  std::unique_ptr<Child> child;
+  Outcome outcome;
 };
 
 // A run's temporary folder: kRunTempPrefix, the process id, '-' and mkdtemp's six characters.
@@ -421,7 +432,7 @@ void prepare(const Run& run, Entry& e) {
   e.outcome.content_hash = e.content_hash;
 }
 
-// A render child works in its task folder, and Mesa's shader cache (which it
+// A render worker works in each lab's task folder, and Mesa's shader cache (which it
 // writes) is the submission's own, in its temporary folder: nothing a student's
 // shaders compile to is shared with another student's children or left in
 // ~/.cache, and the labs of one submission (and the second scene of a lab) still
@@ -502,11 +513,11 @@ void write_cache_seed(Run& run) {
 
 std::vector<int> lab_start_order(const std::vector<int>& labs, int jobs) {
   // The last lab first: each stage runs every earlier stage's passes and adds its own
-  // (lab 6 precomputes its maps, over half of its child's time), so the longest child starts
+  // (lab 6 precomputes its maps, over half of its time), so the longest lab starts
   // first and the short ones fill in beside it (median of nine runs at --jobs 2: 1.51 s
-  // against 1.57 s in lab order). Then, as soon as a child is done, the lab with the most
+  // against 1.57 s in lab order). Then, as soon as a worker is free, the lab with the most
   // checks: its comparison is the costliest (lab 1's 15, 0.06 s), and as the last lab it ran
-  // after every child had finished, one core idle; started early, it is compared while the
+  // after every other lab had rendered, one core idle; started early, it is compared while the
   // others render (warm, farm-bench, three runs of 30 pairs: wall 0.96, 0.97 and 0.99).
   std::vector<int> order(labs.rbegin(), labs.rend());
   const auto most_checks = std::max_element(order.begin(), order.end(), [](int a, int b) {
@@ -518,6 +529,14 @@ std::vector<int> lab_start_order(const std::vector<int>& labs, int jobs) {
   return order;
 }
 
+bool render_again_alone(const Outcome& ended, int labs_before) {
+  // Only RLIMIT_AS spans a worker's life, and a crash may follow from an earlier lab's
+  // state; a timeout or the CPU limit counts from the lab's own start, and a second run
+  // would only make the student wait as long again.
+  const bool own_time = ended.kind == Outcome::Kind::TimedOut || ended.kind == Outcome::Kind::CpuLimit;
+  return labs_before > 0 && !own_time;
+}
+
 bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished) {
   InterruptGuard interrupts;
   const std::vector<int> order = lab_start_order(run.options.labs, run.options.jobs);
@@ -526,7 +545,8 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
     entries[i].labs_left = run.options.labs.size();
     for (int lab : order) queue.push_back({i, lab});
   }
-  std::vector<Running> running;
+  const size_t slots = static_cast<size_t>(std::max(1, run.options.jobs));
+  std::vector<Worker> workers;
   auto complete = [&](Entry& e, LabOutcome lab) {
     lab.folder = e.prepared->labs.at(lab.lab).folder;
     e.outcome.labs[lab.lab] = std::move(lab);
@@ -540,54 +560,102 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
       fs::remove_all(e.temp, ec);
     }
   };
-  auto start_tasks = [&] {
-    while (!queue.empty() && running.size() < static_cast<size_t>(std::max(1, run.options.jobs))) {
-      Task task = queue.front();
-      queue.pop_front();
-      Entry& e = entries[task.entry];
+  // Labs at the front of the queue whose files could not be prepared are complete at once.
+  auto skip_unready = [&] {
+    while (!queue.empty()) {
+      Entry& e = entries[queue.front().entry];
       if (!e.prepared) prepare(run, e);
-      const LabFiles& files = e.prepared->labs.at(task.lab);
-      if (!files.ready) {
-        LabOutcome lab = empty_lab(run, task.lab);
-        lab.status = files.status;
-        lab.message = trimmed(files.message);
-        complete(e, std::move(lab));
-        continue;
-      }
-      fs::path dir = e.temp / ("lab" + std::to_string(task.lab));
-      fs::create_directories(dir);
-      RenderJob job{task.lab, e.prepared->lab_root, dir, run.options.backend, run.options.device, &run.scenes};
-      auto child = std::make_unique<Child>(Child::fork_function([job] { return render_lab(job); }, run.options.limits,
-                                                                dir / "child.log", render_setup(run, e, dir)));
-      running.push_back({task, dir, std::move(child)});
+      const LabFiles& files = e.prepared->labs.at(queue.front().lab);
+      if (files.ready) return;
+      LabOutcome lab = empty_lab(run, queue.front().lab);
+      lab.status = files.status;
+      lab.message = trimmed(files.message);
+      queue.pop_front();
+      complete(e, std::move(lab));
     }
   };
-  while (!queue.empty() || !running.empty()) {
+  // The next lab of the worker's submission, or stop when there is none it may take.
+  auto give_lab = [&](Worker& w) {
+    skip_unready();
+    if (!queue.empty() && queue.front().entry == w.entry && !(queue.front().alone && w.labs_done > 0)) {
+      w.lab = queue.front().lab;
+      queue.pop_front();
+      fs::create_directories(lab_folder(entries[w.entry].temp, w.lab));
+      w.child->send_task(w.lab);  // a worker already gone ends the lab: poll() says how
+      return;
+    }
+    w.child->send_task(0);
+    w.lab = 0;
+  };
+  auto start_workers = [&] {
+    for (skip_unready(); workers.size() < slots && !queue.empty(); skip_unready()) {
+      Entry& e = entries[queue.front().entry];
+      const LabWorker spec{e.prepared->lab_root, e.temp, run.options.backend, run.options.device, &run.scenes};
+      Worker w;
+      w.entry = queue.front().entry;
+      w.child = std::make_unique<Child>(Child::fork_worker(
+          [spec](TaskChannel& channel) { return serve_labs(spec, channel); }, run.options.limits,
+          static_cast<int>(run.options.labs.size()), e.temp / "worker.log", render_setup(run, e, e.temp)));
+      give_lab(w);
+      workers.push_back(std::move(w));
+    }
+  };
+  std::vector<Rendered> rendered;
+  // The lab `w` renders ended as `o`: compared, or rendered again alone when the worker
+  // ended abnormally (`verdict`: the lab's own status, reported) after another lab.
+  auto lab_ended = [&](const Worker& w, const Outcome& o, bool verdict) {
+    if (!verdict && render_again_alone(o, w.labs_done))
+      queue.push_front({w.entry, w.lab, true});
+    else
+      rendered.push_back({{w.entry, w.lab}, lab_folder(entries[w.entry].temp, w.lab), o});
+  };
+  while (!queue.empty() || !workers.empty()) {
     if (int sig = interrupts.pending()) {
       std::fprintf(stderr, "kit-grade: %s: stopping the renderers\n", strsignal(sig));
-      running.clear();  // each Child kills its process group
+      workers.clear();  // each Child kills its process group
       return false;
     }
-    start_tasks();
-    std::vector<Running> finished;
-    for (size_t i = 0; i < running.size();) {
-      if (running[i].child->poll()) {
-        finished.push_back(std::move(running[i]));
-        running.erase(running.begin() + static_cast<std::ptrdiff_t>(i));
-      } else {
-        ++i;
+    start_workers();
+    for (size_t i = 0; i < workers.size();) {
+      Worker& w = workers[i];
+      const bool ended = w.child->poll();  // a report sent before the worker ended is read below
+      while (const std::optional<TaskReport> report = w.child->next_report()) {
+        if (report->task != w.lab) continue;
+        Outcome o = w.child->outcome();
+        o.kind = report->status == kOutOfMemoryExit ? Outcome::Kind::OutOfMemory : Outcome::Kind::Exited;
+        o.code = report->status;
+        o.wall_seconds = w.child->elapsed();
+        o.cpu_seconds = report->cpu_seconds - w.cpu_before;
+        o.max_rss_kib = report->max_rss_kib;
+        lab_ended(w, o, o.kind == Outcome::Kind::Exited);
+        w.cpu_before = report->cpu_seconds;
+        w.lab = 0;
+        ++w.labs_done;
+        // The next lab renders while this one is compared; after a lab that did not
+        // render, the worker ends and the next lab gets a fresh one.
+        if (!ended && report->status == kChildOk) give_lab(w);
       }
+      if (!ended) {
+        ++i;
+        continue;
+      }
+      if (w.lab != 0) {  // it ended during a lab
+        Outcome o = w.child->outcome();
+        o.cpu_seconds -= w.cpu_before;
+        lab_ended(w, o, false);
+      }
+      workers.erase(workers.begin() + static_cast<std::ptrdiff_t>(i));
     }
-    if (finished.empty()) {
+    if (rendered.empty()) {
       poll_pause();
       continue;
     }
     // The next labs render while this process compares the finished ones.
-    start_tasks();
-    for (Running& done : finished) {
+    start_workers();
+    for (Rendered& done : rendered) {
       Entry& e = entries[done.task.entry];
       LabOutcome lab = empty_lab(run, done.task.lab);
-      const Outcome& o = done.child->outcome();
+      const Outcome& o = done.outcome;
       lab.child_seconds = o.wall_seconds;
       lab.child_cpu_seconds = o.cpu_seconds;
       lab.child_max_rss_kib = o.max_rss_kib;
@@ -618,6 +686,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
         e.outcome.notes.push_back("lab " + std::to_string(done.task.lab) + ": " + kOwnBloomNote);
       complete(e, std::move(lab));
     }
+    rendered.clear();
   }
   return true;
 }

@@ -64,9 +64,11 @@ struct LabOutcome {
   std::string folder;         // where its files were taken from, relative to the submission ("" when not found)
   std::vector<CheckOutcome> checks;
   double render_ms = 0.0;     // GPU work of the lab's frames (child.json)
+  // The lab's share of its render worker (render_child.h): wall time from the lab's start
+  // to its report, and the worker's CPU time (all threads) over that time.
   double child_seconds = 0.0, child_cpu_seconds = 0.0, compare_seconds = 0.0;
-  long child_max_rss_kib = 0;   // from wait4
-  long child_vm_peak_kib = 0;   // the child's peak address space (RLIMIT_AS applies to it)
+  long child_max_rss_kib = 0;   // the worker's peak resident set up to the lab's end
+  long child_vm_peak_kib = 0;   // its peak address space up to then (RLIMIT_AS applies to it)
   std::map<std::string, double> child_timings;  // context, compile, render, readback
   // Where a check failed: the catalogued mistakes its signatures resemble, closest first
   // (diagnosis.h); empty when none fits or no signatures were loaded.
@@ -96,7 +98,7 @@ struct SubmissionOutcome {
   bool grader_error() const;        // a lab could not be rendered for the grader's own reasons
 };
 
-// The order a run starts its labs' render children in (`labs` ascending, `jobs` at once):
+// The order a run renders its labs in (`labs` ascending, `jobs` workers at once):
 // the longest first, then the lab whose comparison costs most (grader.cpp says why).
 std::vector<int> lab_start_order(const std::vector<int>& labs, int jobs);
 // `kit-grade SUBMISSION`: returns the process exit status.

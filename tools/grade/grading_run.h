@@ -77,9 +77,14 @@ Run make_run(const Options& options, bool need_references);
 // Has the run's children write the Mesa shader cache seed that graded submissions
 // start from (runs that render only the kit's own files).
 void write_cache_seed(Run& run);
-// Runs every lab of every entry, at most options.jobs children at a time;
-// `finished` is called as each entry completes. Returns false when interrupted.
+// Runs every lab of every entry in render workers (render_child.h), at most options.jobs
+// at a time, each rendering labs of one submission one after another; `finished` is
+// called as each entry completes. Returns false when interrupted.
 bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished);
+// Whether a lab whose worker ended while rendering it, after `labs_before` other labs,
+// is rendered again as the first lab of a fresh worker, so that its verdict is the one a
+// process of its own gives.
+bool render_again_alone(const Outcome& ended, int labs_before);
 // Removes the run's temporary folder (--keep-temp: says where it is instead).
 void remove_run_temp(const Run& run);
 

@@ -2,7 +2,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include <unistd.h>
+
+#include <cerrno>
 #include <chrono>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <memory>
@@ -101,14 +105,22 @@ LightVolumeWork work_from_json(const nlohmann::json& json) {
   return work;
 }
 
-int render_lab(const RenderJob& job) {
+namespace {
+
+struct RenderJob {
+  int lab = 0;
+  const LabWorker* worker = nullptr;
+  fs::path out_dir;  // where the lab writes its files
+};
+
+// One lab, with the worker's context (made by its first lab).
+int render_lab(const RenderJob& job, std::unique_ptr<GlContext>& context) {
   const fs::path error_file = job.out_dir / "error.txt";
   const Stage& stage = find_stage(job.lab);
   nlohmann::json report;
   auto t0 = Clock::now();
-  std::unique_ptr<GlContext> context;
   try {
-    context = create_headless_context(job.backend, job.device);
+    if (!context) context = create_headless_context(job.worker->backend, job.worker->device);
   } catch (const Error& e) {
     write_text(error_file, e.what());
     return kChildEnvironmentError;
@@ -132,8 +144,8 @@ int render_lab(const RenderJob& job) {
   std::map<std::pair<std::string, bool>, RenderSettings> last_frame;
   double compile = 0.0, render = 0.0, readback = 0.0;
   for (const RenderSpec* spec : lab_renders(job.lab)) {
-    auto scene_it = job.scenes->find(spec->scene);
-    if (scene_it == job.scenes->end()) {
+    auto scene_it = job.worker->scenes->find(spec->scene);
+    if (scene_it == job.worker->scenes->end()) {
       write_text(error_file, "scene '" + spec->scene + "' was not loaded");
       return kChildEnvironmentError;
     }
@@ -146,8 +158,8 @@ int render_lab(const RenderJob& job) {
     if (!renderer) {
       auto t = Clock::now();
       try {
-        ShaderLibrary library = spec->isolate_custom ? isolated_custom_library(stage, job.lab_root)
-                                                     : stage_library(stage, job.lab_root);
+        ShaderLibrary library = spec->isolate_custom ? isolated_custom_library(stage, job.worker->lab_root)
+                                                     : stage_library(stage, job.worker->lab_root);
         library.share_programs_through(&program_cache);
         library.keep_assembled_in(&assembled_cache);
         renderer = std::make_unique<Renderer>(stage, std::move(library), scene, settings, &ibl_cache);
@@ -204,6 +216,31 @@ int render_lab(const RenderJob& job) {
   report["vm_peak_kib"] = peak_address_space_kib();  // what RLIMIT_AS limits
   write_text(job.out_dir / "child.json", json_text(report));
   return kChildOk;
+}
+
+}  // namespace
+
+fs::path lab_folder(const fs::path& temp, int lab) { return temp / ("lab" + std::to_string(lab)); }
+
+int serve_labs(const LabWorker& worker, TaskChannel& channel) {
+  std::unique_ptr<GlContext> context;
+  int status = kChildOk;
+  while (status == kChildOk) {
+    const int lab = channel.next_task();
+    if (lab == 0) break;
+    RenderJob job{lab, &worker, lab_folder(worker.temp, lab)};
+    TaskChannel::log_to(job.out_dir / "child.log");
+    if (chdir(job.out_dir.c_str()) != 0) {
+      std::fprintf(stderr, "kit-grade: child: cannot enter %s: %s\n", job.out_dir.c_str(), std::strerror(errno));
+      status = kChildEnvironmentError;
+    } else {
+      status = render_lab(job, context);
+    }
+    channel.report(lab, status);
+  }
+  // Destroyed here rather than at _exit: Mesa writes its queued shader-cache entries.
+  context.reset();
+  return status;
 }
 
 }  // namespace kit::grade

@@ -1,9 +1,9 @@
 #pragma once
-// What a render child does: one lab of one submission, every render of that lab
-// (lab_renders) in one process with one GL context, one Renderer per scene, so
-// each shader is compiled once and only uniforms change between settings, and
-// one IblCache, so stage 6's maps are precomputed once per environment.
-// Results go to files in the task folder: one raw image per render, child.json
+// What a render worker does: labs of one submission, one after another in one process
+// with one GL context; for each lab, every render of that lab (lab_renders), one
+// Renderer per scene, so each shader is compiled once and only uniforms change between
+// settings, and one IblCache, so stage 6's maps are precomputed once per environment.
+// Results go to files in the lab's task folder: one raw image per render, child.json
 // (timings, also per Renderer and per render, the GL renderer's name, NaN/Inf
 // counts of the HDR buffer) and, when the lab could not be rendered, error.txt
 // with the kit::Error text (compiler logs already mapped to the submission's
@@ -15,26 +15,33 @@
 #include <nlohmann/json.hpp>
 
 #include "gl/context.h"
+#include "sandbox.h"
 #include "images/image_io.h"
 #include "scene/scene.h"
 
 namespace kit::grade {
 
-// Exit statuses of a render child.
+// A lab's status in a worker's report, and the worker's exit status after it.
 constexpr int kChildOk = 0;
 constexpr int kChildShaderError = 2;       // a shader did not assemble, compile or link
 constexpr int kChildEnvironmentError = 3;  // no GL context or scene: the grader's problem
 constexpr int kChildRenderError = 4;       // a GL error while drawing
 constexpr int kChildMapError = 5;          // a lab 6 precompute shader wrote NaN or Inf into a map (ibl.h)
 
-struct RenderJob {
-  int lab = 0;
+// A render worker: the labs of one submission, one after another as the grader sends
+// them (sandbox.h, TaskChannel), in one process with one GL context. A child for each lab
+// paid again for its fork, its context and llvmpipe's triangle-setup code, which Mesa does
+// not cache (8 % of a warm run's CPU; docs/performance.md, Grading).
+struct LabWorker {
   std::filesystem::path lab_root;  // the sanitized copy of the submission's lab files
-  std::filesystem::path out_dir;   // where the child writes its files
+  std::filesystem::path temp;      // lab N writes its files in lab_folder(temp, N)
   Backend backend = kDefaultHeadlessBackend;
   Device device = Device::Software;
   const std::map<std::string, Scene>* scenes = nullptr;  // loaded by the parent before forking
 };
+
+// Where lab `lab` of a worker writes its files (the grader makes the folder first).
+std::filesystem::path lab_folder(const std::filesystem::path& temp, int lab);
 
 // Whether lab `stage`'s custom effect is isolated on the kit's own solution of the lab
 // (render_child.cpp, isolated_custom_library): false in a kit without that solution (a
@@ -42,8 +49,10 @@ struct RenderJob {
 // submission's own bloom and the report says so (kOwnBloomNote).
 bool custom_effect_isolated(const Stage& stage);
 
-// Runs in the child; returns its exit status.
-int render_lab(const RenderJob& job);
+// Runs in the worker: renders each lab the channel names into its folder, with that
+// folder as its working directory and its child.log as stdout and stderr, and reports
+// the lab's status. Goes on only after a lab that rendered; returns the exit status.
+int serve_labs(const LabWorker& worker, TaskChannel& channel);
 
 // A lab 7 frame's counted work (render/light_volumes.h) as child.json holds it, and back (zeros
 // for what a report lacks).
