@@ -26,8 +26,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Default --jobs: labs rendered at once. Two children keep two cores busy
-// (a child's compile and read-back are single-threaded); more only adds memory.
+// Default --jobs: labs rendered at once. Two render workers keep two cores busy
+// (a lab's compile and read-back are single-threaded); more only adds memory.
 constexpr int kMaxDefaultJobs = 2;
 
 void usage() {
@@ -71,7 +71,8 @@ void usage() {
       "  --prepare-references DIR  decode the references into DIR with their backgrounds and report images\n"
       "                        (the build does, beside kit-grade; runs read them there)\n"
       "  --self-check          run instructor/grading/self_check.py (the mistake catalogue) with this grader\n"
-      "Each lab renders in a child process in the run's temporary folder ($TMPDIR/kit-grade-<pid>-XXXXXX, removed\n"
+      "Labs render in worker processes, --jobs at once, each taking a submission's labs one after another under each\n"
+      "lab's own limits, in the run's temporary folder ($TMPDIR/kit-grade-<pid>-XXXXXX, removed\n"
       "at the end; a later run removes those of runs that were killed) with a Mesa shader cache of its submission's\n"
       "own there (a copy of the seed --check-references writes from the solutions in\n"
       "$XDG_CACHE_HOME/kit-grade/mesa-shader-cache), and at most %lu open files and (not as root) %lu more\n"
@@ -213,7 +214,7 @@ int main(int argc, char** argv) {
       }
     }
     // The renderer's library opens beside the run's setup (scenes, submission), before the
-    // first render child is forked.
+    // first render worker is forked.
     if (mode != Mode::Prepare) kit::preload_headless_library(options.backend);
     // Default: every lab this kit can grade (all in the instructor's kit; a student
     // copy's own lab). A lab named with --labs whose earlier solutions are missing
