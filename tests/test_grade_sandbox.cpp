@@ -366,7 +366,7 @@ TEST(GradeSandbox, WorkerTasksHaveLimitsOfTheirOwn) {
   double cpu_before = 0.0;
   for (int task = 1; task <= 4; ++task) {
     ASSERT_TRUE(worker.send_task(task));
-    std::optional<kit::grade::TaskReport> report;
+    std::optional<Child::TaskResult> report;
     while (!report && !worker.poll()) {
       kit::grade::poll_pause();
       report = worker.next_report();
@@ -374,10 +374,11 @@ TEST(GradeSandbox, WorkerTasksHaveLimitsOfTheirOwn) {
     if (task < 4) {
       ASSERT_TRUE(report) << "task " << task << ": " << worker.outcome().describe();
       EXPECT_EQ(report->task, task);
-      EXPECT_EQ(report->status, 10 * task);
-      EXPECT_GE(report->cpu_seconds - cpu_before, 0.5);  // its own 0.6 s, as wait4 counts it
-      EXPECT_GT(report->max_rss_kib, 0);
-      cpu_before = report->cpu_seconds;
+      EXPECT_EQ(report->outcome.kind, Outcome::Kind::Exited);
+      EXPECT_EQ(report->outcome.code, 10 * task);
+      EXPECT_GE(report->outcome.cpu_seconds, 0.5);  // its own 0.6 s, as wait4 counts it
+      EXPECT_GT(report->outcome.max_rss_kib, 0);
+      cpu_before += report->outcome.cpu_seconds;
       EXPECT_EQ(read_file(dir / ("task" + std::to_string(task) + ".log")), "task " + std::to_string(task) + "\n");
     } else {
       EXPECT_FALSE(report);

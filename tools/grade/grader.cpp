@@ -47,15 +47,13 @@ struct Task {
 struct Worker {
   size_t entry = 0;
   std::unique_ptr<Child> child;
-  int lab = 0;              // the lab in progress; 0 when none
-  int labs_done = 0;        // labs it has reported
-  double cpu_before = 0.0;  // its CPU time when `lab` started
+  int lab = 0;        // the lab in progress; 0 when none
+  int labs_done = 0;  // labs it has reported
 };
 
 // A lab whose rendering ended, reported or not, and how.
 struct Rendered {
   Task task;
-  fs::path dir;
   Outcome outcome;
 };
 
@@ -607,7 +605,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
     if (!verdict && render_again_alone(o, w.labs_done))
       queue.push_front({w.entry, w.lab, true});
     else
-      rendered.push_back({{w.entry, w.lab}, lab_folder(entries[w.entry].temp, w.lab), o});
+      rendered.push_back({{w.entry, w.lab}, o});
   };
   while (!queue.empty() || !workers.empty()) {
     if (int sig = interrupts.pending()) {
@@ -619,31 +617,21 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
     for (size_t i = 0; i < workers.size();) {
       Worker& w = workers[i];
       const bool ended = w.child->poll();  // a report sent before the worker ended is read below
-      while (const std::optional<TaskReport> report = w.child->next_report()) {
+      while (const std::optional<Child::TaskResult> report = w.child->next_report()) {
         if (report->task != w.lab) continue;
-        Outcome o = w.child->outcome();
-        o.kind = report->status == kOutOfMemoryExit ? Outcome::Kind::OutOfMemory : Outcome::Kind::Exited;
-        o.code = report->status;
-        o.wall_seconds = w.child->elapsed();
-        o.cpu_seconds = report->cpu_seconds - w.cpu_before;
-        o.max_rss_kib = report->max_rss_kib;
+        const Outcome& o = report->outcome;
         lab_ended(w, o, o.kind == Outcome::Kind::Exited);
-        w.cpu_before = report->cpu_seconds;
         w.lab = 0;
         ++w.labs_done;
         // The next lab renders while this one is compared; after a lab that did not
         // render, the worker ends and the next lab gets a fresh one.
-        if (!ended && report->status == kChildOk) give_lab(w);
+        if (!ended && o.kind == Outcome::Kind::Exited && o.code == kChildOk) give_lab(w);
       }
       if (!ended) {
         ++i;
         continue;
       }
-      if (w.lab != 0) {  // it ended during a lab
-        Outcome o = w.child->outcome();
-        o.cpu_seconds -= w.cpu_before;
-        lab_ended(w, o, false);
-      }
+      if (w.lab != 0) lab_ended(w, w.child->outcome(), false);  // it ended during a lab
       workers.erase(workers.begin() + static_cast<std::ptrdiff_t>(i));
     }
     if (rendered.empty()) {
@@ -654,22 +642,23 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
     start_workers();
     for (Rendered& done : rendered) {
       Entry& e = entries[done.task.entry];
+      const fs::path dir = lab_folder(e.temp, done.task.lab);
       LabOutcome lab = empty_lab(run, done.task.lab);
       const Outcome& o = done.outcome;
       lab.child_seconds = o.wall_seconds;
       lab.child_cpu_seconds = o.cpu_seconds;
       lab.child_max_rss_kib = o.max_rss_kib;
-      if (classify_child(o, done.dir, lab)) {
+      if (classify_child(o, dir, lab)) {
         load_mistakes_once(run);
         const std::string problem = load_references_of(run, lab.lab);
         if (problem.empty()) {
-          compare_lab(run, done.dir, e.result_dir, lab);
+          compare_lab(run, dir, e.result_dir, lab);
         } else {
           lab.status = kGraderError;
           lab.message = "the grader could not read this lab's references: " + problem;
         }
       }
-      std::ifstream child_report(done.dir / "child.json");
+      std::ifstream child_report(dir / "child.json");
       if (child_report) {
         try {
           e.outcome.renderer = nlohmann::json::parse(child_report).value("renderer", "");

@@ -31,7 +31,7 @@ constexpr int kChildMapError = 5;          // a lab 6 precompute shader wrote Na
 // A render worker: the labs of one submission, one after another as the grader sends
 // them (sandbox.h, TaskChannel), in one process with one GL context. A child for each lab
 // paid again for its fork, its context and llvmpipe's triangle-setup code, which Mesa does
-// not cache (8 % of a warm run's CPU; docs/performance.md, Grading).
+// not cache (a tenth of a warm run's CPU; docs/performance.md, Grading).
 struct LabWorker {
   std::filesystem::path lab_root;  // the sanitized copy of the submission's lab files
   std::filesystem::path temp;      // lab N writes its files in lab_folder(temp, N)

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstring>
 #include <fstream>
@@ -168,6 +169,15 @@ int failure_or_out_of_memory(int code) {
 }
 
 double seconds_of(const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); }
+double cpu_seconds_of(const rusage& usage) { return seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime); }
+
+// What a worker sends when a task ends: one SOCK_SEQPACKET message.
+struct TaskReport {
+  int32_t task = 0;
+  int32_t status = 0;        // the body's status for the task (render_child.h)
+  double cpu_seconds = 0.0;  // the process's CPU time so far, all threads (getrusage)
+  int64_t max_rss_kib = 0;   // its peak resident set so far
+};
 
 // In a forked child, after enter_child: runs `body` and ends the process with its status.
 [[noreturn]] void run_forked(const std::function<int()>& body, const Limits& limits) {
@@ -203,7 +213,7 @@ int TaskChannel::next_task() {
   getrusage(RUSAGE_SELF, &usage);
   rlimit cpu{};
   getrlimit(RLIMIT_CPU, &cpu);
-  const auto used = static_cast<rlim_t>(std::ceil(seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime)));
+  const auto used = static_cast<rlim_t>(std::ceil(cpu_seconds_of(usage)));
   cpu.rlim_cur = std::min(used + cpu_seconds_, cpu.rlim_max);
   setrlimit(RLIMIT_CPU, &cpu);
   return task;
@@ -217,7 +227,7 @@ void TaskChannel::report(int task, int status) {
   TaskReport r;
   r.task = task;
   r.status = status;
-  r.cpu_seconds = seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime);
+  r.cpu_seconds = cpu_seconds_of(usage);
   r.max_rss_kib = usage.ru_maxrss;
   ssize_t n;
   do {
@@ -269,7 +279,8 @@ Child::Child(Child&& other) noexcept
       killed_for_time_(other.killed_for_time_),
       started_(other.started_),
       outcome_(other.outcome_),
-      channel_(std::exchange(other.channel_, -1)) {}
+      channel_(std::exchange(other.channel_, -1)),
+      reported_cpu_(other.reported_cpu_) {}
 
 Child::~Child() {
   if (pid_ > 0 && outcome_.kind == Outcome::Kind::Running) {
@@ -278,12 +289,7 @@ Child::~Child() {
     while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
     }
   }
-  close_channel();
-}
-
-void Child::close_channel() {
   if (channel_ >= 0) close(channel_);
-  channel_ = -1;
 }
 
 void Child::kill_all() {
@@ -343,7 +349,7 @@ bool Child::send_task(int task) {
   return n == static_cast<ssize_t>(sizeof message);
 }
 
-std::optional<TaskReport> Child::next_report() {
+std::optional<Child::TaskResult> Child::next_report() {
   if (channel_ < 0) return std::nullopt;
   TaskReport r;
   ssize_t n;
@@ -351,7 +357,15 @@ std::optional<TaskReport> Child::next_report() {
     n = recv(channel_, &r, sizeof r, MSG_DONTWAIT);
   } while (n < 0 && errno == EINTR);
   if (n != static_cast<ssize_t>(sizeof r)) return std::nullopt;
-  return r;
+  TaskResult result{r.task, outcome_};
+  Outcome& o = result.outcome;
+  o.kind = r.status == kOutOfMemoryExit ? Outcome::Kind::OutOfMemory : Outcome::Kind::Exited;
+  o.code = r.status;
+  o.wall_seconds = elapsed();
+  o.cpu_seconds = r.cpu_seconds - reported_cpu_;
+  o.max_rss_kib = r.max_rss_kib;
+  reported_cpu_ = r.cpu_seconds;
+  return result;
 }
 
 double Child::elapsed() const {
@@ -379,7 +393,7 @@ Child Child::exec_program(const std::vector<std::string>& args, const Limits& li
 
 void Child::reap(int status, const rusage& usage) {
   outcome_.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started_).count();
-  outcome_.cpu_seconds = seconds_of(usage.ru_utime) + seconds_of(usage.ru_stime);
+  outcome_.cpu_seconds = cpu_seconds_of(usage) - reported_cpu_;
   outcome_.max_rss_kib = usage.ru_maxrss;
   bool signaled = WIFSIGNALED(status);
   int sig = signaled ? WTERMSIG(status) : 0;

@@ -24,7 +24,6 @@
 #include <sys/types.h>
 
 #include <chrono>
-#include <cstdint>
 #include <filesystem>
 #include <functional>
 #include <optional>
@@ -65,6 +64,8 @@ struct Outcome {
   enum class Kind { Running, Exited, Signaled, TimedOut, CpuLimit, OutOfMemory };
   Kind kind = Kind::Running;
   int code = 0;           // exit status, or the signal number
+  // A worker's (fork_worker) count from the start of its last task: sent (wall), or
+  // begun after the last task it reported (CPU).
   double wall_seconds = 0.0;
   double cpu_seconds = 0.0;  // user + system, from wait4
   long max_rss_kib = 0;      // peak resident set, from wait4
@@ -82,13 +83,7 @@ struct Outcome {
 // clock restarted when the parent sends it. Only RLIMIT_AS is the process's whole life:
 // the parent runs a task again in a fresh child when it ended this one abnormally after
 // another task (grader.cpp says when).
-struct TaskReport {
-  int32_t task = 0;
-  int32_t status = 0;         // the body's status for the task (render_child.h)
-  double cpu_seconds = 0.0;   // the process's CPU time so far, all threads (getrusage)
-  int64_t max_rss_kib = 0;    // its peak resident set so far
-};
-
+//
 // The child's side of a task channel.
 class TaskChannel {
  public:
@@ -139,14 +134,19 @@ class Child {
   // A worker's parent side. send_task: the next task (0: stop); restarts the wall clock.
   // False when the worker is gone.
   bool send_task(int task);
-  // A report the worker has sent, without waiting; nothing when none is there.
-  std::optional<TaskReport> next_report();
+  // A task the worker has reported, without waiting; nothing when none is there. Its
+  // outcome is its status as an exit status would be (Exited, or OutOfMemory), with the
+  // task's own wall and CPU time and the worker's peak resident set so far.
+  struct TaskResult {
+    int task = 0;
+    Outcome outcome;
+  };
+  std::optional<TaskResult> next_report();
   // Seconds since the child started, or since the last send_task.
   double elapsed() const;
 
  private:
   Child(pid_t pid, const Limits& limits, bool reports_memory);
-  void close_channel();
   void reap(int status, const rusage& usage);
   void kill_all();
   pid_t pid_ = -1;
@@ -155,6 +155,7 @@ class Child {
   std::chrono::steady_clock::time_point started_;
   Outcome outcome_;
   int channel_ = -1;  // a worker's: the parent's end of its socket pair
+  double reported_cpu_ = 0.0;  // a worker's CPU time when it reported its last task
 };
 
 // Blocks SIGINT and SIGTERM for its lifetime so the polling loop can notice
