@@ -335,61 +335,79 @@ TEST(GradeSandbox, CpuTimeIsTheTimeLimit) {
 
 // A worker (kit-grade's render worker: several labs in one process) runs each task under
 // the limits a child of its own would have: the CPU limit and the wall clock count from
-// the task's start. Three tasks of 0.6 s of CPU and 0.8 s of waiting each pass a 1 s CPU
-// limit and a 2 s wall limit that their sum would break; the witness is a fourth task
-// that spins past the limit on its own, and is stopped by it, with its report missing.
+// the task's start. Three tasks of 0.6 s of CPU each pass a 1 s CPU limit, and three of
+// 1.2 s of waiting each a 2 s wall limit, that their sums would break (each limit in a
+// worker of its own, so a loaded machine stretching the spinning cannot reach the wall
+// limit); the witness in each is a fourth task that breaks the limit on its own, and is
+// stopped by it, with its report missing.
 TEST(GradeSandbox, WorkerTasksHaveLimitsOfTheirOwn) {
   fs::path dir = kit::test::temp_dir("sandbox-worker");
-  Limits limits;
-  limits.cpu_seconds = 1;
-  limits.wall_seconds = 2.0;
   auto cpu_now = [] {
     rusage usage{};
     getrusage(RUSAGE_SELF, &usage);
     return static_cast<double>(usage.ru_utime.tv_sec + usage.ru_stime.tv_sec) +
            1e-6 * static_cast<double>(usage.ru_utime.tv_usec + usage.ru_stime.tv_usec);
   };
-  Child worker = Child::fork_worker(
-      [&](kit::grade::TaskChannel& channel) {
-        while (int task = channel.next_task()) {
-          kit::grade::TaskChannel::log_to(dir / ("task" + std::to_string(task) + ".log"));
-          std::printf("task %d\n", task);
-          const double start = cpu_now();
-          volatile unsigned long spin = 0;
-          while (task == 4 || cpu_now() - start < 0.6) spin = spin + 1;
-          std::this_thread::sleep_for(std::chrono::milliseconds(800));
-          channel.report(task, 10 * task);
-        }
-        return 0;
-      },
-      limits, 4, dir / "worker.log");
-  double cpu_before = 0.0;
-  for (int task = 1; task <= 4; ++task) {
-    ASSERT_TRUE(worker.send_task(task));
-    std::optional<Child::TaskResult> report;
-    while (!report && !worker.poll()) {
-      kit::grade::poll_pause();
-      report = worker.next_report();
+  // Each task: `work(task)`, its log line, then its report (status 10 x task).
+  auto run_tasks = [&](const std::string& name, const Limits& limits, const std::function<void(int)>& work,
+                       double min_task_cpu, Outcome::Kind stopped_as) {
+    Child worker = Child::fork_worker(
+        [&](kit::grade::TaskChannel& channel) {
+          while (int task = channel.next_task()) {
+            kit::grade::TaskChannel::log_to(dir / (name + std::to_string(task) + ".log"));
+            std::printf("task %d\n", task);
+            work(task);
+            channel.report(task, 10 * task);
+          }
+          return 0;
+        },
+        limits, 4, dir / (name + ".log"));
+    Outcome sum;
+    for (int task = 1; task <= 4; ++task) {
+      SCOPED_TRACE(name + " task " + std::to_string(task));
+      EXPECT_TRUE(worker.send_task(task));
+      std::optional<Child::TaskResult> report;
+      while (!report && !worker.poll()) {
+        kit::grade::poll_pause();
+        report = worker.next_report();
+      }
+      if (task < 4) {
+        if (!report) ADD_FAILURE() << worker.outcome().describe();
+        if (!report) return sum;
+        EXPECT_EQ(report->task, task);
+        EXPECT_EQ(report->outcome.kind, Outcome::Kind::Exited);
+        EXPECT_EQ(report->outcome.code, 10 * task);
+        EXPECT_GE(report->outcome.cpu_seconds, min_task_cpu);
+        EXPECT_GT(report->outcome.max_rss_kib, 0);
+        EXPECT_EQ(read_file(dir / (name + std::to_string(task) + ".log")), "task " + std::to_string(task) + "\n");
+        sum.cpu_seconds += report->outcome.cpu_seconds;
+        sum.wall_seconds += report->outcome.wall_seconds;
+      } else {
+        EXPECT_FALSE(report);
+        EXPECT_EQ(worker.outcome().kind, stopped_as) << worker.outcome().describe();
+      }
     }
-    if (task < 4) {
-      ASSERT_TRUE(report) << "task " << task << ": " << worker.outcome().describe();
-      EXPECT_EQ(report->task, task);
-      EXPECT_EQ(report->outcome.kind, Outcome::Kind::Exited);
-      EXPECT_EQ(report->outcome.code, 10 * task);
-      EXPECT_GE(report->outcome.cpu_seconds, 0.5);  // its own 0.6 s, as wait4 counts it
-      EXPECT_GT(report->outcome.max_rss_kib, 0);
-      cpu_before += report->outcome.cpu_seconds;
-      EXPECT_EQ(read_file(dir / ("task" + std::to_string(task) + ".log")), "task " + std::to_string(task) + "\n");
-    } else {
-      EXPECT_FALSE(report);
-      EXPECT_EQ(worker.outcome().kind, Outcome::Kind::CpuLimit) << worker.outcome().describe();
-      EXPECT_LT(worker.outcome().wall_seconds, 2.0);  // since task 4 was sent
-    }
-  }
-  EXPECT_GE(cpu_before, 1.5);  // more than the limit before task 4 started
+    return sum;
+  };
+  Limits cpu_limits;
+  cpu_limits.cpu_seconds = 1;
+  cpu_limits.wall_seconds = 60;
+  const Outcome spun = run_tasks("spin", cpu_limits, [&](int task) {
+    const double start = cpu_now();
+    volatile unsigned long spin = 0;
+    while (task == 4 || cpu_now() - start < 0.6) spin = spin + 1;
+  }, 0.5, Outcome::Kind::CpuLimit);  // 0.5: its own 0.6 s, as wait4 counts it
+  EXPECT_GE(spun.cpu_seconds, 1.5);  // more than the limit together
+  Limits wall_limits;
+  wall_limits.cpu_seconds = 30;
+  wall_limits.wall_seconds = 2;
+  const Outcome waited = run_tasks("wait", wall_limits, [](int task) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(task == 4 ? 30000 : 1200));
+  }, 0.0, Outcome::Kind::TimedOut);
+  EXPECT_GE(waited.wall_seconds, 3.6);  // more than the wall limit together
   // A worker told to stop ends with its body's status; a task sent to one that is gone fails.
   Child idle = Child::fork_worker([](kit::grade::TaskChannel& channel) { return channel.next_task() == 0 ? 7 : 1; },
-                                  limits, 1, dir / "idle.log");
+                                  cpu_limits, 1, dir / "idle.log");
   ASSERT_TRUE(idle.send_task(0));
   EXPECT_EQ(idle.wait().kind, Outcome::Kind::Exited);
   EXPECT_EQ(idle.outcome().code, 7);
