@@ -19,7 +19,9 @@
    starts, and with kit-render's image one pixel a step off on the viewer's screenshot. The
    viewer's frame rate on that display is printed (--spin --frames, as docs/performance.md
    measures it).
-The screenshots are left in WORK_DIR (vnc-screenshot.png, vnc-before-viewer.png).
+The screenshots are left in WORK_DIR (vnc-screenshot.png, vnc-before-viewer.png). Images are
+read and written by png_rgb.py (the standard library), not by an image tool whose row order
+may differ between releases.
 """
 import json
 import os
@@ -32,6 +34,8 @@ import subprocess
 import sys
 import time
 from pathlib import Path
+
+from png_rgb import read_png, write_png
 
 ROOT = Path(__file__).resolve().parents[1]
 SIZE = (320, 240)
@@ -196,17 +200,6 @@ def vnc_screenshot(socket_path):
             return width, height, bytes(rgb)
 
 
-def write_ppm(path, width, height, rgb):
-    path.write_bytes(b"P6\n%d %d\n255\n" % (width, height) + rgb)
-
-
-def read_ppm(path):
-    data = path.read_bytes()
-    m = re.match(rb"P6\s+(\d+)\s+(\d+)\s+255\s", data)
-    width, height = int(m.group(1)), int(m.group(2))
-    return width, height, data[m.end():m.end() + width * height * 3]
-
-
 def find_image(screen, image):
     """Where `image` lies in `screen`, pixel for pixel: (x, y), or None. The search runs on
     the image's most varied row, which a blank stretch of the screen cannot match."""
@@ -263,15 +256,13 @@ def check_viewer_on_vnc(kit_view, kit_render, work, config):
         args = ["--stage", "gbuffer", "--shaders", str(ROOT / "solutions")]
     else:
         args = ["--stage", "gbuffer", "--shaders", str(ROOT / "labs")]
-    tool_missing = [t for t in ("Xtigervnc", "oiiotool") if not shutil.which(t)]
-    if tool_missing:  # a failure, never a skip: the desktop would go untested
-        fail(f"not installed: {tool_missing} (tigervnc-standalone-server, openimageio-tools; ./kit setup installs them)")
+    if not shutil.which("Xtigervnc"):  # a failure, never a skip: the desktop would go untested
+        fail("not installed: Xtigervnc (tigervnc-standalone-server; ./kit setup installs it)")
         return
     size = f"{SIZE[0]}x{SIZE[1]}"
     headless_png = work / "headless.png"
     subprocess.run([kit_render, *args, "--size", size, "--out", str(headless_png)], check=True)
-    subprocess.run(["oiiotool", str(headless_png), "--ch", "R,G,B", "-o", str(work / "headless.ppm")], check=True)
-    headless = read_ppm(work / "headless.ppm")
+    headless = read_png(headless_png)
 
     # The desktop's size and depth: desktop-lite's VNC_RESOLUTION (WxHxDEPTH), as the container sets it.
     resolution = config.get("containerEnv", {}).get("VNC_RESOLUTION", DESKTOP_LITE_RESOLUTION)
@@ -281,7 +272,7 @@ def check_viewer_on_vnc(kit_view, kit_render, work, config):
     viewer = None
     try:
         before = vnc_screenshot(sock)
-        write_ppm(work / "vnc-before-viewer.ppm", *before)
+        write_png(work / "vnc-before-viewer.png", *before)
         if find_image(before, headless) is None:
             ok(f"witness: the display without the viewer ({before[0]}x{before[1]}) does not hold the stage")
         else:
@@ -294,7 +285,7 @@ def check_viewer_on_vnc(kit_view, kit_render, work, config):
             time.sleep(0.25)
             shot = vnc_screenshot(sock)
             found = find_image(shot, headless)
-        write_ppm(work / "vnc-screenshot.ppm", *shot)
+        write_png(work / "vnc-screenshot.png", *shot)
         # Witness: the stage with one pixel changed (the middle one, a step of its red) is not
         # found in the screenshot: the check is pixel for pixel.
         w, h, rgb = headless
@@ -333,8 +324,6 @@ def check_viewer_on_vnc(kit_view, kit_render, work, config):
             server.wait(10)
         except subprocess.TimeoutExpired:
             server.kill()
-    for name in ("vnc-before-viewer", "vnc-screenshot"):
-        subprocess.run(["oiiotool", str(work / f"{name}.ppm"), "-o", str(work / f"{name}.png")], check=False)
 
 
 def main():

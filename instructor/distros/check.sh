@@ -84,8 +84,13 @@ if [ ! -x "$dir/bin/bash" ]; then
   debootstrap --variant=minbase "$suite" "$dir" "$mirror" >"$logs/debootstrap.log" 2>&1 ||
     die "debootstrap $suite $dir $mirror failed (see $logs/debootstrap.log)"
 fi
+# /sys recursively, as fresh_debian.sh binds it: its cgroup file system is a mount of its own,
+# and through it the kit sees a memory limit the chroot runs under (kit's build_memory_mib),
+# as it does in a container.
 for m in proc sys dev dev/pts; do
-  mountpoint -q "$dir/$m" || { mount --bind "/$m" "$dir/$m" && mounted+=("$dir/$m"); } ||
+  bind=--bind
+  [ "$m" = sys ] && bind=--rbind
+  mountpoint -q "$dir/$m" || { mount "$bind" "/$m" "$dir/$m" && mounted+=("$dir/$m"); } ||
     die "cannot bind /$m into $dir"
 done
 cp /etc/resolv.conf "$dir/etc/resolv.conf" 2>/dev/null
