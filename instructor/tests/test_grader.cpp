@@ -1074,6 +1074,47 @@ TEST(GraderVerdicts, CachedReferencesAreTheDecodedOnes) {
   EXPECT_TRUE(fs::exists(other_id));
 }
 
+// --update-references writes a reference again only where its pixels changed: the
+// references written again from their own pixels leave every file as it was, byte for
+// byte, and one pixel changed rewrites that file alone. Witness: an EXR reference written
+// again as it is does not keep its bytes, which is why the pixels decide.
+TEST(GraderVerdicts, ReferencesWrittenAgainKeepTheFilesWhosePixelsDidNotChange) {
+  const fs::path source = kit::kit_root() / "tools/grade/references";
+  const fs::path references = kit::test::temp_dir("grader-references-written-again");
+  fs::copy(source, references, fs::copy_options::recursive);
+  std::map<std::string, kit::Image> renders, allowances;
+  std::string exr_id;
+  const std::string allowance_suffix = ".allowance.exr";  // the manifest's filter_allowance names them so
+  for (const kit::grade::RenderSpec* spec : kit::grade::reference_renders()) {
+    const std::string file = spec->id + "." + kit::grade::reference_extension(*spec);
+    renders[spec->id] = kit::read_image((references / file).string());
+    if (fs::exists(references / (spec->id + allowance_suffix)))
+      allowances[spec->id] = kit::read_image((references / (spec->id + allowance_suffix)).string());
+    if (exr_id.empty() && kit::grade::reference_extension(*spec) == "exr") exr_id = spec->id;
+  }
+  ASSERT_FALSE(exr_id.empty());
+  ASSERT_FALSE(allowances.empty());
+  auto bytes = [](const fs::path& path) { return read_file(path); };
+  std::map<std::string, std::string> before;
+  for (const auto& entry : fs::directory_iterator(references)) before[entry.path().filename().string()] = bytes(entry.path());
+
+  const fs::path witness = kit::test::temp_dir("grader-references-exr-again") / "again.exr";
+  kit::write_image(witness.string(), renders[exr_id]);
+  EXPECT_NE(bytes(witness), before[exr_id + ".exr"]) << "witness: an EXR written again keeps its bytes, so this "
+                                                          "test shows nothing";
+
+  const std::string renderer = kit::grade::references_renderer(references);
+  EXPECT_TRUE(kit::grade::write_references(references, renders, allowances, renderer).empty());
+  for (const auto& entry : fs::directory_iterator(references))
+    EXPECT_EQ(bytes(entry.path()), before[entry.path().filename().string()]) << entry.path();
+
+  renders[exr_id].pixels[0] += 0.5f;
+  const std::vector<std::string> changed = kit::grade::write_references(references, renders, allowances, renderer);
+  EXPECT_EQ(changed, std::vector<std::string>{exr_id + ".exr"});
+  EXPECT_NE(bytes(references / (exr_id + ".exr")), before[exr_id + ".exr"]);
+  EXPECT_EQ(kit::read_image((references / (exr_id + ".exr")).string()).pixels[0], renders[exr_id].pixels[0]);
+}
+
 // The build prepares the references (kit-grade --prepare-references, tools/grade.cmake)
 // as a run's cache would hold them, and a run reads them there without writing there.
 // Witnesses: the prepared files are the cache's byte for byte; with them a run's cache

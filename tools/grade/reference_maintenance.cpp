@@ -63,11 +63,12 @@ int update_references(const Options& options) {
   if (!failures.empty()) throw Error("the solutions did not render:" + failures);
   fs::path dir = o.references.empty() ? default_references_dir() : o.references;
   const std::map<std::string, Image> allowances = filter_allowances(collected, variants);
-  write_references(dir, collected, allowances, reference_renderer);
-  std::printf("kit-grade: %zu references written to %s (%s), %zu with a filter allowance%s; check them with "
-              "--check-references\n",
+  const std::vector<std::string> changed = write_references(dir, collected, allowances, reference_renderer);
+  std::printf("kit-grade: %zu references in %s (%s), %zu with a filter allowance%s: %zu file(s) changed, the others "
+              "kept byte for byte; check them with --check-references\n",
               reference_renders().size(), dir.c_str(), reference_renderer.c_str(), allowances.size(),
-              llvmpipe ? "" : " (only llvmpipe renders the filter renderings)");
+              llvmpipe ? "" : " (only llvmpipe renders the filter renderings)", changed.size());
+  for (const std::string& file : changed) std::printf("  changed: %s\n", file.c_str());
   return 0;
 }
 

@@ -44,9 +44,14 @@ std::map<std::string, Image> filter_allowances(const std::map<std::string, Image
                                                const std::vector<std::map<std::string, Image>>& variants);
 
 // Writes the references (from the solutions' raw renders, by render id), their filter
-// allowances ("<id>.allowance.exr") and the manifest.
-void write_references(const std::filesystem::path& dir, const std::map<std::string, Image>& renders,
-                      const std::map<std::string, Image>& allowances, const std::string& renderer);
+// allowances ("<id>.allowance.exr") and the manifest, and removes the files of checks that
+// are gone. A file whose pixels read back the same as the new image's is left as it is,
+// byte for byte (an EXR written again differs in its bytes, and a course's history would
+// fill with files that did not change). Returns the names of the files written or removed.
+std::vector<std::string> write_references(const std::filesystem::path& dir,
+                                          const std::map<std::string, Image>& renders,
+                                          const std::map<std::string, Image>& allowances,
+                                          const std::string& renderer);
 
 // What rendered the references: the manifest's "renderer" ("" when it names none).
 std::string references_renderer(const std::filesystem::path& dir);
