@@ -342,15 +342,60 @@ def similarity(a, b):
     return dot / (aa * bb) ** 0.5 if aa > 0 and bb > 0 else 0.0
 
 
-def write_signatures(path, rows):
+def write_signatures(path, rows, labs=None):
+    """Writes the rows' signatures to PATH; with LABS (self-check --lab), those of the other labs are kept from the
+    file as it was. The file is left as it is, byte for byte, when its text would not change."""
     mistakes = [{"id": r.id, "lab": r.lab, "description": r.description, "family": r.family,
                  "signatures": encoded(r.signatures), "failed": sorted(r.failed_checks)}
-                for r in sorted(rows, key=lambda r: (r.lab, r.id))]
+                for r in rows]
+    if labs and path.is_file():
+        try:
+            kept = json.loads(path.read_text()).get("mistakes", [])
+        except ValueError:
+            kept = []
+        mistakes += [m for m in kept if m.get("lab") not in labs]
+    mistakes.sort(key=lambda m: (m["lab"], m["id"]))
     doc = {"about": "Where each catalogued mistake's error lies, check by check (tools/grade/diagnosis.h): written by "
                     "`kit grade --self-check --write-signatures`; kit-grade names the closest for a failed lab.",
            "mistakes": mistakes}
-    path.write_text(json.dumps(doc, separators=(",", ":")) + "\n")
+    text = json.dumps(doc, separators=(",", ":")) + "\n"
+    if path.is_file() and path.read_text() == text:
+        print(f"self-check: {len(mistakes)} mistakes' signatures unchanged in {path}")
+        return
+    path.write_text(text)
     print(f"self-check: {len(mistakes)} mistakes' signatures written to {path}")
+
+
+# What to do about a row that needs attention, for an instructor who has just changed a lab
+# (./kit rebaseline prints these; instructor/changing-a-lab.md explains them).
+NEXT_STEPS = {
+    "MISSED": "the mistake keeps full marks now. If the lab's new equation makes it correct, make the entry an "
+              "\"equivalent\" (or remove it); if it should still lose points, find a scene that shows it "
+              "(tools/scenes/scene_catalogue.cpp, a check in tools/grade/checks.cpp), or, where it only just passes, "
+              "tighten that check's tolerance in tools/grade/grading.json; else give it a \"known_gap\" saying why",
+    "FALSE-FAIL": "this equivalent loses points now: under the new equation it is no longer the same; make it a "
+                  "\"mistake\" with a family, or change its replace text to what is equivalent now",
+    "STALE": "its find text is no longer in the solution: rewrite the entry's edits against the new solution, "
+             "or remove the entry where the mistake cannot be made any more",
+    "BROKEN": "the edited solution does not compile or render: rewrite the entry's replace text against the "
+              "new solution",
+    "ERROR": "kit-grade did not run: see the lines above (is the build current? ./kit setup)",
+}
+
+
+def next_step(row):
+    if row.verdict == "OK" and row.known_gap and row.score is not None and row.score < row.max_score:
+        return "caught now: remove the entry's \"known_gap\""
+    return NEXT_STEPS.get(row.verdict, "")
+
+
+def write_json(path, rows, started):
+    """The rows as JSON (./kit rebaseline reads it): verdict, score, next step."""
+    doc = {"seconds": round(time.monotonic() - started, 1),
+           "rows": [{"id": r.id, "lab": r.lab, "kind": r.kind, "verdict": r.verdict, "score": r.score,
+                     "max_score": r.max_score, "known_gap": r.known_gap, "named": r.named,
+                     "details": r.details, "next_step": next_step(r)} for r in rows]}
+    path.write_text(json.dumps(doc, indent=1) + "\n")
 
 
 def ranked(row, candidates):
@@ -414,6 +459,8 @@ def main(argv=None):
     parser.add_argument("--write-signatures", type=Path, metavar="FILE",
                         help="write each caught mistake's signatures to FILE (tools/grade/references/mistakes.json"
                              " is the grader's) and print how well they name the mistakes")
+    parser.add_argument("--json", type=Path, metavar="FILE",
+                        help="also write the rows (verdict, score, next step) to FILE as JSON")
     parser.add_argument("--write", nargs=2, metavar=("ID", "DIR"),
                         help="only write entry ID's lab folder, edits applied, to DIR/NN-name/ (no grading; "
                              "instructor/handout_images.sh shows mistakes this way)")
@@ -504,7 +551,8 @@ def main(argv=None):
     print_table(rows, args.wide)
     if args.write_signatures:
         write_signatures(args.write_signatures,
-                         [r for r in rows if r.kind in ("mistake", "starter") and r.passed and r.status == "graded"])
+                         [r for r in rows if r.kind in ("mistake", "starter") and r.passed and r.status == "graded"],
+                         args.lab)
     caught = [r for r in rows if r.kind == "mistake" and r.passed and r.status == "graded"]
     if caught:
         print()
@@ -517,6 +565,8 @@ def main(argv=None):
             print(f"{r.verdict}: {r.id} (lab {r.lab}, {r.kind}) {fmt_score(r)}")
             for d in r.details:
                 print(f"    {d}")
+            if next_step(r):
+                print(f"    next step: {next_step(r)}")
     undetectable = catalogue.get("not_detectable", [])
     if undetectable and not args.only:
         shown = [u for u in undetectable if not args.lab or u.get("lab") in args.lab]
@@ -526,6 +576,8 @@ def main(argv=None):
                 print(f"  lab {u.get('lab')}: {u.get('id')}: {u.get('reason')}")
     mistakes = [r for r in rows if r.kind == "mistake"]
     equivalents = [r for r in rows if r.kind == "equivalent"]
+    if args.json:
+        write_json(args.json, rows, started)
     print()
     if args.validate:
         print(f"{len(rows) - len(failed)} passed, {len(failed)} failed (catalogue check only: entries whose edits"
