@@ -15,8 +15,10 @@
 #include <nlohmann/json.hpp>
 
 #include "gl/context.h"
-#include "sandbox.h"
 #include "images/image_io.h"
+#include "render/light_volumes.h"
+#include "render/stages.h"
+#include "sandbox.h"
 #include "scene/scene.h"
 
 namespace kit::grade {
