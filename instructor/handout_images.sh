@@ -13,11 +13,12 @@
 # tone-maps and enlarges them with oiiotool.
 #
 # The images are rendered into a temporary folder and replace handouts/images/*.png
-# only when every one of them was made.
+# only when every one of them was made, and then only those whose bytes changed.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-RENDER="$ROOT/build/default/tools/kit-render"
+BUILD="${KIT_BUILD_DIR:-$ROOT/build/default}"  # another build's programs, on this kit's files (./kit rebaseline --build)
+RENDER="$BUILD/tools/kit-render"
 OUT="$ROOT/handouts/images"
 SIZE=320x240
 SOL="$ROOT/solutions"
@@ -28,7 +29,7 @@ die() { echo "handout_images.sh: $*" >&2; exit 1; }
 command -v oiiotool >/dev/null || die "oiiotool not found (Debian package openimageio-tools)"
 
 export KIT_ROOT="$ROOT"
-export KIT_SCENE_DIR="$ROOT/build/default/scenes"
+export KIT_SCENE_DIR="$BUILD/scenes"
 TMP="$(mktemp -d "${TMPDIR:-/tmp}/handout-images.XXXXXX")"
 trap 'rm -rf "$TMP"' EXIT
 RAW="$TMP/raw"    # kit-render's output (RGBA, maybe larger than 320x240)
@@ -307,8 +308,15 @@ spawn oiiotool --nosoftwareattrib -i "$VIEWS/lab6-brdf-lut.png" --ch R=R,G=R,B=R
 wait_all
 finish_all
 
+# Only the images whose bytes changed are replaced (and those no longer made removed), so that
+# a run after a change that moved no pixel leaves the folder as it was (./kit rebaseline).
 mkdir -p "$OUT"
-rm -f "$OUT"/*.png
 made=("$NEW"/*.png)
-cp "${made[@]}" "$OUT"/
-echo "handout_images.sh: ${#made[@]} images written to $OUT"
+changed=0
+for f in "$OUT"/*.png; do
+  [ -e "$f" ] && [ ! -e "$NEW/$(basename "$f")" ] && { rm -f "$f"; changed=$((changed + 1)); }
+done
+for f in "${made[@]}"; do
+  cmp -s "$f" "$OUT/$(basename "$f")" || { cp "$f" "$OUT/"; changed=$((changed + 1)); }
+done
+echo "handout_images.sh: ${#made[@]} images in $OUT, $changed changed"

@@ -18,7 +18,7 @@ Two rules, on the files of COPY (a folder written by ./kit student-copy):
    .vert) under labs/, shaders/ and solutions/. Instructor-only: the instructor/
    folder, handouts/instructors.md, the instructors' programs and scripts
    (kit-bench, measure.sh, self_check.py, ...), the commands a copy refuses
-   (./kit bench, student-copy, gradescope-package, handout-images), kit-grade's
+   (./kit bench, student-copy, gradescope-package, handout-images, rebaseline), kit-grade's
    --self-check and --batch, and the notes' private names ("seed 000"), which a
    student cannot look up.
 
@@ -38,7 +38,7 @@ SHADER_FOLDERS = ("labs", "shaders", "solutions")
 FORBIDDEN = [
     (re.compile(r"(?<![\w.-])instructor/"), "names the instructor/ folder, which a copy does not have"),
     (re.compile(r"\binstructors\.md\b"), "names handouts/instructors.md, which a copy does not have"),
-    (re.compile(r"\./kit\s+(bench|student-copy|gradescope-package|handout-images)\b"),
+    (re.compile(r"\./kit\s+(bench|student-copy|gradescope-package|handout-images|rebaseline)\b"),
      "names an instructor command, which a copy refuses"),
     (re.compile(r"(?<![\w-])kit-bench\b"), "names kit-bench, the instructors' benchmark (not in a copy)"),
     (re.compile(r"--self-check\b"), "names kit-grade --self-check, an instructor option"),

@@ -1,0 +1,240 @@
+#!/usr/bin/env python3
+"""./kit rebaseline [--labs N[,M...]] [--no-tests]: re-makes what follows from a change to a lab's
+solution, equation or checks, in the order each step needs, and reports what changed and what
+needs a decision (instructor/changing_a_lab/README.md explains every line).
+
+  1. references: kit-grade --update-references (the solutions rendered again, the filter
+     allowances with them); a file whose pixels did not change is kept byte for byte;
+  2. the self-check with signatures (./kit grade --self-check --write-signatures): the catalogue
+     graded against the new solutions; with --labs, those labs and every later one, which are
+     assembled on them (common/render/stages.h);
+  3. the handout figures that follow from grading (instructor/handout_figures.py), written again;
+  4. the handout images (./kit handout-images); an image whose bytes did not change is kept;
+  5. the calls between labs (which lab's solution calls which other lab's functions), the
+     table in instructor/changing_a_lab/README.md written again;
+  6. the quick tests (./kit test --quick), unless --no-tests.
+
+Then the report: the files each step changed, the catalogue entries that now need a decision
+with the next step for each, the handout figures that changed, and the tests' verdict.
+Exit status 0 when every step ran and nothing needs a decision, 1 otherwise.
+
+    rebaseline.py --calls-table     print the calls table alone (Markdown)
+    rebaseline.py --build DIR       the programs of another build of the kit (default: this kit's
+                                    build/default); they read this kit's files (KIT_ROOT)
+"""
+import argparse
+import hashlib
+import json
+import os
+import pathlib
+import re
+import subprocess
+import sys
+import tempfile
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+WATCHED = {"references": ROOT / "tools/grade/references", "handout images": ROOT / "handouts/images"}
+CALLS_DOC = ROOT / "instructor" / "changing_a_lab" / "README.md"
+CALLS_BEGIN, CALLS_END = "<!-- calls table: written by ./kit rebaseline -->", "<!-- /calls table -->"
+
+
+def stage_table():
+    """[(number, folder, [files])] from common/render/stages.cpp's kStages rows."""
+    text = (ROOT / "common/render/stages.cpp").read_text(encoding="utf-8")
+    rows = re.findall(r'\{(\d+), "[a-z]+", "(\d\d-[a-z]+)", \{([^}]*)\}', text)
+    return [(int(n), folder, re.findall(r'"([^"]+)"', files)) for n, folder, files in rows]
+
+
+# A GLSL function definition at the start of a line: return type, name, parameters, brace.
+DEFINITION = re.compile(r"^(?:float|vec[234]|int|bool|mat[234]|void)\s+([a-z_][a-z0-9_]*)\s*\([^;{]*\)\s*\{", re.M)
+
+
+def calls_table():
+    """For each lab's solution file that calls a function of another lab's file, (lab, its file, the
+    other lab, that file, [functions]), from the solutions' own text: which function each file
+    defines, and where another lab's file calls it. The call reaches that lab's solution in the
+    stages from the later of the two on (stage_library); before, the framework's stand-in in
+    shaders/ where there is one (lab 2 calls light_radiance, which lab 3 writes)."""
+    stages = stage_table()
+    defined = {}  # function -> (lab, file)
+    for number, folder, files in stages:
+        for name in files:
+            path = ROOT / "solutions" / folder / name
+            if path.is_file():
+                for function in DEFINITION.findall(path.read_text(encoding="utf-8")):
+                    if function != "main":
+                        defined.setdefault(function, (number, name))
+    rows = []
+    for number, folder, files in stages:
+        for name in files:
+            path = ROOT / "solutions" / folder / name
+            if not path.is_file():
+                continue
+            text = re.sub(r"//[^\n]*", "", path.read_text(encoding="utf-8"))
+            called = {}
+            for function, (lab, file) in defined.items():
+                if lab != number and re.search(rf"\b{function}\s*\(", text):
+                    called.setdefault((lab, file), []).append(function)
+            for (lab, file), functions in sorted(called.items()):
+                rows.append((number, name, lab, file, sorted(functions)))
+    # The framework's own passes (shaders/) that call a lab's function: number 0.
+    for path in sorted((ROOT / "shaders").glob("*.*")):
+        if path.suffix in (".frag", ".vert", ".glsl"):
+            text = re.sub(r"//[^\n]*", "", path.read_text(encoding="utf-8"))
+            called, own = {}, set(DEFINITION.findall(text))
+            for function, (lab, file) in defined.items():
+                if function not in own and re.search(rf"\b{function}\s*\(", text):
+                    called.setdefault((lab, file), []).append(function)
+            for (lab, file), functions in sorted(called.items()):
+                rows.append((0, path.name, lab, file, sorted(functions)))
+    return rows
+
+
+def calls_markdown():
+    lines = ["| lab | its solution's file | calls, of lab | that lab's file | functions | in stages |",
+             "|---|---|---|---|---|---|"]
+    last = stage_table()[-1][0]
+    for number, name, lab, file, functions in calls_table():
+        who = f"{number} | `{name}`" if number else f"framework | `shaders/{name}`"
+        lines.append(f"| {who} | {lab} | `{file}` | {', '.join(f'`{f}`' for f in functions)} "
+                     f"| {max(number, lab)}–{last} |")
+    return "\n".join(lines)
+
+
+def write_calls_doc():
+    """Writes the calls table into instructor/changing-a-lab.md between its markers; True when it changed."""
+    text = CALLS_DOC.read_text(encoding="utf-8")
+    start, end = text.index(CALLS_BEGIN) + len(CALLS_BEGIN), text.index(CALLS_END)
+    new = text[:start] + "\n" + calls_markdown() + "\n" + text[end:]
+    if new != text:
+        CALLS_DOC.write_text(new, encoding="utf-8")
+    return new != text
+
+
+def hashes():
+    out = {}
+    for label, folder in WATCHED.items():
+        for path in sorted(folder.glob("*")):
+            if path.is_file():
+                out[str(path.relative_to(ROOT))] = hashlib.sha256(path.read_bytes()).hexdigest()
+    return out
+
+
+def step(number, title):
+    print(f"\nrebaseline: step {number}/6: {title}", flush=True)
+
+
+def run(cmd, **kwargs):
+    """Runs a step's command, its output shown as it comes; returns its exit status."""
+    print("  $ " + " ".join(str(c) for c in cmd), flush=True)
+    return subprocess.run([str(c) for c in cmd], cwd=ROOT, **kwargs).returncode
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--labs", help="the labs changed, comma-separated (default: every lab)")
+    parser.add_argument("--no-tests", action="store_true", help="leave out step 6, the quick tests")
+    parser.add_argument("--calls-table", action="store_true", help="print the calls table and exit")
+    parser.add_argument("--build", type=pathlib.Path, default=ROOT / "build" / "default",
+                        help="the build whose programs run (default: build/default)")
+    args = parser.parse_args(argv)
+    kit_grade = args.build.resolve() / "tools" / "kit-grade"
+    if args.calls_table:
+        print(calls_markdown())
+        return 0
+    numbers = [n for n, _, _ in stage_table()]
+    labs = numbers
+    if args.labs:
+        try:
+            first = min(int(x) for x in args.labs.split(","))
+        except ValueError:
+            parser.error(f"--labs takes lab numbers, comma-separated (got '{args.labs}')")
+        # A lab's solution is part of every later stage (stage_library), so those are graded again too.
+        labs = [n for n in numbers if n >= first]
+    started, problems = time.monotonic(), []
+    env = dict(os.environ, KIT_ROOT=str(ROOT), KIT_SCENE_DIR=str(args.build.resolve() / "scenes"),
+               KIT_BUILD_DIR=str(args.build.resolve()))
+    before = hashes()
+
+    step(1, "references (kit-grade --update-references)")
+    if run([kit_grade, "--update-references"], env=env) != 0:
+        problems.append("kit-grade --update-references failed: the solutions do not render (see above)")
+        return report(before, None, [], problems, started)
+
+    step(2, f"self-check with signatures, labs {','.join(map(str, labs))}")
+    rows_file = pathlib.Path(tempfile.mkstemp(prefix="kit-rebaseline-", suffix=".json")[1])
+    lab_args = [a for n in labs for a in ("--lab", str(n))] if args.labs else []
+    status = run([sys.executable, ROOT / "instructor/grading/self_check.py", "--kit-grade", kit_grade,
+                  "--write-signatures", ROOT / "tools/grade/references/mistakes.json", "--json", rows_file, *lab_args],
+                 env=env, stdout=subprocess.DEVNULL)
+    try:
+        rows = json.loads(rows_file.read_text())["rows"]
+    except (OSError, ValueError, KeyError):
+        rows = []
+        problems.append(f"the self-check wrote no results (exit {status}): run ./kit grade --self-check to see why")
+    rows_needing = [r for r in rows if r.get("next_step")]
+    if status != 0 and rows and not rows_needing:
+        problems.append(f"the self-check exited {status}: run ./kit grade --self-check to see why")
+    if rows:
+        failed = sum(r["verdict"] not in ("OK", "GAP") for r in rows)
+        print(f"  {len(rows)} rows graded, {failed} failed")
+
+    step(3, "handout figures (instructor/handout_figures.py --write)")
+    figures = subprocess.run([sys.executable, ROOT / "instructor/handout_figures.py", "--write",
+                              *(["--self-check-json", rows_file] if rows else [])],
+                             cwd=ROOT, capture_output=True, text=True)
+    print(figures.stdout, end="")
+    if figures.returncode != 0:
+        problems.append("handout figures: " + (figures.stdout + figures.stderr).strip())
+    figure_changes = [line.split("written: ", 1)[1] for line in figures.stdout.splitlines() if "written: " in line]
+    rows_file.unlink(missing_ok=True)
+
+    step(4, "handout images (./kit handout-images)")
+    if run([ROOT / "instructor/handout_images.sh"], env=env, stdout=subprocess.DEVNULL) != 0:
+        problems.append("./kit handout-images failed (see above)")
+
+    step(5, "the calls between labs (instructor/changing_a_lab/README.md)")
+    calls_changed = write_calls_doc()
+    print(f"  the calls table {'changed' if calls_changed else 'is unchanged'}")
+
+    tests = "not run (--no-tests)"
+    if not args.no_tests:
+        step(6, "quick tests (./kit test --quick)")
+        status = run(["ctest", "--test-dir", args.build, "--label-exclude", "slow", "-j", "2"],
+                     stdout=subprocess.DEVNULL)
+        tests = "passed" if status == 0 else "FAILED: run ./kit test --quick to see which"
+        if status != 0:
+            problems.append("the quick tests failed")
+    return report(before, rows_needing, figure_changes, problems, started, tests, calls_changed)
+
+
+def report(before, rows_needing, figure_changes, problems, started, tests="not run", calls_changed=False):
+    after = hashes()
+    changed = sorted(p for p in set(before) | set(after) if before.get(p) != after.get(p))
+    print("\nrebaseline: report")
+    for label, folder in WATCHED.items():
+        prefix = str(folder.relative_to(ROOT)) + "/"
+        mine = [p[len(prefix):] + ("" if p in after else " (removed)") + ("" if p in before else " (new)")
+                for p in changed if p.startswith(prefix)]
+        print(f"  {label} changed: {len(mine)}" + "".join(f"\n    {m}" for m in mine))
+    print(f"  handout figures changed: {len(figure_changes)}" + "".join(f"\n    {f}" for f in figure_changes))
+    if calls_changed:
+        print("  the calls table in instructor/changing_a_lab/README.md changed: a lab calls other functions now")
+    if rows_needing is not None:
+        print(f"  catalogue entries that need a decision: {len(rows_needing)}")
+        for r in rows_needing:
+            score = f"{r['score']:g}/{r['max_score']:g}" if r.get("score") is not None else "-"
+            print(f"    {r['verdict']}: {r['id']} (lab {r['lab']}, {r['kind']}, {score})\n      next step: {r['next_step']}")
+    print(f"  quick tests: {tests}")
+    for p in problems:
+        print(f"  problem: {p}")
+    print(f"rebaseline: {time.monotonic() - started:.0f} s; "
+          + ("nothing needs a decision" if not problems and not rows_needing else "see above")
+          + ("; commit the changed files with the change that made them" if changed or figure_changes else
+             "; no file changed"))
+    return 1 if problems or rows_needing else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# The worked example of instructor/changing_a_lab/README.md, end to end: lab 2's geometric
+# term replaced by Smith's with Schlick-GGX (smith_schlick_ggx.patch: the solution, the
+# starter, the handout's formula, the CPU reference, lab 6's call and the catalogue entries),
+# then the one command, ./kit rebaseline, on a copy of this kit with this build's programs.
+#   1. the patch applies to the kit as it is (a change to lab 2 or 6 that breaks it fails here:
+#      make the patch again against the new files);
+#   2. witness: before the rebaseline, the new solution loses points against the old references;
+#   3. rebaseline --labs 2 --no-tests exits 0: references and signatures made again, the
+#      self-check of labs 2-7 passes, nothing needs a decision;
+#   4. then the new solutions of labs 2 and 6 get full marks, and the kit's own lab 2 (the
+#      min(1, ...) term) loses points.
+# Run: changing_a_lab_test.sh BUILD_DIR WORK_DIR
+set -uo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+BUILD="$(cd "$1" && pwd)"
+WORK="$2"
+GRADE="$BUILD/tools/kit-grade"
+failures=0 passed=0
+fail() { echo "FAIL: $*"; failures=$((failures + 1)); }
+ok() { echo "ok: $*"; passed=$((passed + 1)); }
+
+rm -rf "$WORK" && mkdir -p "$WORK/kit"
+# The kit as it is now (tracked and new files, not the build), as an instructor's checkout holds it.
+(cd "$ROOT" && git ls-files -co --exclude-standard -z | xargs -0 cp --parents -t "$WORK/kit") ||
+  { echo "FAIL: cannot copy the kit"; exit 1; }
+rm -rf "$WORK/kit/build"
+COPY="$WORK/kit"
+
+if (cd "$COPY" && git apply "$ROOT/instructor/changing_a_lab/smith_schlick_ggx.patch"); then
+  ok "the patch applies"
+else
+  echo "FAIL: instructor/changing_a_lab/smith_schlick_ggx.patch no longer applies: make it again against the kit's files"
+  exit 1
+fi
+
+# score SUBMISSION LAB: the lab's score/max from kit-grade run on the copy.
+score() {
+  local out="$WORK/grade-$RANDOM"
+  KIT_ROOT="$COPY" KIT_SCENE_DIR="$BUILD/scenes" "$GRADE" "$1" --labs "$2" --out "$out" --jobs 2 >"$out.log" 2>&1
+  python3 -c 'import json,sys; l=json.load(open(sys.argv[1]))["labs"][sys.argv[2]]; print("%g/%g" % (l["score"], l["max_score"]))' \
+    "$out/summary.json" "$2" 2>/dev/null || echo "no-summary(see $out.log)"
+}
+submission() {  # submission NAME FOLDER: a submission holding FOLDER (a lab folder) as it is
+  mkdir -p "$WORK/$1" && cp -r "$2" "$WORK/$1/" && echo "$WORK/$1"
+}
+new_lab2="$(submission new "$COPY/solutions/02-lighting")"
+old_lab2="$(submission old "$ROOT/solutions/02-lighting")"
+
+before="$(score "$new_lab2" 2)"
+[ "$before" != "10/10" ] && [ "${before#no-summary}" = "$before" ] && ok "witness: before the rebaseline the new solution scores $before" ||
+  fail "witness: the new solution scored $before against the old references: the patch changes nothing the grader sees"
+
+start=$SECONDS
+if python3 "$COPY/instructor/changing_a_lab/rebaseline.py" --labs 2 --no-tests --build "$BUILD" >"$WORK/rebaseline.log" 2>&1; then
+  ok "rebaseline --labs 2 exited 0 ($((SECONDS - start)) s): $(tail -n 1 "$WORK/rebaseline.log")"
+else
+  fail "rebaseline --labs 2 exited non-zero; its report:"
+  sed -n '/rebaseline: report/,$p' "$WORK/rebaseline.log"
+fi
+grep -q "catalogue entries that need a decision: 0" "$WORK/rebaseline.log" && ok "no catalogue entry needs a decision" ||
+  fail "the report names catalogue entries to decide on"
+grep -q "references changed: [1-9]" "$WORK/rebaseline.log" && ok "the report lists the changed references" ||
+  fail "the report names no changed reference"
+
+after="$(score "$new_lab2" 2)"
+[ "$after" = "10/10" ] && ok "after it the new lab 2 solution scores 10/10" || fail "the new lab 2 solution scores $after"
+lab6="$(score "$COPY/solutions" 6)"
+[ "$lab6" = "10/10" ] && ok "and the new lab 6 solution (its BRDF table calls geometry_smith) 10/10" ||
+  fail "the new lab 6 solution scores $lab6"
+old="$(score "$old_lab2" 2)"
+[ "$old" != "10/10" ] && [ "${old#no-summary}" = "$old" ] && ok "the kit's own lab 2, min(1, ...), scores $old" ||
+  fail "the old lab 2 solution scores $old: it should lose points"
+
+echo "$passed passed, $failures failed"
+[ "$failures" -eq 0 ]
