@@ -27,6 +27,17 @@ target_include_directories(kit_web_headers SYSTEM INTERFACE ${KIT_WEB_INCLUDE})
 # glm's own definitions, as its CMake package sets them on the desktop (none needed here).
 add_library(glm::glm ALIAS kit_web_headers)
 
+# Debian's emscripten runs its JavaScript optimiser (at every link) with the node of its
+# config (/usr/share/emscripten/.emscripten: /usr/bin/node) and Debian's node-acorn,
+# installed under /usr/share/nodejs, where Debian's nodejs looks by itself but a nodejs
+# from elsewhere (NodeSource's 20.x, say) does not: "Cannot find module 'acorn'". The
+# links are run with that folder on NODE_PATH.
+set(kit_node_path /usr/share/nodejs)
+if(NOT "$ENV{NODE_PATH}" STREQUAL "")
+  string(APPEND kit_node_path ":$ENV{NODE_PATH}")
+endif()
+set(CMAKE_CXX_LINKER_LAUNCHER env "NODE_PATH=${kit_node_path}")
+
 # The kit reports every problem as a thrown kit::Error; emscripten's default catches no
 # exception at all (an abort), so every file compiles and links with its exceptions.
 add_compile_options(-fexceptions)
