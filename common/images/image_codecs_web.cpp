@@ -2,11 +2,14 @@
 // there instead of image_codecs.cpp and openimageio_formats.cpp): libpng, OpenEXR and
 // OpenImageIO have no WebAssembly build among Debian's packages, and emscripten's ports
 // of them download their sources. PNG, JPEG and Radiance .hdr are decoded by stb_image
-// (Debian's libstb-dev, header only); OpenEXR and writing images are refused by name.
+// (Debian's libstb-dev, header only); OpenEXR scan-line files (the kit's environments
+// and its written images: uncompressed, ZIPS or ZIP, half, float or uint channels) by
+// read_exr below, inflating with stb_image's zlib decoder. Writing images is refused.
 #include "images/image_codecs.h"
 #include "images/openimageio_formats.h"
 
 #include <algorithm>
+#include <cstdint>
 #include <cstring>
 #include <memory>
 
@@ -158,13 +161,181 @@ Image read_png(const std::string& path) {
   return image;
 }
 
-void write_png(const std::string& path, const Image&, PngEffort) {
-  throw Error(path + ": the browser build writes no image files (it shows them in its canvas)");
+namespace {
+
+// OpenEXR's half (IEEE 754 binary16) as a float, exactly: subnormals, infinities and NaNs
+// included, as OpenEXR's own conversion gives them.
+float half_to_float(uint16_t h) {
+  const uint32_t sign = static_cast<uint32_t>(h & 0x8000u) << 16;
+  uint32_t exponent = (h >> 10) & 0x1Fu, mantissa = h & 0x3FFu, bits;
+  if (exponent == 0x1F) {
+    bits = sign | 0x7F800000u | (mantissa << 13);
+  } else if (exponent != 0) {
+    bits = sign | ((exponent + 112) << 23) | (mantissa << 13);
+  } else if (mantissa == 0) {
+    bits = sign;
+  } else {  // subnormal: normalised in float's wider exponent range
+    exponent = 113;
+    while (!(mantissa & 0x400u)) {
+      mantissa <<= 1;
+      --exponent;
+    }
+    bits = sign | (exponent << 23) | ((mantissa & 0x3FFu) << 13);
+  }
+  float f;
+  std::memcpy(&f, &bits, sizeof f);
+  return f;
 }
 
-Image read_exr(const std::string& path, int, int) {
-  throw Error(path + ": OpenEXR is not in the browser build (Debian has no WebAssembly build of it); use a "
-              "Radiance .hdr or a PNG");
+// Little-endian reads from a file's bytes, each checked against its end.
+struct ExrBytes {
+  const std::vector<unsigned char>& bytes;
+  const std::string& path;
+  size_t at = 0;
+  void need(size_t n) const {
+    if (at > bytes.size() || bytes.size() - at < n) throw Error(path + ": the EXR ends early (cannot read it)");
+  }
+  uint32_t u32() {
+    need(4);
+    uint32_t v = 0;
+    for (int i = 3; i >= 0; --i) v = (v << 8) | bytes[at + static_cast<size_t>(i)];
+    at += 4;
+    return v;
+  }
+  int32_t i32() { return static_cast<int32_t>(u32()); }
+  uint64_t u64() {
+    const uint64_t low = u32();
+    return low | (static_cast<uint64_t>(u32()) << 32);
+  }
+  std::string name() {
+    const size_t end = std::find(bytes.begin() + static_cast<std::ptrdiff_t>(std::min(at, bytes.size())), bytes.end(), 0) -
+                       bytes.begin();
+    if (end >= bytes.size()) throw Error(path + ": the EXR's header is cut short");
+    std::string s(bytes.begin() + static_cast<std::ptrdiff_t>(at), bytes.begin() + static_cast<std::ptrdiff_t>(end));
+    at = end + 1;
+    return s;
+  }
+};
+
+struct ExrChannel {
+  std::string name;
+  int type = 0;  // 0 uint, 1 half, 2 float
+  int x_sampling = 1, y_sampling = 1;
+  size_t bytes() const { return type == 1 ? 2 : 4; }
+};
+
+}  // namespace
+
+Image read_exr(const std::string& path, int max_width, int max_height) {
+  const std::vector<unsigned char> bytes = read_whole(path);
+  ExrBytes in{bytes, path};
+  if (in.u32() != 20000630u) throw Error(path + ": not an OpenEXR file");
+  const uint32_t version = in.u32();
+  if ((version & 0xFFu) != 2 || (version & 0x1A00u))  // tiled, deep or multi-part
+    throw Error(path + ": a tiled, deep or multi-part EXR (the browser build reads scan-line images only)");
+  std::vector<ExrChannel> channels;
+  int compression = -1;
+  int32_t box[4] = {0, 0, -1, -1};
+  for (std::string attribute = in.name(); !attribute.empty(); attribute = in.name()) {
+    const std::string type = in.name();
+    const uint32_t size = in.u32();
+    in.need(size);
+    const size_t end = in.at + size;
+    if (attribute == "channels" && type == "chlist") {
+      for (std::string channel = in.name(); !channel.empty() && in.at < end; channel = in.name()) {
+        ExrChannel c;
+        c.name = channel;
+        c.type = in.i32();
+        in.u32();  // pLinear and reserved bytes
+        c.x_sampling = in.i32();
+        c.y_sampling = in.i32();
+        if (c.type < 0 || c.type > 2) throw Error(path + ": channel " + channel + " has an unknown pixel type");
+        channels.push_back(c);
+      }
+    } else if (attribute == "compression" && size >= 1) {
+      compression = bytes[in.at];
+    } else if (attribute == "dataWindow" && size >= 16) {
+      for (int32_t& v : box) v = in.i32();
+    }
+    in.at = end;
+  }
+  // Lines a chunk holds: uncompressed and ZIPS one, ZIP sixteen.
+  const int lines_per_chunk = compression == 0 || compression == 2 ? 1 : compression == 3 ? 16 : 0;
+  if (lines_per_chunk == 0)
+    throw Error(path + ": EXR compression " + std::to_string(compression) +
+                " (the browser build reads uncompressed, ZIPS and ZIP EXRs; the kit writes ZIP)");
+  const long width = static_cast<long>(box[2]) - box[0] + 1, height = static_cast<long>(box[3]) - box[1] + 1;
+  if (width < 1 || height < 1 || width > max_width || height > max_height)
+    throw Error(path + ": the image is " + std::to_string(width) + "x" + std::to_string(height) + " pixels (at most " +
+                std::to_string(max_width) + "x" + std::to_string(max_height) + ")");
+  // The channels read, as read_exr on the desktop takes them: R, G, B, A, else a lone one.
+  std::vector<int> wanted;  // index in `channels` of each output channel
+  for (const char* name : {"R", "G", "B", "A"})
+    for (size_t i = 0; i < channels.size(); ++i)
+      if (channels[i].name == name) wanted.push_back(static_cast<int>(i));
+  if (wanted.empty() && channels.size() == 1) wanted.push_back(0);
+  if (wanted.empty()) throw Error(path + ": an EXR without R, G, B, A or a single grey channel");
+  for (const ExrChannel& c : channels)
+    if (c.x_sampling != 1 || c.y_sampling != 1)
+      throw Error(path + ": channel " + c.name + " is subsampled (the kit reads full-resolution channels only)");
+  size_t line_bytes = 0;
+  for (const ExrChannel& c : channels) line_bytes += c.bytes() * static_cast<size_t>(width);
+
+  Image image(static_cast<int>(width), static_cast<int>(height), static_cast<int>(wanted.size()));
+  const long chunks = (height + lines_per_chunk - 1) / lines_per_chunk;
+  std::vector<uint64_t> offsets(static_cast<size_t>(chunks));
+  for (uint64_t& offset : offsets) offset = in.u64();
+  std::vector<unsigned char> inflated, data;
+  for (uint64_t offset : offsets) {
+    in.at = static_cast<size_t>(std::min<uint64_t>(offset, bytes.size()));
+    const long first = static_cast<long>(in.i32()) - box[1];
+    const uint32_t size = in.u32();
+    in.need(size);
+    if (first < 0 || first >= height) throw Error(path + ": a chunk of the EXR lies outside its image");
+    const long lines = std::min<long>(lines_per_chunk, height - first);
+    const size_t expected = line_bytes * static_cast<size_t>(lines);
+    const char* packed = reinterpret_cast<const char*>(bytes.data() + in.at);
+    if (size < expected) {  // ZIP(S): zlib, then OpenEXR's byte predictor and interleaving undone
+      inflated.resize(expected);
+      if (stbi_zlib_decode_buffer(reinterpret_cast<char*>(inflated.data()), static_cast<int>(expected), packed,
+                                  static_cast<int>(size)) != static_cast<int>(expected))
+        throw Error(path + ": a chunk of the EXR does not inflate to its size");
+      for (size_t i = 1; i < expected; ++i) inflated[i] = static_cast<unsigned char>(inflated[i - 1] + inflated[i] - 128);
+      data.resize(expected);
+      const size_t half = (expected + 1) / 2;
+      for (size_t i = 0; i < expected; ++i) data[i] = inflated[i % 2 == 0 ? i / 2 : half + i / 2];
+    } else {
+      data.assign(bytes.begin() + static_cast<std::ptrdiff_t>(in.at),
+                  bytes.begin() + static_cast<std::ptrdiff_t>(in.at + expected));
+    }
+    // Each line holds every channel's values in the header's (alphabetical) order.
+    size_t at = 0;
+    for (long line = 0; line < lines; ++line) {
+      float* row = image.pixels.data() + static_cast<size_t>(first + line) * static_cast<size_t>(width) * wanted.size();
+      for (size_t c = 0; c < channels.size(); ++c) {
+        const auto out = std::find(wanted.begin(), wanted.end(), static_cast<int>(c));
+        const size_t slot = static_cast<size_t>(out - wanted.begin());
+        for (long x = 0; x < width; ++x, at += channels[c].bytes()) {
+          if (out == wanted.end()) continue;
+          float value;
+          if (channels[c].type == 1) {
+            value = half_to_float(static_cast<uint16_t>(data[at] | (data[at + 1] << 8)));
+          } else {
+            uint32_t v = 0;
+            for (int i = 3; i >= 0; --i) v = (v << 8) | data[at + static_cast<size_t>(i)];
+            if (channels[c].type == 2) std::memcpy(&value, &v, sizeof value);
+            else value = static_cast<float>(v);
+          }
+          row[static_cast<size_t>(x) * wanted.size() + slot] = value;
+        }
+      }
+    }
+  }
+  return image;
+}
+
+void write_png(const std::string& path, const Image&, PngEffort) {
+  throw Error(path + ": the browser build writes no image files (it shows them in its canvas)");
 }
 
 void write_exr(const std::string& path, const Image&) {

@@ -61,6 +61,10 @@ EMSCRIPTEN_WEBGL_CONTEXT_HANDLE make_context(int width, int height) {
 // writer makes them (kit::to_unorm8), uploaded and copied 1:1 into the default framebuffer.
 void show(const kit::Image& image) {
   const int w = image.width, h = image.height, n = image.channels;
+  // Stage 6's precomputed maps have sizes of their own: the canvas takes the image's.
+  int canvas_w = 0, canvas_h = 0;
+  emscripten_get_canvas_element_size("#canvas", &canvas_w, &canvas_h);
+  if (canvas_w != w || canvas_h != h) emscripten_set_canvas_element_size("#canvas", w, h);
   std::vector<unsigned char> rgba(static_cast<size_t>(w) * h * 4, 255);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
