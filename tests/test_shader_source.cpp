@@ -498,4 +498,81 @@ TEST_F(ShaderSourceGl, LinkErrorIsReported) {
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
+// GLSL ES 3.00 for the browser build (translate_to_glsl_es): plain text, so tested here
+// on the desktop through a library whose target is set to it.
+using ShaderSourceEs = ShaderSourceTest;
+
+TEST_F(ShaderSourceEs, DesktopTargetKeepsTheTextAsWritten) {
+  write("lab", "main.frag", kVersion + "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
+  ShaderLibrary lib = library({"lab"});
+  EXPECT_EQ(lib.target(), kit::ShaderTarget::Glsl330Core);
+  EXPECT_EQ(lib.assemble("main.frag").text, kVersion + "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
+}
+
+TEST_F(ShaderSourceEs, VersionLineAndPrecisionsWithoutShiftingLines) {
+  write("lab", "inc.glsl", "float helper() { return 1.0; }\n");
+  write("lab", "main.frag", kVersion + "#include \"inc.glsl\"\nout vec4 c;\nvoid main() { c = vec4(helper()); }\n");
+  ShaderLibrary lib = library({"lab"});
+  lib.set_target(kit::ShaderTarget::GlslEs300);
+  lib.set_define("KIT_SWITCH", true);  // named nowhere: no #define line
+  const kit::AssembledShader s = lib.assemble("main.frag");
+  const std::string expected = std::string(kit::kGlslEsVersionLine) + "\n" + kit::kGlslEsPrecisions + "\n" +
+                               "float helper() { return 1.0; }\nout vec4 c;\nvoid main() { c = vec4(helper()); }\n";
+  EXPECT_EQ(s.text, expected);
+  ASSERT_EQ(s.lines.size(), 5u);
+  // The precision line counts as the version line; the rest keep their files and lines.
+  EXPECT_EQ(s.map_log("0:2(1): error: a"), "lab/main.frag:1:1: error: a\n");
+  EXPECT_EQ(s.map_log("0:3(5): error: b"), "lab/inc.glsl:1:5: error: b\n");
+  EXPECT_EQ(s.map_log("0:5(1): error: c"), "lab/main.frag:4:1: error: c\n");
+  // ANGLE, WebGL's compiler, writes "ERROR: 0:LINE: ...".
+  EXPECT_EQ(s.map_log("ERROR: 0:4: 'c' : undeclared identifier"), "lab/main.frag:3: error: 'c' : undeclared identifier\n");
+  EXPECT_EQ(s.map_log("WARNING: 0:3: 'x' : unused"), "lab/inc.glsl:1: warning: 'x' : unused\n");
+}
+
+TEST_F(ShaderSourceEs, DefinesStayAfterTheVersionLine) {
+  write("lab", "main.frag", kVersion + "#ifdef KIT_SWITCH\nout vec4 c;\n#endif\nvoid main() {}\n");
+  ShaderLibrary lib = library({"lab"});
+  lib.set_target(kit::ShaderTarget::GlslEs300);
+  lib.set_define("KIT_SWITCH", true);
+  const kit::AssembledShader s = lib.assemble("main.frag");
+  EXPECT_EQ(s.text.rfind(std::string(kit::kGlslEsVersionLine) + "\n", 0), 0u) << s.text;
+  EXPECT_NE(s.text.find("#define KIT_SWITCH\n"), std::string::npos) << s.text;
+  EXPECT_EQ(s.map_log("0:4(1): error: d"), "lab/main.frag:2:1: error: d\n");
+}
+
+TEST_F(ShaderSourceEs, MissingConstructsAreRefusedByFileLineAndName) {
+  write("lab", "inc.glsl", "// a sampler1D in a comment is fine\n/* and double\n here */ float f;\nuniform sampler1D ramp;\n");
+  write("lab", "main.frag", kVersion + "#include \"inc.glsl\"\nvoid main() {}\n");
+  ShaderLibrary lib = library({"lab"});
+  lib.set_target(kit::ShaderTarget::GlslEs300);
+  const std::string m = error_of([&] { lib.assemble("main.frag"); });
+  EXPECT_NE(m.find("lab/inc.glsl:4: sampler1D is not in GLSL ES 3.00"), std::string::npos) << m;
+  for (const std::string construct : {"double", "dvec3", "noperspective", "gl_ClipDistance", "texture1D", "samplerBuffer",
+                                      "sampler2DRect", "gl_FragColor"}) {
+    write("lab", "main.frag", kVersion + "void main() {\n  " + construct + " x;\n}\n");
+    const std::string e = error_of([&] { lib.assemble("main.frag"); });
+    EXPECT_NE(e.find("lab/main.frag:3: " + construct + " is not in GLSL ES 3.00"), std::string::npos) << e;
+  }
+  // A word that only contains a refused one is fine, as is the desktop target.
+  write("lab", "main.frag", kVersion + "float doubled;\nvoid main() {}\n");
+  EXPECT_NO_THROW(lib.assemble("main.frag"));
+  lib.set_target(kit::ShaderTarget::Glsl330Core);
+  write("lab", "main.frag", kVersion + "uniform sampler1D ramp;\nvoid main() {}\n");
+  EXPECT_NO_THROW(lib.assemble("main.frag"));
+}
+
+TEST_F(ShaderSourceEs, EveryKitShaderTranslates) {
+  // The kit's own shaders and every lab's solution, as the browser build assembles them.
+  for (const kit::Stage& stage : kit::stages()) {
+    if (!fs::is_directory(kit::kit_root() / "solutions" / stage.folder)) continue;
+    ShaderLibrary lib = kit::stage_library(stage, kit::kit_root() / "solutions");
+    lib.set_target(kit::ShaderTarget::GlslEs300);
+    for (const auto& entry : fs::directory_iterator(kit::kit_root() / "solutions" / stage.folder)) {
+      const std::string name = entry.path().filename().string();
+      if (entry.path().extension() != ".vert" && entry.path().extension() != ".frag") continue;
+      EXPECT_NO_THROW(lib.assemble(name)) << stage.folder << "/" << name;
+    }
+  }
+}
+
 }  // namespace

@@ -33,6 +33,7 @@
 #include "cli.h"
 #include "base/error.h"
 #include "gl/window.h"
+#include "gl/gl_flavour.h"
 
 namespace fs = std::filesystem;
 
@@ -221,19 +222,12 @@ class GpuTimer {
   }
   void begin() {
     const auto& q = queries_[static_cast<size_t>(frame_ % 2)];
-    if (frame_ >= 2) {
-      GLint available = 0;
-      glGetQueryObjectiv(q.get(), GL_QUERY_RESULT_AVAILABLE, &available);
-      if (available) {
-        GLuint64 ns = 0;
-        glGetQueryObjectui64v(q.get(), GL_QUERY_RESULT, &ns);
-        milliseconds_ = static_cast<double>(ns) * 1e-6;
-      }
-    }
-    glBeginQuery(GL_TIME_ELAPSED, q.get());
+    if (frame_ >= 2 && kit::time_elapsed_ready(q.get()))
+      milliseconds_ = static_cast<double>(kit::time_elapsed_ns(q.get())) * 1e-6;
+    kit::begin_time_elapsed(q.get());
   }
   void end() {
-    glEndQuery(GL_TIME_ELAPSED);
+    kit::end_time_elapsed();
     ++frame_;
   }
   double milliseconds() const { return milliseconds_; }

@@ -3,6 +3,7 @@
 // glad's header must come before any system GL header (osmesa.h includes GL/gl.h).
 #include "gl/gl.h"
 //
+#if !KIT_GL_ES
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #if KIT_HAS_OSMESA
@@ -21,6 +22,7 @@
 
 #include <dlfcn.h>
 #include <malloc.h>
+#endif
 #include <signal.h>
 #include <unistd.h>
 
@@ -107,6 +109,7 @@ void on_crash(int sig) {
   raise(sig);  // SA_RESETHAND restored the default action: the program ends as it would have
 }
 
+#if !KIT_GL_ES
 // "GALLIUM_DRIVER=zink" when a Mesa driver is forced by the environment, else "".
 std::string forced_driver() {
   std::string text;
@@ -115,6 +118,7 @@ std::string forced_driver() {
       text += std::string(text.empty() ? "" : ", ") + name + "=" + value;
   return text;
 }
+#endif
 
 }  // namespace
 
@@ -134,7 +138,11 @@ std::string GlContext::describe() const {
 }
 
 void load_gl(GlProcLoader get_proc, const char* backend) {
-#if KIT_GLAD_GENERATION == 1
+#if KIT_GL_ES
+  // Emscripten links WebGL2's functions directly: there is nothing to load.
+  (void)get_proc;
+  (void)backend;
+#elif KIT_GLAD_GENERATION == 1
   if (!gladLoadGLLoader(reinterpret_cast<GLADloadproc>(get_proc)))
     throw Error(std::string(backend) + ": could not load OpenGL entry points");
   const int major = GLVersion.major, minor = GLVersion.minor;
@@ -143,11 +151,14 @@ void load_gl(GlProcLoader get_proc, const char* backend) {
   if (version == 0) throw Error(std::string(backend) + ": could not load OpenGL entry points");
   const int major = GLAD_VERSION_MAJOR(version), minor = GLAD_VERSION_MINOR(version);
 #endif
+#if !KIT_GL_ES
   if (major * 10 + minor < 33)
     throw Error(std::string(backend) + ": OpenGL 3.3 core is required, got " + std::to_string(major) + "." +
                 std::to_string(minor));
+#endif
 }
 
+#if !KIT_GL_ES
 namespace {
 
 #if KIT_HAS_OSMESA
@@ -304,6 +315,7 @@ class EglContextImpl : public GlContext {
 };
 
 }  // namespace
+#endif
 
 void keep_freed_memory_for_reuse() {
   // llvmpipe allocates and frees its per-frame binning memory every frame. With glibc's
@@ -313,13 +325,21 @@ void keep_freed_memory_for_reuse() {
   // 90 ms that way, 22-28 ms with the memory kept (handouts/02-lighting.md, "Speed").
   // Fixed thresholds keep freed blocks in the heap for the next frame; blocks of 64 MiB
   // and more (whole images) are still mapped and returned on their own.
+  // In the browser (no glibc, no llvmpipe) there is nothing to keep.
+#if !KIT_GL_ES
   constexpr int kMmapThresholdBytes = 64 << 20;
   constexpr int kTrimThresholdBytes = 128 << 20;
   mallopt(M_MMAP_THRESHOLD, kMmapThresholdBytes);
   mallopt(M_TRIM_THRESHOLD, kTrimThresholdBytes);
+#endif
 }
 
 std::unique_ptr<GlContext> create_headless_context(Backend backend, Device device) {
+#if KIT_GL_ES
+  (void)device;
+  throw Error(std::string(backend_name(backend)) + ": no headless context in the browser (kit-web draws into "
+              "its canvas's WebGL2 context)");
+#else
   keep_freed_memory_for_reuse();
   const std::string forced = forced_driver();
   note_gl_in_use(std::string("while creating the ") + backend_name(backend) + " context (device: " +
@@ -339,6 +359,7 @@ std::unique_ptr<GlContext> create_headless_context(Backend backend, Device devic
   }
   note_gl_in_use("with " + context->describe() + (forced.empty() ? "" : " (" + forced + ")"));
   return context;
+#endif
 }
 
 namespace {

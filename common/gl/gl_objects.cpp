@@ -7,6 +7,7 @@
 
 #include "base/error.h"
 #include "gbuffer_layout.h"
+#include "gl/gl_flavour.h"
 
 namespace kit {
 
@@ -113,10 +114,14 @@ bool Program::built_from(const ShaderLibrary& library, const std::string& vertex
 
 Program::Program(const ShaderLibrary& library, const std::string& compute) {
   AssembledShader cs = library.assemble(compute);
+#if KIT_GL_ES
+  throw Error(cs.files.front() + ": compute shaders need OpenGL 4.3; WebGL2 (OpenGL ES 3.0) has none");
+#else
   source_paths_ = cs.paths;
   GLuint shader = compile(GL_COMPUTE_SHADER, cs);
   program_ = std::make_shared<const GlName<delete_program>>(link({shader}, cs.files.front()));
   sources_ = {std::move(cs)};
+#endif
 }
 
 const Program::Slot& Program::slot(const std::string& name) const {
@@ -276,7 +281,7 @@ Texture2D::Texture2D(TextureFormat fmt, bool compressed, const std::vector<Textu
                              static_cast<GLsizei>(l.bytes), l.data);
     else
       glTexImage2D(GL_TEXTURE_2D, static_cast<GLint>(level), static_cast<GLint>(fmt.internal_format), l.width, l.height,
-                   0, fmt.format, fmt.type, l.data);
+                   0, fmt.format, l.data ? fmt.type : type_for_storage_only(fmt.internal_format, fmt.type), l.data);
   }
   set_max_level(static_cast<int>(levels.size()) - 1);
   set_filter(GL_LINEAR_MIPMAP_LINEAR, GL_LINEAR);
@@ -450,10 +455,10 @@ void FullscreenTriangle::pass_over_surfaces(const Program& program, const Frameb
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_GREATER);
   glDepthMask(GL_FALSE);
-  glDepthRange(1.0, 1.0);
+  set_depth_range(1.0, 1.0);
   program.use();
   draw();
-  glDepthRange(0.0, 1.0);
+  set_depth_range(0.0, 1.0);
   glDepthMask(GL_TRUE);
   glDepthFunc(GL_LESS);
   glDisable(GL_DEPTH_TEST);

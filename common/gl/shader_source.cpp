@@ -120,6 +120,22 @@ bool log_location(const std::string& line, int* number, std::string* column, siz
   return true;
 }
 
+// The "ERROR: 0:12:" (or "WARNING: 0:12:") that starts a log line of ANGLE, the GLSL
+// compiler of Chromium's and Firefox's WebGL: its severity in lower case, the assembled
+// line's number and where the location ends (after the colon).
+bool angle_location(const std::string& line, std::string* severity, int* number, size_t* end) {
+  size_t i = 0;
+  if (line.compare(0, 7, "ERROR: ") == 0) *severity = "error", i = 7;
+  else if (line.compare(0, 9, "WARNING: ") == 0) *severity = "warning", i = 9;
+  else return false;
+  int source = 0;
+  if (!read_number(line, &i, &source) || i >= line.size() || line[i] != ':') return false;
+  ++i;
+  if (!read_number(line, &i, number) || i >= line.size() || line[i] != ':') return false;
+  *end = i + 1;
+  return true;
+}
+
 // Whether a word starts or ends at `i` in `s` (regex's \b): a word character on one side only.
 bool word_boundary(const std::string& s, size_t i) {
   return (i > 0 && is_word(s[i - 1])) != (i < s.size() && is_word(s[i]));
@@ -247,6 +263,7 @@ AssembledShader ShaderLibrary::assemble(const std::string& name) const {
     // the name, the defines.
     key = folders_key_ + name + '\n';
     for (const std::string& define : defines_) key += define + ' ';
+    if (target_ == ShaderTarget::GlslEs300) key += "\nes";
     if (const AssembledShader* kept = assembled_cache_->find(key)) return *kept;
   }
   AssembledShader out;
@@ -260,6 +277,7 @@ AssembledShader ShaderLibrary::assemble(const std::string& name) const {
     out.text.insert(after_version, "#define " + define + "\n");
     out.lines.insert(out.lines.begin() + 1, out.lines.front());
   }
+  if (target_ == ShaderTarget::GlslEs300) translate_to_glsl_es(out);
   if (assembled_cache_) assembled_cache_->store(key, out);
   return out;
 }
@@ -328,6 +346,121 @@ void ShaderLibrary::append(const std::string& name, AssembledShader& out,
   }
 }
 
+namespace {
+
+// What GLSL 3.30 core has and GLSL ES 3.00 lacks, as whole words, with what to write
+// instead. Found by word, outside comments: a construct spelled inside a #define is
+// found there too.
+struct MissingConstruct {
+  const char* word;
+  const char* instead;
+};
+const MissingConstruct kMissingInEs[] = {
+    {"sampler1D", "use a sampler2D one texel high"},
+    {"sampler1DShadow", "use a sampler2DShadow"},
+    {"sampler1DArray", "use a sampler2DArray"},
+    {"sampler1DArrayShadow", "use a sampler2DArrayShadow"},
+    {"isampler1D", "use an isampler2D"},
+    {"usampler1D", "use a usampler2D"},
+    {"isampler1DArray", "use an isampler2DArray"},
+    {"usampler1DArray", "use a usampler2DArray"},
+    {"sampler2DRect", "use a sampler2D and texelFetch"},
+    {"sampler2DRectShadow", "use a sampler2DShadow"},
+    {"isampler2DRect", "use an isampler2D and texelFetch"},
+    {"usampler2DRect", "use a usampler2D and texelFetch"},
+    {"samplerBuffer", "use a sampler2D and texelFetch"},
+    {"isamplerBuffer", "use an isampler2D and texelFetch"},
+    {"usamplerBuffer", "use a usampler2D and texelFetch"},
+    {"sampler2DMS", "the kit's targets are not multisampled"},
+    {"isampler2DMS", "the kit's targets are not multisampled"},
+    {"usampler2DMS", "the kit's targets are not multisampled"},
+    {"sampler2DMSArray", "the kit's targets are not multisampled"},
+    {"texture1D", "use texture() on a sampler2D"},
+    {"texture1DLod", "use textureLod() on a sampler2D"},
+    {"texture1DProj", "use textureProj() on a sampler2D"},
+    {"texture2D", "use texture()"},
+    {"texture2DLod", "use textureLod()"},
+    {"texture2DProj", "use textureProj()"},
+    {"texture3D", "use texture()"},
+    {"textureCube", "use texture()"},
+    {"shadow2D", "use texture() on a sampler2DShadow"},
+    {"texelFetchOffset", "add the offset to texelFetch's coordinates"},
+    {"double", "use float"},
+    {"dvec2", "use vec2"},
+    {"dvec3", "use vec3"},
+    {"dvec4", "use vec4"},
+    {"dmat2", "use mat2"},
+    {"dmat3", "use mat3"},
+    {"dmat4", "use mat4"},
+    {"noperspective", "use smooth (the default)"},
+    {"gl_ClipDistance", "clip in the fragment shader with discard"},
+    {"gl_PrimitiveID", "pass what you need from the vertex shader"},
+    {"gl_FragColor", "declare an out vec4 (layout(location = 0))"},
+    {"gl_FragData", "declare out variables with layout(location = N)"},
+    {"gl_Layer", "WebGL2 draws into one layer"},
+};
+
+// The first construct of kMissingInEs in `line` outside comments, or null; *in_comment
+// carries a /* comment over to the next line.
+const MissingConstruct* missing_in_es(const std::string& line, bool* in_comment) {
+  for (size_t i = 0; i < line.size();) {
+    if (*in_comment) {
+      const size_t end = line.find("*/", i);
+      if (end == std::string::npos) return nullptr;
+      *in_comment = false;
+      i = end + 2;
+      continue;
+    }
+    if (line.compare(i, 2, "//") == 0) return nullptr;
+    if (line.compare(i, 2, "/*") == 0) {
+      *in_comment = true;
+      i += 2;
+      continue;
+    }
+    if (!is_word(line[i])) {
+      ++i;
+      continue;
+    }
+    size_t end = i;
+    while (end < line.size() && is_word(line[end])) ++end;
+    const std::string word = line.substr(i, end - i);
+    for (const MissingConstruct& m : kMissingInEs)
+      if (word == m.word) return &m;
+    i = end;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+void translate_to_glsl_es(AssembledShader& shader) {
+  const size_t first_end = shader.text.find('\n');
+  const std::string first = shader.text.substr(0, first_end);
+  const std::string where = shader.lines.empty() || shader.files.empty()
+                                ? std::string("shader")
+                                : shader.files[shader.lines.front().file] + ":" + std::to_string(shader.lines.front().line);
+  if (trim(first) != kRequiredVersionLine)
+    throw Error(where + ": the first line must be \"" + std::string(kRequiredVersionLine) + "\" (found \"" +
+                trim(first) + "\")");
+  bool in_comment = false;
+  size_t number = 0;
+  for (size_t start = 0; start < shader.text.size(); ++number) {
+    const size_t end = std::min(shader.text.find('\n', start), shader.text.size());
+    if (number > 0) {
+      if (const MissingConstruct* m = missing_in_es(shader.text.substr(start, end - start), &in_comment)) {
+        std::string at = "shader:" + std::to_string(number + 1);
+        if (number < shader.lines.size() && shader.lines[number].file < static_cast<int>(shader.files.size()))
+          at = shader.files[shader.lines[number].file] + ":" + std::to_string(shader.lines[number].line);
+        throw Error(at + ": " + m->word + " is not in GLSL ES 3.00, which WebGL2 compiles (" + m->instead + ")");
+      }
+    }
+    start = end + 1;
+  }
+  shader.text.replace(0, first_end == std::string::npos ? shader.text.size() : first_end,
+                      std::string(kGlslEsVersionLine) + "\n" + kGlslEsPrecisions);
+  if (!shader.lines.empty()) shader.lines.insert(shader.lines.begin() + 1, shader.lines.front());
+}
+
 std::string AssembledShader::map_log(const std::string& log) const {
   // Mesa: "0:12(3): error: ..."; NVIDIA: "0(12) : error ...". Both at the start of a line.
   std::istringstream in(log);
@@ -343,8 +476,11 @@ std::string AssembledShader::map_log(const std::string& log) const {
     int number = 0;
     std::string column;
     size_t end = 0;
+    std::string severity;
     if (log_location(line, &number, &column, &end))
       line = where(number) + (column.empty() ? "" : ":" + column) + line.substr(end);
+    else if (angle_location(line, &severity, &number, &end))
+      line = where(number) + ": " + severity + ":" + line.substr(end);
     result += line + "\n";
   }
   return result;

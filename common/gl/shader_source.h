@@ -36,7 +36,8 @@ struct AssembledShader {
   std::vector<SourceLine> lines;               // one per line of `text`
   std::vector<std::string> files;              // display names ("labs/02-lighting/brdf.glsl")
   std::vector<std::filesystem::path> paths;    // real paths, for hot reload
-  // Rewrites "0:12(3): error" (Mesa) and "0(12) : error" (NVIDIA) into "file:line:col: error".
+  // Rewrites "0:12(3): error" (Mesa), "0(12) : error" (NVIDIA) and "ERROR: 0:12: ..." (ANGLE,
+  // WebGL's compiler) into "file:line[:col]: error ...".
   std::string map_log(const std::string& log) const;
 };
 
@@ -47,6 +48,39 @@ constexpr std::uintmax_t kMaxShaderFileBytes = 256 * 1024;
 constexpr std::size_t kMaxShaderLineBytes = 4096;
 // Every top-level shader must start with this line: the kit targets GL 3.3 core.
 constexpr const char* kRequiredVersionLine = "#version 330 core";
+
+// Which GLSL a library's shaders are compiled as. Lab shaders are written as GLSL 3.30
+// core on every target; for WebGL2 the assembled text becomes GLSL ES 3.00
+// (translate_to_glsl_es), so the same files compile in the browser.
+enum class ShaderTarget { Glsl330Core, GlslEs300 };
+// The target of the GL this build draws with: GLSL ES 3.00 in the browser build
+// (emscripten, WebGL2), GLSL 3.30 core elsewhere.
+#if defined(__EMSCRIPTEN__)
+constexpr ShaderTarget kBuildShaderTarget = ShaderTarget::GlslEs300;
+#else
+constexpr ShaderTarget kBuildShaderTarget = ShaderTarget::Glsl330Core;
+#endif
+
+// The #version line and precision statements a GLSL ES 3.00 shader starts with:
+// highp everywhere, as desktop GLSL computes, and a precision for every sampler type
+// GLSL ES 3.00 gives none by default.
+constexpr const char* kGlslEsVersionLine = "#version 300 es";
+constexpr const char* kGlslEsPrecisions =
+    "precision highp float; precision highp int; precision highp sampler2D; precision highp sampler3D; "
+    "precision highp samplerCube; precision highp sampler2DShadow; precision highp samplerCubeShadow; "
+    "precision highp sampler2DArray; precision highp sampler2DArrayShadow; precision highp isampler2D; "
+    "precision highp isampler3D; precision highp isamplerCube; precision highp isampler2DArray; "
+    "precision highp usampler2D; precision highp usampler3D; precision highp usamplerCube; "
+    "precision highp usampler2DArray;";
+
+// Turns an assembled GLSL 3.30 core shader (its first line kRequiredVersionLine) into
+// GLSL ES 3.00 in place: the version line becomes kGlslEsVersionLine, followed by one
+// line of kGlslEsPrecisions that `lines` maps to the version line, so every other line
+// still maps to its file and line. Throws kit::Error "FILE:LINE: ..." naming the
+// construct at the first use of one GLSL ES 3.00 lacks (1D, rectangle and buffer
+// samplers, double precision, gl_ClipDistance, noperspective, ...); comments are not
+// looked at.
+void translate_to_glsl_es(AssembledShader& shader);
 
 class LinkedProgramCache;  // gl_objects.h
 
@@ -90,6 +124,9 @@ class ShaderLibrary {
   // Where assemble() looks first and keeps what it assembles; null (the default) reads the
   // files each time. Only for files that cannot change while `cache` lives.
   void keep_assembled_in(AssembledShaderCache* cache) { assembled_cache_ = cache; }
+  // Which GLSL assemble() produces; kBuildShaderTarget unless set.
+  void set_target(ShaderTarget target) { target_ = target; }
+  ShaderTarget target() const { return target_; }
 
  private:
   void append(const std::string& name, AssembledShader& out, std::vector<std::string>& included,
@@ -102,6 +139,7 @@ class ShaderLibrary {
   std::vector<std::string> defines_;
   LinkedProgramCache* program_cache_ = nullptr;
   AssembledShaderCache* assembled_cache_ = nullptr;
+  ShaderTarget target_ = kBuildShaderTarget;
 };
 
 // Reads a whole file as shader text: size limit, no NUL bytes, valid UTF-8,

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "base/error.h"
+#include "gl/gl_flavour.h"
 #include "images/image_codecs.h"
 #include "images/openimageio_formats.h"
 
@@ -32,10 +33,13 @@ Image read_image(const std::string& path) {
 Image read_texture(const Texture2D& texture, bool depth) { return read_texture_level(texture, 0, depth); }
 
 Image read_texture_level(const Texture2D& texture, int level, bool depth) {
+  if (depth && !can_read_depth_pixels())
+    throw Error("reading a depth texture back: " + std::string(gl_flavour_name()) +
+                " cannot read depth pixels (glReadPixels of GL_DEPTH_COMPONENT)");
   Framebuffer read_fbo;
   if (depth) {
     read_fbo.attach_depth(texture);
-    glDrawBuffer(GL_NONE);
+    draw_no_colour_buffer();
     glReadBuffer(GL_NONE);
   } else {
     read_fbo.attach_color(0, texture, level);
@@ -45,7 +49,8 @@ Image read_texture_level(const Texture2D& texture, int level, bool depth) {
   int channels = depth ? 1 : 4;
   Image flipped(width, height, channels);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadPixels(0, 0, width, height, depth ? GL_DEPTH_COMPONENT : GL_RGBA, GL_FLOAT, flipped.pixels.data());
+  if (depth) glReadPixels(0, 0, width, height, GL_DEPTH_COMPONENT, GL_FLOAT, flipped.pixels.data());
+  else read_colour_pixels_as_float(width, height, flipped.pixels.data());
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   check_gl("read_texture");
   // GL rows start at the bottom; images start at the top.

@@ -8,6 +8,7 @@
 
 #include "base/error.h"
 #include "gbuffer_layout.h"
+#include "gl/gl_flavour.h"
 #include "render/interface_check.h"
 #include "scene/mesh_optimize.h"
 
@@ -656,9 +657,9 @@ void draw_light_volumes(const Mesh& sphere, int instances, const LightVolumeStat
     glDisable(GL_BLEND);
   }
   if (!colour) glColorMask(GL_FALSE, GL_FALSE, GL_FALSE, GL_FALSE);
-  glEnable(GL_DEPTH_CLAMP);
+  set_depth_clamp(true);
   sphere.draw_instanced(instances);
-  glDisable(GL_DEPTH_CLAMP);
+  set_depth_clamp(false);
   glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   glDisable(GL_BLEND);
   glDisable(GL_CULL_FACE);
@@ -668,16 +669,16 @@ void draw_light_volumes(const Mesh& sphere, int instances, const LightVolumeStat
   glDepthMask(GL_TRUE);
 }
 
-// The samples `draw` lets through (GL_SAMPLES_PASSED: one per pixel here, exact).
+// The samples `draw` lets through (GL_SAMPLES_PASSED: one per pixel here, exact; in
+// WebGL2 only whether any did, gl_flavour.h).
 template <typename Draw>
 uint64_t samples_passed(Draw draw) {
   GLuint query = 0;
   glGenQueries(1, &query);
-  glBeginQuery(GL_SAMPLES_PASSED, query);
+  begin_samples_passed(query);
   draw();
-  glEndQuery(GL_SAMPLES_PASSED);
-  GLuint64 samples = 0;
-  glGetQueryObjectui64v(query, GL_QUERY_RESULT, &samples);
+  end_samples_passed();
+  const uint64_t samples = samples_passed_result(query);
   glDeleteQueries(1, &query);
   return samples;
 }

@@ -19,7 +19,12 @@ bool draco_supported() { return false; }
 struct DracoMesh::Decoded {};
 
 DracoMesh::DracoMesh(const unsigned char*, size_t, const std::string& what) {
+#if KIT_WEB
+  throw Error(what + ": Draco-compressed glTF is refused in the browser build (Debian has no WebAssembly build "
+              "of libdraco); render it with kit-render or kit-view");
+#else
   throw Error(what + ": this build has no Draco support: install libdraco-dev and rebuild");
+#endif
 }
 DracoMesh::~DracoMesh() = default;
 DracoMesh::DracoMesh(DracoMesh&&) noexcept = default;

@@ -1,14 +1,22 @@
 #include "scene/mesh_optimize.h"
 
+// KIT_HAS_MESHOPTIMIZER: set by common/CMakeLists.txt; the browser build has no
+// meshoptimizer (no WebAssembly build of it in Debian), and there the statistics and
+// reordering are refused by name while the frustum test below stays.
+#if KIT_HAS_MESHOPTIMIZER
 #include <meshoptimizer.h>
+#endif
 
 #include <cmath>
 #include <vector>
+
+#include "base/error.h"
 
 namespace kit {
 
 namespace {
 
+#if KIT_HAS_MESHOPTIMIZER
 // Welding compares whole vertices byte for byte, so Vertex must have no
 // padding (uninitialised padding bytes would keep equal vertices apart).
 static_assert(sizeof(Vertex) == 14 * sizeof(float) + 4 * sizeof(uint16_t), "Vertex must be tightly packed for byte-wise welding");
@@ -23,15 +31,20 @@ constexpr float kOverdrawThreshold = 1.05f;
 constexpr unsigned kNoWarpModel = 0;
 constexpr unsigned kNoPrimGroupModel = 0;
 
+#endif
+
 // Float rounding in the plane test (plane extraction, matrix products) is a
 // few ulps of the magnitudes involved; a box must be outside by more than this
 // fraction of them to be culled, so rounding alone never removes a draw.
 constexpr float kCullRelativeSlack = 1e-5f;
 
+#if KIT_HAS_MESHOPTIMIZER
 const float* positions(const std::vector<Vertex>& vertices) { return &vertices[0].position.x; }
+#endif
 
 }  // namespace
 
+#if KIT_HAS_MESHOPTIMIZER
 MeshStats analyze(const Primitive& primitive) {
   MeshStats stats;
   stats.vertex_count = primitive.vertices.size();
@@ -81,6 +94,16 @@ void optimize_primitive(Primitive& primitive) {
   fetch_ordered.resize(used);
   primitive.vertices = std::move(fetch_ordered);
 }
+
+#else
+MeshStats analyze(const Primitive&) {
+  throw Error("mesh statistics need meshoptimizer, which this build of the kit (the browser's) leaves out");
+}
+
+void optimize_primitive(Primitive&) {
+  throw Error("mesh optimisation needs meshoptimizer, which this build of the kit (the browser's) leaves out");
+}
+#endif
 
 void optimize_scene(Scene& scene) {
   for (Primitive& p : scene.primitives) optimize_primitive(p);

@@ -1,7 +1,5 @@
 #include "scene/scene.h"
 
-#include <malloc.h>  // malloc_trim
-
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
@@ -10,6 +8,7 @@
 #include <new>
 
 #include "base/error.h"
+#include "base/freed_memory.h"
 #include "scene/gltf_loader.h"
 #include "scene/obj_scene.h"
 
@@ -132,7 +131,7 @@ void release_uploaded_data(Scene& scene) {
     std::vector<unsigned char>().swap(image.encoded);
     image.decoded = ImageRgba8{};
   }
-  malloc_trim(0);  // the freed blocks lie among others in the heap: give their pages back
+  give_back_freed_memory();  // the freed blocks lie among others in the heap: give their pages back
 }
 
 void set_bounds_from_draws(Scene& scene) {

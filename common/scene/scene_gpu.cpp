@@ -1,7 +1,5 @@
 #include "scene/scene.h"
 
-#include <malloc.h>  // malloc_trim
-
 #include <algorithm>
 #include <array>
 #include <condition_variable>
@@ -17,6 +15,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "base/freed_memory.h"
 #include "images/texture_decode.h"
 #include "images/texture_prepare.h"
 
@@ -264,7 +263,7 @@ SceneGpu::SceneGpu(const Scene& scene, TextureCompression compression) {
       });
   // The decode threads' arenas keep what they freed (keep_freed_memory_for_reuse's
   // thresholds): tens of MB of decoded images nothing will allocate again.
-  malloc_trim(0);
+  give_back_freed_memory();
   // How materials sample them is the glTF sampler's, bound per draw (draw_scene).
   for (const TextureSampler& s : scene.samplers) samplers_.emplace_back(s.min_filter, s.mag_filter, s.wrap_s, s.wrap_t);
   const TextureSampler gltf_default;

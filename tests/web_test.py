@@ -1,0 +1,283 @@
+#!/usr/bin/env python3
+"""The browser build in a real browser: Debian's headless chromium on SwiftShader.
+
+Serves the site (kit-web's build folder, or ./kit web's out/web) on 127.0.0.1, loads
+index.html with kit-render's options in its URL, reads the canvas back, and compares it
+with kit-render's PNG of the same stage, view and size (--solution) within a stated
+tolerance; a witness checks that another stage's image does not pass. Builds nothing:
+ctest runs it after the builds, and it is skipped (exit 77) when no site is there.
+
+usage: web_test.py SITE_DIR KIT_RENDER WORK_DIR
+Chromium is driven over the DevTools protocol on a pipe (--remote-debugging-pipe: fds
+3 and 4, NUL-separated JSON), with python's standard library alone; PNGs are decoded
+with zlib.
+"""
+import base64
+import functools
+import http.server
+import json
+import os
+import pathlib
+import shutil
+import struct
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import zlib
+
+SKIP = 77
+SIZE = (320, 240)
+# How close the browser's frame must be to kit-render's (8-bit RGB levels), measured on
+# SwiftShader against llvmpipe (the numbers each case prints): rasterisation and float
+# rounding differ between the two at some edges and in the last bit of shading.
+MAX_MEAN_DIFFERENCE = 1.0      # mean over all channels of all pixels
+MAX_FAR_PIXELS = 0.005         # share of pixels with a channel off by more than FAR_LEVELS
+FAR_LEVELS = 16
+CASES = [  # (URL query, kit-render arguments)
+    ("stage=gbuffer&view=albedo&size=320x240", ["--stage", "gbuffer", "--view", "albedo"]),
+    ("stage=lighting&size=320x240", ["--stage", "lighting"]),
+    # Lab 6 reads its environment from an OpenEXR file (the browser build's own reader).
+    ("stage=ibl&size=320x240", ["--stage", "ibl"]),
+]
+CHROMIUM_FLAGS = [
+    "--headless=new", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
+    "--disable-gpu-sandbox", "--no-first-run", "--disable-background-networking", "--disable-component-update",
+    "--disable-sync", "--remote-debugging-pipe",
+]
+
+
+def decode_png(path):
+    """(width, height, rows of RGB bytes) of an 8-bit RGB or RGBA PNG without interlacing."""
+    data = pathlib.Path(path).read_bytes()
+    if data[:8] != b"\x89PNG\r\n\x1a\n":
+        raise SystemExit(f"{path}: not a PNG")
+    pos, idat, header = 8, b"", None
+    while pos < len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + length
+    width, height, depth, colour, _, _, interlace = header
+    channels = {2: 3, 6: 4}.get(colour)
+    if depth != 8 or channels is None or interlace:
+        raise SystemExit(f"{path}: only 8-bit RGB/RGBA PNGs without interlacing are read here")
+    raw = zlib.decompress(idat)
+    stride = width * channels
+    rows, previous = [], bytearray(stride)
+    for y in range(height):
+        kind = raw[y * (stride + 1)]
+        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            left = line[i - channels] if i >= channels else 0
+            up = previous[i]
+            corner = previous[i - channels] if i >= channels else 0
+            if kind == 1:
+                line[i] = (line[i] + left) & 255
+            elif kind == 2:
+                line[i] = (line[i] + up) & 255
+            elif kind == 3:
+                line[i] = (line[i] + (left + up) // 2) & 255
+            elif kind == 4:
+                p = left + up - corner
+                pa, pb, pc = abs(p - left), abs(p - up), abs(p - corner)
+                line[i] = (line[i] + (left if pa <= pb and pa <= pc else up if pb <= pc else corner)) & 255
+        previous = line
+        rows.append(bytes(line[x * channels + c] for x in range(width) for c in range(3)))
+    return width, height, rows
+
+
+def compare(browser_rgba, width, height, reference_rows):
+    """(mean difference, share of far pixels) between the canvas's RGBA and the PNG's RGB."""
+    total, far = 0, 0
+    for y in range(height):
+        ref = reference_rows[y]
+        for x in range(width):
+            i = (y * width + x) * 4
+            worst = 0
+            for c in range(3):
+                d = abs(browser_rgba[i + c] - ref[x * 3 + c])
+                total += d
+                worst = max(worst, d)
+            far += worst > FAR_LEVELS
+    return total / (width * height * 3), far / (width * height)
+
+
+class Chromium:
+    """A headless chromium spoken to over --remote-debugging-pipe, one page attached."""
+
+    def __init__(self, work):
+        self.to_chrome_r, self.to_chrome_w = os.pipe()
+        self.from_chrome_r, self.from_chrome_w = os.pipe()
+        profile = tempfile.mkdtemp(prefix="profile-", dir=work)
+
+        # Chromium reads commands on fd 3 and answers on fd 4: the shell puts the pipes there
+        # (subprocess closes every descriptor it is not told to pass, after any preexec_fn).
+        redirect = f'exec "$@" 3<&{self.to_chrome_r} 4>&{self.from_chrome_w}'
+        self.process = subprocess.Popen(
+            ["/bin/sh", "-c", redirect, "sh", "chromium", *CHROMIUM_FLAGS, f"--user-data-dir={profile}", "about:blank"],
+            pass_fds=(self.to_chrome_r, self.from_chrome_w),
+            stdout=subprocess.DEVNULL, stderr=open(os.path.join(work, "chromium.log"), "wb"))
+        os.close(self.to_chrome_r)
+        os.close(self.from_chrome_w)
+        self.buffer, self.next_id, self.session = b"", 0, None
+        targets = self.call("Target.getTargets")["targetInfos"]
+        page = next(t for t in targets if t["type"] == "page")
+        self.session = self.call("Target.attachToTarget", targetId=page["targetId"], flatten=True)["sessionId"]
+
+    def call(self, method, timeout=60, **params):
+        self.next_id += 1
+        message = {"id": self.next_id, "method": method, "params": params}
+        if self.session and not method.startswith("Target."):
+            message["sessionId"] = self.session
+        os.write(self.to_chrome_w, json.dumps(message).encode() + b"\0")
+        deadline = time.monotonic() + timeout
+        while True:
+            while b"\0" not in self.buffer:
+                if time.monotonic() > deadline:
+                    raise SystemExit(f"chromium did not answer {method} in {timeout} s")
+                chunk = os.read(self.from_chrome_r, 1 << 20)
+                if not chunk:
+                    raise SystemExit(f"chromium closed its pipe during {method} (see chromium.log)")
+                self.buffer += chunk
+            raw, self.buffer = self.buffer.split(b"\0", 1)
+            answer = json.loads(raw)
+            if answer.get("id") == self.next_id:
+                if "error" in answer:
+                    raise SystemExit(f"{method}: {answer['error']}")
+                return answer["result"]
+
+    def evaluate(self, expression):
+        result = self.call("Runtime.evaluate", expression=expression, returnByValue=True, awaitPromise=True)
+        if "exceptionDetails" in result:
+            raise SystemExit(f"{expression[:60]}...: {result['exceptionDetails']}")
+        return result["result"].get("value")
+
+    def close(self):
+        try:
+            self.call("Browser.close", timeout=10)
+        except SystemExit:
+            pass
+        try:
+            self.process.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            self.process.kill()
+            self.process.wait()
+
+
+# The canvas's pixels as the page shows them: drawn into a 2D canvas and read there,
+# rows top-down, RGBA, base64.
+READ_CANVAS = """(() => {
+  const source = document.getElementById("canvas");
+  const copy = document.createElement("canvas");
+  copy.width = source.width; copy.height = source.height;
+  const context = copy.getContext("2d");
+  context.drawImage(source, 0, 0);
+  const bytes = context.getImageData(0, 0, copy.width, copy.height).data;
+  let text = "";
+  for (let i = 0; i < bytes.length; i += 0x8000) text += String.fromCharCode.apply(null, bytes.subarray(i, i + 0x8000));
+  return {width: copy.width, height: copy.height, rgba: btoa(text)};
+})()"""
+
+
+def load_page(chromium, url, timeout=120):
+    """The page's report and canvas once kit-web has drawn (or refused) its frame."""
+    start = time.monotonic()
+    chromium.call("Page.navigate", url=url)
+    while time.monotonic() - start < timeout:
+        state = chromium.evaluate("document.body ? (document.body.dataset.kitState || '') : ''")
+        if state:
+            report = chromium.evaluate("window.kitReport || null")
+            if state != "ready":
+                raise SystemExit(f"{url}: kit-web reported {state}: {json.dumps(report)}")
+            canvas = chromium.evaluate(READ_CANVAS)
+            return report, canvas, time.monotonic() - start
+        time.sleep(0.05)
+    raise SystemExit(f"{url}: no frame after {timeout} s")
+
+
+def main():
+    if len(sys.argv) != 4:
+        raise SystemExit(__doc__)
+    site, kit_render, work = pathlib.Path(sys.argv[1]), sys.argv[2], pathlib.Path(sys.argv[3])
+    missing = [name for name in ("index.html", "kit-web.js", "kit-web.wasm", "kit-web.data") if not (site / name).is_file()]
+    if missing:
+        print(f"web_test: skipped: {site} has no {', '.join(missing)} (build the site first: ./kit web)")
+        return SKIP
+    if not shutil.which("chromium"):
+        print("web_test: skipped: no chromium (./kit web installs it)")
+        return SKIP
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+
+    class Quiet(http.server.SimpleHTTPRequestHandler):
+        def log_message(self, *args):
+            pass
+
+    handler = functools.partial(Quiet, directory=str(site))
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)  # a free port, this machine only
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    base = f"http://127.0.0.1:{server.server_address[1]}/index.html?"
+
+    references = {}
+    for query, args in CASES:
+        out = work / (query.replace("&", "_").replace("=", "-") + ".png")
+        size = f"{SIZE[0]}x{SIZE[1]}"
+        subprocess.run([kit_render, *args, "--solution", "--size", size, "--out", str(out)], check=True,
+                       stdout=subprocess.DEVNULL)
+        references[query] = decode_png(out)
+
+    chromium = Chromium(str(work))
+    failures = []
+    try:
+        frames = {}
+        for query, _ in CASES:
+            report, canvas, seconds = load_page(chromium, base + query)
+            rgba = base64.b64decode(canvas["rgba"])
+            width, height, rows = references[query]
+            if (canvas["width"], canvas["height"]) != (width, height):
+                failures.append(f"{query}: canvas is {canvas['width']}x{canvas['height']}, kit-render's {width}x{height}")
+                continue
+            mean, far = compare(rgba, width, height, rows)
+            frames[query] = rgba
+            ok = mean <= MAX_MEAN_DIFFERENCE and far <= MAX_FAR_PIXELS
+            print(f"{query}: mean difference {mean:.3f} levels (at most {MAX_MEAN_DIFFERENCE}), {100 * far:.2f}% of "
+                  f"pixels off by more than {FAR_LEVELS} (at most {100 * MAX_FAR_PIXELS:.1f}%): "
+                  f"{'ok' if ok else 'FAILED'}; page to frame {seconds:.2f} s; features {json.dumps(report.get('features'))}")
+            if not ok:
+                failures.append(f"{query}: the browser's frame differs from kit-render's")
+        # Witness: each case's browser frame against the other case's reference fails the tolerance.
+        (qa, _), (qb, _) = CASES[:2]
+        if qa in frames:
+            width, height, rows = references[qb]
+            mean, far = compare(frames[qa], width, height, rows)
+            print(f"witness: {qa} against {qb}'s reference: mean {mean:.3f}, {100 * far:.2f}% far (must fail)")
+            if mean <= MAX_MEAN_DIFFERENCE and far <= MAX_FAR_PIXELS:
+                failures.append("witness: two different stages' images pass the tolerance: the comparison sees nothing")
+        # A scene the browser build cannot read is refused by name, not drawn wrong.
+        chromium.call("Page.navigate", url=base + "scene=/kit/scenes/obj-cube/obj-cube.obj&size=64x48")
+        state, report = "", None
+        for _ in range(600):
+            state = chromium.evaluate("document.body ? (document.body.dataset.kitState || '') : ''")
+            if state:
+                report = chromium.evaluate("window.kitReport || null")
+                break
+            time.sleep(0.05)
+        refused = state == "error" and "OBJ scenes are refused in the browser build" in (report or {}).get("error", "")
+        print(f"scene=obj-cube.obj: {state or 'no answer'}: {(report or {}).get('error')}")
+        if not refused:
+            failures.append("scene=obj-cube.obj: expected the page to refuse the OBJ scene by name")
+    finally:
+        chromium.close()
+        server.shutdown()
+    for failure in failures:
+        print("FAILED:", failure)
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
