@@ -113,6 +113,8 @@ def main():
             for cpp in sorted((source / folder).rglob("*.cpp")):
                 if "openimageio/" in str(cpp.relative_to(source)) or cpp.name == "window.cpp":
                     continue  # built as their own targets (kit_openimageio, kitwindow), never in the unity file
+                if cpp.name.endswith("_web.cpp"):
+                    continue  # the browser build's alone (cmake/web.cmake), which ./kit test builds with emscripten
                 jobs.append((str(cpp.relative_to(source)), target_flags, target_dir, f'#include "{cpp}"\n'))
 
     # Witnesses: what the unity build would hide is found.

@@ -5,12 +5,13 @@ Serves the site (kit-web's build folder, or ./kit web's out/web) on 127.0.0.1, l
 index.html with kit-render's options in its URL, reads the canvas back, and compares it
 with kit-render's PNG of the same stage, view and size (--solution) within a stated
 tolerance; a witness checks that another stage's image does not pass. Builds nothing:
-ctest runs it after the builds, and it is skipped (exit 77) when no site is there.
+ctest runs it after ./kit test has built the site; without a site or chromium it fails,
+saying what to install or build.
 
 usage: web_test.py SITE_DIR KIT_RENDER WORK_DIR
 Chromium is driven over the DevTools protocol on a pipe (--remote-debugging-pipe: fds
-3 and 4, NUL-separated JSON), with python's standard library alone; PNGs are decoded
-with zlib.
+3 and 4, NUL-separated JSON), with python's standard library alone; PNGs are read by
+png_rgb.py.
 """
 import base64
 import functools
@@ -19,15 +20,14 @@ import json
 import os
 import pathlib
 import shutil
-import struct
 import subprocess
 import sys
 import tempfile
 import threading
 import time
-import zlib
 
-SKIP = 77
+from png_rgb import read_png
+
 SIZE = (320, 240)
 # How close the browser's frame must be to kit-render's (8-bit RGB levels), measured on
 # SwiftShader against llvmpipe (the numbers each case prints): rasterisation and float
@@ -48,62 +48,16 @@ CHROMIUM_FLAGS = [
 ]
 
 
-def decode_png(path):
-    """(width, height, rows of RGB bytes) of an 8-bit RGB or RGBA PNG without interlacing."""
-    data = pathlib.Path(path).read_bytes()
-    if data[:8] != b"\x89PNG\r\n\x1a\n":
-        raise SystemExit(f"{path}: not a PNG")
-    pos, idat, header = 8, b"", None
-    while pos < len(data):
-        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + length]
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat += body
-        pos += 12 + length
-    width, height, depth, colour, _, _, interlace = header
-    channels = {2: 3, 6: 4}.get(colour)
-    if depth != 8 or channels is None or interlace:
-        raise SystemExit(f"{path}: only 8-bit RGB/RGBA PNGs without interlacing are read here")
-    raw = zlib.decompress(idat)
-    stride = width * channels
-    rows, previous = [], bytearray(stride)
-    for y in range(height):
-        kind = raw[y * (stride + 1)]
-        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
-        for i in range(stride):
-            left = line[i - channels] if i >= channels else 0
-            up = previous[i]
-            corner = previous[i - channels] if i >= channels else 0
-            if kind == 1:
-                line[i] = (line[i] + left) & 255
-            elif kind == 2:
-                line[i] = (line[i] + up) & 255
-            elif kind == 3:
-                line[i] = (line[i] + (left + up) // 2) & 255
-            elif kind == 4:
-                p = left + up - corner
-                pa, pb, pc = abs(p - left), abs(p - up), abs(p - corner)
-                line[i] = (line[i] + (left if pa <= pb and pa <= pc else up if pb <= pc else corner)) & 255
-        previous = line
-        rows.append(bytes(line[x * channels + c] for x in range(width) for c in range(3)))
-    return width, height, rows
-
-
-def compare(browser_rgba, width, height, reference_rows):
+def compare(browser_rgba, width, height, reference_rgb):
     """(mean difference, share of far pixels) between the canvas's RGBA and the PNG's RGB."""
     total, far = 0, 0
-    for y in range(height):
-        ref = reference_rows[y]
-        for x in range(width):
-            i = (y * width + x) * 4
-            worst = 0
-            for c in range(3):
-                d = abs(browser_rgba[i + c] - ref[x * 3 + c])
-                total += d
-                worst = max(worst, d)
-            far += worst > FAR_LEVELS
+    for p in range(width * height):
+        worst = 0
+        for c in range(3):
+            d = abs(browser_rgba[p * 4 + c] - reference_rgb[p * 3 + c])
+            total += d
+            worst = max(worst, d)
+        far += worst > FAR_LEVELS
     return total / (width * height * 3), far / (width * height)
 
 
@@ -206,11 +160,11 @@ def main():
     site, kit_render, work = pathlib.Path(sys.argv[1]), sys.argv[2], pathlib.Path(sys.argv[3])
     missing = [name for name in ("index.html", "kit-web.js", "kit-web.wasm", "kit-web.data") if not (site / name).is_file()]
     if missing:
-        print(f"web_test: skipped: {site} has no {', '.join(missing)} (build the site first: ./kit web)")
-        return SKIP
+        print(f"web_test: FAILED: {site} has no {', '.join(missing)} (./kit test and ./kit web build the site)")
+        return 1
     if not shutil.which("chromium"):
-        print("web_test: skipped: no chromium (./kit web installs it)")
-        return SKIP
+        print("web_test: FAILED: no chromium (./kit test and ./kit web install it: Debian's chromium)")
+        return 1
     shutil.rmtree(work, ignore_errors=True)
     work.mkdir(parents=True)
 
@@ -229,7 +183,7 @@ def main():
         size = f"{SIZE[0]}x{SIZE[1]}"
         subprocess.run([kit_render, *args, "--solution", "--size", size, "--out", str(out)], check=True,
                        stdout=subprocess.DEVNULL)
-        references[query] = decode_png(out)
+        references[query] = read_png(out)
 
     chromium = Chromium(str(work))
     failures = []
@@ -238,11 +192,11 @@ def main():
         for query, _ in CASES:
             report, canvas, seconds = load_page(chromium, base + query)
             rgba = base64.b64decode(canvas["rgba"])
-            width, height, rows = references[query]
+            width, height, rgb = references[query]
             if (canvas["width"], canvas["height"]) != (width, height):
                 failures.append(f"{query}: canvas is {canvas['width']}x{canvas['height']}, kit-render's {width}x{height}")
                 continue
-            mean, far = compare(rgba, width, height, rows)
+            mean, far = compare(rgba, width, height, rgb)
             frames[query] = rgba
             ok = mean <= MAX_MEAN_DIFFERENCE and far <= MAX_FAR_PIXELS
             print(f"{query}: mean difference {mean:.3f} levels (at most {MAX_MEAN_DIFFERENCE}), {100 * far:.2f}% of "
@@ -253,8 +207,8 @@ def main():
         # Witness: each case's browser frame against the other case's reference fails the tolerance.
         (qa, _), (qb, _) = CASES[:2]
         if qa in frames:
-            width, height, rows = references[qb]
-            mean, far = compare(frames[qa], width, height, rows)
+            width, height, rgb = references[qb]
+            mean, far = compare(frames[qa], width, height, rgb)
             print(f"witness: {qa} against {qb}'s reference: mean {mean:.3f}, {100 * far:.2f}% far (must fail)")
             if mean <= MAX_MEAN_DIFFERENCE and far <= MAX_FAR_PIXELS:
                 failures.append("witness: two different stages' images pass the tolerance: the comparison sees nothing")
