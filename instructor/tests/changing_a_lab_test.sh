@@ -27,7 +27,12 @@ rm -rf "$WORK" && mkdir -p "$WORK/kit"
 rm -rf "$WORK/kit/build"
 COPY="$WORK/kit"
 
-if (cd "$COPY" && git apply "$ROOT/instructor/changing_a_lab/smith_schlick_ggx.patch"); then
+# The copy is a repository of its own: git apply run inside another repository's tree (the
+# build folder lies in the kit's) applies a patch relative to that one's root, and leaves
+# out, without a word, every path outside the folder it runs in.
+git init -q "$COPY"
+if git -C "$COPY" apply "$ROOT/instructor/changing_a_lab/smith_schlick_ggx.patch" &&
+   grep -q "float geometry_smith" "$COPY/solutions/02-lighting/brdf.glsl"; then
   ok "the patch applies"
 else
   echo "FAIL: instructor/changing_a_lab/smith_schlick_ggx.patch no longer applies: make it again against the kit's files"
