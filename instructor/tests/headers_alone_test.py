@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """Every header of common/ and tools/ compiles on its own, and so does every source file
-of the unity-built libraries (tests/headers_alone.cmake).
+of the unity-built libraries (instructor/tests/headers_alone.cmake).
 
 The unity build (KIT_UNITY_BUILD, the default on machines with the memory for it) compiles
 a library's files as one translation unit, so a file that uses what another file of the
