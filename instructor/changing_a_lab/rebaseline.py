@@ -103,7 +103,7 @@ def calls_markdown():
 
 
 def write_calls_doc():
-    """Writes the calls table into instructor/changing-a-lab.md between its markers; True when it changed."""
+    """Writes the calls table into instructor/changing_a_lab/README.md between its markers; True when it changed."""
     text = CALLS_DOC.read_text(encoding="utf-8")
     start, end = text.index(CALLS_BEGIN) + len(CALLS_BEGIN), text.index(CALLS_END)
     new = text[:start] + "\n" + calls_markdown() + "\n" + text[end:]

@@ -367,7 +367,7 @@ def write_signatures(path, rows, labs=None):
 
 
 # What to do about a row that needs attention, for an instructor who has just changed a lab
-# (./kit rebaseline prints these; instructor/changing-a-lab.md explains them).
+# (./kit rebaseline prints these; instructor/changing_a_lab/README.md explains them).
 NEXT_STEPS = {
     "MISSED": "the mistake keeps full marks now. If the lab's new equation makes it correct, make the entry an "
               "\"equivalent\" (or remove it); if it should still lose points, find a scene that shows it "
