@@ -270,8 +270,9 @@ double simpson(double a, double b, int n, const std::function<double(double)>& f
 // D G and D G Fc are read off the CPU reference's cook_torrance (its specular part at
 // metallic 1, F0 = 1 and F0 = 0, times 4 (n.l)(n.v)), Fc off its fresnel_schlick: whatever
 // lab 2's equation is, this test takes it from the one place that writes it down, so a
-// course that changes it changes this test with it (instructor/changing_a_lab/README.md). What the
-// test holds against brdf_table is the integration, done here in one dimension by Simpson's rule.
+// course that changes it changes this test with it (instructor/changing_a_lab/README.md).
+// What the test holds against brdf_table is the integration, done here in one dimension by
+// Simpson's rule.
 TEST(IblReference, BrdfTableAtNormalIncidenceMatchesOneDimensionalIntegrals) {
   auto schlick = [](double v_dot_h) { return ref::fresnel_schlick(v_dot_h, dvec3(0.0)).x; };
   const double c = 2.0 * simpson(0.0, 0.5 * kPi, 20000, [&](double t) {
