@@ -65,29 +65,25 @@ def calls_table():
                 for function in DEFINITION.findall(path.read_text(encoding="utf-8")):
                     if function != "main":
                         defined.setdefault(function, (number, name))
+    def calls_in(path, number):
+        """Rows for the functions of other labs that the file at PATH (lab NUMBER, 0: shaders/) calls."""
+        text = re.sub(r"//[^\n]*", "", path.read_text(encoding="utf-8"))
+        called, own = {}, set(DEFINITION.findall(text))
+        for function, (lab, file) in defined.items():
+            if lab != number and function not in own and re.search(rf"\b{function}\s*\(", text):
+                called.setdefault((lab, file), []).append(function)
+        return [(number, path.name, lab, file, sorted(functions)) for (lab, file), functions in sorted(called.items())]
+
     rows = []
     for number, folder, files in stages:
         for name in files:
             path = ROOT / "solutions" / folder / name
-            if not path.is_file():
-                continue
-            text = re.sub(r"//[^\n]*", "", path.read_text(encoding="utf-8"))
-            called = {}
-            for function, (lab, file) in defined.items():
-                if lab != number and re.search(rf"\b{function}\s*\(", text):
-                    called.setdefault((lab, file), []).append(function)
-            for (lab, file), functions in sorted(called.items()):
-                rows.append((number, name, lab, file, sorted(functions)))
+            if path.is_file():
+                rows += calls_in(path, number)
     # The framework's own passes (shaders/) that call a lab's function: number 0.
     for path in sorted((ROOT / "shaders").glob("*.*")):
         if path.suffix in (".frag", ".vert", ".glsl"):
-            text = re.sub(r"//[^\n]*", "", path.read_text(encoding="utf-8"))
-            called, own = {}, set(DEFINITION.findall(text))
-            for function, (lab, file) in defined.items():
-                if function not in own and re.search(rf"\b{function}\s*\(", text):
-                    called.setdefault((lab, file), []).append(function)
-            for (lab, file), functions in sorted(called.items()):
-                rows.append((0, path.name, lab, file, sorted(functions)))
+            rows += calls_in(path, 0)
     return rows
 
 
