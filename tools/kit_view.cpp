@@ -30,6 +30,7 @@
 #include <utility>
 #include <vector>
 
+#include "camera_rig.h"
 #include "cli.h"
 #include "base/error.h"
 #include "gl/window.h"
@@ -58,15 +59,7 @@ constexpr float kGammaCycle[] = {2.2f, 1.0f, 0.5f, 2.5f};  // the G key, as in t
 constexpr float kGammaMin = 0.2f, kGammaMax = 3.0f;
 constexpr float kBloomThresholdMax = 5.0f;
 constexpr int kMaxViewerLights = 256;
-// Camera feel, relative to the scene's size so every scene handles alike.
-constexpr float kRotateRadiansPerPixel = 0.006f;
-constexpr float kLookRadiansPerPixel = 0.003f;
-constexpr float kPanSpeed = 0.0015f;         // fraction of the orbit distance per pixel
-constexpr float kZoomPerWheelStep = 0.9f;
-constexpr float kMinDistanceFraction = 1e-3f;
-constexpr float kFlySpeed = 0.25f;           // scene sizes per second
-constexpr float kFlyFastFactor = 4.0f;       // with Shift held
-constexpr float kMaxPitch = 1.55f;           // just under 90 degrees: look-at stays well defined
+constexpr float kFlyFastFactor = 4.0f;       // with Shift held: the fly speed (camera_rig.h) times this
 constexpr float kPanelWidth = 340.0f, kPanelItemWidth = 180.0f;
 constexpr float kWindowMargin = 8.0f;           // between the viewport's edges and the panel or messages
 constexpr float kMessagesMaxHeightFraction = 0.45f;  // of the viewport: the image stays visible above
@@ -133,80 +126,6 @@ int parse_frame_count(const std::string& text) {
   throw kit::Error("--frames expects a whole number of at least 1 (got '" + text + "')");
 }
 
-
-// Orbit and fly cameras over one state: a target point, a distance and a
-// direction (yaw, pitch). Until the first move the scene's own camera is used
-// unchanged, so the first frame is the same image kit-render makes.
-class CameraRig {
- public:
-  CameraRig(const kit::Scene& scene, const kit::Camera& initial) : camera_(initial) {
-    glm::mat4 inverse_view = glm::inverse(camera_.view);
-    glm::vec3 eye(inverse_view[3]);
-    glm::vec3 forward = -glm::normalize(glm::vec3(inverse_view[2]));
-    glm::vec3 center = 0.5f * (scene.bounds_min + scene.bounds_max);
-    scene_size_ = std::max(glm::length(scene.bounds_max - scene.bounds_min), 1e-3f);
-    // Orbit about the point in front of the camera nearest the scene's centre.
-    distance_ = std::max(glm::dot(center - eye, forward), 0.1f * scene_size_);
-    target_ = eye + forward * distance_;
-    pitch_ = std::asin(std::clamp(forward.y, -1.0f, 1.0f));
-    yaw_ = std::atan2(forward.x, -forward.z);
-  }
-
-  const kit::Camera& camera() const { return camera_; }
-  // The current view as --look-at's value, to render it headless (the L key).
-  std::string look_at_text() const { return kit::look_at_text(eye(), target_, camera_.yfov); }
-  bool flying() const { return flying_; }
-  void toggle_fly() { flying_ = !flying_; }
-
-  void rotate(float dx, float dy) {  // orbit: turns the eye about the target
-    turn(dx * kRotateRadiansPerPixel, dy * kRotateRadiansPerPixel);
-    update();
-  }
-  void look(float dx, float dy) {  // fly: turns the view about the eye
-    glm::vec3 eye = this->eye();
-    turn(dx * kLookRadiansPerPixel, dy * kLookRadiansPerPixel);
-    target_ = eye + forward() * distance_;
-    update();
-  }
-  void pan(float dx, float dy) {
-    glm::vec3 right = glm::normalize(glm::cross(forward(), kUp));
-    glm::vec3 up = glm::cross(right, forward());
-    target_ += (-dx * right + dy * up) * distance_ * kPanSpeed;
-    update();
-  }
-  void zoom(float steps) {
-    distance_ = std::max(distance_ * std::pow(kZoomPerWheelStep, steps), kMinDistanceFraction * scene_size_);
-    update();
-  }
-  // move: x right, y up, z forward, in units of the fly speed; seconds of motion.
-  void fly(const glm::vec3& move, float seconds) {
-    glm::vec3 right = glm::normalize(glm::cross(forward(), kUp));
-    target_ += (move.x * right + move.y * kUp + move.z * forward()) * kFlySpeed * scene_size_ * seconds;
-    update();
-  }
-
- private:
-  static constexpr glm::vec3 kUp{0.0f, 1.0f, 0.0f};
-  glm::vec3 forward() const {
-    return {std::cos(pitch_) * std::sin(yaw_), std::sin(pitch_), -std::cos(pitch_) * std::cos(yaw_)};
-  }
-  glm::vec3 eye() const { return target_ - forward() * distance_; }
-  void turn(float yaw, float pitch) {
-    yaw_ += yaw;
-    pitch_ = std::clamp(pitch_ - pitch, -kMaxPitch, kMaxPitch);
-  }
-  void update() {
-    camera_.view = glm::lookAt(eye(), target_, kUp);
-    camera_.position = eye();
-    // Zooming far out must not clip the scene away.
-    camera_.zfar = std::max(camera_.zfar, distance_ + 2.0f * scene_size_);
-  }
-
-  kit::Camera camera_;
-  glm::vec3 target_{0.0f};
-  float distance_ = 1.0f, yaw_ = 0.0f, pitch_ = 0.0f, scene_size_ = 1.0f;
-  bool flying_ = false;
-};
 
 void delete_query(GLuint id) { glDeleteQueries(1, &id); }
 
@@ -943,7 +862,7 @@ class Viewer {
   std::unique_ptr<kit::Renderer> renderer_;
   std::unique_ptr<GpuTimer> gpu_timer_;
   std::unique_ptr<kit::Framebuffer> blit_source_;
-  CameraRig rig_;
+  kit::CameraRig rig_;
   kit::View view_;
   std::map<fs::path, fs::file_time_type> watched_;
   std::string error_, note_;

@@ -162,7 +162,7 @@ Config load_config(const fs::path& path) {
     if (!lab.contains("checks") || !lab["checks"].is_object()) throw Error(where + ": needs a \"checks\" object");
     for (const auto& [check_key, value] : lab["checks"].items()) {
       auto known = lab_checks(lab_number);
-      bool exists = std::any_of(known.begin(), known.end(), [&](const Check* c) { return c->key == check_key; });
+      bool exists = std::any_of(known.begin(), known.end(), [&key = check_key](const Check* c) { return c->key == key; });
       if (!exists) throw Error(where + ".checks: unknown check \"" + check_key + "\" (tools/grade/checks.cpp lists the checks)");
       if (!value.is_number() || value.get<double>() < 0.0)
         throw Error(where + ".checks." + check_key + ": points must be a number >= 0");
@@ -199,7 +199,7 @@ Config load_config(const fs::path& path) {
     if (!lab["tolerances"].is_object()) throw Error(where + " must be an object");
     for (const auto& [check_key, fields] : lab["tolerances"].items()) {
       auto known = lab_checks(lab_number);
-      auto check = std::find_if(known.begin(), known.end(), [&](const Check* c) { return c->key == check_key; });
+      auto check = std::find_if(known.begin(), known.end(), [&key = check_key](const Check* c) { return c->key == key; });
       if (check == known.end()) throw Error(where + ": unknown check \"" + check_key + "\"");
       if (!fields.is_object()) throw Error(where + "." + check_key + " must be an object");
       Tolerance tol = config.tolerance((*check)->metric);

@@ -16,6 +16,7 @@
 
 #include "base/error.h"
 #include "grading_run.h"
+#include "lab_verdict.h"
 #include "gl/pass_clock.h"
 #include "references.h"
 #include "render/renderer.h"
@@ -77,17 +78,7 @@ std::map<std::string, Scene> load_scenes(const std::vector<int>& labs) {
   return scenes;
 }
 
-LabOutcome empty_lab(const Run& run, int lab) {
-  LabOutcome out;
-  out.lab = lab;
-  for (const Check* check : lab_checks(lab)) {
-    CheckOutcome c;
-    c.check = check;
-    c.max_score = run.config.max_score(*check);
-    out.checks.push_back(c);
-  }
-  return out;
-}
+LabOutcome empty_lab(const Run& run, int lab) { return lab_outcome(run.config, lab); }
 
 std::string read_text(const fs::path& path) { return read_tail(path, kErrorBytes); }
 
@@ -210,11 +201,6 @@ fs::path uniform_image_path(const Run& run, const Image& image) {
   return run.reference_cache / (name + ".png");
 }
 
-// How the report shows a check's images.
-Metric shown_metric(const Check& check) {
-  return check.metric == Metric::Work ? Metric::Hdr : compares_own_renders(check.metric) ? Metric::Ldr : check.metric;
-}
-
 // The cached report PNG of `check`'s reference; "" where the reference is prepared by the
 // build (only read) without it.
 fs::path reference_png(const LoadedReference& reference, const Check& check) {
@@ -281,21 +267,6 @@ void load_mistakes_once(Run& run) {
   run.mistakes_loaded = true;
 }
 
-// Lab 7's work check: the frame's counted work (child.json) against its limits, credited only
-// where the frame's image check (earlier in the list) passed.
-Comparison compare_work_check(const Run& run, const LabOutcome& lab, const CheckOutcome& c, const nlohmann::json& child,
-                              const Image& image) {
-  const CheckOutcome* shown = nullptr;
-  for (const CheckOutcome& other : lab.checks)
-    if (&other != &c && other.compared && other.check->image == c.check->image && other.check->metric != Metric::Work)
-      shown = &other;
-  const nlohmann::json counted = child.contains("work") ? child["work"].value(c.check->image, nlohmann::json()) : nlohmann::json();
-  Comparison r = compare_work(run.config.tolerance(*c.check), work_from_json(counted), shown && shown->passed,
-                              shown ? shown->check->key : c.check->image, image.width, image.height);
-  if (counted.is_object()) r.summary += "; state " + counted.value("state", std::string("?"));
-  return r;
-}
-
 // Compares every check of a lab whose child rendered it.
 void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir, LabOutcome& lab) {
   auto t0 = Clock::now();
@@ -329,36 +300,21 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
   lab.status = kGraded;
   for (CheckOutcome& c : lab.checks) {
     const Check& check = *c.check;
-    const Image& image = renders.at(check.image);
     const bool own = compares_own_renders(check.metric);  // its "reference" is the submission's own render
     const LoadedReference* stored = own ? nullptr : &run.references.at(check.reference);
-    const Image& reference = own ? renders.at(check.reference) : stored->image;
-    if (check.metric == Metric::Work) {
-      c.comparison = compare_work_check(run, lab, c, child, image);
-    } else {
-      const Background* background = own ? nullptr : &run.backgrounds.at({check.reference, check.metric});
-      const Image* allowance = stored && stored->allowance.width > 0 ? &stored->allowance : nullptr;
-      c.comparison = compare_images(check.metric, run.config.tolerance(check), image, reference, background, allowance);
+    StoredReference reference;
+    if (stored) {
+      reference.image = &stored->image;
+      reference.allowance = &stored->allowance;
+      if (check.metric != Metric::Work) reference.background = &run.backgrounds.at({check.reference, check.metric});
     }
-    size_t hdr_bad = child.contains("hdr_non_finite") ? child["hdr_non_finite"].value(check.image, size_t{0}) : 0;
-    if (hdr_bad > 0 && !compares_own_renders(check.metric)) {
-      c.comparison.passed = false;
-      c.comparison.note = "the HDR buffer behind this image holds " + std::to_string(hdr_bad) +
-                          " NaN or Inf pixels: " + kNonFiniteAdvice;
-    }
-    c.compared = true;
-    c.passed = c.comparison.passed;
-    c.score = c.passed ? c.max_score : 0;
-    write_report_images(run, result_dir, check, image, reference, c);
+    compare_check(run.config, lab, c, renders, child, reference);
+    write_report_images(run, result_dir, check, renders.at(check.image),
+                        own ? renders.at(check.reference) : stored->image, c);
     c.comparison.diff = Image();  // written: a batch keeps no images in memory
   }
   // A failed check: which catalogued mistake do the lab's signatures resemble?
-  if (!run.mistakes.empty() && lab.passed_checks() < static_cast<int>(lab.checks.size())) {
-    std::map<std::string, std::vector<float>> signatures;
-    for (const CheckOutcome& c : lab.checks) signatures[c.check->key] = check_features(c.comparison.signature, !c.passed);
-    lab.likely_mistakes = likely_mistakes(run.mistakes, lab.lab, signatures);
-    lab.diagnosed = true;
-  }
+  name_likely_mistakes(run.mistakes, lab);
   lab.compare_seconds = seconds_since(t0);
 }
 
@@ -727,22 +683,6 @@ bool writable_folder(const fs::path& dir, std::string* why) {
   fs::remove(probe, ec);
   if (!ok) *why = dir.string() + ": cannot write in the output folder";
   return ok;
-}
-
-int LabOutcome::passed_checks() const {
-  return static_cast<int>(std::count_if(checks.begin(), checks.end(), [](const CheckOutcome& c) { return c.passed; }));
-}
-
-Thousandths LabOutcome::score() const {
-  Thousandths sum = 0;
-  for (const CheckOutcome& c : checks) sum += c.score;
-  return sum;
-}
-
-Thousandths LabOutcome::max_score() const {
-  Thousandths sum = 0;
-  for (const CheckOutcome& c : checks) sum += c.max_score;
-  return sum;
 }
 
 Thousandths SubmissionOutcome::total() const {

@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "checks.h"
+#include "lab_frames.h"
 #include "base/error.h"
 #include "gl/gl.h"
 #include "gl/pass_clock.h"
@@ -37,28 +38,7 @@ void write_text(const fs::path& path, const std::string& text) {
   out << text;
 }
 
-// The library for lab 5's isolated custom effect: the submission's
-// custom_effect.frag in front of the solution's stage 5, so the toggle is
-// graded whatever the submission's bloom does; where the kit has no such solution
-// (custom_effect_isolated), the submission's own stage, which a correct lab gets the
-// same marks for.
-ShaderLibrary isolated_custom_library(const Stage& stage, const fs::path& lab_root) {
-  if (!custom_effect_isolated(stage)) return stage_library(stage, lab_root);
-  std::vector<ShaderFolder> folders = stage_library(stage, kit_root() / "solutions").folders();
-  ShaderFolder student = stage_library(stage, lab_root).folders().front();
-  student.only = {"custom_effect.frag"};
-  folders.insert(folders.begin(), student);
-  return ShaderLibrary(std::move(folders));
-}
-
-// Whether a frame rendered with `a` is the frame `b` would render (the camera is the scene's).
-bool same_frame_settings(const RenderSettings& a, const RenderSettings& b) {
-  return same_image_settings(a, b) && a.width == b.width && a.height == b.height && a.time == b.time;
-}
-
 }  // namespace
-
-bool custom_effect_isolated(const Stage& stage) { return fs::is_directory(kit_root() / "solutions" / stage.folder); }
 
 fs::path raw_image_path(const fs::path& dir, const std::string& render_id) { return dir / (render_id + ".raw"); }
 
@@ -87,24 +67,6 @@ Image read_raw_image(const fs::path& path) {
   return image;
 }
 
-nlohmann::json work_json(const LightVolumeWork& work, const LightVolumeState& state) {
-  return {{"volume_lights", work.volume_lights},
-          {"surface_pixels", work.surface_pixels},
-          {"shaded_fragments", work.shaded_fragments},
-          {"volume_coverage", work.volume_coverage},
-          {"state", describe(state)}};
-}
-
-LightVolumeWork work_from_json(const nlohmann::json& json) {
-  LightVolumeWork work;
-  if (!json.is_object()) return work;
-  work.volume_lights = json.value("volume_lights", 0);
-  work.surface_pixels = json.value("surface_pixels", uint64_t{0});
-  work.shaded_fragments = json.value("shaded_fragments", uint64_t{0});
-  work.volume_coverage = json.value("volume_coverage", uint64_t{0});
-  return work;
-}
-
 namespace {
 
 struct RenderJob {
@@ -128,68 +90,31 @@ int render_lab(const RenderJob& job, std::unique_ptr<GlContext>& context) {
   report["renderer"] = context->describe();
   report["seconds"]["context"] = seconds_since(t0);
 
-  // One Renderer per (scene, isolated custom effect), built on first use; stage 6's
-  // maps are made once per environment and shared between them.
-  IblCache ibl_cache;
-  // The Renderers build many of the same programs (display, debug, post, and lighting where
-  // the scenes' light defines agree): each is compiled and linked once (gl_objects.h).
-  LinkedProgramCache program_cache;
-  // And each shader is assembled once: the lab's files are the child's own copy.
-  AssembledShaderCache assembled_cache;
-  std::map<std::pair<std::string, bool>, std::unique_ptr<Renderer>> renderers;
-  // The settings of each Renderer's last frame. Checks that differ only in the view they
-  // read (lab 1's G-buffer attachments of one scene, an image and its HDR buffer, lab 6's
-  // maps beside the frame) read the frame already there instead of rendering it again:
-  // the same scene, camera and settings give the same frame (21 of the 62 renders).
-  std::map<std::pair<std::string, bool>, RenderSettings> last_frame;
+  LabFrames frames(stage, job.worker->lab_root, *job.worker->scenes);
   double compile = 0.0, render = 0.0, readback = 0.0;
   for (const RenderSpec* spec : lab_renders(job.lab)) {
-    auto scene_it = job.worker->scenes->find(spec->scene);
-    if (scene_it == job.worker->scenes->end()) {
-      write_text(error_file, "scene '" + spec->scene + "' was not loaded");
-      return kChildEnvironmentError;
-    }
-    const Scene& scene = scene_it->second;
-    RenderSettings settings = render_settings(*spec);
     // Timings per Renderer (instructor/grading/measure.sh breaks a lab down by them).
-    const std::string renderer_name = spec->scene + (spec->isolate_custom ? " (custom effect alone)" : "");
+    const std::string renderer_name = LabFrames::renderer_name(*spec);
     report["renderer_of"][spec->id] = renderer_name;
-    auto& renderer = renderers[{spec->scene, spec->isolate_custom}];
-    if (!renderer) {
-      auto t = Clock::now();
-      try {
-        ShaderLibrary library = spec->isolate_custom ? isolated_custom_library(stage, job.worker->lab_root)
-                                                     : stage_library(stage, job.worker->lab_root);
-        library.share_programs_through(&program_cache);
-        library.keep_assembled_in(&assembled_cache);
-        renderer = std::make_unique<Renderer>(stage, std::move(library), scene, settings, &ibl_cache);
-      } catch (const NonFiniteMapError& e) {
-        write_text(error_file, e.what());
-        return kChildMapError;
-      } catch (const Error& e) {
-        write_text(error_file, e.what());
-        return kChildShaderError;
+    Renderer* renderer = nullptr;
+    try {
+      double seconds = 0.0;
+      renderer = &frames.renderer_for(*spec, &seconds);
+      if (seconds > 0.0) {
+        compile += seconds;
+        report["seconds"]["compile_each"][renderer_name] = seconds;
       }
-      double seconds = seconds_since(t);
-      compile += seconds;
-      report["seconds"]["compile_each"][renderer_name] = seconds;
+    } catch (const NonFiniteMapError& e) {
+      write_text(error_file, e.what());
+      return kChildMapError;
+    } catch (const Error& e) {
+      write_text(error_file, e.what());
+      return job.worker->scenes->count(spec->scene) ? kChildShaderError : kChildEnvironmentError;
     }
     try {
-      renderer->settings() = settings;
-      const auto key = std::make_pair(spec->scene, spec->isolate_custom);
-      const auto last = last_frame.find(key);
-      if (last == last_frame.end() || !same_frame_settings(last->second, settings)) {
-        Camera camera = scene.camera ? *scene.camera : framing_camera(scene);
-        auto t = Clock::now();
-        // Lab 5's frames of one scene differ in post-processing alone: its passes run again,
-        // not the whole frame (Renderer::render_reusing_lit_frame).
-        renderer->render_reusing_lit_frame(
-            frame_camera(camera, static_cast<float>(settings.width) / static_cast<float>(settings.height)));
-        glFinish();
-        double seconds = seconds_since(t);
+      if (const double seconds = frames.draw(*spec); seconds > 0.0) {
         render += seconds;
         report["seconds"]["render_each"][spec->id] = seconds;
-        last_frame[key] = settings;
       }
       if (stage.light_volumes)  // the frame's counted work, for lab 7's work checks
         report["work"][spec->id] = work_json(renderer->light_volume_work(), renderer->light_volume_state());
@@ -208,7 +133,7 @@ int render_lab(const RenderJob& job, std::unique_ptr<GlContext>& context) {
       return kChildRenderError;
     }
   }
-  report["programs_reused"] = program_cache.reused();
+  report["programs_reused"] = frames.programs_reused();
   report["seconds"]["compile"] = compile;
   report["seconds"]["render"] = render;
   report["seconds"]["readback"] = readback;

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "gl/context.h"
+#include "lab_frames.h"  // custom_effect_isolated, for the grader
 #include "images/image_io.h"
 #include "render/light_volumes.h"
 #include "render/stages.h"
@@ -45,21 +46,10 @@ struct LabWorker {
 // Where lab `lab` of a worker writes its files (the grader makes the folder first).
 std::filesystem::path lab_folder(const std::filesystem::path& temp, int lab);
 
-// Whether lab `stage`'s custom effect is isolated on the kit's own solution of the lab
-// (render_child.cpp, isolated_custom_library): false in a kit without that solution (a
-// student copy for lab 5, a Classroom 50 bundle), where the effect is rendered on the
-// submission's own bloom and the report says so (kOwnBloomNote).
-bool custom_effect_isolated(const Stage& stage);
-
 // Runs in the worker: renders each lab the channel names into its folder, with that
 // folder as its working directory and its child.log as stdout and stderr, and reports
 // the lab's status. Goes on only after a lab that rendered; returns the exit status.
 int serve_labs(const LabWorker& worker, TaskChannel& channel);
-
-// A lab 7 frame's counted work (render/light_volumes.h) as child.json holds it, and back (zeros
-// for what a report lacks).
-nlohmann::json work_json(const LightVolumeWork& work, const LightVolumeState& state);
-LightVolumeWork work_from_json(const nlohmann::json& json);
 
 // Raw float images between child and parent (not an image file format): the
 // 8 bytes "KITRAW1\0", width, height and channels as int32, then the floats.

@@ -1,0 +1,42 @@
+#pragma once
+// A lab's verdict from its renders: every check compared by kit-grade's rules, the score,
+// and the catalogued mistakes the failures resemble. kit-grade (grader.cpp, compare_lab)
+// and the browser's in-page check (tools/web/page_check.cpp) both come here, so the page's
+// preview is the grader's own comparison compiled for WebAssembly.
+#include <map>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "compare.h"
+#include "config.h"
+#include "diagnosis.h"
+#include "grader.h"
+#include "images/image_io.h"
+
+namespace kit::grade {
+
+// A lab with its checks (lab_checks) and their points (config), nothing compared yet.
+LabOutcome lab_outcome(const Config& config, int lab);
+
+// The stored reference a check compares with (none for checks of the submission's own renders).
+struct StoredReference {
+  const Image* image = nullptr;
+  const Image* allowance = nullptr;    // its filter allowance, or null
+  const Background* background = nullptr;  // reference_background's, when already found
+};
+
+// Compares check `c` of `lab`: `renders` by render id; `child` the render report's "work"
+// (lab 7's counted work) and "hdr_non_finite" (NaN/Inf in the HDR buffer behind each
+// image), as child.json holds them. Sets c's comparison, verdict and score. Lab 7's work
+// check reads the verdict of its frame's image check, which comes earlier in the list.
+void compare_check(const Config& config, LabOutcome& lab, CheckOutcome& c, const std::map<std::string, Image>& renders,
+                   const nlohmann::json& child, const StoredReference& reference);
+
+// How a report shows a check's images (display_image's metric).
+Metric shown_metric(const Check& check);
+
+// Where a check of `lab` failed: the catalogued mistakes its signatures resemble (diagnosis.h).
+void name_likely_mistakes(const MistakeSignatures& mistakes, LabOutcome& lab);
+
+}  // namespace kit::grade
