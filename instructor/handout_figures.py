@@ -45,6 +45,10 @@ class Sources:
         if self_check_json:
             rows = json.loads(pathlib.Path(self_check_json).read_text(encoding="utf-8"))["rows"]
             self.costs = {r["id"]: r["max_score"] - r["score"] for r in rows if r.get("score") is not None}
+            # A self-check of some labs (./kit rebaseline --labs N) knows nothing of the others' mistakes.
+            self.checked_labs = {r["lab"] for r in rows}
+            catalogue = json.loads((ROOT / "instructor/grading/catalogue.json").read_text(encoding="utf-8"))
+            self.mistake_labs = {e["id"]: e["lab"] for e in catalogue["entries"]}
 
     def value(self, key, written):
         """The key's value as text, None where it cannot be known here (a mistake's cost without a self-check),
@@ -66,7 +70,7 @@ class Sources:
             width, height = self.manifest["size"]
             return f"{width}×{height}"
         if parts[0] == "mistake" and len(parts) == 3 and parts[2] == "cost":
-            if self.costs is None:
+            if self.costs is None or self.mistake_labs.get(parts[1]) not in self.checked_labs:
                 return None
             if parts[1] not in self.costs:
                 raise KeyError(f"{key}: no row '{parts[1]}' in the self-check's results")

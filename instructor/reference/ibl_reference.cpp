@@ -330,7 +330,8 @@ dvec2 equirect_uv(dvec3 d) {
   // kit_equirect_uv's guard (guards.glsl): a zero vector has no angles (0/0); it maps to the pole overhead.
   if (glm::dot(d, d) < KIT_MIN_DIRECTION_LENGTH_SQUARED) return {0.5, 0.0};
   const double length = glm::length(d);
-  const double phi = std::atan2(d.x, -d.z);
+  // Straight up or down, kit_equirect_uv's azimuth: 0 (atan2 would give 0 or pi by the zeros' signs).
+  const double phi = d.x == 0.0 && d.z == 0.0 ? 0.0 : std::atan2(d.x, -d.z);
   const double theta = std::acos(std::clamp(d.y / length, -1.0, 1.0));
   return {phi / kTwoPi + 0.5, theta / KIT_PI};
 }
