@@ -1,6 +1,6 @@
 # The browser build in Debian's headless chromium (tests/web_test.py): the site's frames of
-# lab 1's albedo and lab 2's and lab 6's final images against kit-render's, within the
-# tolerance the script states, a witness, and a refused OBJ scene. It builds nothing: the
+# every stage against kit-render's, within the tolerance the script states, a witness, a
+# refused OBJ scene, and the page's check of every lab against kit-grade's. It builds nothing: the
 # site is kit-web's build folder, which ./kit test builds in the kit with instructor/ (its
 # own suite; KIT_WEB_SITE to test another, such as out/web). A student copy's ./kit test
 # neither builds the site nor has this test: a student runs ./kit web when they want it.
@@ -10,7 +10,7 @@ if(TARGET kit-render AND KIT_HAS_INSTRUCTOR)
   find_program(KIT_WEB_PYTHON NAMES python3 REQUIRED)
   add_test(NAME web_browser
            COMMAND ${KIT_WEB_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/web_test.py ${KIT_WEB_SITE} $<TARGET_FILE:kit-render>
-                   ${CMAKE_BINARY_DIR}/test-tmp/web)
+                   $<TARGET_FILE:kit-grade> ${CMAKE_BINARY_DIR}/test-tmp/web)
   set_tests_properties(web_browser PROPERTIES LABELS web TIMEOUT 300
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes")
 endif()

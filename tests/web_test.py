@@ -4,11 +4,14 @@
 Serves the site (kit-web's build folder, or ./kit web's out/web) on 127.0.0.1, loads
 index.html with kit-render's options in its URL, reads the canvas back, and compares it
 with kit-render's PNG of the same stage, view and size (--solution) within a stated
-tolerance; a witness checks that another stage's image does not pass. Builds nothing:
-ctest runs it after ./kit test has built the site; without a site or chromium it fails,
-saying what to install or build.
+tolerance; a witness checks that another stage's image does not pass. Then the page's
+check (kit-grade's comparison compiled to WebAssembly, tools/web/page_check.h) of every
+lab: the solutions pass every check on SwiftShader, and the starters get the verdict, check
+by check, and the likely mistake that kit-grade gives them. Builds nothing: ctest runs it
+after ./kit test has built the site; without a site or chromium it fails, saying what to
+install or build.
 
-usage: web_test.py SITE_DIR KIT_RENDER WORK_DIR
+usage: web_test.py SITE_DIR KIT_RENDER KIT_GRADE WORK_DIR
 Chromium is driven over the DevTools protocol on a pipe (--remote-debugging-pipe: fds
 3 and 4, NUL-separated JSON), with python's standard library alone; PNGs are read by
 png_rgb.py.
@@ -28,6 +31,8 @@ import time
 
 from png_rgb import read_png
 
+KIT_ROOT = pathlib.Path(__file__).resolve().parents[1]
+
 SIZE = (320, 240)
 # How close the browser's frame must be to kit-render's (8-bit RGB levels), measured on
 # SwiftShader against llvmpipe (the numbers each case prints): rasterisation and float
@@ -35,12 +40,17 @@ SIZE = (320, 240)
 MAX_MEAN_DIFFERENCE = 1.0      # mean over all channels of all pixels
 MAX_FAR_PIXELS = 0.005         # share of pixels with a channel off by more than FAR_LEVELS
 FAR_LEVELS = 16
-CASES = [  # (URL query, kit-render arguments)
+CASES = [  # (URL query, kit-render arguments): each stage's final image, lab 1's albedo
     ("stage=gbuffer&view=albedo&size=320x240", ["--stage", "gbuffer", "--view", "albedo"]),
     ("stage=lighting&size=320x240", ["--stage", "lighting"]),
+    ("stage=attenuation&size=320x240", ["--stage", "attenuation"]),
+    ("stage=normalmap&size=320x240", ["--stage", "normalmap"]),
+    ("stage=postprocess&size=320x240", ["--stage", "postprocess"]),
     # Lab 6 reads its environment from an OpenEXR file (the browser build's own reader).
     ("stage=ibl&size=320x240", ["--stage", "ibl"]),
+    ("stage=lightvolumes&size=320x240", ["--stage", "lightvolumes"]),
 ]
+LABS = range(1, 8)
 CHROMIUM_FLAGS = [
     "--headless=new", "--no-sandbox", "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
     "--disable-gpu-sandbox", "--no-first-run", "--disable-background-networking", "--disable-component-update",
@@ -154,10 +164,45 @@ def load_page(chromium, url, timeout=120):
     raise SystemExit(f"{url}: no frame after {timeout} s")
 
 
+def kit_call(chromium, command):
+    """The page's kit_call(command) (tools/web/kit_web.cpp), its answer as a dict."""
+    text = json.dumps(json.dumps(command))
+    return chromium.evaluate(f"JSON.parse(Module.ccall('kit_call', 'string', ['string'], [{text}]))")
+
+
+def check_labs(chromium, kit_grade, work, failures):
+    """The page's check of each lab: the solutions pass everything; the starters (labs/) get
+    kit-grade's verdict on every check and the same first likely mistake."""
+    graded = work / "kit-grade-starters"
+    # The starters fail checks: kit-grade's exit status says so, and is not the test's.
+    subprocess.run([kit_grade, str(KIT_ROOT / "labs"), "--out", str(graded)], stdout=subprocess.DEVNULL, check=False)
+    expected = json.loads((graded / "summary.json").read_text())["labs"]
+    for lab in LABS:
+        start = time.monotonic()
+        solution = kit_call(chromium, {"cmd": "check", "lab": lab, "solution": True})
+        seconds = time.monotonic() - start
+        failed = [c["key"] for c in solution.get("checks", []) if not c["passed"]]
+        print(f"page check, lab {lab} solution: {solution.get('status')}, {solution.get('passed')}/{solution.get('total')} "
+              f"checks in {seconds:.1f} s{'; failed: ' + ', '.join(failed) if failed else ''}")
+        if solution.get("status") != "graded" or failed or solution.get("passed") != len(expected[str(lab)]["checks"]):
+            failures.append(f"page check of lab {lab}'s solution: {solution.get('error') or solution.get('message') or failed}")
+        starter = kit_call(chromium, {"cmd": "check", "lab": lab})
+        page = {c["key"]: c["passed"] for c in starter.get("checks", [])}
+        grader = {key: c["passed"] for key, c in expected[str(lab)]["checks"].items()}
+        page_first = (starter.get("likely_mistakes") or [{}])[0].get("id")
+        grader_first = (expected[str(lab)].get("likely_mistakes") or [{}])[0].get("id")
+        agree = page == grader and page_first == grader_first
+        print(f"page check, lab {lab} starter: {sum(page.values())}/{len(page)} checks, likely {page_first}; kit-grade "
+              f"{sum(grader.values())}/{len(grader)}, likely {grader_first}: {'same' if agree else 'DIFFERENT'}")
+        if not agree:
+            failures.append(f"page check of lab {lab}'s starter: {page} {page_first} against kit-grade's {grader} {grader_first}")
+
+
 def main():
-    if len(sys.argv) != 4:
+    if len(sys.argv) != 5:
         raise SystemExit(__doc__)
-    site, kit_render, work = pathlib.Path(sys.argv[1]), sys.argv[2], pathlib.Path(sys.argv[3])
+    site, kit_render, kit_grade, work = (pathlib.Path(sys.argv[1]), sys.argv[2], sys.argv[3],
+                                         pathlib.Path(sys.argv[4]))
     missing = [name for name in ("index.html", "kit-web.js", "kit-web.wasm", "kit-web.data") if not (site / name).is_file()]
     if missing:
         print(f"web_test: FAILED: {site} has no {', '.join(missing)} (./kit test and ./kit web build the site)")
@@ -225,6 +270,8 @@ def main():
         print(f"scene=obj-cube.obj: {state or 'no answer'}: {(report or {}).get('error')}")
         if not refused:
             failures.append("scene=obj-cube.obj: expected the page to refuse the OBJ scene by name")
+        load_page(chromium, base + "stage=gbuffer&size=64x48")
+        check_labs(chromium, kit_grade, work, failures)
     finally:
         chromium.close()
         server.shutdown()
