@@ -198,12 +198,51 @@ def check_labs(chromium, kit_grade, work, failures):
             failures.append(f"page check of lab {lab}'s starter: {page} {page_first} against kit-grade's {grader} {grader_first}")
 
 
+def student_site(chromium, server_root, port, work, failures):
+    """./kit web --student-copy 3: a site without lab 3's solution or later ones, which the
+    page loads; witness: the kit's own site fails the same leak check."""
+    site = work / "site-lab3"
+    run = subprocess.run([str(KIT_ROOT / "kit"), "web", "--student-copy", "3", "--out", str(site)],
+                         capture_output=True, text=True)
+    print(f"./kit web --student-copy 3: exit {run.returncode}: {run.stderr.strip().splitlines()[-2:]}")
+    if run.returncode != 0:
+        failures.append("./kit web --student-copy 3 failed: " + run.stderr[-2000:])
+        return
+    extracted = work / "site-lab3-files"
+    subprocess.run([sys.executable, str(KIT_ROOT / "tools/web/site_files.py"), "extract", str(site), str(extracted)],
+                   check=True, stdout=subprocess.DEVNULL)
+    folders = sorted(p.name for p in (extracted / "solutions").iterdir()) if (extracted / "solutions").is_dir() else []
+    print(f"student site for lab 3: solutions of {folders}")
+    if folders != ["01-gbuffer", "02-lighting"]:
+        failures.append(f"the lab 3 site packs the solutions {folders}, not labs 1 and 2's")
+    # The page runs from it: lab 3 from the student's starter, lab 2 from the released solution.
+    shutil.copytree(site, server_root / "site-lab3")
+    base = f"http://127.0.0.1:{port}/site-lab3/index.html?"
+    load_page(chromium, base + "stage=lighting&size=64x48")
+    answer = kit_call(chromium, {"cmd": "check", "lab": 3, "solution": True})
+    # The site has no solutions/03-attenuation: what renders is the starter (stage_library's
+    # fallback), which passes none of lab 3's checks.
+    print(f"student site, lab 3's solution asked for: {answer.get('status')}, {answer.get('passed')}/"
+          f"{answer.get('total')} checks (must not pass)")
+    if answer.get("passed"):
+        failures.append("the lab 3 site passed lab 3's checks with its 'solution': it holds one")
+    # Witness: the kit's own site (every solution) fails the leak check a student site passes.
+    own = work / "own-site-files"
+    subprocess.run([sys.executable, str(KIT_ROOT / "tools/web/site_files.py"), "extract", str(server_root), str(own)],
+                   check=True, stdout=subprocess.DEVNULL)
+    leak = subprocess.run([sys.executable, str(KIT_ROOT / "instructor/student_copy/leak_check.py"), str(own), "3",
+                           "--kit", str(KIT_ROOT)], capture_output=True, text=True)
+    print(f"witness: the kit's own site under the lab 3 leak check: exit {leak.returncode} (must fail)")
+    if leak.returncode == 0:
+        failures.append("witness: the kit's own site passed the lab 3 leak check: the check sees nothing")
+
+
 def main():
     if len(sys.argv) != 5:
         raise SystemExit(__doc__)
     site, kit_render, kit_grade, work = (pathlib.Path(sys.argv[1]), sys.argv[2], sys.argv[3],
                                          pathlib.Path(sys.argv[4]))
-    missing = [name for name in ("index.html", "kit-web.js", "kit-web.wasm", "kit-web.data") if not (site / name).is_file()]
+    missing = [name for name in ("index.html", "kit-web.js", "kit-web.wasm", "kit-web.data", "kit-web-data.js") if not (site / name).is_file()]
     if missing:
         print(f"web_test: FAILED: {site} has no {', '.join(missing)} (./kit test and ./kit web build the site)")
         return 1
@@ -217,7 +256,10 @@ def main():
         def log_message(self, *args):
             pass
 
-    handler = functools.partial(Quiet, directory=str(site))
+    # A copy of the site is served, so the student site can be served beside it.
+    served = work / "site"
+    shutil.copytree(site, served, ignore=shutil.ignore_patterns("CMakeFiles", "*.a", "*.cmake"))
+    handler = functools.partial(Quiet, directory=str(served))
     server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)  # a free port, this machine only
     threading.Thread(target=server.serve_forever, daemon=True).start()
     base = f"http://127.0.0.1:{server.server_address[1]}/index.html?"
@@ -272,6 +314,7 @@ def main():
             failures.append("scene=obj-cube.obj: expected the page to refuse the OBJ scene by name")
         load_page(chromium, base + "stage=gbuffer&size=64x48")
         check_labs(chromium, kit_grade, work, failures)
+        student_site(chromium, served, server.server_address[1], work, failures)
     finally:
         chromium.close()
         server.shutdown()
