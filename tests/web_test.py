@@ -79,11 +79,12 @@ class Chromium:
         self.from_chrome_r, self.from_chrome_w = os.pipe()
         profile = tempfile.mkdtemp(prefix="profile-", dir=work)
 
-        # Chromium reads commands on fd 3 and answers on fd 4: the shell puts the pipes there
+        # Chromium reads commands on fd 3 and answers on fd 4: bash puts the pipes there (dash
+        # takes one-digit descriptors only, and a second browser of one process gets higher ones)
         # (subprocess closes every descriptor it is not told to pass, after any preexec_fn).
         redirect = f'exec "$@" 3<&{self.to_chrome_r} 4>&{self.from_chrome_w}'
         self.process = subprocess.Popen(
-            ["/bin/sh", "-c", redirect, "sh", "chromium", *CHROMIUM_FLAGS, f"--user-data-dir={profile}", "about:blank"],
+            ["/bin/bash", "-c", redirect, "bash", "chromium", *CHROMIUM_FLAGS, f"--user-data-dir={profile}", "about:blank"],
             pass_fds=(self.to_chrome_r, self.from_chrome_w),
             stdout=subprocess.DEVNULL, stderr=open(os.path.join(work, "chromium.log"), "wb"))
         os.close(self.to_chrome_r)

@@ -1,7 +1,7 @@
 // kit-web: the kit in a browser tab. The framework's Renderer draws into the page's canvas
 // (WebGL2, through the same common/ as the desktop's), and the page (tools/web/page/)
 // drives it through one entry point, kit_call(JSON) -> JSON, with commands named in
-// dispatch() below: configure, frame, camera, reload, lost, restored, check, catalogue.
+// dispatch() below: configure, frame, time, camera, reload, lost, restored, check, catalogue.
 //
 // main() draws the first frame from kit-render's options (the page turns its URL's
 // ?stage=...&scene=...&view=...&size=WxH into --stage/--scene/--view/--size arguments) and
@@ -12,6 +12,7 @@
 #include <emscripten/emscripten.h>
 #include <emscripten/html5.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -64,6 +65,14 @@ EMSCRIPTEN_WEBGL_CONTEXT_HANDLE make_context() {
     throw kit::Error("the WebGL2 context could not be made current");
   kit::init_gl_flavour();
   return context;
+}
+
+// Returns once the GPU has done every command so far. WebGL's glFinish returns at once in
+// Chromium; a read of one pixel waits for the commands before it.
+void wait_for_gpu() {
+  unsigned char pixel[4];
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glReadPixels(0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, pixel);
 }
 
 void set_canvas_size(int width, int height) {
@@ -233,6 +242,20 @@ Json dispatch(const Json& in) {
     return out;
   }
   if (cmd == "frame") return {{"seconds", draw(p)}};
+  if (cmd == "time") {
+    // Frame times as kit-render --frames --timings measures them: the frame drawn and
+    // finished, not shown; the benchmark's per-stage figures (docs/performance.md).
+    prepare(p);
+    const kit::RenderSettings& s = p.settings;
+    Json ms = Json::array();
+    for (int i = 0; i < std::clamp(in.value("frames", 10), 1, 1000); ++i) {
+      const auto t0 = std::chrono::steady_clock::now();
+      p.renderer->render(kit::frame_camera(p.rig->camera(), static_cast<float>(s.width) / static_cast<float>(s.height)));
+      wait_for_gpu();
+      ms.push_back(1000.0 * kit::seconds_since(t0));
+    }
+    return {{"frame_ms", ms}};
+  }
   if (cmd == "camera") {
     if (!p.rig) throw kit::Error("no scene is loaded");
     const float dx = in.value("dx", 0.0f), dy = in.value("dy", 0.0f);
