@@ -38,6 +38,7 @@ SHADER_FOLDERS = ("labs", "shaders", "solutions")
 FORBIDDEN = [
     (re.compile(r"(?<![\w.-])instructor/"), "names the instructor/ folder, which a copy does not have"),
     (re.compile(r"\binstructors\.md\b"), "names handouts/instructors.md, which a copy does not have"),
+    (re.compile(r"--student-copy\b"), "names ./kit web --student-copy, which a copy refuses"),
     (re.compile(r"\./kit\s+(bench|student-copy|gradescope-package|handout-images|rebaseline)\b"),
      "names an instructor command, which a copy refuses"),
     (re.compile(r"(?<![\w-])kit-bench\b"), "names kit-bench, the instructors' benchmark (not in a copy)"),
