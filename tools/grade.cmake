@@ -41,6 +41,9 @@ add_custom_command(
   OUTPUT ${KIT_PREPARED_REFERENCES_DIR}/prepared.stamp
   COMMAND ${CMAKE_COMMAND} -E rm -rf ${KIT_PREPARED_REFERENCES_DIR}
   COMMAND kit-grade --prepare-references ${KIT_PREPARED_REFERENCES_DIR}
+  # Stale references are left out (a new check's, before --update-references makes it): the
+  # folder may not exist then, and the stamp still marks this state done.
+  COMMAND ${CMAKE_COMMAND} -E make_directory ${KIT_PREPARED_REFERENCES_DIR}
   COMMAND ${CMAKE_COMMAND} -E touch ${KIT_PREPARED_REFERENCES_DIR}/prepared.stamp
   DEPENDS kit-grade ${kit_grade_reference_files}
   COMMENT "Preparing the grader's references in ${KIT_PREPARED_REFERENCES_DIR}"

@@ -181,12 +181,15 @@ const std::vector<RenderSpec>& renders() {
     r.push_back(with(hdr("lab6-matte-sun-hdr", 6, "matte"), sun));
     // Lab 7: 128 small ranged lights (the work the volumes save), the camera inside a
     // volume (front faces culled, not back), and a spot and a point light whose ranges end
-    // in view (lab 3's range scene). Each frame's HDR buffer is compared with the
-    // solution's, and the same frame's counted work checked (Metric::Work).
+    // in view (lab 3's range scene), and a point and a spot light without a range, whose volumes
+    // reach the framework's cut-off. Each frame's HDR buffer is compared with the solution's,
+    // and the same frame's counted work checked (Metric::Work; not the unranged lights': their
+    // volumes cover most of the view, as they must).
     r.push_back(hdr("lab7-lights-hdr", 7, "lights"));
     r.push_back(final_image("lab7-lights-final", 7, "lights"));
     r.push_back(hdr("lab7-inside-hdr", 7, "inside"));
     r.push_back(hdr("lab7-range-hdr", 7, "range"));
+    r.push_back(hdr("lab7-unranged-hdr", 7, "unranged"));
     return r;
   }();
   return kRenders;
@@ -246,6 +249,8 @@ const std::vector<Check>& checks() {
       {7, "lights-final", "128 small lights, final image", Metric::Ldr, "lab7-lights-final", "lab7-lights-final"},
       {7, "inside-hdr", "camera inside a light's volume, HDR", Metric::Hdr, "lab7-inside-hdr", "lab7-inside-hdr"},
       {7, "range-hdr", "a spot and a point light with ranges, HDR", Metric::Hdr, "lab7-range-hdr", "lab7-range-hdr"},
+      {7, "unranged-hdr", "a point and a spot light without a range, HDR", Metric::Hdr, "lab7-unranged-hdr",
+       "lab7-unranged-hdr"},
       {7, "lights-work", "128 small lights, fragments shaded", Metric::Work, "lab7-lights-hdr", "lab7-lights-hdr"},
       {7, "inside-work", "camera inside a volume, fragments shaded", Metric::Work, "lab7-inside-hdr", "lab7-inside-hdr"},
       {7, "range-work", "spot and point light, fragments shaded", Metric::Work, "lab7-range-hdr", "lab7-range-hdr"},

@@ -337,6 +337,22 @@ GltfSceneWriter build_range_scene() {
   return b;
 }
 
+// A point and a spot light without a range (glTF's default: unlimited), for kit-grade's
+// lab 7: their volumes reach the framework's cut-off (light_volumes.h, volume_radius), and
+// a volume scaled by the glTF range, 0 for them, draws nothing. No other grading scene has
+// such a light, so that mistake kept full marks, and the default scene's light vanished.
+GltfSceneWriter build_unranged_scene() {
+  GltfSceneWriter b("unranged");
+  add_grey_floor(b, 0.6);
+  const MaterialDesc red = plain_material("red", glm::dvec4(0.8, 0.25, 0.2, 1.0), 0.4);
+  b.add_mesh_node("ball", {-0.8, 0.5, 0.0}, b.add_geometry(make_sphere(0.5f, 48, 24, {1, 1}, false)), b.add_material(red));
+  b.add_point_light("unranged_point", {-1.6, 1.2, 1.0}, {1.0, 0.9, 0.8}, 3.0);
+  b.add_spot_light("unranged_spot", {1.5, 2.5, 0.5}, {1.2, 0.0, -0.5}, {0.7, 0.8, 1.0}, 30.0, glm::radians(15.0),
+                   glm::radians(30.0));
+  b.add_camera({0.0, 3.0, 5.0}, {0.0, 0.3, 0.0}, 0.8);
+  return b;
+}
+
 // Many small lights, for kit-grade's lab 7 (light volumes): 128 coloured point lights of
 // 0.08 cd, 0.15 to 0.4 m above a 12 x 12 m floor among five spheres, each with a glTF range
 // of 0.9 m (so its volume is exact: lights.glsl kit_range_window), a dim directional light
@@ -599,6 +615,7 @@ void write_kit_scenes(const fs::path& out_dir) {
   build_closeup_scene(textures).write(out_dir);
   build_lights_scene().write(out_dir);
   build_inside_scene().write(out_dir);
+  build_unranged_scene().write(out_dir);
   build_range_scene().write(out_dir);
   build_matte_scene().write(out_dir);
   build_crowd_scene().write(out_dir);
