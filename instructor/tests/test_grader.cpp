@@ -562,21 +562,38 @@ TEST(Grader, ZipWithParentEntriesIsRefused) {
   expect_zero(d, 2, "invalid_files", "starts with '-'");
 }
 
-// A batch: one result folder per submission, a gradebook, and a second run that
-// skips what is already graded.
+// A batch: one result folder per submission, a gradebook, the class summary, and a second
+// run that skips what is already graded.
 TEST(Grader, BatchWritesAGradebookAndResumes) {
   fs::path dir = kit::test::temp_dir("grader-batch");
   fs::path in = dir / "submissions", out = dir / "results";
   copy_lab("solutions", 2, in / "alice");
   copy_lab("labs", 2, in / "bob");
   fs::create_directories(in / "carol");
+  // dave and erin make the catalogue's lighting-f0-not-metallic (f0 0.04 for metals too).
+  for (const char* name : {"dave", "erin"}) {
+    copy_lab("solutions", 2, in / name);
+    edit(in / name / "02-lighting/brdf.glsl", "vec3 f0 = mix(vec3(0.04), albedo, metallic);", "vec3 f0 = vec3(0.04);");
+  }
   std::string output;
   std::string command = kit::test::tool("kit-grade") + " --batch " + quoted(in) + " --out " + quoted(out) + " --labs 2 --jobs 2";
   ASSERT_EQ(kit::test::run(command, &output), 0) << output;
-  for (const char* name : {"alice", "bob", "carol"}) {
+  for (const char* name : {"alice", "bob", "carol", "dave", "erin"}) {
     expect_gradescope_schema(read_json(out / name / "results.json"));
     EXPECT_NE(output.find(std::string("] ") + name + ": "), std::string::npos) << output;
   }
+  // The class: per lab the distribution, each check's passes, each mistake named first.
+  const std::string summary = read_file(out / "class-summary.csv");
+  EXPECT_NE(summary.find("lab,what,key,title,count,submissions\n"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("2,score,10,,1,5\n"), std::string::npos) << summary;   // alice alone has full marks
+  EXPECT_NE(summary.find("2,score,0-1,,2,5\n"), std::string::npos) << summary;  // bob, carol
+  EXPECT_NE(summary.find("2,check,default-final,\"default scene, final image\",1,5\n"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("2,mistake,lighting-f0-not-metallic,"), std::string::npos) << summary;
+  EXPECT_NE(summary.find(",2,5\n", summary.find("2,mistake,lighting-f0-not-metallic,")), std::string::npos) << summary;
+  EXPECT_NE(summary.find("2,mistake,starter-lab2,"), std::string::npos) << summary;
+  const std::string page = read_file(out / "class-summary.html");
+  EXPECT_NE(page.find("<svg role=\"img\""), std::string::npos);
+  EXPECT_EQ(page.find("http"), std::string::npos) << "the page loads nothing from elsewhere";
   std::string csv = read_file(out / "gradebook.csv");
   EXPECT_NE(csv.find("submission,lab2,total,max_total,problems\n"), std::string::npos) << csv;
   EXPECT_NE(csv.find("alice,10,10,10,\n"), std::string::npos) << csv;
@@ -584,10 +601,10 @@ TEST(Grader, BatchWritesAGradebookAndResumes) {
   EXPECT_NE(csv.find("carol,0,0,10,lab2:missing_files\n"), std::string::npos) << csv;
   auto stamp = fs::last_write_time(out / "alice" / "results.json");
   ASSERT_EQ(kit::test::run(command, &output), 0) << output;
-  EXPECT_NE(output.find("0 to grade, 3 already graded"), std::string::npos) << output;
+  EXPECT_NE(output.find("0 to grade, 5 already graded"), std::string::npos) << output;
   EXPECT_EQ(fs::last_write_time(out / "alice" / "results.json"), stamp);
   ASSERT_EQ(kit::test::run(command + " --force", &output), 0) << output;
-  EXPECT_NE(output.find("3 to grade"), std::string::npos) << output;
+  EXPECT_NE(output.find("5 to grade"), std::string::npos) << output;
 }
 
 TEST(Grader, BadArgumentsFailWithAMessage) {

@@ -30,7 +30,8 @@ constexpr const char* kBatchLockFile = ".kit-grade.lock";
 // What a batch writes at the top of its output folder, and what a result folder
 // holds: a submission named like one of them (in any case) gets its result
 // folder under its name plus kReservedSuffix.
-const char* const kBatchOwnNames[] = {"gradebook.csv", "results.json", "summary.json", "report.html", "img"};
+const char* const kBatchOwnNames[] = {"gradebook.csv", "class-summary.csv", "class-summary.html", "results.json",
+                                       "summary.json", "report.html", "img"};
 constexpr const char* kReservedSuffix = ".submission";
 
 // The content hash a result was written with ("" when it has none or cannot be read).
@@ -222,7 +223,9 @@ int grade_batch(const fs::path& folder, const Options& options) {
   });
   remove_run_temp(run);
   write_gradebook(options.out, all_names, options.labs);
-  std::printf("kit-grade: %zu graded in %.1f s; gradebook: %s\n", done, seconds_since(t0), (options.out / "gradebook.csv").c_str());
+  write_class_summary(options.out, all_names, options.labs);
+  std::printf("kit-grade: %zu graded in %.1f s; gradebook: %s; the class: %s\n", done, seconds_since(t0),
+              (options.out / "gradebook.csv").c_str(), (options.out / "class-summary.html").c_str());
   if (!completed) return 130;
   return grader_error ? 2 : 0;
 }

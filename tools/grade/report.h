@@ -42,6 +42,17 @@ std::string format_score(double score);
 void write_gradebook(const std::filesystem::path& dir, const std::vector<std::pair<std::string, std::string>>& submissions,
                      const std::vector<int>& labs);
 
+// What a class gets wrong, from the same summary.json files: class-summary.csv and
+// class-summary.html in `dir`. Per lab: the score distribution (tenths of the lab's
+// points), each check's pass count, and each likely mistake named first with how many
+// submissions it was named for. CSV rows: lab,what,key,title,count,submissions, `what`
+// being "score" (key: the bin, "0-1" ... "9-10" in tenths of the maximum, "10" full marks),
+// "check" (count: submissions that passed it) or "mistake" (count: submissions it was named
+// first for). The HTML page charts the distribution (inline SVG: nothing loaded from elsewhere).
+void write_class_summary(const std::filesystem::path& dir,
+                         const std::vector<std::pair<std::string, std::string>>& submissions,
+                         const std::vector<int>& labs);
+
 std::string html_escape(const std::string& text);
 
 }  // namespace kit::grade
