@@ -116,7 +116,7 @@ function say(text, kind = "", detail = "", actions = []) {
     }
     box.append(row);
   }
-  kitPage.messages.push(text + (detail ? "\n" + detail : ""));
+  if (text) kitPage.messages.push(text + (detail ? "\n" + detail : ""));
   if (kitPage.messages.length > 50) kitPage.messages.shift();
 }
 
@@ -128,10 +128,13 @@ function frameInfo(answer, what) {
     `${VIEW_LABELS[ui.view] || ui.view}, ${canvas.width}x${canvas.height}: ${what} drawn in ${ms(answer.seconds || 0)}.`;
 }
 
-// The canvas at one canvas pixel per CSS pixel (lab 6's maps have sizes of their own).
+// The canvas at one canvas pixel per CSS pixel; lab 6's maps, which have small sizes of
+// their own, magnified by a whole factor.
+const MAP_VIEWS = ["irradiance", "prefiltered", "brdf-lut"];
 function fitCanvas() {
-  canvas.style.width = canvas.width + "px";
-  canvas.style.height = canvas.height + "px";
+  const zoom = MAP_VIEWS.includes(ui.view) ? Math.max(1, Math.floor(256 / Math.max(canvas.width, canvas.height))) : 1;
+  canvas.style.width = zoom * canvas.width + "px";
+  canvas.style.height = zoom * canvas.height + "px";
 }
 
 // ---- compile errors in the editor ----
@@ -166,7 +169,8 @@ function clearCompileErrors() {
 
 // An answer to a command that draws: the frame it drew, or the problem (the canvas keeps
 // the last good frame). kind: "edit" (a compile of the student's files), "build" (a
-// configure that may build the renderer anew), or "move".
+// configure that built the renderer anew from the files), "settings" (one that kept the
+// renderer: a compile error of the files stands) or "move".
 function drawn(answer, kind, label) {
   if (answer.error) {
     kitPage.errors += 1;
@@ -180,10 +184,11 @@ function drawn(answer, kind, label) {
   kitPage.frames += 1;
   lastDraw = {kind, at: performance.now()};
   if (kind === "edit" || kind === "build") {
-    const hadErrors = compileErrors.size > 0;
     clearCompileErrors();
     if (kind === "edit") say(`Compiled and drawn (${(1000 * (answer.seconds || 0)).toFixed(0)} ms).`, "ok");
-    else if (hadErrors || $("messages").classList.contains("error")) say("");
+    else if ($("messages").classList.contains("error")) say("");
+  } else if (!compileErrors.size && $("messages").classList.contains("error")) {
+    say("");
   }
   if (answer.warnings && answer.warnings.length) say("Warnings:", "", answer.warnings.join("\n"));
   frameInfo(answer, label);
@@ -207,6 +212,21 @@ function canDraw() {
   return true;
 }
 
+// kit-web builds its renderer anew, from the files, when the stage, the shaders or the
+// scene change (and after a lost context); other settings keep it.
+let builtKey = "";
+const buildKey = () => `${ui.stage.name}/${ui.solution}/${ui.scene}`;
+
+// Draws with the controls' state now; kind as drawn() takes it, "build" or "settings" by
+// what changed since the last frame kit-web built.
+function configure(label, rebuilt = false) {
+  const key = buildKey();
+  const answer = kitCall(configureCommand());
+  const ok = drawn(answer, rebuilt || key !== builtKey ? "build" : "settings", label);
+  if (ok) builtKey = key;
+  return ok;
+}
+
 // Draws with the controls' state at the next animation frame (changes in between coalesce).
 function requestDraw() {
   updateURL();
@@ -215,7 +235,7 @@ function requestDraw() {
   requestAnimationFrame(() => {
     drawRequested = false;
     if (!canDraw()) return;
-    drawn(kitCall(configureCommand()), "build", "frame");
+    configure("frame");
   });
 }
 
@@ -285,7 +305,7 @@ function fillViews() {
   select.replaceChildren();
   // As kit-view offers them: HDR from the first lit stage, lab 6's maps in lab 6.
   const allowed = (v) => (v !== "hdr" || ui.stage.number >= 2) &&
-                         (!["irradiance", "prefiltered", "brdf-lut"].includes(v) || ui.stage.name === "ibl");
+                         (!MAP_VIEWS.includes(v) || ui.stage.name === "ibl");
   for (const v of ui.catalogue.views) if (allowed(v)) select.append(option(v, VIEW_LABELS[v] || v));
   if (![...select.options].some((o) => o.value === ui.view)) ui.view = "final";
   select.value = ui.view;
@@ -496,6 +516,8 @@ function fileText(file) {
   }
 }
 
+const SOLUTION_NOTE = "The frame shows the reference solution; your edits are kept and drawn when you choose " +
+                      "\"my lab files\".";
 let currentFiles = [];
 let currentPath = null;
 
@@ -510,8 +532,11 @@ function openStageFiles() {
   renderTabs();
   if (currentPath) showFile(currentPath);
   $("reset-file").disabled = !currentPath || currentFiles[0].readOnly;
-  if (ui.solution && currentFiles.length && !currentFiles[0].readOnly)
-    say("The frame shows the reference solution; your edits are kept and drawn when you choose \"my lab files\".");
+  if (ui.solution && currentFiles.length && !currentFiles[0].readOnly) {
+    say(SOLUTION_NOTE);
+  } else if (kitPage.messages.at(-1) === SOLUTION_NOTE) {
+    say("");
+  }
 }
 
 function renderTabs() {
@@ -702,7 +727,7 @@ async function openFolder() {
                                  "changes made there (in your editor) show here.";
   say(`Opened ${dir.name}.`, "ok");
   compileEdits();
-  setInterval(pollFolder, 1500);
+  if (!folderTimer) folderTimer = setInterval(pollFolder, 1500);
 }
 
 // A text from the student's folder: into the editor, this browser's copy and the file system.
@@ -731,6 +756,7 @@ function saveToFolder(path) {
 }
 
 let polling = false;
+let folderTimer = 0;
 async function pollFolder() {
   if (!folder || polling || document.visibilityState !== "visible") return;
   polling = true;
@@ -831,15 +857,21 @@ async function loadModel(files) {
   }
   const previous = ui.scene;
   ui.scene = `${dir}/${main.name}`;
-  if (!canDraw()) return;
-  const answer = kitCall(configureCommand());
-  if (drawn(answer, "build", main.name)) {
+  if (!canDraw()) {
+    ui.scene = previous;
+    return;
+  }
+  if (configure(main.name)) {
     droppedScenes.push({path: ui.scene, label: main.name});
     fillScenes();
     say(`Drawing your model ${main.name}.`, "ok");
   } else {
+    // kit-web keeps the scene it was given: back to the one before, the message kept.
     ui.scene = previous;
     fillScenes();
+    const why = kitPage.lastError;
+    if (!kitCall(configureCommand()).error) fitCanvas();
+    say(`${main.name} could not be drawn: ${why}`, "error");
   }
 }
 
@@ -896,8 +928,10 @@ function wireContextLoss() {
       return;
     }
     waitingForEdit = false;
-    if (drawn(kitCall(configureCommand()), editWhileLost ? "edit" : "build", "frame after the GPU reset"))
-      say("The GPU context is back: drawn again.", "ok");
+    if (configure("frame after the GPU reset", true)) {
+      if (editWhileLost) lastDraw.kind = "edit";  // a loss now is that edit's doing
+      else say("The GPU context is back: drawn again.", "ok");
+    }
   });
 }
 
@@ -948,6 +982,7 @@ function start(state, report) {
   if (state === "ready") {
     frameInfo({seconds: report.seconds && report.seconds.frame}, "first frame");
     lastDraw = {kind: "build", at: performance.now()};
+    builtKey = buildKey();
     if (fellBackToLabs)
       say(`This site has no reference solution of lab ${ui.stage.number}: the frame shows your files.`);
     if (restoredPaths.length)
