@@ -17,7 +17,9 @@ browser profile:
   7. "Download my labs" gives a zip that `unzip -l` lists as labs/NN-name/FILE, every lab file,
      with the edit in it;
   8. "Check my lab" shows lab 2's checks with their images, and says it is a preview;
-  9. without shaders=labs, the first frame is the reference solution where the site has it.
+  9. "Open folder" reads the student's folder, saves edits into it and takes changes made
+     there (a folder of the origin's private file system stands in for the picker's);
+ 10. without shaders=labs, the first frame is the reference solution where the site has it.
 Each step states what it saw; a witness shows where a comparison could pass for nothing.
 Builds nothing: without a site or chromium it fails, saying what to install or build.
 
@@ -317,7 +319,7 @@ def main():
         zip_path = work / "labs.zip"
         zip_path.write_bytes(base64.b64decode(data))
         listing = subprocess.run(["unzip", "-l", str(zip_path)], capture_output=True, text=True).stdout
-        names = sorted(line.split()[-1] for line in listing.splitlines() if line.strip().split()[-1].startswith("labs/"))
+        names = sorted(parts[-1] for parts in map(str.split, listing.splitlines()) if parts and parts[-1].startswith("labs/"))
         expected = sorted(p[len("/kit/"):] for p in page.js("kitPage.labs.paths()"))
         inside = subprocess.run(["unzip", "-p", str(zip_path), "labs/02-lighting/brdf.glsl"], capture_output=True,
                                 text=True).stdout
@@ -339,7 +341,41 @@ def main():
                f"{check.get('status')}, {check.get('passed')} of {check.get('total')} pass, {shown} shown with "
                f"{images} images, mistakes {[m['id'] for m in check.get('likely_mistakes', [])][:2]}")
 
-        # 9. Without shaders=labs the first frame is the solution (the site has every solution).
+        # 9. Open folder: the page reads the student's folder, saves edits into it, and takes
+        # changes made there. The folder is one in the origin's private file system, the same
+        # FileSystemDirectoryHandle the picker gives, handed over in place of the picker.
+        lighting = "/kit/labs/02-lighting/lighting.frag"
+        lighting_starter = page.js(f"kitPage.labs.starter({json.dumps(lighting)})")
+        from_folder, changed_outside = lighting_starter + "// from the folder\n", lighting_starter + "// changed outside\n"
+        page.js(f"""(async () => {{
+          const root = await navigator.storage.getDirectory();
+          const kit = await root.getDirectoryHandle("kit", {{create: true}});
+          const lab = await (await kit.getDirectoryHandle("labs", {{create: true}}))
+                        .getDirectoryHandle("02-lighting", {{create: true}});
+          window.testLab = lab;
+          window.testWrite = async (name, text) => {{
+            const stream = await (await lab.getFileHandle(name, {{create: true}})).createWritable();
+            await stream.write(text);
+            await stream.close();
+          }};
+          window.testRead = async (name) => (await (await lab.getFileHandle(name)).getFile()).text();
+          await testWrite("brdf.glsl", {json.dumps(edited)});
+          await testWrite("lighting.frag", {json.dumps(from_folder)});
+          window.showDirectoryPicker = async () => kit;
+        }})()""")
+        button_shown = page.js("!document.getElementById('open-folder').hidden")
+        page.js("document.getElementById('open-folder').click()")
+        page.wait(f"kitPage.labs.text({json.dumps(lighting)}) === {json.dumps(from_folder)}", "folder's file read")
+        saved = edited + "// saved into the folder\n"
+        page.replace_text(saved)
+        on_disk = page.wait(f"testRead('brdf.glsl').then(t => t === {json.dumps(saved)})", "edit saved to the folder")
+        page.js(f"testWrite('lighting.frag', {json.dumps(changed_outside)})")
+        taken = page.wait(f"kitPage.labs.text({json.dumps(lighting)}) === {json.dumps(changed_outside)}",
+                          "change made in the folder", timeout=10)
+        expect(button_shown and on_disk and taken, "Open folder reads the folder, saves edits into it, takes its changes",
+               page.js("document.getElementById('folder-info').textContent"))
+
+        # 10. Without shaders=labs the first frame is the solution (the site has every solution).
         report, _ = page.load(f"{origin}/index.html?stage=lighting&size=64x48")
         expect(report.get("shaders") == "/kit/solutions" and page.js("kitPage.ui.solution") is True,
                "without shaders=labs the page draws the reference solution",
