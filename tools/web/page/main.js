@@ -1029,7 +1029,16 @@ window.Module = {
     labs = new LabFiles(FS);
     restoredPaths = labs.restore();
     ui.catalogue = kitCall({cmd: "catalogue"});
-    const stage = ui.catalogue.stages ? findStage(query.get("stage") || "gbuffer") : null;
+    let stage = ui.catalogue.stages ? findStage(query.get("stage") || "gbuffer") : null;
+    if (!query.has("stage") && ui.catalogue.stages) {
+      // No stage in the URL: the first lab this site has the student's files of and can
+      // draw (a class's site: the class's lab; the instructors': lab 1, as kit-render).
+      const own = ui.catalogue.stages.find((s) => hasLabs(s) && !missingEarlier(s));
+      if (own && own !== stage) {
+        stage = own;
+        args.push("--stage", own.name);
+      }
+    }
     if (query.get("shaders") !== "labs") {
       if (stage && !stage.solution && hasLabs(stage)) fellBackToLabs = true;
       // emscripten passes this same array to main(): the flag is added in place.
