@@ -674,6 +674,7 @@ async function openFolder() {
     if (e.name !== "AbortError") say("Could not open the folder: " + (e.message || e), "error");
     return;
   }
+  compileEdits();  // what was typed before goes where it went so far, not into this folder
   let labsDir = null;
   try {
     labsDir = await dir.getDirectoryHandle("labs");
@@ -717,16 +718,21 @@ async function openFolder() {
                                 "Cancel: keep this page's versions and save them into the folder.");
   }
   folder = {name: dir.name, labsDir, files};
+  const taken = [];
   for (const [path, entry] of files) {
     if (entry.text === labs.text(path)) continue;
-    if (takeFolder || !conflicts.some(([p]) => p === path)) takeText(path, entry.text);
-    else saveToFolder(path);
+    if (takeFolder || !conflicts.some(([p]) => p === path)) {
+      takeText(path, entry.text);
+      taken.push(path);
+    } else {
+      saveToFolder(path);
+    }
   }
   $("folder-info").hidden = false;
   $("folder-info").textContent = `Folder ${dir.name}: ${files.size} lab files; your edits are saved into it, and ` +
                                  "changes made there (in your editor) show here.";
   say(`Opened ${dir.name}.`, "ok");
-  compileEdits();
+  drawTaken(taken);
   if (!folderTimer) folderTimer = setInterval(pollFolder, 1500);
 }
 
@@ -735,8 +741,14 @@ function takeText(path, text) {
   editor.setText(path, text);
   labs.set(path, text);
   labs.writeFS(path);
-  pending.add(path);
   markTabs();
+}
+
+// Compiles and draws the texts taken from the folder when the stage draws one of them.
+function drawTaken(paths) {
+  if (ui.solution || lost || !paths.some((p) => p.startsWith(`/kit/labs/${ui.stage.folder}/`))) return;
+  waitingForEdit = false;
+  drawn(kitCall({cmd: "reload"}), "edit", "your folder's files");
 }
 
 function saveToFolder(path) {
@@ -771,19 +783,12 @@ async function pollFolder() {
       entry.text = text;
       if (text !== labs.text(path) && !pending.has(path)) {
         takeText(path, text);
-        changed.push(path.replace(/^\/kit\//, ""));
+        changed.push(path);
       }
     }
     if (changed.length) {
-      say(`Changed in ${folder.name}: ${changed.join(", ")}.`);
-      // Written into the file system by takeText: compile without saving them back.
-      const paths = [...pending];
-      pending.clear();
-      for (const path of paths) labs.writeFS(path);
-      if (!ui.solution && !lost && paths.some((p) => p.startsWith(`/kit/labs/${ui.stage.folder}/`))) {
-        waitingForEdit = false;
-        drawn(kitCall({cmd: "reload"}), "edit", "your edit");
-      }
+      say(`Changed in ${folder.name}: ${changed.map((p) => p.replace(/^\/kit\//, "")).join(", ")}.`);
+      drawTaken(changed);
     }
   } catch (e) {
     say(`Could not read ${folder.name}: ${e.message || e}`, "error");
