@@ -358,7 +358,13 @@ def main():
             await stream.write(text);
             await stream.close();
           }};
-          window.testRead = async (name) => (await (await lab.getFileHandle(name)).getFile()).text();
+          window.testRead = async (name) => {{
+            try {{
+              return await (await (await lab.getFileHandle(name)).getFile()).text();
+            }} catch (e) {{
+              return null;  // the page is writing it (a write replaces the file when it closes)
+            }}
+          }};
           await testWrite("brdf.glsl", {json.dumps(edited)});
           await testWrite("lighting.frag", {json.dumps(from_folder)});
           window.showDirectoryPicker = async () => kit;

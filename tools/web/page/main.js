@@ -776,7 +776,12 @@ async function pollFolder() {
     const changed = [];
     for (const [path, entry] of folder.files) {
       await entry.writing;
-      const file = await entry.handle.getFile();
+      let file;
+      try {
+        file = await entry.handle.getFile();
+      } catch (e) {
+        continue;  // being written by another program, or gone: the next look tells
+      }
       if (file.lastModified === entry.lastModified) continue;
       entry.lastModified = file.lastModified;
       const text = await file.text();
