@@ -1,0 +1,74 @@
+// "Check my lab": kit-web's answer to {"cmd": "check", "lab": N} (tools/web/page_check.cpp,
+// the grader's own comparison) shown as a list of checks, each with the student's render,
+// the reference and the difference image, the score and the likely mistakes.
+
+function element(tag, attributes = {}, ...children) {
+  const e = document.createElement(tag);
+  for (const [key, value] of Object.entries(attributes)) {
+    if (key === "className") e.className = value;
+    else e.setAttribute(key, value);
+  }
+  for (const child of children) e.append(child);
+  return e;
+}
+
+// An RGBA8 file of kit-web's file system (rows top-down) in a canvas.
+function image(FS, info, caption) {
+  const figure = element("figure");
+  try {
+    const bytes = FS.readFile(info.path);
+    const canvas = element("canvas", {width: info.width, height: info.height, role: "img",
+                                      "aria-label": `${caption}, ${info.width}x${info.height}`});
+    const pixels = new Uint8ClampedArray(bytes.buffer, bytes.byteOffset, info.width * info.height * 4);
+    canvas.getContext("2d").putImageData(new ImageData(pixels, info.width, info.height), 0, 0);
+    figure.append(canvas);
+  } catch (e) {
+    figure.append(element("p", {className: "error"}, `${caption}: could not read ${info.path}: ${e.message || e}`));
+  }
+  figure.append(element("figcaption", {}, caption));
+  return figure;
+}
+
+const points = (n) => (Math.round(n * 100) / 100).toString();
+
+export function showCheck(container, FS, lab, answer) {
+  container.replaceChildren();
+  const status = answer.status;
+  const head = element("p");
+  if (status === "graded") {
+    head.append(element("strong", {}, `Lab ${lab}: ${answer.passed} of ${answer.total} checks pass, ` +
+                                      `${points(answer.score)} of ${points(answer.max_score)} points (preview).`));
+  } else {
+    const why = {compile_error: "your shaders do not compile", render_error: "a render failed",
+                 non_finite_map: "a precomputed map holds NaN or infinite values"}[status] || status;
+    head.append(element("strong", {className: "error"}, `Lab ${lab}: not graded: ${why}.`));
+  }
+  container.append(head);
+  if (answer.message) container.append(element("pre", {className: status === "graded" ? "" : "error"}, answer.message));
+  if (answer.seconds && answer.seconds.total !== undefined)
+    container.append(element("p", {className: "hint"}, `Rendered and compared in ${answer.seconds.total.toFixed(1)} s.`));
+
+  for (const check of answer.checks || []) {
+    const box = element("article", {className: "check " + (check.passed ? "passed" : "failed")});
+    box.append(element("h3", {}, `${check.passed ? "Passed" : "Failed"}: ${check.title} `,
+                       element("span", {className: "hint"}, `(${check.key}, ${points(check.points)} points)`)));
+    if (check.summary) box.append(element("p", {}, check.summary));
+    if (check.note) box.append(element("p", {className: "hint"}, check.note));
+    if (check.image) box.append(image(FS, check.image, "your render"));
+    if (check.reference) box.append(image(FS, check.reference, "reference"));
+    if (check.diff) box.append(image(FS, check.diff, "difference"));
+    container.append(box);
+  }
+
+  const mistakes = answer.likely_mistakes || [];
+  if (mistakes.length) {
+    container.append(element("h3", {}, "Likely mistakes"));
+    const list = element("ul");
+    for (const m of mistakes)
+      list.append(element("li", {}, `${m.description} `,
+                          element("span", {className: "hint"}, `(${m.id}, similarity ${Math.round(100 * m.similarity)}%)`)));
+    container.append(list);
+  } else if (status === "graded" && answer.passed < answer.total) {
+    container.append(element("p", {className: "hint"}, "No known mistake matches these renders."));
+  }
+}
