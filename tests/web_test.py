@@ -259,7 +259,7 @@ def main():
 
     # A copy of the site is served, so the student site can be served beside it.
     served = work / "site"
-    shutil.copytree(site, served, ignore=shutil.ignore_patterns("CMakeFiles", "*.a", "*.cmake"))
+    shutil.copytree(site, served, ignore=shutil.ignore_patterns("CMakeFiles", "*.a", "*.cmake", "page-npm"))
     handler = functools.partial(Quiet, directory=str(served))
     server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)  # a free port, this machine only
     threading.Thread(target=server.serve_forever, daemon=True).start()

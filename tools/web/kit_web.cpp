@@ -236,9 +236,11 @@ Json dispatch(const Json& in) {
   if (cmd == "configure") {
     read_settings(p, in);
     if (in.contains("camera")) p.camera = in["camera"].get<int>();
+    const kit::Renderer* before = p.renderer.get();
     const double seconds = draw(p);
     Json out = describe(p);
     out["seconds"] = seconds;
+    out["rebuilt"] = p.renderer.get() != before;  // its shaders compiled anew from the files
     return out;
   }
   if (cmd == "frame") return {{"seconds", draw(p)}};
@@ -289,9 +291,14 @@ Json dispatch(const Json& in) {
     if (p.lost) throw kit::Error("the WebGL context is lost; the page is waiting for the browser to restore it");
     // "solution": true checks the site's reference solution of the lab (the test's known answer).
     Json out = kit::web::run_check(in.value("lab", 0), lab_root(in.value("solution", false)), "/check");
-    // The check drew into targets of its own; the canvas shows the page's frame again.
+    // The check drew into targets of its own; the canvas shows the page's frame again. A lab
+    // that does not compile has no frame to show: the check's verdict says why.
     p.renderer.reset();
-    out["seconds_frame"] = draw(p);
+    try {
+      out["seconds_frame"] = draw(p);
+    } catch (const std::exception& e) {
+      out["frame_error"] = e.what();
+    }
     return out;
   }
   throw kit::Error("unknown command '" + cmd + "'");
