@@ -19,6 +19,7 @@ if(TARGET kit-render AND KIT_HAS_INSTRUCTOR)
   # build's scenes), Download my labs and Check my lab, in the same browser and site.
   add_test(NAME web_page
            COMMAND ${KIT_WEB_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/web_page_test.py ${KIT_WEB_SITE} ${CMAKE_BINARY_DIR}/scenes
-                   ${CMAKE_BINARY_DIR}/test-tmp/web-page)
-  set_tests_properties(web_page PROPERTIES LABELS web TIMEOUT 300)
+                   $<TARGET_FILE:kit-grade> ${CMAKE_BINARY_DIR}/test-tmp/web-page)
+  set_tests_properties(web_page PROPERTIES LABELS web TIMEOUT 300
+    ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes")
 endif()

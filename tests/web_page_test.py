@@ -16,15 +16,18 @@ browser profile:
      site) draws; a dropped .obj is refused by name;
   7. "Download my labs" gives a zip that `unzip -l` lists as labs/NN-name/FILE, every lab file,
      with the edit in it;
-  8. "Check my lab" shows lab 2's checks with their images, and says it is a preview;
+  8. "Check my lab" shows lab 2's checks with their images, and says it is a preview; with
+     (11, last) with lab 2 done in the editor it passes every check, and kit-grade gives the
+     zip the page downloads the same verdicts and score;
   9. "Open folder" reads the student's folder, saves edits into it and takes changes made
      there (a folder of the origin's private file system stands in for the picker's);
  10. without shaders=labs, the first frame is the reference solution where the site has it.
 Each step states what it saw; a witness shows where a comparison could pass for nothing.
 Builds nothing: without a site or chromium it fails, saying what to install or build.
 
-usage: web_page_test.py SITE_DIR SCENE_DIR WORK_DIR
-SCENE_DIR: the desktop build's scenes (build/default/scenes), from which the .glb is written.
+usage: web_page_test.py SITE_DIR SCENE_DIR KIT_GRADE WORK_DIR
+SCENE_DIR: the desktop build's scenes (build/default/scenes), from which the .glb is written;
+KIT_GRADE grades the zip the page downloads once lab 2 is done in it (step 8b).
 """
 import base64
 import functools
@@ -38,7 +41,7 @@ import sys
 import threading
 import time
 
-from web_test import READ_CANVAS, Chromium, load_page
+from web_test import KIT_ROOT, READ_CANVAS, Chromium, load_page
 
 URL_QUERY = "stage=lighting&scene=default&view=final&size=320x240&shaders=labs"
 BRDF = "/kit/labs/02-lighting/brdf.glsl"
@@ -146,9 +149,10 @@ class Page:
 
 
 def main():
-    if len(sys.argv) != 4:
+    if len(sys.argv) != 5:
         raise SystemExit(__doc__)
-    site, scenes, work = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2]), pathlib.Path(sys.argv[3])
+    site, scenes, kit_grade, work = (pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2]), sys.argv[3],
+                                     pathlib.Path(sys.argv[4]))
     needed = ("index.html", "kit-page.js", "kit-page.css", "kit-web.js", "kit-web.wasm", "kit-web.data", "kit-web-data.js")
     missing = [name for name in needed if not (site / name).is_file()]
     if missing:
@@ -386,6 +390,37 @@ def main():
         expect(report.get("shaders") == "/kit/solutions" and page.js("kitPage.ui.solution") is True,
                "without shaders=labs the page draws the reference solution",
                f"shaders {report.get('shaders')}")
+        # 11. Lab 2 done in the page (the solution's files typed into the editor): the check
+        # passes every check, and the zip the page downloads gets from kit-grade the score and
+        # the verdicts the page showed. The starter's check of step 8 is the witness (it failed).
+        # Last, and on a fresh load: an open folder would ask which text to keep.
+        page.load(f"{origin}/index.html?{URL_QUERY}")
+        for name in ("brdf.glsl", "lighting.frag"):
+            page.open_tab(f"/kit/labs/02-lighting/{name}")
+            before = page.counters()
+            page.replace_text((KIT_ROOT / "solutions/02-lighting" / name).read_text(encoding="utf-8"))
+            page.wait(f"kitPage.frames > {before['frames']} || kitPage.errors > {before['errors']}", f"frame of {name}")
+        page.js("kitPage.lastCheck = null; document.getElementById('check').click()")
+        done = page.wait("kitPage.lastCheck", "check of the finished lab", timeout=60)
+        page.js("kitPage.lastDownload = null; document.getElementById('download').click()")
+        data = page.wait("kitPage.lastDownload && (() => { let s = ''; const b = kitPage.lastDownload.bytes; "
+                         "for (let i = 0; i < b.length; i += 0x8000) s += String.fromCharCode.apply(null, "
+                         "b.subarray(i, i + 0x8000)); return btoa(s); })()", "zip of the finished lab")
+        done_zip = work / "lab2-done.zip"
+        done_zip.write_bytes(base64.b64decode(data))
+        graded_dir = work / "lab2-done-graded"
+        subprocess.run([kit_grade, str(done_zip), "--labs", "2", "--out", str(graded_dir)], stdout=subprocess.DEVNULL,
+                       check=False)
+        graded = json.loads((graded_dir / "summary.json").read_text())["labs"]["2"]
+        page_verdicts = {c["key"]: c["passed"] for c in done.get("checks", [])}
+        grader_verdicts = {key: c["passed"] for key, c in graded["checks"].items()}
+        expect(done.get("passed") == done.get("total") and page_verdicts == grader_verdicts
+               and abs(done.get("score", -1) - graded["score"]) < 1e-9 and check.get("passed", 0) < check.get("total", 0),
+               "lab 2 done in the page: its check and kit-grade's grade of the downloaded zip agree",
+               f"page {done.get('passed')}/{done.get('total')} checks, {done.get('score')} points; kit-grade "
+               f"{sum(grader_verdicts.values())}/{len(grader_verdicts)}, {graded['score']} points; the starter's "
+               f"check {check.get('passed')}/{check.get('total')}")
+
     finally:
         chromium.close()
         server.shutdown()
