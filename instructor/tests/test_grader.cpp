@@ -591,6 +591,15 @@ TEST(Grader, BatchWritesAGradebookAndResumes) {
   EXPECT_NE(summary.find("2,mistake,lighting-f0-not-metallic,"), std::string::npos) << summary;
   EXPECT_NE(summary.find(",2,5\n", summary.find("2,mistake,lighting-f0-not-metallic,")), std::string::npos) << summary;
   EXPECT_NE(summary.find("2,mistake,starter-lab2,"), std::string::npos) << summary;
+  // A failed check names its worst pixel, with the G-buffer's inputs there where the scene's
+  // references hold them (the default scene's); a passed one names none.
+  const json dave = read_json(out / "dave" / "summary.json")["labs"]["2"]["checks"];
+  const std::string worst = dave["default-hdr"].value("worst_pixel", std::string());
+  EXPECT_FALSE(dave["default-hdr"].value("passed", true));
+  EXPECT_NE(worst.find("the worst pixel, ("), std::string::npos) << worst;
+  EXPECT_NE(worst.find("there the G-buffer holds position"), std::string::npos) << worst;
+  EXPECT_NE(worst.find("metallic 1"), std::string::npos) << worst;  // the mistake shows on metals
+  EXPECT_FALSE(read_json(out / "alice" / "summary.json")["labs"]["2"]["checks"]["default-hdr"].contains("worst_pixel"));
   const std::string page = read_file(out / "class-summary.html");
   EXPECT_NE(page.find("<svg role=\"img\""), std::string::npos);
   EXPECT_EQ(page.find("http"), std::string::npos) << "the page loads nothing from elsewhere";

@@ -151,14 +151,45 @@ float distance_to_neighbourhood(const Image& image, const Image& reference, int 
   return nearest;
 }
 
-std::string pixel_text(const Image& image) {
+// The pixel at (x, y) as "(a, b, c)", its first `channels` channels (all: -1).
+std::string pixel_text(const Image& image, int x = 0, int y = 0, int channels = -1) {
   std::string out = "(";
-  for (int c = 0; c < image.channels; ++c) {
+  const int n = channels < 0 ? image.channels : std::min(channels, image.channels);
+  for (int c = 0; c < n; ++c) {
     char buf[32];
-    std::snprintf(buf, sizeof buf, "%s%.3g", c ? ", " : "", image.pixels.empty() ? 0.0 : image.pixels[static_cast<size_t>(c)]);
+    std::snprintf(buf, sizeof buf, "%s%.3g", c ? ", " : "", image.pixels.empty() ? 0.0 : image.at(x, y, c));
     out += buf;
   }
   return out + ")";
+}
+
+// What the worst pixel of a failed comparison holds, yours and the reference's, in the
+// metric's words; for a G-buffer attachment, the channel that differs most there.
+std::string worst_pixel_text(Metric metric, const Image& image, const Image& reference, int x, int y) {
+  static const char* const kChannels[][4] = {{"r", "g", "b", "a"},  {"r", "g", "b", "a"}, {"x", "y", "z", "w"},
+                                             {"x", "y", "z", "w"},  {"r", "g", "b", "a"},
+                                             {"metallic", "roughness", "(unused)", "coverage mask"}};
+  const char* what = metric == Metric::Ldr        ? "display value"
+                     : metric == Metric::Hdr      ? "HDR radiance"
+                     : metric == Metric::Position ? "world position (m)"
+                     : metric == Metric::Normal   ? "normal"
+                     : metric == Metric::Albedo   ? "albedo"
+                                                  : "material";
+  const int channels = metric == Metric::Material ? 4 : 3;
+  char head[96];
+  std::snprintf(head, sizeof head, "the worst pixel, (%d, %d): your %s ", x, y, what);
+  std::string out = head + pixel_text(image, x, y, channels) + ", the reference's " + pixel_text(reference, x, y, channels);
+  if (metric == Metric::Position || metric == Metric::Albedo || metric == Metric::Material) {
+    int worst = 0;
+    for (int c = 1; c < channels && c < image.channels; ++c)
+      if (std::fabs(image.at(x, y, c) - reference.at(x, y, c)) > std::fabs(image.at(x, y, worst) - reference.at(x, y, worst)))
+        worst = c;
+    char tail[128];
+    std::snprintf(tail, sizeof tail, ": %s is %.3g where %.3g is expected", kChannels[static_cast<int>(metric)][worst],
+                  static_cast<double>(image.at(x, y, worst)), static_cast<double>(reference.at(x, y, worst)));
+    out += tail;
+  }
+  return out;
 }
 
 // The diff's colour map: OpenImageIO's "inferno" (matplotlib's map, as the linear values
@@ -633,6 +664,8 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
     for (size_t i = 0; i < over.size(); ++i) r.summary += (i ? "; " : "") + over[i];
     r.summary += ". All numbers: " + numbers;
   }
+  if (!r.passed && r.max_x >= 0 && r.max_x < image.width && r.max_y >= 0 && r.max_y < image.height)
+    r.worst_pixel = worst_pixel_text(metric, image, reference, r.max_x, r.max_y);
   if (r.non_finite > 0) {
     r.note = std::to_string(r.non_finite) + format(" pixels (%.1f%%) are NaN or Inf: ", 100.0 * static_cast<double>(r.non_finite) / pixels) +
              kNonFiniteAdvice;

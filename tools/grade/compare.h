@@ -37,6 +37,10 @@ struct Comparison {
   std::vector<float> signature;
   std::string summary;           // the numbers in one line of words
   std::string note;              // why it failed when that needs saying (NaN, empty image, size)
+  // A failed comparison's worst pixel (max_x, max_y): your value and the reference's there (for
+  // a G-buffer attachment, the channel that differs most), then, where the grader knows them
+  // (lab_verdict.h, describe_pixel_inputs), the inputs the lab's shaders had there.
+  std::string worst_pixel;
   Image diff;                    // |submission - reference| x 16 through a colour map (RGB)
 };
 

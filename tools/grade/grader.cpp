@@ -267,6 +267,29 @@ void load_mistakes_once(Run& run) {
   run.mistakes_loaded = true;
 }
 
+// A failed display or HDR check's worst pixel: what the G-buffer held there, from the
+// references of the render's scene (nothing where they are not stored or cannot be read).
+void add_worst_pixel_inputs(const Run& run, CheckOutcome& c) {
+  const RenderSpec& spec = find_render(c.check->image);
+  const auto scene = run.scenes.find(spec.scene);
+  if (scene == run.scenes.end() || run.references_dir.empty()) return;
+  std::map<std::string, const Image*> gbuffer;
+  for (const auto& [attachment, id] : gbuffer_reference_ids(spec)) {
+    auto cached = run.pixel_input_references.find(id);
+    if (cached == run.pixel_input_references.end()) {
+      Image image;
+      try {
+        image = read_image((run.references_dir / (id + ".exr")).string());
+      } catch (const Error&) {
+        // Left out: the check's verdict does not depend on it.
+      }
+      cached = run.pixel_input_references.emplace(id, std::move(image)).first;
+    }
+    if (cached->second.width > 0) gbuffer[attachment] = &cached->second;
+  }
+  add_pixel_inputs(c, gbuffer, scene->second);
+}
+
 // Compares every check of a lab whose child rendered it.
 void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir, LabOutcome& lab) {
   auto t0 = Clock::now();
@@ -309,6 +332,7 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
       if (check.metric != Metric::Work) reference.background = &run.backgrounds.at({check.reference, check.metric});
     }
     compare_check(run.config, lab, c, renders, child, reference);
+    if (!c.passed && lab.lab >= 2) add_worst_pixel_inputs(run, c);
     write_report_images(run, result_dir, check, renders.at(check.image),
                         own ? renders.at(check.reference) : stored->image, c);
     c.comparison.diff = Image();  // written: a batch keeps no images in memory
@@ -637,7 +661,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
 }
 
 Run make_run(const Options& options, bool need_references) {
-  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}, {}, {}, false, {}};
+  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}, {}, {}, false, {}, {}};
   if (need_references) {
     run.references_dir = options.references.empty() ? default_references_dir() : options.references;
     require_current_references(run.references_dir);

@@ -50,6 +50,9 @@ struct Run {
   // comparison (load_mistakes_once) rather than while the first children wait to start.
   MistakeSignatures mistakes;
   bool mistakes_loaded = false;
+  // The reference G-buffer attachments a failed check's worst pixel is described from
+  // (lab_verdict.h, gbuffer_reference_ids), read when a check first needs them.
+  mutable std::map<std::string, Image> pixel_input_references;
   // Variables set in every render child after the run's own (--update-references: the
   // filter renderings' GALLIVM_PERF).
   std::vector<std::pair<std::string, std::string>> child_environment;

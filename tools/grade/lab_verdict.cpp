@@ -1,8 +1,10 @@
 #include "lab_verdict.h"
 
 #include <algorithm>
+#include <cstdio>
 
 #include "render/renderer.h"
+#include "gbuffer_layout.h"  // KIT_LIGHT_*
 #include "lab_frames.h"
 
 namespace kit::grade {
@@ -60,6 +62,80 @@ void compare_check(const Config& config, LabOutcome& lab, CheckOutcome& c, const
   c.compared = true;
   c.passed = c.comparison.passed;
   c.score = c.passed ? c.max_score : 0;
+}
+
+std::map<std::string, std::string> gbuffer_reference_ids(const RenderSpec& spec) {
+  std::map<std::string, std::string> ids;
+  const auto stored = [](const std::string& id) {
+    for (const RenderSpec* r : reference_renders())
+      if (r->id == id) return true;
+    return false;
+  };
+  for (const char* attachment : {"position", "normal", "albedo", "material", "emission"}) {
+    const std::string lab1 = "lab1-" + spec.scene + "-" + attachment;
+    if (stored(lab1)) ids[attachment] = lab1;
+  }
+  if (spec.stage >= 4 && stored("lab4-" + spec.scene + "-normal")) ids["normal"] = "lab4-" + spec.scene + "-normal";
+  return ids;
+}
+
+std::string describe_pixel_inputs(const PixelInputs& in, const Scene& scene) {
+  const auto vec = [](const glm::vec3& v) {
+    char text[64];
+    std::snprintf(text, sizeof text, "(%.3g, %.3g, %.3g)", static_cast<double>(v.x), static_cast<double>(v.y),
+                  static_cast<double>(v.z));
+    return std::string(text);
+  };
+  char numbers[96];
+  std::snprintf(numbers, sizeof numbers, ", metallic %.3g, roughness %.3g, emission ", static_cast<double>(in.metallic),
+                static_cast<double>(in.roughness));
+  std::string out = "there the G-buffer holds position " + vec(in.position) + " m, normal " + vec(in.normal) + ", albedo " +
+                    vec(in.albedo) + numbers + vec(in.emission);
+  const Camera camera = scene.camera ? *scene.camera : framing_camera(scene);
+  const glm::vec3 to_eye = camera.position - in.position;
+  if (glm::length(to_eye) > 0.0f) out += "; towards the camera " + vec(glm::normalize(to_eye));
+  constexpr size_t kMostLights = 4;
+  for (size_t i = 0; i < scene.lights.size() && i < kMostLights; ++i) {
+    const Light& light = scene.lights[i];
+    const char* type = light.type == KIT_LIGHT_DIRECTIONAL ? "directional" : light.type == KIT_LIGHT_SPOT ? "spot" : "point";
+    out += "; light " + std::to_string(i + 1) + " (" + type + "): towards it ";
+    if (light.type == KIT_LIGHT_DIRECTIONAL) {
+      out += vec(-light.direction);
+    } else {
+      const glm::vec3 d = light.position - in.position;
+      char distance[32];
+      std::snprintf(distance, sizeof distance, ", %.3g m", static_cast<double>(glm::length(d)));
+      out += vec(glm::length(d) > 0.0f ? glm::normalize(d) : d) + distance;
+    }
+  }
+  if (scene.lights.size() > kMostLights) out += "; and " + std::to_string(scene.lights.size() - kMostLights) + " more lights";
+  return out;
+}
+
+void add_pixel_inputs(CheckOutcome& c, const std::map<std::string, const Image*>& gbuffer, const Scene& scene) {
+  const Metric metric = c.check->metric;
+  if (c.passed || c.comparison.worst_pixel.empty() || (metric != Metric::Ldr && metric != Metric::Hdr)) return;
+  for (const char* attachment : {"position", "normal", "albedo", "material", "emission"})
+    if (!gbuffer.count(attachment) || !gbuffer.at(attachment)) return;
+  const int x = c.comparison.max_x, y = c.comparison.max_y;
+  const Image& position = *gbuffer.at("position");
+  if (x < 0 || y < 0 || x >= position.width || y >= position.height) return;
+  const auto at = [&](const char* attachment) {
+    const Image& image = *gbuffer.at(attachment);
+    return glm::vec3(image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2));
+  };
+  if (gbuffer.at("material")->channels >= 4 && gbuffer.at("material")->at(x, y, 3) < 0.5f) {
+    c.comparison.worst_pixel += "; there the G-buffer holds no surface (the background)";
+    return;
+  }
+  PixelInputs in;
+  in.position = at("position");
+  in.normal = at("normal");
+  in.albedo = at("albedo");
+  in.emission = at("emission");
+  in.metallic = gbuffer.at("material")->at(x, y, 0);
+  in.roughness = gbuffer.at("material")->at(x, y, 1);
+  c.comparison.worst_pixel += "; " + describe_pixel_inputs(in, scene);
 }
 
 Metric shown_metric(const Check& check) {

@@ -13,6 +13,9 @@
 #include "diagnosis.h"
 #include "grader.h"
 #include "images/image_io.h"
+#include "scene/scene.h"
+
+#include <glm/glm.hpp>
 
 namespace kit::grade {
 
@@ -35,6 +38,24 @@ void compare_check(const Config& config, LabOutcome& lab, CheckOutcome& c, const
 
 // How a report shows a check's images (display_image's metric).
 Metric shown_metric(const Check& check);
+
+// The inputs of a lit lab's shaders at one pixel, from the reference G-buffer of the render's
+// scene: what the lighting pass reads there.
+struct PixelInputs {
+  glm::vec3 position{0.0f}, normal{0.0f}, albedo{0.0f}, emission{0.0f};
+  float metallic = 0.0f, roughness = 0.0f;
+};
+// The G-buffer references a lit check's pixel inputs come from, by attachment ("position",
+// "normal", "albedo", "material", "emission"): lab 1's of the render's scene, the normal lab
+// 4's from lab 5 on (stages 5-7 draw lab 4's normal-mapped G-buffer), and those of lab 4's own
+// checks. Empty where the scene has no lab 1 references (its G-buffer is not stored).
+std::map<std::string, std::string> gbuffer_reference_ids(const RenderSpec& spec);
+// "There: position (x, y, z) m, normal (...), albedo (...), metallic m, roughness r, emission
+// (...); towards the camera (...); light 1 (point): towards it (...), 2.3 m" (at most 4 lights).
+std::string describe_pixel_inputs(const PixelInputs& inputs, const Scene& scene);
+// Fills c's worst pixel's inputs from `gbuffer` (by attachment, as gbuffer_reference_ids names
+// them) for a failed display or HDR check of a lit lab; nothing where an attachment is missing.
+void add_pixel_inputs(CheckOutcome& c, const std::map<std::string, const Image*>& gbuffer, const Scene& scene);
 
 // Where a check of `lab` failed: the catalogued mistakes its signatures resemble (diagnosis.h).
 void name_likely_mistakes(const MistakeSignatures& mistakes, LabOutcome& lab);

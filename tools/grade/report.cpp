@@ -141,6 +141,7 @@ std::string check_markdown(const LabOutcome& lab, const CheckOutcome& c, bool fi
   std::string out = c.passed ? "Passed. " : "**Failed.** ";
   if (!c.comparison.note.empty()) out += md_escape(c.comparison.note) + "\n\n";
   out += md_escape(c.comparison.summary) + ".\n";
+  if (!c.comparison.worst_pixel.empty()) out += "\nAt " + md_escape(c.comparison.worst_pixel) + ".\n";
   if (!c.passed && lab.diagnosed) out += "\n" + md_escape(likely_text(lab)) + "\n";
   return out;
 }
@@ -255,6 +256,7 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
       if (c.compared) {
         entry["summary"] = c.comparison.summary;
         entry["note"] = c.comparison.note;
+        if (!c.comparison.worst_pixel.empty()) entry["worst_pixel"] = c.comparison.worst_pixel;
         entry["image"] = c.image;
         entry["reference"] = c.reference;
         entry["diff"] = c.diff;
@@ -368,7 +370,9 @@ std::string report_html(const SubmissionOutcome& s) {
     h += "<td><img src=\"" + html_escape(c->diff) + "\" alt=\"difference\"></td>";
     h += "<td class=\"numbers\">";
     if (!c->comparison.note.empty()) h += "<p class=\"note\">" + html_escape(c->comparison.note) + "</p>";
-    h += html_escape(c->comparison.summary) + "</td></tr>\n";
+    h += html_escape(c->comparison.summary);
+    if (!c->comparison.worst_pixel.empty()) h += "<p>At " + html_escape(c->comparison.worst_pixel) + ".</p>";
+    h += "</td></tr>\n";
   }
   h += "</table>\n";
   // The free-choice effect is not graded beyond its toggle: shown large for the instructor.

@@ -110,12 +110,24 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
         stored = {&reference_image, &allowance, &background};
       }
       compare_check(config, lab, c, renders, child, stored);
+      if (!c.passed && lab_number >= 2) {
+        // The worst pixel's inputs, from the reference G-buffer of the render's scene.
+        const RenderSpec& spec = find_render(check.image);
+        std::map<std::string, Image> attachments;
+        std::map<std::string, const Image*> gbuffer;
+        for (const auto& [attachment, id] : gbuffer_reference_ids(spec)) {
+          attachments[attachment] = read_image((references_dir() / (id + ".exr")).string());
+          gbuffer[attachment] = &attachments[attachment];
+        }
+        add_pixel_inputs(c, gbuffer, scenes.at(spec.scene));
+      }
       const Image& image = renders.at(check.image);
       const Image& reference = own ? renders.at(check.reference) : reference_image;
       const fs::path stem = out_dir / check.key;
       Json row = {{"key", check.key},       {"title", check.title},           {"passed", c.passed},
                   {"points", c.max_score / 1000.0}, {"summary", c.comparison.summary}, {"note", c.comparison.note},
                   {"metric", metric_name(check.metric)}};
+      if (!c.comparison.worst_pixel.empty()) row["worst_pixel"] = c.comparison.worst_pixel;
       {
         const Metric shown = shown_metric(check);
         row["image"] = write_rgba(stem.string() + ".image.rgba", display_image(shown, image, reference));

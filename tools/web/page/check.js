@@ -54,6 +54,7 @@ export function showCheck(container, FS, lab, answer) {
                        element("span", {className: "hint"}, `(${check.key}, ${points(check.points)} points)`)));
     if (check.summary) box.append(element("p", {}, check.summary));
     if (check.note) box.append(element("p", {className: "hint"}, check.note));
+    if (check.worst_pixel) box.append(element("p", {}, "At " + check.worst_pixel + "."));
     if (check.image) box.append(image(FS, check.image, "your render"));
     if (check.reference) box.append(image(FS, check.reference, "reference"));
     if (check.diff) box.append(image(FS, check.diff, "difference"));
