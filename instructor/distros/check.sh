@@ -57,11 +57,14 @@ unmount_all() {
 }
 trap unmount_all EXIT
 
-# in_chroot COMMAND: runs COMMAND with bash in the clone, with a clean environment.
+# in_chroot COMMAND: runs COMMAND with bash in the clone, with a clean environment, and
+# this machine's extra certificate authorities where it has some (host_ca, below).
 in_chroot() {
   chroot "$dir" env -i HOME=/root PATH=/usr/local/sbin:/usr/local/bin:/usr/sbin:/usr/bin:/sbin:/bin \
-    LANG=C.UTF-8 TERM=dumb DEBIAN_FRONTEND=noninteractive bash -c "cd /root/kit && $1"
+    LANG=C.UTF-8 TERM=dumb DEBIAN_FRONTEND=noninteractive ${host_ca:+NODE_EXTRA_CA_CERTS=$host_ca} \
+    bash -c "cd /root/kit && $1"
 }
+host_ca=""
 
 failed=0
 # step NAME COMMAND [SUMMARY]: runs COMMAND in the chroot, logs it, prints one line; SUMMARY
@@ -94,6 +97,12 @@ for m in proc sys dev dev/pts; do
     die "cannot bind /$m into $dir"
 done
 cp /etc/resolv.conf "$dir/etc/resolv.conf" 2>/dev/null
+# A network whose TLS is inspected (a proxy's own authority, which this machine trusts through
+# NODE_EXTRA_CA_CERTS) reaches npm's registry from the chroot only with that authority too:
+# ./kit test's browser build runs npm ci. Without it npm stops at SELF_SIGNED_CERT_IN_CHAIN.
+if [ -n "${NODE_EXTRA_CA_CERTS:-}" ] && [ -f "$NODE_EXTRA_CA_CERTS" ]; then
+  cp "$NODE_EXTRA_CA_CERTS" "$dir/etc/kit-host-ca.crt" && host_ca=/etc/kit-host-ca.crt
+fi
 in_chroot_root() { chroot "$dir" env -i PATH=/usr/sbin:/usr/bin:/sbin:/bin DEBIAN_FRONTEND=noninteractive bash -c "$1"; }
 in_chroot_root "command -v git >/dev/null || { apt-get update -qq && apt-get install -y -qq --no-install-recommends git ca-certificates; }" \
   >"$logs/git.log" 2>&1 || die "cannot install git in the chroot (see $logs/git.log)"
