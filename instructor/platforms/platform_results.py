@@ -208,7 +208,8 @@ def prairielearn(out, lab, config=None, limit=PRAIRIELEARN_LIMIT):
             test["output"] = message if i == 0 else f"See the first test of {label} for the message."
         else:
             test["message"] = "Passed." if c.get("passed") else "Failed."
-            test["output"] = c.get("summary", "") + (f"\n{c['note']}" if c.get("note") else "")
+            test["output"] = (c.get("summary", "") + (f"\n{c['note']}" if c.get("note") else "") +
+                              (f"\nAt {c['worst_pixel']}." if c.get("worst_pixel") else ""))
             if not c.get("passed"):
                 failed.append((test, c))
                 if entry.get("likely_text"):  # kit-grade's guess at the mistake (tools/grade/diagnosis.h)

@@ -99,7 +99,8 @@ std::string describe_pixel_inputs(const PixelInputs& in, const Scene& scene) {
     const Light& light = scene.lights[i];
     const char* type = light.type == KIT_LIGHT_DIRECTIONAL ? "directional" : light.type == KIT_LIGHT_SPOT ? "spot" : "point";
     out += "; light " + std::to_string(i + 1) + " (" + type + "): towards it ";
-    if (light.type == KIT_LIGHT_DIRECTIONAL) {
+    const bool parallel = light.type == KIT_LIGHT_DIRECTIONAL;  // no position: a direction only
+    if (parallel) {
       out += vec(-light.direction);
     } else {
       const glm::vec3 d = light.position - in.position;
