@@ -222,8 +222,9 @@ int grade_batch(const fs::path& folder, const Options& options) {
     std::fflush(stdout);
   });
   remove_run_temp(run);
-  write_gradebook(options.out, all_names, options.labs);
-  write_class_summary(options.out, all_names, options.labs);
+  const BatchSummaries summaries = read_batch_summaries(options.out, all_names);
+  write_gradebook(options.out, summaries, options.labs);
+  write_class_summary(options.out, summaries, options.labs);
   std::printf("kit-grade: %zu graded in %.1f s; gradebook: %s; the class: %s\n", done, seconds_since(t0),
               (options.out / "gradebook.csv").c_str(), (options.out / "class-summary.html").c_str());
   if (!completed) return 130;

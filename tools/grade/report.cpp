@@ -423,30 +423,53 @@ std::string csv_field(std::string field) {
 
 }  // namespace
 
-void write_gradebook(const fs::path& dir, const std::vector<std::pair<std::string, std::string>>& submissions,
-                     const std::vector<int>& labs) {
-  const auto csv = csv_field;
-  std::string text = "submission";
-  for (int lab : labs) text += ",lab" + std::to_string(lab);
-  text += ",total,max_total,problems\n";
+namespace {
+
+// Lab `lab`'s entry of a summary.json ("labs"."N"), or null where it has none.
+const nlohmann::json& lab_entry(const nlohmann::json& summary, int lab) {
+  static const nlohmann::json none;
+  const auto labs = summary.find("labs");
+  if (labs == summary.end() || !labs->is_object()) return none;
+  const auto entry = labs->find(std::to_string(lab));
+  return entry == labs->end() ? none : *entry;
+}
+
+}  // namespace
+
+BatchSummaries read_batch_summaries(const fs::path& dir,
+                                    const std::vector<std::pair<std::string, std::string>>& submissions) {
+  BatchSummaries out;
   for (const auto& [name, folder] : submissions) {
     std::ifstream in(dir / folder / "summary.json");
     nlohmann::json summary;
     try {
       summary = nlohmann::json::parse(in);
     } catch (const nlohmann::json::exception&) {
-      text += csv(name) + std::string(labs.size() + 2, ',') + "no readable summary.json\n";
+      summary = nullptr;
+    }
+    out.emplace_back(name, std::move(summary));
+  }
+  return out;
+}
+
+void write_gradebook(const fs::path& dir, const BatchSummaries& summaries, const std::vector<int>& labs) {
+  std::string text = "submission";
+  for (int lab : labs) text += ",lab" + std::to_string(lab);
+  text += ",total,max_total,problems\n";
+  for (const auto& [name, summary] : summaries) {
+    if (!summary.is_object()) {
+      text += csv_field(name) + std::string(labs.size() + 2, ',') + "no readable summary.json\n";
       continue;
     }
-    std::string row = csv(name), problems;
+    std::string row = csv_field(name), problems;
     for (int lab : labs) {
-      const nlohmann::json& entry = summary["labs"][std::to_string(lab)];
+      const nlohmann::json& entry = lab_entry(summary, lab);
       row += "," + (entry.is_object() ? format_points(points_from_value(entry.value("score", 0.0))) : std::string());
       std::string status = entry.is_object() ? entry.value("status", "") : "";
       if (!status.empty() && status != kGraded) problems += (problems.empty() ? "" : " ") + ("lab" + std::to_string(lab) + ":" + status);
     }
     row += "," + format_points(points_from_value(summary.value("total", 0.0))) + "," +
-           format_points(points_from_value(summary.value("max_total", 0.0))) + "," + csv(problems);
+           format_points(points_from_value(summary.value("max_total", 0.0))) + "," + csv_field(problems);
     text += row + "\n";
   }
   write_file_atomic(dir / "gradebook.csv", text);
@@ -469,20 +492,13 @@ std::string bin_name(size_t bin) {
 
 }  // namespace
 
-void write_class_summary(const fs::path& dir, const std::vector<std::pair<std::string, std::string>>& submissions,
-                         const std::vector<int>& labs) {
+void write_class_summary(const fs::path& dir, const BatchSummaries& summaries, const std::vector<int>& labs) {
   std::map<int, LabTally> tally;
   for (int lab : labs) tally[lab];
-  for (const auto& [name, folder] : submissions) {
-    std::ifstream in(dir / folder / "summary.json");
-    nlohmann::json summary;
-    try {
-      summary = nlohmann::json::parse(in);
-    } catch (const nlohmann::json::exception&) {
-      continue;  // the gradebook says so
-    }
+  for (const auto& [name, summary] : summaries) {
+    if (!summary.is_object()) continue;  // the gradebook says so
     for (int lab : labs) {
-      const nlohmann::json& entry = summary["labs"][std::to_string(lab)];
+      const nlohmann::json& entry = lab_entry(summary, lab);
       if (!entry.is_object()) continue;
       LabTally& t = tally[lab];
       ++t.submissions;
@@ -511,7 +527,7 @@ void write_class_summary(const fs::path& dir, const std::vector<std::pair<std::s
                   "<style>body{font:14px/1.4 sans-serif;margin:1.5em;max-width:60em}table{border-collapse:collapse}"
                   "td,th{border:1px solid #ccc;padding:2px 8px;text-align:left}td.n{text-align:right}"
                   ".bar{fill:#4a78b0}</style></head><body>\n<h1>What the class gets wrong</h1>\n"
-                  "<p>From the summary.json of each submission in this folder (" + std::to_string(submissions.size()) +
+                  "<p>From the summary.json of each submission in this folder (" + std::to_string(summaries.size()) +
                   " submissions); class-summary.csv holds the same counts.</p>\n";
   for (const auto& [lab, t] : tally) {
     const std::string of = std::to_string(t.submissions);
