@@ -136,6 +136,14 @@ class Page:
                 f"v.dispatch({{changes: {{from: 0, to: v.state.doc.length, insert: {json.dumps(text)}}}, "
                 f"userEvent: 'input.paste'}}); }})()")
 
+    def download(self, path, what):
+        """Clicks "Download my labs" and writes the zip the page made (kitPage.lastDownload) to `path`."""
+        self.js("kitPage.lastDownload = null; document.getElementById('download').click()")
+        data = self.wait("kitPage.lastDownload && (() => { let s = ''; const b = kitPage.lastDownload.bytes; "
+                         "for (let i = 0; i < b.length; i += 0x8000) s += String.fromCharCode.apply(null, "
+                         "b.subarray(i, i + 0x8000)); return btoa(s); })()", what)
+        path.write_bytes(base64.b64decode(data))
+
     def drop(self, url, name):
         """A DragEvent dropping a File made of the bytes at url onto the canvas."""
         self.js(f"""(async () => {{
@@ -316,12 +324,8 @@ def main():
                "a dropped .obj is refused by name", page.last_message().split(":")[0])
 
         # 7. Download my labs: a zip in the layout ./kit grade takes, with the edit.
-        page.js("document.getElementById('download').click()")
-        data = page.wait("kitPage.lastDownload && (() => { let s = ''; const b = kitPage.lastDownload.bytes; "
-                         "for (let i = 0; i < b.length; i += 0x8000) s += String.fromCharCode.apply(null, "
-                         "b.subarray(i, i + 0x8000)); return btoa(s); })()", "zip")
         zip_path = work / "labs.zip"
-        zip_path.write_bytes(base64.b64decode(data))
+        page.download(zip_path, "zip")
         listing = subprocess.run(["unzip", "-l", str(zip_path)], capture_output=True, text=True).stdout
         names = sorted(parts[-1] for parts in map(str.split, listing.splitlines()) if parts and parts[-1].startswith("labs/"))
         expected = sorted(p[len("/kit/"):] for p in page.js("kitPage.labs.paths()"))
@@ -402,12 +406,8 @@ def main():
             page.wait(f"kitPage.frames > {before['frames']} || kitPage.errors > {before['errors']}", f"frame of {name}")
         page.js("kitPage.lastCheck = null; document.getElementById('check').click()")
         done = page.wait("kitPage.lastCheck", "check of the finished lab", timeout=60)
-        page.js("kitPage.lastDownload = null; document.getElementById('download').click()")
-        data = page.wait("kitPage.lastDownload && (() => { let s = ''; const b = kitPage.lastDownload.bytes; "
-                         "for (let i = 0; i < b.length; i += 0x8000) s += String.fromCharCode.apply(null, "
-                         "b.subarray(i, i + 0x8000)); return btoa(s); })()", "zip of the finished lab")
         done_zip = work / "lab2-done.zip"
-        done_zip.write_bytes(base64.b64decode(data))
+        page.download(done_zip, "zip of the finished lab")
         graded_dir = work / "lab2-done-graded"
         subprocess.run([kit_grade, str(done_zip), "--labs", "2", "--out", str(graded_dir)], stdout=subprocess.DEVNULL,
                        check=False)
