@@ -41,7 +41,7 @@ import sys
 import threading
 import time
 
-from web_test import KIT_ROOT, READ_CANVAS, Chromium, load_page
+from web_test import KIT_ROOT, READ_CANVAS, Chromium, load_page, site_problem
 
 URL_QUERY = "stage=lighting&scene=default&view=final&size=320x240&shaders=labs"
 BRDF = "/kit/labs/02-lighting/brdf.glsl"
@@ -162,12 +162,9 @@ def main():
     site, scenes, kit_grade, work = (pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2]), sys.argv[3],
                                      pathlib.Path(sys.argv[4]))
     needed = ("index.html", "kit-page.js", "kit-page.css", "kit-web.js", "kit-web.wasm", "kit-web.data", "kit-web-data.js")
-    missing = [name for name in needed if not (site / name).is_file()]
-    if missing:
-        print(f"web_page_test: FAILED: {site} has no {', '.join(missing)} (./kit test and ./kit web build the site)")
-        return 1
-    if not shutil.which("chromium"):
-        print("web_page_test: FAILED: no chromium (./kit test and ./kit web install it: Debian's chromium)")
+    problem = site_problem(site, needed)
+    if problem:
+        print(f"web_page_test: FAILED: {problem}")
         return 1
     if not shutil.which("unzip"):
         print("web_page_test: FAILED: no unzip (./kit setup installs it)")

@@ -165,6 +165,16 @@ def load_page(chromium, url, timeout=120):
     raise SystemExit(f"{url}: no frame after {timeout} s")
 
 
+def site_problem(site, needed):
+    """Why a browser test cannot run on `site` (files it lacks, no chromium), or None."""
+    missing = [name for name in needed if not (site / name).is_file()]
+    if missing:
+        return f"{site} has no {', '.join(missing)} (./kit test and ./kit web build the site)"
+    if not shutil.which("chromium"):
+        return "no chromium (./kit test and ./kit web install it: Debian's chromium)"
+    return None
+
+
 def kit_call(chromium, command):
     """The page's kit_call(command) (tools/web/kit_web.cpp), its answer as a dict."""
     text = json.dumps(json.dumps(command))
@@ -243,12 +253,9 @@ def main():
         raise SystemExit(__doc__)
     site, kit_render, kit_grade, work = (pathlib.Path(sys.argv[1]), sys.argv[2], sys.argv[3],
                                          pathlib.Path(sys.argv[4]))
-    missing = [name for name in ("index.html", "kit-web.js", "kit-web.wasm", "kit-web.data", "kit-web-data.js") if not (site / name).is_file()]
-    if missing:
-        print(f"web_test: FAILED: {site} has no {', '.join(missing)} (./kit test and ./kit web build the site)")
-        return 1
-    if not shutil.which("chromium"):
-        print("web_test: FAILED: no chromium (./kit test and ./kit web install it: Debian's chromium)")
+    problem = site_problem(site, ("index.html", "kit-web.js", "kit-web.wasm", "kit-web.data", "kit-web-data.js"))
+    if problem:
+        print(f"web_test: FAILED: {problem}")
         return 1
     shutil.rmtree(work, ignore_errors=True)
     work.mkdir(parents=True)
