@@ -86,17 +86,10 @@ void set_canvas_size(int width, int height) {
 // Every view goes this way: a float view cannot be blitted into WebGL's 8-bit canvas, and
 // the bytes are then exactly kit-render's.
 void show(const kit::Image& image) {
-  const int w = image.width, h = image.height, n = image.channels;
+  const int w = image.width, h = image.height;
   // Stage 6's precomputed maps have sizes of their own: the canvas takes the image's.
   set_canvas_size(w, h);
-  std::vector<unsigned char> rgba(static_cast<size_t>(w) * h * 4, 255);
-  for (int y = 0; y < h; ++y)
-    for (int x = 0; x < w; ++x) {
-      // GL's rows run bottom-up: the image's last row is the texture's first.
-      const float* from = &image.pixels[(static_cast<size_t>(y) * w + x) * n];
-      unsigned char* to = &rgba[(static_cast<size_t>(h - 1 - y) * w + x) * 4];
-      for (int c = 0; c < 3; ++c) to[c] = kit::to_unorm8(from[n >= 3 ? c : 0]);
-    }
+  const std::vector<unsigned char> rgba = kit::web::rgba8(image, true);  // GL's rows run bottom-up
   glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
   const kit::Texture2D texture(w, h, kit::TextureFormat{GL_RGBA8, GL_RGBA, GL_UNSIGNED_BYTE}, rgba.data());
   kit::Framebuffer source;

@@ -28,12 +28,8 @@ using namespace kit::grade;
 
 fs::path references_dir() { return kit_root() / "tools" / "grade" / "references"; }
 
-// An image as the page draws it: RGBA8, rows top-down; `image` RGB(A) in [0, 1].
 Json write_rgba(const fs::path& path, const Image& image) {
-  std::vector<unsigned char> bytes(static_cast<size_t>(image.width) * image.height * 4, 255);
-  for (size_t p = 0; p < static_cast<size_t>(image.width) * image.height; ++p)
-    for (int c = 0; c < 3; ++c)
-      bytes[p * 4 + c] = to_unorm8(image.pixels[p * image.channels + (image.channels >= 3 ? c : 0)]);
+  const std::vector<unsigned char> bytes = rgba8(image, false);
   std::ofstream out(path, std::ios::binary);
   out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   if (!out) throw Error(path.string() + ": cannot write");
@@ -41,6 +37,18 @@ Json write_rgba(const fs::path& path, const Image& image) {
 }
 
 }  // namespace
+
+std::vector<unsigned char> rgba8(const Image& image, bool bottom_up) {
+  const int w = image.width, h = image.height, n = image.channels;
+  std::vector<unsigned char> rgba(static_cast<size_t>(w) * h * 4, 255);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const float* from = &image.pixels[(static_cast<size_t>(y) * w + x) * n];
+      unsigned char* to = &rgba[(static_cast<size_t>(bottom_up ? h - 1 - y : y) * w + x) * 4];
+      for (int c = 0; c < 3; ++c) to[c] = to_unorm8(from[n >= 3 ? c : 0]);
+    }
+  return rgba;
+}
 
 Json check_catalogue() {
   const Config config = load_config(default_config_path());
@@ -94,6 +102,7 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
 
   if (!answer.contains("status")) {
     answer["status"] = "graded";
+    std::map<std::string, Image> gbuffer_references;  // by reference id, for the worst pixels' inputs
     for (CheckOutcome& c : lab.checks) {
       const Check& check = *c.check;
       const bool own = compares_own_renders(check.metric);
@@ -113,11 +122,12 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
       if (!c.passed && lab_number >= 2) {
         // The worst pixel's inputs, from the reference G-buffer of the render's scene.
         const RenderSpec& spec = find_render(check.image);
-        std::map<std::string, Image> attachments;
         std::map<std::string, const Image*> gbuffer;
         for (const auto& [attachment, id] : gbuffer_reference_ids(spec)) {
-          attachments[attachment] = read_image((references_dir() / (id + ".exr")).string());
-          gbuffer[attachment] = &attachments[attachment];
+          auto read = gbuffer_references.find(id);  // each read once: the checks of a scene share them
+          if (read == gbuffer_references.end())
+            read = gbuffer_references.emplace(id, read_image((references_dir() / (id + ".exr")).string())).first;
+          gbuffer[attachment] = &read->second;
         }
         add_pixel_inputs(c, gbuffer, scenes.at(spec.scene));
       }

@@ -5,9 +5,17 @@
 // with the rest of kit-web. A preview: the grade is ./kit grade's or the platform's.
 #include <filesystem>
 
+#include <vector>
+
 #include <nlohmann/json.hpp>
 
+#include "images/image_io.h"
+
 namespace kit::web {
+
+// `image` (rows top-down, one to four float channels) as RGBA8 the way kit-render's PNG writer
+// makes the bytes (to_unorm8; grey from one channel), opaque; rows bottom-up for a GL texture.
+std::vector<unsigned char> rgba8(const Image& image, bool bottom_up);
 
 // Per lab: its checks (key, title, points).
 nlohmann::json check_catalogue();
