@@ -316,9 +316,12 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
   }
   if (run.collect) {
     for (auto& [id, image] : renders) (*run.collect)[id] = std::move(image);
+    if (run.collect_probes && child.contains("probes") && child["probes"].is_object())
+      for (const auto& [id, values] : child["probes"].items()) (*run.collect_probes)[id] = probe_values_from_json(values);
     lab.status = kGraded;
     return;
   }
+  lab.probes = probe_outcomes(lab.lab, child, run.probes_reference);
   fs::create_directories(result_dir / kImageFolder);
   lab.status = kGraded;
   for (CheckOutcome& c : lab.checks) {
@@ -568,7 +571,8 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
   auto start_workers = [&] {
     for (skip_unready(); workers.size() < slots && !queue.empty(); skip_unready()) {
       Entry& e = entries[queue.front().entry];
-      const LabWorker spec{e.prepared->lab_root, e.temp, run.options.backend, run.options.device, &run.scenes};
+      const LabWorker spec{e.prepared->lab_root, e.temp, run.options.backend, run.options.device, &run.scenes,
+                           &run.probes_reference};
       Worker w;
       w.entry = queue.front().entry;
       w.child = std::make_unique<Child>(Child::fork_worker(
@@ -661,11 +665,12 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
 }
 
 Run make_run(const Options& options, bool need_references) {
-  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}, {}, {}, false, {}, {}};
+  Run run{options, load_config(options.config.empty() ? default_config_path() : options.config), {}, {}, {}, {}, {}, nullptr, {}, false, {}, {}, {}, {}, false, {}, {}, {}, nullptr};
   if (need_references) {
     run.references_dir = options.references.empty() ? default_references_dir() : options.references;
     require_current_references(run.references_dir);
     run.references_renderer = references_renderer(run.references_dir);
+    run.probes_reference = read_probes_reference(run.references_dir);
   }
   run.scenes = load_scenes(options.labs);
   const char* tmp = std::getenv("TMPDIR");

@@ -10,6 +10,7 @@
 #include "compare.h"
 #include "config.h"
 #include "diagnosis.h"
+#include "function_probes.h"
 #include "gl/context.h"
 #include "sandbox.h"
 
@@ -74,6 +75,9 @@ struct LabOutcome {
   // (diagnosis.h); empty when none fits or no signatures were loaded.
   std::vector<LikelyMistake> likely_mistakes;
   bool diagnosed = false;  // a check failed and signatures were there to compare with
+  // The lab's probed functions (function_probes.h), in the table's order: they inform, they
+  // do not score. Empty for a lab without probes or one that was not rendered.
+  std::vector<ProbeOutcome> probes;
   int passed_checks() const;
   // The sums of the checks' integer thousandths: exact, and the very numbers printed.
   Thousandths score() const;

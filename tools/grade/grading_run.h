@@ -12,7 +12,10 @@
 #include <utility>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "compare.h"
+#include "function_probes.h"
 #include "grader.h"
 #include "images/image_io.h"
 #include "references.h"
@@ -56,6 +59,11 @@ struct Run {
   // Variables set in every render child after the run's own (--update-references: the
   // filter renderings' GALLIVM_PERF).
   std::vector<std::pair<std::string, std::string>> child_environment;
+  // <references>/probes.json (function_probes.h): the reference solutions' values of the
+  // probed functions; null when the run compares with none or the file is not there.
+  nlohmann::json probes_reference;
+  // --update-references: keep the solutions' probe values too, by probe id.
+  std::map<std::string, ProbeValues>* collect_probes = nullptr;
 };
 
 // A submission of a run.

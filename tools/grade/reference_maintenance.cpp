@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "function_probes.h"
 #include "grading_run.h"
 #include "references.h"
 #include "report.h"
@@ -46,7 +47,11 @@ int update_references(const Options& options) {
     });
   };
   std::map<std::string, Image> collected;
+  std::map<std::string, ProbeValues> probes;
+  run.collect_probes = &probes;
   bool completed = render_solutions(collected);
+  run.collect_probes = nullptr;  // the filter renderings' probe values are not the references'
+
   const std::string reference_renderer = renderer;
   // The filter renderings (references.h), where llvmpipe made the references: only it
   // reads GALLIVM_PERF. Their children write no shader cache (the seed's programs were
@@ -63,7 +68,18 @@ int update_references(const Options& options) {
   if (!failures.empty()) throw Error("the solutions did not render:" + failures);
   fs::path dir = o.references.empty() ? default_references_dir() : o.references;
   const std::map<std::string, Image> allowances = filter_allowances(collected, variants);
-  const std::vector<std::string> changed = write_references(dir, collected, allowances, reference_renderer);
+  std::vector<std::string> changed = write_references(dir, collected, allowances, reference_renderer);
+  // The probed functions' values of the solutions (function_probes.h): every probe, or the
+  // references would tell a graded lab nothing about its functions.
+  std::vector<std::pair<const FunctionProbe*, ProbeValues>> expected;
+  for (const FunctionProbe& probe : all_function_probes()) {
+    auto it = probes.find(probe.id);
+    if (it == probes.end() || !it->second.error.empty() || it->second.values.size() != probe.cases.size())
+      throw Error("the solutions' function " + probe.title() + " was not probed" +
+                  (it == probes.end() ? std::string() : ": " + it->second.error));
+    expected.emplace_back(&probe, it->second);
+  }
+  for (const std::string& file : write_probes_reference(dir, probes_reference_json(expected))) changed.push_back(file);
   std::printf("kit-grade: %zu references in %s (%s), %zu with a filter allowance%s: %zu file(s) changed, the others "
               "kept byte for byte; check them with --check-references\n",
               reference_renders().size(), dir.c_str(), reference_renderer.c_str(), allowances.size(),
@@ -95,6 +111,11 @@ int check_references(const Options& options) {
           if (lab.status == kGraded && !c.passed)
             stale.push_back(lab_title(n) + ": " + c.check->title + ": " + c.comparison.note +
                             (c.comparison.note.empty() ? "" : "; ") + c.comparison.summary);
+        // The solution's functions must agree with probes.json where it is there at all (a
+        // student copy keeps the probes of the labs it releases only).
+        for (const ProbeOutcome& p : lab.probes)
+          if (lab.status == kGraded && p.status != kProbeAgrees && !run.probes_reference.is_null())
+            stale.push_back(lab_title(n) + ": probes.json: " + p.message);
       }
     });
     remove_run_temp(run);

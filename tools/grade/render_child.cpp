@@ -13,6 +13,7 @@
 
 #include "checks.h"
 #include "lab_frames.h"
+#include "probe_pass.h"
 #include "base/error.h"
 #include "gl/gl.h"
 #include "gl/pass_clock.h"
@@ -132,6 +133,20 @@ int render_lab(const RenderJob& job, std::unique_ptr<GlContext>& context) {
       write_text(error_file, std::string("while rendering ") + spec->scene + ": " + e.what());
       return kChildRenderError;
     }
+  }
+  // The lab's function probes (function_probes.h), with the context the renders used. They
+  // only inform: a probe that cannot run leaves the lab's renders and status as they are.
+  if (!function_probes(job.lab).empty()) {
+    auto t = Clock::now();
+    try {
+      for (const auto& [id, values] : run_function_probes(stage, job.worker->lab_root,
+                                                          job.worker->probes_reference ? *job.worker->probes_reference
+                                                                                        : nlohmann::json()))
+        report["probes"][id] = probe_values_json(values);
+    } catch (const Error& e) {
+      report["probes_error"] = e.what();
+    }
+    report["seconds"]["probes"] = seconds_since(t);
   }
   report["programs_reused"] = frames.programs_reused();
   report["seconds"]["compile"] = compile;

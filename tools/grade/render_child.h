@@ -41,6 +41,7 @@ struct LabWorker {
   Backend backend = kDefaultHeadlessBackend;
   Device device = Device::Software;
   const std::map<std::string, Scene>* scenes = nullptr;  // loaded by the parent before forking
+  const nlohmann::json* probes_reference = nullptr;        // probes.json (function_probes.h), or null
 };
 
 // Where lab `lab` of a worker writes its files (the grader makes the folder first).

@@ -1,0 +1,213 @@
+// The grader's function probes (tools/grade/function_probes.h):
+//   * the expected values in tools/grade/references/probes.json, made on the GPU path from
+//     the reference solutions, agree with the CPU reference in double precision
+//     (instructor/reference/cpu_reference.h), at every input; witness: a CPU GGX without
+//     its pi disagrees;
+//   * the probe pass on lab files with a planted mistake names the function, its first
+//     differing inputs and the shape of the difference (a factor of pi, swapped arguments),
+//     and a lab that renamed a function loses only that function's probe.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cpu_reference.h"
+#include "function_probes.h"
+#include "gbuffer_layout.h"
+#include "kit_test.h"
+#include "probe_pass.h"
+#include "references.h"
+#include "render/stages.h"
+
+namespace kit::test {
+namespace {
+
+namespace ref = kit::reference;
+using grade::FunctionProbe;
+using grade::ProbeType;
+
+// GPU float against the CPU's double. The worst input is the GGX peak of the smoothest
+// material probed (alpha = 0.04, n.h = 1), where d = (n.h)^2 (alpha^2 - 1) + 1 cancels to
+// alpha^2 in float and loses 1.4e-4 (test_lab_equations.cpp, kMinHdrAgreement, says more);
+// the catalogued mistakes are 1e-2 and more.
+constexpr double kCpuRelativeTolerance = 5e-4;
+
+nlohmann::json probes_reference() { return grade::read_probes_reference(grade::default_references_dir()); }
+
+// Reads a probe case's arguments in order.
+struct Arguments {
+  const std::vector<float>& in;
+  size_t at = 0;
+  double scalar() { return in.at(at++); }
+  ref::dvec3 vec3() {
+    ref::dvec3 v(in.at(at), in.at(at + 1), in.at(at + 2));
+    at += 3;
+    return v;
+  }
+  // As function_probe_inputs.glsl reads a Light.
+  ref::ShadingLight light() {
+    ref::ShadingLight l;
+    l.type = static_cast<int>(scalar() + 0.5);
+    l.position = vec3();
+    l.direction = vec3();
+    l.range = scalar();
+    l.color = vec3();
+    l.intensity = scalar();
+    l.cos_inner = scalar();
+    l.cos_outer = scalar();
+    l.flux = scalar();
+    scalar();  // volume_radius
+    return l;
+  }
+};
+
+ref::dvec3 cpu_value(const FunctionProbe& probe, const std::vector<float>& in, bool ggx_without_pi = false) {
+  Arguments a{in};
+  if (probe.function == "fresnel_schlick") {
+    const double v_dot_h = a.scalar();
+    return ref::fresnel_schlick(v_dot_h, a.vec3());
+  }
+  if (probe.function == "distribution_ggx") {
+    const double n_dot_h = a.scalar(), alpha = a.scalar();
+    return ref::dvec3(ref::distribution_ggx(n_dot_h, alpha) * (ggx_without_pi ? 3.14159265358979323846 : 1.0));
+  }
+  if (probe.function == "geometry_cook_torrance") {
+    const double n_dot_h = a.scalar(), n_dot_v = a.scalar(), n_dot_l = a.scalar(), v_dot_h = a.scalar();
+    return ref::dvec3(ref::geometry_cook_torrance(n_dot_h, n_dot_v, n_dot_l, v_dot_h));
+  }
+  if (probe.function == "cook_torrance") {
+    const ref::dvec3 n = a.vec3(), v = a.vec3(), l = a.vec3(), albedo = a.vec3();
+    const double metallic = a.scalar(), roughness = a.scalar();
+    return ref::cook_torrance(n, v, l, albedo, metallic, roughness);
+  }
+  ref::ShadingSettings settings;
+  settings.stage = 3;
+  for (const grade::ProbeUniform& u : probe.uniforms) {
+    if (u.name == "u_attenuation_model") settings.attenuation_model = static_cast<int>(u.value);
+    if (u.name == "u_gamma") settings.gamma = u.value;
+  }
+  if (probe.function == "spot_cone_factor") {
+    const ref::ShadingLight light = a.light();
+    return ref::dvec3(ref::spot_cone_factor(light, a.vec3()));
+  }
+  if (probe.function == "light_radiance") {
+    const ref::ShadingLight light = a.light();
+    return ref::light_radiance(light, a.vec3(), settings);
+  }
+  if (probe.function == "tonemap") return ref::tonemap(a.vec3(), settings.gamma);
+  ADD_FAILURE() << "no CPU reference for " << probe.function;
+  return ref::dvec3(0.0);
+}
+
+// How many compared values of every probe are off the CPU reference (finite_only cases:
+// how many are not finite), and the first such, in words.
+int cpu_disagreements(const nlohmann::json& reference, std::string* first, bool ggx_without_pi = false) {
+  int off = 0;
+  for (const FunctionProbe& table : grade::all_function_probes()) {
+    const std::vector<FunctionProbe> run = grade::probes_to_run(table.lab, reference);
+    const FunctionProbe& probe = *std::find_if(run.begin(), run.end(), [&](const FunctionProbe& p) { return p.id == table.id; });
+    const std::vector<glm::vec4> expected = grade::expected_probe_values(reference, probe);
+    EXPECT_EQ(expected.size(), probe.cases.size()) << probe.id << ": probes.json lacks it (./kit rebaseline)";
+    for (size_t i = 0; i < expected.size(); ++i) {
+      const ref::dvec3 cpu = cpu_value(probe, probe.cases[i].inputs, ggx_without_pi);
+      const int components = probe.result == ProbeType::Float ? 1 : 3;
+      for (int k = 0; k < components; ++k) {
+        const double gpu = expected[i][k];
+        const bool bad = probe.cases[i].finite_only
+                             ? !std::isfinite(gpu)
+                             : !(std::abs(gpu - cpu[k]) <= kCpuRelativeTolerance * std::abs(cpu[k]) + 1e-7);
+        if (bad && off++ == 0 && first) {
+          std::ostringstream s;
+          s << probe.id << " case " << i << " component " << k << ": probes.json " << gpu << ", CPU " << cpu[k];
+          *first = s.str();
+        }
+      }
+    }
+  }
+  return off;
+}
+
+TEST(FunctionProbes, ExpectedValuesMatchTheCpuReference) {
+  const nlohmann::json reference = probes_reference();
+  ASSERT_FALSE(reference.is_null()) << "no tools/grade/references/probes.json (kit-grade --update-references)";
+  const std::vector<std::string> stale = grade::probes_reference_differences(reference);
+  EXPECT_TRUE(stale.empty()) << stale.front();
+  std::string first;
+  EXPECT_EQ(cpu_disagreements(reference, &first), 0) << first;
+  // Witness: the comparison sees a GGX that lacks its pi.
+  EXPECT_GT(cpu_disagreements(reference, nullptr, true), 20);
+}
+
+// Lab 2's solution with `find` replaced by `replace` in brdf.glsl, as a lab folder.
+std::filesystem::path lab2_with(const std::string& name, const std::string& find, const std::string& replace) {
+  const std::filesystem::path root = temp_dir("function_probes_" + name);
+  const std::filesystem::path lab = root / "02-lighting";
+  std::filesystem::create_directories(lab);
+  for (const auto& entry : std::filesystem::directory_iterator(kit_root() / "solutions" / "02-lighting"))
+    std::filesystem::copy_file(entry.path(), lab / entry.path().filename());
+  std::ifstream in(lab / "brdf.glsl");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  size_t at = text.find(find);
+  while (at != std::string::npos) {
+    text.replace(at, find.size(), replace);
+    at = text.find(find, at + replace.size());
+  }
+  std::ofstream(lab / "brdf.glsl") << text;
+  return root;
+}
+
+std::map<std::string, grade::ProbeOutcome> probe_lab2(const std::filesystem::path& root) {
+  context();
+  const nlohmann::json reference = probes_reference();
+  const auto values = grade::run_function_probes(find_stage(2), root, reference);
+  std::map<std::string, grade::ProbeOutcome> out;
+  for (const FunctionProbe& probe : grade::probes_to_run(2, reference)) {
+    auto it = values.find(probe.id);
+    out[probe.id] = grade::compare_probe(probe, it == values.end() ? grade::ProbeValues{} : it->second,
+                                         grade::expected_probe_values(reference, probe));
+  }
+  return out;
+}
+
+TEST(FunctionProbes, TheSolutionAgreesEverywhere) {
+  for (const auto& [id, outcome] : probe_lab2(kit_root() / "solutions")) EXPECT_EQ(outcome.status, grade::kProbeAgrees) << outcome.message;
+}
+
+TEST(FunctionProbes, AGgxWithoutPiIsNamedWithItsFactor) {
+  auto probes = probe_lab2(lab2_with("ggx_no_pi", "KIT_PI * d * d", "d * d"));
+  const grade::ProbeOutcome& ggx = probes.at("distribution_ggx");
+  EXPECT_EQ(ggx.status, grade::kProbeDiffers);
+  EXPECT_NE(ggx.message.find("distribution_ggx(n_dot_h = "), std::string::npos) << ggx.message;
+  EXPECT_NE(ggx.shape.find("(pi)"), std::string::npos) << ggx.message;
+  EXPECT_EQ(probes.at("fresnel_schlick").status, grade::kProbeAgrees) << probes.at("fresnel_schlick").message;
+  EXPECT_EQ(probes.at("geometry_cook_torrance").status, grade::kProbeAgrees);
+}
+
+TEST(FunctionProbes, SwappedArgumentsAreNamed) {
+  auto probes = probe_lab2(lab2_with("ggx_swapped", "float distribution_ggx(float n_dot_h, float alpha)",
+                                     "float distribution_ggx(float alpha, float n_dot_h)"));
+  const grade::ProbeOutcome& ggx = probes.at("distribution_ggx");
+  EXPECT_EQ(ggx.status, grade::kProbeDiffers);
+  EXPECT_EQ(ggx.shape, "n_dot_h and alpha swapped") << ggx.message;
+}
+
+TEST(FunctionProbes, ARenamedFunctionLosesOnlyItsOwnProbe) {
+  auto probes = probe_lab2(lab2_with("ggx_renamed", "distribution_ggx(", "my_ggx("));
+  EXPECT_EQ(probes.at("distribution_ggx").status, grade::kProbeNotRun) << probes.at("distribution_ggx").message;
+  for (const char* other : {"fresnel_schlick", "geometry_cook_torrance", "cook_torrance"})
+    EXPECT_EQ(probes.at(other).status, grade::kProbeAgrees) << probes.at(other).message;
+}
+
+TEST(FunctionProbes, AMissingGuardIsReportedAsNotFinite) {
+  auto probes = probe_lab2(lab2_with("ggx_unguarded", "max(KIT_PI * d * d, KIT_MIN_GGX_DENOMINATOR)", "(KIT_PI * d * d)"));
+  const grade::ProbeOutcome& ggx = probes.at("distribution_ggx");
+  EXPECT_EQ(ggx.status, grade::kProbeDiffers);
+  EXPECT_NE(ggx.message.find("expected a finite value"), std::string::npos) << ggx.message;
+}
+
+}  // namespace
+}  // namespace kit::test

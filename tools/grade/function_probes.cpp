@@ -1,0 +1,633 @@
+#include "function_probes.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <map>
+#include <utility>
+
+#include "gbuffer_layout.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+namespace kit::grade {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+// How far a value may be from the reference solution's and still agree: relative, with a
+// floor for values at 0 (relative to the probe's largest expected value). Every input is
+// chosen well conditioned (no GGX peak of a near-mirror, no point on a cone's edge), so a
+// correct function written another way stays within 1e-5; the smallest catalogued
+// mistake a probe must see, a tone map lifted by 0.004, is 0.4 % of its largest value.
+constexpr double kRelativeTolerance = 2e-3;
+constexpr double kZeroTolerance = 1e-6;
+// A shape fits when every differing value fits it within this (relative).
+constexpr double kShapeTolerance = 1e-2;
+
+float radians(float degrees) { return degrees * static_cast<float>(kPi / 180.0); }
+
+// A unit direction `theta` degrees from +z, turned `phi` degrees about z from +x.
+glm::vec3 direction(float theta, float phi) {
+  const float t = radians(theta), p = radians(phi);
+  return glm::vec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
+}
+
+void push(std::vector<float>& to, float v) { to.push_back(v); }
+void push(std::vector<float>& to, glm::vec3 v) { to.insert(to.end(), {v.x, v.y, v.z}); }
+
+// A Light as function_probe_inputs.glsl reads it (the order of lights.glsl's struct), its
+// flux derived as the renderer derives it (renderer.h, light_flux).
+void push(std::vector<float>& to, const Light& light) {
+  push(to, static_cast<float>(light.type));
+  push(to, light.position);
+  push(to, light.direction);
+  push(to, light.range);
+  push(to, light.color);
+  push(to, light.intensity);
+  push(to, std::cos(light.inner_cone));
+  push(to, std::cos(light.outer_cone));
+  push(to, light_flux(light));
+  push(to, 0.0f);  // volume_radius: lab 7's, read by no probed function
+}
+
+FunctionProbe lab2_probe(const std::string& function, int index, std::vector<ProbeArgument> arguments, ProbeType result) {
+  FunctionProbe p;
+  p.id = function;
+  p.lab = 2;
+  p.file = "brdf.glsl";
+  p.function = function;
+  p.shader = "probe_brdf.frag";
+  p.index = index;
+  p.define = "KIT_PROBE_";
+  for (char c : function) p.define += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  p.arguments = std::move(arguments);
+  p.result = result;
+  return p;
+}
+
+std::vector<FunctionProbe> make_lab2() {
+  std::vector<FunctionProbe> probes;
+  using T = ProbeType;
+  {
+    FunctionProbe p = lab2_probe("fresnel_schlick", 0, {{"v_dot_h", T::Float}, {"f0", T::Vec3}}, T::Vec3);
+    for (glm::vec3 f0 : {glm::vec3(0.04f), glm::vec3(1.0f, 0.71f, 0.29f), glm::vec3(0.56f, 0.57f, 0.58f)})
+      for (float v_dot_h : {0.0f, 0.1f, 0.3f, 0.5f, 0.7f, 0.9f, 1.0f}) {
+        ProbeCase c;
+        push(c.inputs, v_dot_h);
+        push(c.inputs, f0);
+        p.cases.push_back(c);
+      }
+    probes.push_back(p);
+  }
+  {
+    // The same values for both arguments, so that swapped arguments show as such.
+    FunctionProbe p = lab2_probe("distribution_ggx", 1, {{"n_dot_h", T::Float}, {"alpha", T::Float}}, T::Float);
+    const float values[] = {0.0f, 0.1f, 0.3f, 0.5f, 0.8f, 0.95f, 1.0f};
+    for (float alpha : values)
+      for (float n_dot_h : values) {
+        ProbeCase c;
+        push(c.inputs, n_dot_h);
+        push(c.inputs, alpha);
+        c.finite_only = alpha == 0.0f && n_dot_h == 1.0f;  // 0 / 0 but for the guard
+        p.cases.push_back(c);
+      }
+    probes.push_back(p);
+  }
+  {
+    // v.h > 0: cook_torrance floors it before the call (KIT_MIN_V_DOT_H), so G is not asked at 0.
+    FunctionProbe p = lab2_probe("geometry_cook_torrance", 2,
+                                 {{"n_dot_h", T::Float}, {"n_dot_v", T::Float}, {"n_dot_l", T::Float}, {"v_dot_h", T::Float}},
+                                 T::Float);
+    const float values[] = {0.2f, 0.5f, 0.9f, 1.0f};
+    for (float v_dot_h : values)
+      for (float n_dot_l : values)
+        for (float n_dot_v : values)
+          for (float n_dot_h : values) {
+            ProbeCase c;
+            for (float v : {n_dot_h, n_dot_v, n_dot_l, v_dot_h}) push(c.inputs, v);
+            p.cases.push_back(c);
+          }
+    probes.push_back(p);
+  }
+  {
+    FunctionProbe p = lab2_probe("cook_torrance", 3,
+                                 {{"n", T::Vec3}, {"v", T::Vec3}, {"l", T::Vec3}, {"albedo", T::Vec3},
+                                  {"metallic", T::Float}, {"perceptual_roughness", T::Float}},
+                                 T::Vec3);
+    struct Material {
+      glm::vec3 albedo;
+      float metallic, roughness;
+    };
+    // Roughness from 0.2 up: at a lower one the GGX peak of a near-mirror cancels in float
+    // (test_lab_equations.cpp says how), and a correct function written otherwise differs.
+    const Material materials[] = {{{0.8f, 0.2f, 0.1f}, 0.0f, 0.5f},
+                                  {{1.0f, 0.71f, 0.29f}, 1.0f, 0.3f},
+                                  {{0.5f, 0.5f, 0.5f}, 0.5f, 0.7f},
+                                  {{0.9f, 0.9f, 0.9f}, 0.0f, 0.2f}};
+    // Light and view 30 degrees either side of the normal make h = n: the specular peak.
+    const glm::vec3 lights[] = {direction(0, 0), direction(30, 0), direction(60, 90), direction(80, 180)};
+    const glm::vec3 views[] = {direction(0, 0), direction(30, 180), direction(45, 270), direction(70, 45)};
+    const glm::vec3 n(0.0f, 0.0f, 1.0f);
+    auto add = [&](glm::vec3 v, glm::vec3 l, const Material& m, bool finite_only) {
+      ProbeCase c;
+      for (glm::vec3 x : {n, v, l, m.albedo}) push(c.inputs, x);
+      push(c.inputs, m.metallic);
+      push(c.inputs, m.roughness);
+      c.finite_only = finite_only;
+      p.cases.push_back(c);
+    };
+    for (const Material& m : materials)
+      for (glm::vec3 l : lights)
+        for (glm::vec3 v : views) add(v, l, m, false);
+    // Seen or lit edge-on (n.v = 0, n.l = 0): the guards' floors decide.
+    for (const Material& m : materials) {
+      add(glm::vec3(1, 0, 0), direction(30, 0), m, true);
+      add(direction(30, 180), glm::vec3(0, 1, 0), m, true);
+    }
+    probes.push_back(p);
+  }
+  return probes;
+}
+
+FunctionProbe lab3_probe(const std::string& id, const std::string& file, const std::string& function, int index,
+                         std::vector<ProbeArgument> arguments, ProbeType result) {
+  FunctionProbe p = lab2_probe(function, index, std::move(arguments), result);
+  p.id = id;
+  p.lab = 3;
+  p.file = file;
+  p.shader = "probe_attenuation.frag";
+  return p;
+}
+
+Light spot_light(float inner_degrees, float outer_degrees) {
+  Light light;
+  light.type = KIT_LIGHT_SPOT;
+  light.position = glm::vec3(0.0f, 3.0f, 0.0f);
+  light.direction = glm::vec3(0.0f, -1.0f, 0.0f);
+  light.color = glm::vec3(1.0f, 0.8f, 0.6f);
+  light.intensity = 20.0f;
+  light.inner_cone = radians(inner_degrees);
+  light.outer_cone = radians(outer_degrees);
+  return light;
+}
+
+// A point `distance` from the light, `degrees` off the straight-down direction (toward +x).
+glm::vec3 below(const Light& light, float degrees, float distance) {
+  const float t = radians(degrees);
+  return light.position + distance * glm::vec3(std::sin(t), -std::cos(t), 0.0f);
+}
+
+std::vector<FunctionProbe> make_lab3() {
+  std::vector<FunctionProbe> probes;
+  using T = ProbeType;
+  {
+    FunctionProbe p = lab3_probe("spot_cone_factor", "attenuation.glsl", "spot_cone_factor", 0,
+                                 {{"light", T::Light}, {"p", T::Vec3}}, T::Float);
+    struct Cone {
+      float inner, outer;
+    };
+    // Inner == outer (a hard edge) too, with no point on the edge itself: there a guard decides.
+    for (Cone cone : {Cone{20, 30}, Cone{0, 45}, Cone{25, 25}}) {
+      const Light light = spot_light(cone.inner, cone.outer);
+      for (float degrees : {0.0f, 10.0f, 22.0f, 27.0f, 32.0f, 50.0f, 120.0f}) {
+        ProbeCase c;
+        push(c.inputs, light);
+        push(c.inputs, below(light, degrees, 2.0f));
+        p.cases.push_back(c);
+      }
+    }
+    ProbeCase at_light;  // the point at the light: no direction to it
+    push(at_light.inputs, spot_light(20, 30));
+    push(at_light.inputs, spot_light(20, 30).position);
+    at_light.finite_only = true;
+    p.cases.push_back(at_light);
+    probes.push_back(p);
+  }
+  for (int model : {0, 1}) {
+    FunctionProbe p = lab3_probe(model == 0 ? "light_radiance/physical" : "light_radiance/simple", "attenuation.glsl",
+                                 "light_radiance", 1, {{"light", T::Light}, {"p", T::Vec3}}, T::Vec3);
+    p.define = "KIT_PROBE_LIGHT_RADIANCE";
+    p.setting = "u_attenuation_model = " + std::to_string(model);
+    p.uniforms = {{"u_attenuation_model", true, static_cast<float>(model)}};
+    Light point;
+    point.type = KIT_LIGHT_POINT;
+    point.position = glm::vec3(0.0f, 3.0f, 0.0f);
+    point.color = glm::vec3(1.0f, 0.8f, 0.6f);
+    point.intensity = 10.0f;
+    Light ranged_point = point;
+    ranged_point.range = 5.0f;
+    Light spot = spot_light(20, 30);
+    Light ranged_spot = spot;
+    ranged_spot.range = 4.0f;
+    Light sun;
+    sun.type = KIT_LIGHT_DIRECTIONAL;
+    sun.position = glm::vec3(0.0f, 3.0f, 0.0f);
+    sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
+    sun.color = glm::vec3(1.0f, 0.95f, 0.9f);
+    sun.intensity = 3.0f;
+    for (const Light& light : {point, ranged_point, spot, ranged_spot, sun})
+      for (float degrees : {0.0f, 25.0f, 40.0f})
+        for (float distance : {0.5f, 1.0f, 2.0f, 4.5f}) {
+          ProbeCase c;
+          push(c.inputs, light);
+          push(c.inputs, below(light, degrees, distance));
+          p.cases.push_back(c);
+        }
+    ProbeCase at_light;  // r = 0: the distance floor decides
+    push(at_light.inputs, point);
+    push(at_light.inputs, point.position);
+    at_light.finite_only = true;
+    p.cases.push_back(at_light);
+    probes.push_back(p);
+  }
+  for (float gamma : {2.2f, 1.0f}) {
+    FunctionProbe p = lab3_probe(gamma == 1.0f ? "tonemap/gamma-1.0" : "tonemap/gamma-2.2", "tonemap.glsl", "tonemap", 2,
+                                 {{"hdr", T::Vec3}}, T::Vec3);
+    p.setting = gamma == 1.0f ? "u_gamma = 1.0" : "u_gamma = 2.2";
+    p.uniforms = {{"u_gamma", false, gamma}};
+    for (glm::vec3 hdr : {glm::vec3(0.0f), glm::vec3(0.01f, 0.02f, 0.03f), glm::vec3(0.18f), glm::vec3(0.5f, 1.0f, 2.0f),
+                          glm::vec3(1.0f), glm::vec3(4.0f, 8.0f, 16.0f), glm::vec3(100.0f, 1000.0f, 0.001f)}) {
+      ProbeCase c;
+      push(c.inputs, hdr);
+      p.cases.push_back(c);
+    }
+    probes.push_back(p);
+  }
+  return probes;
+}
+
+const std::map<int, std::vector<FunctionProbe>>& probe_table() {
+  static const std::map<int, std::vector<FunctionProbe>> table = {{2, make_lab2()}, {3, make_lab3()}};
+  return table;
+}
+
+int components(ProbeType type) { return type == ProbeType::Float ? 1 : type == ProbeType::Vec3 ? 3 : 16; }
+
+// A float as the shortest decimal that reads back as the same float: probes.json stays
+// readable ("0.1", not "0.10000000149011612") and exact.
+double short_decimal(float v) {
+  if (!std::isfinite(v)) return v;
+  char text[32];
+  auto result = std::to_chars(text, text + sizeof text, v);
+  *result.ptr = '\0';
+  return std::strtod(text, nullptr);
+}
+
+std::string number(double v) {
+  if (std::isnan(v)) return "NaN";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", v);
+  return text;
+}
+
+std::string vec3_text(const float* v) { return "(" + number(v[0]) + ", " + number(v[1]) + ", " + number(v[2]) + ")"; }
+
+// An input as a student would write it: a direction's 0 made from sin(180 degrees) is
+// -4.4e-08 in float, shown as 0.
+double input(float v) { return std::abs(v) < 1e-6f ? 0.0 : v; }
+std::string input_vec3_text(const float* v) {
+  return "(" + number(input(v[0])) + ", " + number(input(v[1])) + ", " + number(input(v[2])) + ")";
+}
+
+std::string light_text(const float* v) {
+  const int type = static_cast<int>(v[0] + 0.5f);
+  std::string text = type == KIT_LIGHT_SPOT ? "spot light" : type == KIT_LIGHT_DIRECTIONAL ? "directional light" : "point light";
+  text += type == KIT_LIGHT_DIRECTIONAL ? " (" : " at " + input_vec3_text(v + 1) + " (";
+  if (type != KIT_LIGHT_POINT) text += "direction " + input_vec3_text(v + 4) + ", ";
+  text += "intensity " + number(v[11]);
+  if (v[7] > 0.0f) text += ", range " + number(v[7]);
+  if (type == KIT_LIGHT_SPOT) text += ", cos_inner " + number(v[12]) + ", cos_outer " + number(v[13]);
+  return text + ")";
+}
+
+std::string call_text(const FunctionProbe& probe, const ProbeCase& c) {
+  std::string text = probe.function + "(";
+  const float* at = c.inputs.data();
+  for (size_t i = 0; i < probe.arguments.size(); ++i) {
+    const ProbeArgument& a = probe.arguments[i];
+    text += (i ? ", " : "") + a.name + " = ";
+    text += a.type == ProbeType::Float ? number(input(*at)) : a.type == ProbeType::Vec3 ? input_vec3_text(at) : light_text(at);
+    at += components(a.type);
+  }
+  return text + ")";
+}
+
+std::string value_text(const FunctionProbe& probe, const glm::vec4& v) {
+  return probe.result == ProbeType::Float ? number(v.x) : vec3_text(&v.x);
+}
+
+bool finite(const FunctionProbe& probe, const glm::vec4& v) {
+  for (int i = 0; i < components(probe.result); ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
+}
+
+// A constant factor, by its name where it is a usual one.
+std::string factor_text(double k) {
+  if (std::abs(k + 1.0) <= kShapeTolerance) return "each of the opposite sign";
+  if (std::abs(k) <= kShapeTolerance) return "each 0 where the expected value is not";
+  const std::pair<double, const char*> named[] = {
+      {kPi, "pi"},          {1.0 / kPi, "1/pi"},          {0.5, "1/2"},       {0.25, "1/4"},
+      {4.0 * kPi, "4 pi"}, {1.0 / (4.0 * kPi), "1/(4 pi)"}, {2.0 * kPi, "2 pi"}, {1.0 / (2.0 * kPi), "1/(2 pi)"}};
+  std::string text = "each by a factor of " + number(k);
+  for (const auto& [value, name] : named)
+    if (std::abs(k - value) <= kShapeTolerance * value) return text + " (" + name + ")";
+  return text;
+}
+
+bool near(double a, double b) { return std::abs(a - b) <= kShapeTolerance * std::max(std::abs(a), std::abs(b)) + 1e-12; }
+
+}  // namespace
+
+std::string FunctionProbe::title() const { return setting.empty() ? function : function + " (" + setting + ")"; }
+
+const std::vector<FunctionProbe>& function_probes(int lab) {
+  static const std::vector<FunctionProbe> none;
+  auto it = probe_table().find(lab);
+  return it == probe_table().end() ? none : it->second;
+}
+
+const std::vector<FunctionProbe>& all_function_probes() {
+  static const std::vector<FunctionProbe> all = [] {
+    std::vector<FunctionProbe> out;
+    for (const auto& [lab, probes] : probe_table()) out.insert(out.end(), probes.begin(), probes.end());
+    return out;
+  }();
+  return all;
+}
+
+nlohmann::json probe_values_json(const ProbeValues& values) {
+  nlohmann::json out = nlohmann::json::object();
+  if (!values.error.empty()) out["error"] = values.error;
+  nlohmann::json list = nlohmann::json::array();
+  for (const glm::vec4& v : values.values) list.push_back({v.x, v.y, v.z, v.w});
+  out["values"] = list;
+  return out;
+}
+
+namespace {
+
+// JSON has no NaN or infinity: nlohmann writes null, read back as NaN.
+float json_float(const nlohmann::json& v) { return v.is_number() ? v.get<float>() : std::nanf(""); }
+
+}  // namespace
+
+ProbeValues probe_values_from_json(const nlohmann::json& json) {
+  ProbeValues out;
+  if (!json.is_object()) return out;
+  out.error = json.value("error", std::string());
+  if (json.contains("values") && json["values"].is_array())
+    for (const auto& v : json["values"])
+      if (v.is_array() && v.size() == 4)
+        out.values.emplace_back(json_float(v[0]), json_float(v[1]), json_float(v[2]), json_float(v[3]));
+  return out;
+}
+
+nlohmann::json probes_reference_json(const std::vector<std::pair<const FunctionProbe*, ProbeValues>>& expected) {
+  nlohmann::json probes = nlohmann::json::object();
+  for (const auto& [probe, values] : expected) {
+    nlohmann::json cases = nlohmann::json::array();
+    for (size_t i = 0; i < probe->cases.size(); ++i) {
+      nlohmann::json in = nlohmann::json::array(), out = nlohmann::json::array();
+      for (float v : probe->cases[i].inputs) in.push_back(short_decimal(v));
+      for (int k = 0; k < components(probe->result); ++k) out.push_back(short_decimal(values.values.at(i)[k]));
+      nlohmann::json c = {{"in", in}, {"expected", out}};
+      if (probe->cases[i].finite_only) c["finite_only"] = true;
+      cases.push_back(c);
+    }
+    nlohmann::json arguments = nlohmann::json::array();
+    for (const ProbeArgument& a : probe->arguments) arguments.push_back(a.name);
+    probes[probe->id] = {{"lab", probe->lab}, {"file", probe->file}, {"function", probe->function},
+                         {"arguments", arguments}, {"cases", cases}};
+    if (!probe->setting.empty()) probes[probe->id]["setting"] = probe->setting;
+  }
+  return {{"about", "The reference solutions' values of the probed lab functions at fixed inputs "
+                    "(tools/grade/function_probes.h); kit-grade --update-references writes them."},
+          {"probes", probes}};
+}
+
+namespace {
+
+// The stored cases of `probe`, when they are as many as the table's and each has as many
+// inputs and expected values; else null.
+const nlohmann::json* stored_cases(const nlohmann::json& reference, const FunctionProbe& probe) {
+  if (!reference.is_object() || !reference.contains("probes") || !reference["probes"].is_object() ||
+      !reference["probes"].contains(probe.id))
+    return nullptr;
+  const nlohmann::json& stored = reference["probes"][probe.id];
+  if (!stored.is_object() || !stored.contains("cases") || !stored["cases"].is_array()) return nullptr;
+  const nlohmann::json& cases = stored["cases"];
+  if (cases.size() != probe.cases.size()) return nullptr;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const nlohmann::json& c = cases[i];
+    if (!c.is_object() || !c.contains("in") || !c.contains("expected") || !c["in"].is_array() ||
+        !c["expected"].is_array() || c["in"].size() != probe.cases[i].inputs.size() ||
+        c["expected"].size() != static_cast<size_t>(components(probe.result)))
+      return nullptr;
+  }
+  return &cases;
+}
+
+// Inputs equal but for float rounding (sin and cos differ in their last bit between libms).
+bool same_input(float a, float b) { return std::abs(a - b) <= 1e-5f * std::max(1.0f, std::max(std::abs(a), std::abs(b))); }
+
+}  // namespace
+
+std::vector<FunctionProbe> probes_to_run(int lab, const nlohmann::json& reference) {
+  std::vector<FunctionProbe> out = function_probes(lab);
+  for (FunctionProbe& probe : out)
+    if (const nlohmann::json* cases = stored_cases(reference, probe))
+      for (size_t i = 0; i < cases->size(); ++i)
+        for (size_t k = 0; k < probe.cases[i].inputs.size(); ++k)
+          probe.cases[i].inputs[k] = json_float((*cases)[i]["in"][k]);
+  return out;
+}
+
+std::vector<glm::vec4> expected_probe_values(const nlohmann::json& reference, const FunctionProbe& probe) {
+  std::vector<glm::vec4> out;
+  const nlohmann::json* stored = stored_cases(reference, probe);
+  if (!stored) return out;
+  const nlohmann::json& cases = *stored;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const nlohmann::json& in = cases[i]["in"];
+    const nlohmann::json& expected = cases[i]["expected"];
+    for (size_t k = 0; k < in.size(); ++k)
+      if (!same_input(json_float(in[k]), probe.cases[i].inputs[k])) return {};
+    glm::vec4 v(0.0f);
+    for (size_t k = 0; k < expected.size(); ++k) v[static_cast<int>(k)] = json_float(expected[k]);
+    out.push_back(v);
+  }
+  return out;
+}
+
+std::vector<std::string> probes_reference_differences(const nlohmann::json& reference) {
+  std::vector<std::string> out;
+  for (const FunctionProbe& probe : all_function_probes())
+    if (expected_probe_values(reference, probe).empty())
+      out.push_back("probes.json: " + probe.id + " is missing or has other inputs than the probe table");
+  if (reference.is_object() && reference.contains("probes"))
+    for (const auto& [id, value] : reference["probes"].items()) {
+      bool known = false;
+      for (const FunctionProbe& probe : all_function_probes()) known = known || probe.id == id;
+      if (!known) out.push_back("probes.json: " + id + " is no longer probed");
+    }
+  return out;
+}
+
+ProbeOutcome compare_probe(const FunctionProbe& probe, const ProbeValues& got, const std::vector<glm::vec4>& expected) {
+  ProbeOutcome o;
+  // The table's own probe (it outlives the outcome); `probe`'s inputs may be probes.json's.
+  o.probe = &probe;
+  for (const FunctionProbe& p : all_function_probes())
+    if (p.id == probe.id) o.probe = &p;
+  o.total = static_cast<int>(probe.cases.size());
+  if (!got.error.empty() || got.values.size() != probe.cases.size() || expected.size() != probe.cases.size()) {
+    o.status = kProbeNotRun;
+    o.message = probe.title() + ": not probed (" +
+                (!got.error.empty() ? got.error
+                 : expected.size() != probe.cases.size() ? std::string("no expected values in the references")
+                                                          : std::string("no values")) +
+                ")";
+    return o;
+  }
+  const int n = components(probe.result);
+  double scale = 0.0;
+  for (const glm::vec4& e : expected)
+    for (int k = 0; k < n; ++k)
+      if (std::isfinite(e[k])) scale = std::max(scale, static_cast<double>(std::abs(e[k])));
+  const double zero = kZeroTolerance * std::max(1.0, scale);
+  std::vector<size_t> differing;
+  std::vector<bool> differs(probe.cases.size(), false);
+  int non_finite = 0;
+  for (size_t i = 0; i < probe.cases.size(); ++i) {
+    const glm::vec4& s = got.values[i];
+    const glm::vec4& e = expected[i];
+    bool bad = !finite(probe, s);
+    if (!bad && !probe.cases[i].finite_only)
+      for (int k = 0; k < n; ++k) {
+        const double tolerance = kRelativeTolerance * std::max(std::abs(s[k]), std::abs(e[k])) + zero;
+        bad = bad || std::abs(static_cast<double>(s[k]) - e[k]) > tolerance;
+      }
+    if (bad) {
+      differing.push_back(i);
+      differs[i] = true;
+      if (!finite(probe, s)) ++non_finite;
+    }
+  }
+  o.differing = static_cast<int>(differing.size());
+  if (differing.empty()) {
+    o.status = kProbeAgrees;
+    o.message = probe.title() + ": agrees at all " + std::to_string(o.total) + " inputs";
+    return o;
+  }
+  o.status = kProbeDiffers;
+  const size_t first = differing.front();
+  o.first = call_text(probe, probe.cases[first]) + " = " + value_text(probe, got.values[first]) +
+            (probe.cases[first].finite_only ? ", expected a finite value" : ", expected " + value_text(probe, expected[first]));
+
+  // The shape of the difference, over the differing values compared.
+  std::vector<std::pair<double, double>> pairs;  // (got, expected) per component
+  for (size_t i : differing)
+    if (!probe.cases[i].finite_only && finite(probe, got.values[i]))
+      for (int k = 0; k < n; ++k)
+        if (std::abs(expected[i][k]) > zero) pairs.emplace_back(got.values[i][k], expected[i][k]);
+  auto all_pairs = [&](auto fits) {
+    if (pairs.empty()) return false;
+    for (const auto& [s, e] : pairs)
+      if (!fits(s, e)) return false;
+    return true;
+  };
+  if (non_finite == o.differing) {
+    o.shape = "each not a number or infinite (a denominator reaching 0 without a guard?)";
+  } else if (const double k = pairs.empty() ? 1.0 : pairs.front().first / pairs.front().second;
+             !pairs.empty() && std::abs(k - 1.0) > kShapeTolerance && all_pairs([&](double s, double e) { return near(s / e, k); })) {
+    o.shape = factor_text(k);
+  } else if (const double d = pairs.empty() ? 0.0 : pairs.front().first - pairs.front().second;
+             !pairs.empty() && all_pairs([&](double s, double e) { return near(s - e, d); })) {
+    o.shape = std::string("each ") + (d > 0 ? "higher" : "lower") + " by " + number(std::abs(d));
+  } else if (all_pairs([](double s, double e) { return near(s, e * e); })) {
+    o.shape = "each the square of the expected value";
+  } else if (all_pairs([](double s, double e) { return e > 0 && near(s, std::sqrt(e)); })) {
+    o.shape = "each the square root of the expected value";
+  }
+  // Two scalar arguments swapped: each differing value is the expected one at the case
+  // with those two arguments exchanged.
+  if (o.shape.empty()) {
+    std::vector<int> offsets;
+    int at = 0;
+    for (const ProbeArgument& a : probe.arguments) {
+      offsets.push_back(a.type == ProbeType::Float ? at : -1);
+      at += components(a.type);
+    }
+    for (size_t a = 0; a < offsets.size() && o.shape.empty(); ++a)
+      for (size_t b = a + 1; b < offsets.size() && o.shape.empty(); ++b) {
+        if (offsets[a] < 0 || offsets[b] < 0) continue;
+        bool fits = true;
+        for (size_t i : differing) {
+          std::vector<float> swapped = probe.cases[i].inputs;
+          std::swap(swapped[offsets[a]], swapped[offsets[b]]);
+          auto j = std::find_if(probe.cases.begin(), probe.cases.end(), [&](const ProbeCase& c) { return c.inputs == swapped; });
+          if (j == probe.cases.end() || probe.cases[i].finite_only || !finite(probe, got.values[i])) {
+            fits = false;
+            break;
+          }
+          const glm::vec4& e = expected[static_cast<size_t>(j - probe.cases.begin())];
+          for (int k = 0; k < n; ++k) fits = fits && near(got.values[i][k], e[k]);
+        }
+        if (fits) o.shape = probe.arguments[a].name + " and " + probe.arguments[b].name + " swapped";
+      }
+  }
+  // Only where a scalar argument is 0 or 1 (an edge of its range): every case with no
+  // argument at an edge agrees, and there are such cases.
+  if (o.shape.empty()) {
+    auto at_edge = [&](const ProbeCase& c) {
+      int at = 0;
+      bool edge = false;
+      for (const ProbeArgument& a : probe.arguments) {
+        if (a.type == ProbeType::Float) edge = edge || c.inputs[at] == 0.0f || c.inputs[at] == 1.0f;
+        at += components(a.type);
+      }
+      return edge;
+    };
+    bool inner_cases = false, inner_agree = true;
+    for (size_t i = 0; i < probe.cases.size(); ++i)
+      if (!at_edge(probe.cases[i])) {
+        inner_cases = true;
+        inner_agree = inner_agree && !differs[i];
+      }
+    if (inner_cases && inner_agree) o.shape = "only where an argument is 0 or 1";
+  }
+  o.message = o.first + "; " + std::to_string(o.differing) + " of " + std::to_string(o.total) + " inputs differ" +
+              (o.shape.empty() ? "" : ", " + o.shape);
+  if (!probe.setting.empty()) o.message += " (" + probe.setting + ")";
+  return o;
+}
+
+nlohmann::json probe_outcome_json(const ProbeOutcome& o) {
+  nlohmann::json out = {{"id", o.probe->id},     {"function", o.probe->function}, {"file", o.probe->file},
+                        {"status", o.status},    {"differing", o.differing},      {"total", o.total},
+                        {"message", o.message}};
+  if (!o.probe->setting.empty()) out["setting"] = o.probe->setting;
+  if (!o.first.empty()) out["first"] = o.first;
+  if (!o.shape.empty()) out["shape"] = o.shape;
+  return out;
+}
+
+std::vector<ProbeOutcome> probe_outcomes(int lab, const nlohmann::json& child, const nlohmann::json& reference) {
+  std::vector<ProbeOutcome> out;
+  const nlohmann::json got = child.is_object() ? child.value("probes", nlohmann::json::object()) : nlohmann::json::object();
+  const std::string error = child.is_object() ? child.value("probes_error", std::string()) : std::string();
+  for (const FunctionProbe& probe : probes_to_run(lab, reference)) {
+    ProbeValues values = probe_values_from_json(got.value(probe.id, nlohmann::json()));
+    if (!error.empty()) values.error = error;
+    else if (!got.contains(probe.id)) values.error = "the renderer did not probe it";
+    out.push_back(compare_probe(probe, values, expected_probe_values(reference, probe)));
+  }
+  return out;
+}
+
+}  // namespace kit::grade

@@ -1,0 +1,110 @@
+#pragma once
+// Function probes: where a lab's starter declares functions with fixed signatures (lab 2's
+// BRDF terms, lab 3's falloff and tone map), the grader's render worker evaluates the
+// submission's functions at fixed inputs in a small off-screen pass (probe_pass.h) and the
+// grader compares the values with the reference solution's, made with the references
+// (`--update-references` writes them to references/probes.json, as numbers: no formula
+// of a lab enters a student copy). A probe only informs: scores stay the images' and the
+// work counts'. The feedback names the function, the first inputs where it differs, its
+// value and the expected one, how many inputs differ and the shape of the difference
+// where one fits (a constant factor, an offset, a sign, a square, swapped arguments,
+// only where an argument is 0 or 1).
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
+
+#include <string>
+#include <vector>
+
+namespace kit::grade {
+
+enum class ProbeType { Float, Vec3, Light };
+
+struct ProbeArgument {
+  std::string name;  // as the starter's signature names it
+  ProbeType type;
+};
+
+// A uniform the probed functions read, set for the whole probe (lab 3's falloff model, gamma).
+struct ProbeUniform {
+  std::string name;
+  bool integer = false;
+  float value = 0.0f;
+};
+
+struct ProbeCase {
+  std::vector<float> inputs;  // the arguments' floats in order (a Light as function_probe_inputs.glsl reads it)
+  // Where the kit's own guard decides the value (a denominator at 0: a light at the point,
+  // a surface seen or lit edge-on), a correct function may guard with another floor: only
+  // a finite value is asked for.
+  bool finite_only = false;
+};
+
+struct FunctionProbe {
+  std::string id;        // unique over the kit: "distribution_ggx", "light_radiance/simple"
+  int lab = 0;
+  std::string file;      // the lab file that declares it: "brdf.glsl"
+  std::string function;  // "distribution_ggx"
+  std::string setting;   // "" or what the uniforms are set to, in words: "u_attenuation_model = 1"
+  std::string shader;    // the probe shader that calls it: "probe_brdf.frag"
+  int index = 0;         // u_probe_function: its branch in the shader
+  std::string define;    // the #if that holds its call: "KIT_PROBE_DISTRIBUTION_GGX"
+  std::vector<ProbeArgument> arguments;
+  ProbeType result = ProbeType::Float;
+  std::vector<ProbeUniform> uniforms;
+  std::vector<ProbeCase> cases;
+  std::string title() const;  // "distribution_ggx" or "light_radiance (u_attenuation_model = 1)"
+};
+
+// Floats one case of a probe holds at most: the probe shaders read KIT_PROBE_TEXELS texels.
+constexpr int kProbeTexels = 6;
+
+// Every probe of lab `lab` (none for a lab whose starter fixes no signature).
+const std::vector<FunctionProbe>& function_probes(int lab);
+const std::vector<FunctionProbe>& all_function_probes();
+
+// What a render worker got from one probe: the values, one vec4 per case (a float result in
+// .x), or why it could not run (the file does not declare the function, or does not compile).
+struct ProbeValues {
+  std::vector<glm::vec4> values;
+  std::string error;
+};
+
+// A render worker's probe values as child.json holds them, and back.
+nlohmann::json probe_values_json(const ProbeValues& values);
+ProbeValues probe_values_from_json(const nlohmann::json& json);
+
+// references/probes.json: each probe's inputs and the reference solution's values.
+nlohmann::json probes_reference_json(const std::vector<std::pair<const FunctionProbe*, ProbeValues>>& expected);
+// The probes of lab `lab` as a grading run probes them: at the inputs probes.json holds
+// where it holds the probe (so the expected values are those of the very inputs drawn,
+// whatever libm made the table's on this machine), else at the table's.
+std::vector<FunctionProbe> probes_to_run(int lab, const nlohmann::json& reference);
+// The expected values of `probe` from probes.json; empty when the file lacks the probe or
+// holds other inputs than the probe's (beyond float rounding: stale, --update-references
+// makes it again).
+std::vector<glm::vec4> expected_probe_values(const nlohmann::json& reference, const FunctionProbe& probe);
+// Differences between probes.json and the table, in words (empty when they agree).
+std::vector<std::string> probes_reference_differences(const nlohmann::json& reference);
+
+struct ProbeOutcome {
+  const FunctionProbe* probe = nullptr;
+  std::string status;   // kProbeAgrees, kProbeDiffers or kProbeNotRun
+  int differing = 0, total = 0;
+  std::string first;    // "distribution_ggx(n_dot_h = 0.95, alpha = 0.09) = 0.318, expected 10.46"
+  std::string shape;    // "each by a factor of 3.14 (pi)", or ""
+  std::string message;  // the line a report prints
+};
+constexpr const char* kProbeAgrees = "agrees";
+constexpr const char* kProbeDiffers = "differs";
+constexpr const char* kProbeNotRun = "not_run";  // not declared, or no expected values
+
+// Compares a submission's values at `probe`'s inputs (probes_to_run) with the expected ones (relative 2e-3, where a value is
+// compared at all) and words the difference.
+ProbeOutcome compare_probe(const FunctionProbe& probe, const ProbeValues& got, const std::vector<glm::vec4>& expected);
+nlohmann::json probe_outcome_json(const ProbeOutcome& outcome);
+
+// Lab `lab`'s probes (probes_to_run) from a render worker's child.json ("probes") against
+// probes.json, in the table's order (empty for a lab without probes).
+std::vector<ProbeOutcome> probe_outcomes(int lab, const nlohmann::json& child, const nlohmann::json& reference);
+
+}  // namespace kit::grade

@@ -1,0 +1,103 @@
+#include "probe_pass.h"
+
+#include <memory>
+#include <vector>
+
+#include "base/error.h"
+#include "gl/gl.h"
+#include "gl/gl_flavour.h"
+#include "gl/gl_objects.h"
+#include "gl/shader_source.h"
+
+namespace kit::grade {
+
+namespace {
+
+constexpr TextureFormat kProbeFormat{GL_RGBA32F, GL_RGBA, GL_FLOAT};
+
+// The first line of a build error: enough to say why a function was not probed.
+std::string first_line(const std::string& text) {
+  const size_t end = text.find('\n');
+  return end == std::string::npos ? text : text.substr(0, end);
+}
+
+ProbeValues draw_probe(const FunctionProbe& probe, const Program& program, const FullscreenTriangle& triangle) {
+  const int width = static_cast<int>(probe.cases.size());
+  std::vector<float> texels(static_cast<size_t>(width) * kProbeTexels * 4, 0.0f);
+  for (int x = 0; x < width; ++x) {
+    const std::vector<float>& in = probe.cases[static_cast<size_t>(x)].inputs;
+    for (size_t k = 0; k < in.size() && k < static_cast<size_t>(kProbeTexels) * 4; ++k)
+      texels[(k / 4 * static_cast<size_t>(width) + static_cast<size_t>(x)) * 4 + k % 4] = in[k];
+  }
+  Texture2D inputs(width, kProbeTexels, kProbeFormat, texels.data());
+  Texture2D values(width, 1, kProbeFormat);
+  Framebuffer target;
+  target.attach_color(0, values);
+  target.set_draw_buffers(1);
+  if (const std::string why = target.incomplete_reason(); !why.empty()) throw Error("function probes: the target is " + why);
+  program.use();
+  inputs.bind(0);
+  program.set("u_probe_inputs", 0);
+  program.set("u_probe_function", probe.index);
+  for (const ProbeUniform& u : probe.uniforms) {
+    if (u.integer) program.set(u.name, static_cast<int>(u.value));
+    else program.set(u.name, u.value);
+  }
+  triangle.pass(program, target, width, 1);
+  ProbeValues out;
+  out.values.resize(static_cast<size_t>(width));
+  target.bind();
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  read_colour_pixels_as_float(width, 1, &out.values[0].x);
+  if (const GLenum error = glGetError(); error != GL_NO_ERROR)
+    throw Error("function probes: GL error " + std::to_string(error) + " while probing " + probe.function);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return out;
+}
+
+}  // namespace
+
+std::map<std::string, ProbeValues> run_function_probes(const Stage& stage, const std::filesystem::path& lab_root,
+                                                       const nlohmann::json& reference) {
+  std::map<std::string, ProbeValues> out;
+  const std::vector<FunctionProbe> probes = probes_to_run(stage.number, reference);
+  if (probes.empty()) return out;
+  FullscreenTriangle triangle;
+  std::map<std::string, std::vector<const FunctionProbe*>> by_shader;
+  for (const FunctionProbe& p : probes) by_shader[p.shader].push_back(&p);
+  for (const auto& [shader, list] : by_shader) {
+    ShaderLibrary library = stage_library(stage, lab_root);
+    // Every call in one program first: one build where the files declare every function.
+    for (const FunctionProbe* p : list) library.set_define(p->define, true);
+    std::unique_ptr<Program> all;
+    try {
+      all = std::make_unique<Program>(library, "fullscreen.vert", shader);
+    } catch (const Error&) {
+    }
+    if (all) {
+      for (const FunctionProbe* p : list) out[p->id] = draw_probe(*p, *all, triangle);
+      continue;
+    }
+    for (const FunctionProbe* p : list) library.set_define(p->define, false);
+    std::map<std::string, std::shared_ptr<Program>> built;  // by define: two probes may share one
+    for (const FunctionProbe* p : list) {
+      auto it = built.find(p->define);
+      if (it == built.end()) {
+        library.set_define(p->define, true);
+        std::shared_ptr<Program> program;
+        try {
+          program = std::make_shared<Program>(library, "fullscreen.vert", shader);
+        } catch (const Error& e) {
+          out[p->id].error = first_line(e.what());
+        }
+        library.set_define(p->define, false);
+        it = built.emplace(p->define, program).first;
+      }
+      if (it->second) out[p->id] = draw_probe(*p, *it->second, triangle);
+      else if (out[p->id].error.empty()) out[p->id].error = "the function does not build";
+    }
+  }
+  return out;
+}
+
+}  // namespace kit::grade
