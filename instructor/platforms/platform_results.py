@@ -214,6 +214,11 @@ def prairielearn(out, lab, config=None, limit=PRAIRIELEARN_LIMIT):
                 failed.append((test, c))
                 if entry.get("likely_text"):  # kit-grade's guess at the mistake (tools/grade/diagnosis.h)
                     test["output"] = entry["likely_text"] + "\n" + test["output"]
+                # The probed functions that differ, with their inputs (tools/grade/function_probes.h),
+                # under the lab's first failed check.
+                if len(failed) == 1:
+                    for line in entry.get("functions_text", []):
+                        test["output"] += f"\n{line}"
         tests.append(test)
     if not tests:  # a lab with no check listed: one test carries the verdict
         tests.append({"name": label, "points": score, "max_points": max_score,
@@ -303,6 +308,8 @@ def classroom50(out, labs, config, env, cwd="."):
                 test["kit-grade"]["message"] = (entry or {}).get("message", "not graded")
             if status == "graded" and not passed and (entry or {}).get("likely_text"):
                 test["kit-grade"]["likely"] = entry["likely_text"]
+            if status == "graded" and not passed and (entry or {}).get("functions_text"):
+                test["kit-grade"]["functions"] = entry["functions_text"]
             tests.append(test)
     return {
         "schema": "classroom50/result/v1",

@@ -591,6 +591,14 @@ TEST(Grader, BatchWritesAGradebookAndResumes) {
   EXPECT_NE(summary.find("2,mistake,lighting-f0-not-metallic,"), std::string::npos) << summary;
   EXPECT_NE(summary.find(",2,5\n", summary.find("2,mistake,lighting-f0-not-metallic,")), std::string::npos) << summary;
   EXPECT_NE(summary.find("2,mistake,starter-lab2,"), std::string::npos) << summary;
+  // The functions that differ (function_probes.h): cook_torrance for dave, erin and bob's
+  // starter, GGX for the starter alone; and dave's results name the function with inputs.
+  EXPECT_NE(summary.find("2,function,cook_torrance,brdf.glsl,3,5\n"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("2,function,distribution_ggx,brdf.glsl,1,5\n"), std::string::npos) << summary;
+  const json functions = read_json(out / "dave" / "summary.json")["labs"]["2"]["functions_text"];
+  ASSERT_EQ(functions.size(), 1u) << functions;
+  EXPECT_EQ(functions[0].get<std::string>().rfind("Your function cook_torrance(n = (0, 0, 1)", 0), 0u) << functions;
+  EXPECT_NE(read_file(out / "dave" / "results.json").find("Your function cook"), std::string::npos);
   // A failed check names its worst pixel, with the G-buffer's inputs there where the scene's
   // references hold them (the default scene's); a passed one names none.
   const json dave = read_json(out / "dave" / "summary.json")["labs"]["2"]["checks"];
@@ -889,8 +897,9 @@ TEST(GraderVerdicts, SignatureSimilarityAndNaming) {
   // Naming: the closest, then the closest of each other family above the floor.
   const Signatures d = {{"x", {1.0f, 0.1f}}}, e = {{"x", {0.8f, 0.6f}}};  // 0.995 and 0.8 like a
   kit::grade::MistakeSignatures catalogue;
-  catalogue.labs[2] = {{"far", "far off", "2.f", b}, {"close", "close", "2.c", c}, {"same", "the same", "2.s", a},
-                       {"next", "next to it", "2.s", d}, {"other", "another term", "2.o", e}};
+  catalogue.labs[2] = {{"far", "far off", "2.f", b, false, {}},     {"close", "close", "2.c", c, false, {}},
+                       {"same", "the same", "2.s", a, false, {}},    {"next", "next to it", "2.s", d, false, {}},
+                       {"other", "another term", "2.o", e, false, {}}};
   const auto named = kit::grade::likely_mistakes(catalogue, 2, a);
   ASSERT_EQ(named.size(), 3u);
   EXPECT_EQ(named[0].id, "same");
@@ -898,6 +907,16 @@ TEST(GraderVerdicts, SignatureSimilarityAndNaming) {
   EXPECT_EQ(named[2].id, "close");
   EXPECT_TRUE(kit::grade::likely_mistakes(catalogue, 2, {{"x", {-1.0f, -1.0f}}}).empty()) << "below the floor";
   EXPECT_TRUE(kit::grade::likely_mistakes(catalogue, 3, a).empty()) << "no signatures for that lab";
+  // The function probes (function_probes.h) tell apart two mistakes with the same images: the
+  // one whose differing function is the submission's goes first, and without probes the order
+  // stays the file's.
+  kit::grade::MistakeSignatures twins;
+  twins.labs[2] = {{"no-4", "the specular term without its 4", "2.d", a, true, {"cook_torrance"}},
+                   {"ggx-no-pi", "GGX without its pi", "2.g", a, true, {"cook_torrance", "distribution_ggx"}}};
+  const std::set<std::string> ggx = {"cook_torrance", "distribution_ggx"};
+  EXPECT_EQ(kit::grade::likely_mistakes(twins, 2, a, &ggx).at(0).id, "ggx-no-pi");
+  EXPECT_EQ(kit::grade::likely_mistakes(twins, 2, a).at(0).id, "no-4");
+  EXPECT_DOUBLE_EQ(kit::grade::likely_mistakes(twins, 2, a, &ggx).at(0).similarity, 1.0) << "the images' similarity, as shown";
 }
 
 // Metric::Same compares two renders of one submission, made on one machine: exact, with

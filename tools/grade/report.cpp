@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 #include <utility>
 #include <vector>
@@ -125,6 +126,12 @@ std::string likely_text(const LabOutcome& lab) {
   return out + ". See " + common_mistakes_link(lab.lab) + ".";
 }
 
+nlohmann::json functions_json(const LabOutcome& lab) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const ProbeOutcome& p : lab.probes) out.push_back(probe_outcome_json(p));
+  return out;
+}
+
 nlohmann::json likely_json(const LabOutcome& lab) {
   nlohmann::json out = nlohmann::json::array();
   for (const LikelyMistake& m : lab.likely_mistakes)
@@ -132,7 +139,29 @@ nlohmann::json likely_json(const LabOutcome& lab) {
   return out;
 }
 
-std::string check_markdown(const LabOutcome& lab, const CheckOutcome& c, bool first) {
+// The probed functions (function_probes.h) that differ from the reference solution's, one
+// line each; where every one agrees and a check failed, that the fault lies elsewhere.
+std::vector<std::string> functions_lines(const LabOutcome& lab) {
+  std::vector<std::string> out;
+  int agree = 0;
+  for (const ProbeOutcome& p : lab.probes) {
+    if (p.status == kProbeDiffers) out.push_back("Your function " + p.message);
+    agree += p.status == kProbeAgrees;
+  }
+  const bool failed = std::any_of(lab.checks.begin(), lab.checks.end(), [](const CheckOutcome& c) { return c.compared && !c.passed; });
+  if (out.empty() && failed && agree > 0 && agree == static_cast<int>(lab.probes.size())) {
+    std::string files;
+    for (const ProbeOutcome& p : lab.probes)
+      if (files.find(p.probe->file) == std::string::npos) files += (files.empty() ? "" : " and ") + p.probe->file;
+    out.push_back("Every probed function of " + files + " agrees with the reference solution's at all its inputs: "
+                  "look for the mistake where they are called.");
+  }
+  return out;
+}
+
+// `first`: the lab's first check (a lab not graded says why there); `functions`: the lab's
+// first failed check, which lists the probed functions that differ.
+std::string check_markdown(const LabOutcome& lab, const CheckOutcome& c, bool first, bool functions) {
   if (!c.compared) {
     std::string out = std::string("**Not graded: ") + status_words(lab.status) + ".**\n\n";
     if (first) return out + md_code(truncated(lab.message));
@@ -143,6 +172,8 @@ std::string check_markdown(const LabOutcome& lab, const CheckOutcome& c, bool fi
   out += md_escape(c.comparison.summary) + ".\n";
   if (!c.comparison.worst_pixel.empty()) out += "\nAt " + md_escape(c.comparison.worst_pixel) + ".\n";
   if (!c.passed && lab.diagnosed) out += "\n" + md_escape(likely_text(lab)) + "\n";
+  if (functions)
+    for (const std::string& line : functions_lines(lab)) out += "\n* " + md_escape(line) + "\n";
   return out;
 }
 
@@ -211,13 +242,15 @@ nlohmann::json results_json(const SubmissionOutcome& s) {
   double render_ms = 0.0;
   for (const auto& [number, lab] : s.labs) {
     render_ms += lab.render_ms;
-    bool first = true;
+    bool first = true, functions_shown = false;
     for (const CheckOutcome& c : lab.checks) {
+      const bool functions = c.compared && !c.passed && !functions_shown;
+      functions_shown = functions_shown || functions;
       tests.push_back({{"name", check_name(c)},
                        {"score", points_value(c.score)},
                        {"max_score", points_value(c.max_score)},
                        {"status", c.passed ? "passed" : "failed"},
-                       {"output", check_markdown(lab, c, first)},
+                       {"output", check_markdown(lab, c, first, functions)},
                        {"output_format", "md"},
                        {"visibility", "visible"}});
       first = false;
@@ -286,6 +319,8 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
         {"checks", checks},
         {"likely_mistakes", likely_json(lab)},
         {"likely_text", likely_text(lab)},  // the sentence the report shows, for the platforms' own results
+        {"functions", functions_json(lab)},
+        {"functions_text", functions_lines(lab)},
         {"render_ms", rounded(lab.render_ms)},
         {"seconds", {{"child_wall", rounded(lab.child_seconds)}, {"child_cpu", rounded(lab.child_cpu_seconds)},
                      {"compare", rounded(lab.compare_seconds)}}},
@@ -350,6 +385,18 @@ std::string report_html(const SubmissionOutcome& s) {
   for (const auto& [number, lab] : s.labs)
     if (lab.diagnosed)
       h += "<p class=\"likely\"><b>" + html_escape(lab_title(number)) + "</b>: " + html_escape(likely_text(lab)) + "</p>\n";
+  // The probed functions: what differs, with the first inputs where it does.
+  for (const auto& [number, lab] : s.labs) {
+    if (lab.probes.empty()) continue;
+    h += "<h2>" + html_escape(lab_title(number)) + ": your functions</h2>\n<table><tr><th>Function</th><th>File</th><th>Result</th></tr>\n";
+    for (const ProbeOutcome& p : lab.probes)
+      h += "<tr class=\"" + std::string(p.status == kProbeDiffers ? "failed" : "passed") + "\"><td>" +
+           html_escape(p.probe->title()) + "</td><td>" + html_escape(p.probe->file) + "</td><td>" +
+           html_escape(p.status == kProbeAgrees ? "agrees with the reference solution at all " + std::to_string(p.total) + " inputs"
+                                                : p.message) +
+           "</td></tr>\n";
+    h += "</table>\n";
+  }
 
   std::vector<std::pair<const LabOutcome*, const CheckOutcome*>> rows;
   for (const auto& [number, lab] : s.labs)
@@ -483,6 +530,8 @@ struct LabTally {
   std::map<std::string, std::pair<std::string, int>> checks;    // key -> (title, passed)
   std::vector<std::string> check_order;
   std::map<std::string, std::pair<std::string, int>> mistakes;  // id -> (description, named first)
+  // function -> (file, the submissions where it differs): light_radiance's two settings count once.
+  std::map<std::string, std::pair<std::string, std::set<std::string>>> functions;
   int submissions = 0;
 };
 
@@ -513,6 +562,14 @@ void write_class_summary(const fs::path& dir, const BatchSummaries& summaries, c
           if (added) t.check_order.push_back(key);
           it->second.second += check.value("passed", false) ? 1 : 0;
         }
+      // Each probed function that differs (function_probes.h), once per submission.
+      if (entry.contains("functions") && entry["functions"].is_array())
+        for (const nlohmann::json& f : entry["functions"])
+          if (f.value("status", std::string()) == kProbeDiffers) {
+            const std::string function = f.value("function", std::string("?"));
+            auto [it, added] = t.functions.try_emplace(function, f.value("file", std::string()), std::set<std::string>());
+            it->second.second.insert(name);
+          }
       const nlohmann::json& likely = entry["likely_mistakes"];
       if (likely.is_array() && !likely.empty()) {
         auto& m = t.mistakes[likely[0].value("id", std::string("?"))];
@@ -559,6 +616,21 @@ void write_class_summary(const fs::path& dir, const BatchSummaries& summaries, c
              of + "\n";
     }
     h += "</table>\n";
+    if (!t.functions.empty()) {
+      std::vector<std::pair<std::string, std::pair<std::string, std::set<std::string>>>> failing(t.functions.begin(),
+                                                                                                 t.functions.end());
+      std::stable_sort(failing.begin(), failing.end(),
+                       [](const auto& a, const auto& b) { return a.second.second.size() > b.second.second.size(); });
+      h += "<h3>Functions that differ from the reference solution's</h3>\n<table><tr><th>function</th><th>file</th>"
+           "<th>submissions</th></tr>\n";
+      for (const auto& [function, f] : failing) {
+        const std::string count = std::to_string(f.second.size());
+        h += "<tr><td>" + html_escape(function) + "</td><td>" + html_escape(f.first) + "</td><td class=\"n\">" + count +
+             "</td></tr>\n";
+        csv += std::to_string(lab) + ",function," + csv_field(function) + "," + csv_field(f.first) + "," + count + "," + of + "\n";
+      }
+      h += "</table>\n";
+    }
     std::vector<std::pair<std::string, std::pair<std::string, int>>> named(t.mistakes.begin(), t.mistakes.end());
     std::stable_sort(named.begin(), named.end(), [](const auto& a, const auto& b) { return a.second.second > b.second.second; });
     if (!named.empty()) {
