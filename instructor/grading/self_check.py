@@ -18,7 +18,9 @@ reads GAP, which is listed but not a failure; once the grader catches it the
 row reads OK and asks for the known_gap to be removed.
 
 Verdicts: OK; MISSED (a mistake kept full marks); FALSE-FAIL (an equivalent
-lost points); GAP (a mistake with a known_gap kept full marks); STALE (a `find`
+lost points); PROBE-MISSED (a mistake made inside a probed function whose probe,
+tools/grade/function_probes.h, reports no difference); PROBE-FALSE (a probe reports a
+difference for an equivalent or the unchanged solution); GAP (a mistake with a known_gap kept full marks); STALE (a `find`
 text does not occur exactly once in the solution: the entry must be updated);
 BROKEN (the edit does not compile, or grading ended in a status other than
 graded, so the entry tests nothing); ERROR (kit-grade did not run or left no
@@ -146,6 +148,8 @@ class Row:
         self.signatures = {}  # check key -> signature, from summary.json (tools/grade/diagnosis.h)
         self.failed_checks = set()  # the keys of the checks it failed
         self.named = []       # the ids kit-grade named for this lab, closest first
+        self.functions = []   # summary.json's probed functions (tools/grade/function_probes.h)
+        self.edited_functions = set()  # the functions of probed files its edits lie in
 
     @property
     def passed(self):
@@ -221,6 +225,7 @@ def judge(row, out, status, tail, args, submission):
     row.signatures = {key: c.get("signature") or [] for key, c in lab.get("checks", {}).items()}
     row.failed_checks = {key for key, c in lab.get("checks", {}).items() if not c.get("passed")}
     row.named = [m.get("id") for m in lab.get("likely_mistakes", [])]
+    row.functions = lab.get("functions", [])
     tests = []
     try:
         tests = json.loads((out / "results.json").read_text()).get("tests", [])
@@ -247,8 +252,74 @@ def judge(row, out, status, tail, args, submission):
         row.verdict = "OK" if full else "FALSE-FAIL"
         if not full:
             row.details = failing_tests(tests, row.lab, limit=6)
+    if row.verdict in ("OK", "GAP"):
+        judge_probes(row)
     if args.keep:
         row.details.append(f"kept: {submission} -> {out}")
+
+
+# --- Function probes (tools/grade/function_probes.h) -------------------------------------------
+DEFINITION = re.compile(r"^[ \t]*(?:vec[234]|float|int|bool|mat[234]|Light)[ \t]+(\w+)[ \t]*\([^)]*\)[ \t]*\{", re.M)
+
+
+def enclosing_function(text, position):
+    """The name of the GLSL function whose body holds `position` in `text`, or None."""
+    for m in DEFINITION.finditer(text):
+        if m.start() > position:
+            break
+        depth, i = 0, m.end() - 1
+        while i < len(text):
+            depth += {"{": 1, "}": -1}.get(text[i], 0)
+            if depth == 0:
+                break
+            i += 1
+        if m.end() <= position < i:
+            return m.group(1)
+    return None
+
+
+def edited_functions(entry, lab_dir):
+    """(file, function) of every edit of `entry` that lies inside a function of the solution."""
+    out = set()
+    for ed in entry["edits"]:
+        path = lab_dir / ed["file"]
+        text = path.read_text(encoding="utf-8") if path.is_file() else ""
+        name = enclosing_function(text, text.find(ed["find"])) if ed["find"] in text else None
+        if name:
+            out.add((ed["file"], name))
+    return out
+
+
+def probed_in(row):
+    """The row's edited functions that kit-grade probes: {(file, function)}."""
+    probed = {(f.get("file"), f.get("function")) for f in row.functions}
+    return row.edited_functions & probed
+
+
+def judge_probes(row):
+    """A mistake inside a probed function: the probe must report it, with inputs. An equivalent (or the
+    unchanged solution): no probe may report a difference."""
+    differing = [f for f in row.functions if f.get("status") == "differs"]
+    if row.kind == "mistake":
+        for file, function in sorted(probed_in(row)):
+            if not any(f.get("function") == function and f.get("file") == file and f.get("first") for f in differing):
+                row.verdict = "PROBE-MISSED"
+                row.details = [f"the edit lies in {file}'s {function}, whose probe reports no difference"] + [
+                    f"  {f.get('message')}" for f in row.functions if f.get("function") == function]
+    elif row.kind == "equivalent" and differing:
+        row.verdict = "PROBE-FALSE"
+        row.details = ["a probe reports a difference for a correct lab:"] + [f"  {f.get('message')}" for f in differing]
+
+
+def probe_figures(rows):
+    """The issue's probe targets, as the self-check prints them."""
+    pinned = [r for r in rows if r.kind == "mistake" and r.status == "graded" and probed_in(r)]
+    named = [r for r in pinned if r.verdict != "PROBE-MISSED"]
+    correct = [r for r in rows if r.kind == "equivalent" and r.status == "graded" and r.functions]
+    quiet = [r for r in correct if r.verdict != "PROBE-FALSE"]
+    return (f"function probes: the failing function named, with inputs, for {len(named)}/{len(pinned)} mistakes made "
+            f"in a probed function; no difference reported for {len(quiet)}/{len(correct)} equivalents and "
+            f"unchanged solutions of probed labs")
 
 
 def lab_tests(tests, lab):
@@ -345,8 +416,9 @@ def similarity(a, b):
 def write_signatures(path, rows, labs=None):
     """Writes the rows' signatures to PATH; with LABS (self-check --lab), those of the other labs are kept from the
     file as it was. The file is left as it is, byte for byte, when its text would not change."""
-    mistakes = [{"id": r.id, "lab": r.lab, "description": r.description, "family": r.family,
-                 "signatures": encoded(r.signatures), "failed": sorted(r.failed_checks)}
+    mistakes = [dict({"id": r.id, "lab": r.lab, "description": r.description, "family": r.family,
+                      "signatures": encoded(r.signatures), "failed": sorted(r.failed_checks)},
+                     **({"functions": sorted(differing_functions(r))} if probed_lab(r) else {}))
                 for r in rows]
     if labs and path.is_file():
         try:
@@ -377,6 +449,11 @@ NEXT_STEPS = {
                   "\"mistake\" with a family, or change its replace text to what is equivalent now",
     "STALE": "its find text is no longer in the solution: rewrite the entry's edits against the new solution, "
              "or remove the entry where the mistake cannot be made any more",
+    "PROBE-MISSED": "the mistake lies in a probed function, but its probe (tools/grade/function_probes.cpp) reports "
+                    "no difference: add inputs to the probe's table that show it, then ./kit rebaseline",
+    "PROBE-FALSE": "a probe reports a difference for a correct lab: the probe's inputs reach a case where correct "
+                   "functions may differ (a guard's floor, an ill-conditioned value); mark such cases finite_only or "
+                   "leave them out of tools/grade/function_probes.cpp, then ./kit rebaseline",
     "BROKEN": "the edited solution does not compile or render: rewrite the entry's replace text against the "
               "new solution",
     "ERROR": "kit-grade did not run: see the lines above (is the build current? ./kit setup)",
@@ -398,10 +475,33 @@ def write_json(path, rows, started):
     path.write_text(json.dumps(doc, indent=1) + "\n")
 
 
+def differing_functions(row):
+    """The probed functions (tools/grade/function_probes.h) that differ for the row."""
+    return {f.get("function") for f in row.functions if f.get("status") == "differs"}
+
+
+def probed_lab(row):
+    """Whether every probe of the row's lab ran (kit-grade goes by the probes then)."""
+    return bool(row.functions) and all(f.get("status") != "not_run" for f in row.functions)
+
+
+PROBE_WEIGHT = 0.1   # diagnosis.h kProbeWeight
+
+
+def probe_agreement(row, candidate):
+    """diagnosis.cpp probe_agreement: the Jaccard index of the two differing-function sets (1 when both
+    are empty), 0 without probes."""
+    if row.functions is None or candidate.functions is None:
+        return 0.0
+    union = row.functions | candidate.functions
+    return len(row.functions & candidate.functions) / len(union) if union else 1.0
+
+
 def ranked(row, candidates):
-    """candidates (same lab, not row) by similarity to row, closest first, as (similarity, row)."""
+    """candidates (same lab, not row) as kit-grade ranks them for row (diagnosis.cpp likely_mistakes):
+    similarity plus the probes' share, closest first, as (similarity, row)."""
     scored = [(similarity(row.features, c.features), c) for c in candidates if c.lab == row.lab and c is not row]
-    return sorted(scored, key=lambda t: -t[0])
+    return sorted(scored, key=lambda t: -(t[0] + PROBE_WEIGHT * probe_agreement(row, t[1])))
 
 
 def naming_figures(caught, rows):
@@ -409,7 +509,8 @@ def naming_figures(caught, rows):
     (its family) named first or within the first three; and what kit-grade itself named."""
     # The rows' features as kit-grade reads them from the file, each ranked once.
     stored = [types.SimpleNamespace(id=r.id, lab=r.lab, family=r.family,
-                                    features=features(r.signatures, r.failed_checks)) for r in caught]
+                                    features=features(r.signatures, r.failed_checks),
+                                    functions=differing_functions(r) if probed_lab(r) else None) for r in caught]
     scores = {r.id: ranked(r, stored) for r in stored}
     with_relatives = [r for r in stored if any(o.family == r.family for o in stored if o is not r)]
     top1 = top3 = 0
@@ -434,7 +535,9 @@ def main(argv=None):
         epilog=textwrap.dedent("""\
             verdicts: OK, MISSED (mistake kept full marks), FALSE-FAIL (equivalent lost points),
                       GAP (mistake with a known_gap kept full marks: listed, not a failure),
-                      STALE (find text not exactly once), BROKEN (status not graded), ERROR (kit-grade failed)"""))
+                      STALE (find text not exactly once), BROKEN (status not graded), ERROR (kit-grade failed),
+                      PROBE-MISSED (a mistake in a probed function its probe did not report),
+                      PROBE-FALSE (a probe reported a difference for a correct lab)"""))
     parser.add_argument("--kit-grade", type=Path, default=ROOT / "build" / "default" / "tools" / "kit-grade",
                         help="the grader binary (default: build/default/tools/kit-grade)")
     parser.add_argument("--catalogue", type=Path, default=ROOT / "instructor" / "grading" / "catalogue.json",
@@ -507,6 +610,7 @@ def main(argv=None):
                              lab_dirs[lab].name))
     for e in entries:
         row = Row(e["id"], e["lab"], e["kind"], e["description"], e.get("known_gap"), e.get("family"))
+        row.edited_functions = edited_functions(e, lab_dirs[e["lab"]])
         rows.append(row)
         try:
             files = apply_edits(e, lab_dirs[e["lab"]])
@@ -557,6 +661,8 @@ def main(argv=None):
     if caught:
         print()
         print(naming_figures(caught, rows))
+    if any(r.functions for r in rows):
+        print(probe_figures(rows))
     failed = [r for r in rows if r.failed]
     noted = [r for r in rows if r.failed or r.verdict == "GAP" or (r.known_gap and r.verdict == "OK" and r.score is not None)]
     if noted:

@@ -44,6 +44,10 @@ MistakeSignatures load_mistake_signatures(const std::filesystem::path& file) {
         for (const auto& q : values) v.push_back(std::clamp(static_cast<float>(q.get<int>()), 0.0f, kSteps) / kSteps);
         v.push_back(failed.count(key) ? kFailedWeight : 0.0f);
       }
+      if (m.contains("functions") && m["functions"].is_array()) {
+        s.probed = true;
+        for (const auto& f : m["functions"]) s.functions.insert(f.get<std::string>());
+      }
       out.labs[m.at("lab").get<int>()].push_back(std::move(s));
     }
   } catch (const nlohmann::json::exception& e) {
@@ -67,20 +71,41 @@ double signature_similarity(const std::map<std::string, std::vector<float>>& a,
   return aa > 0.0 && bb > 0.0 ? dot / std::sqrt(aa * bb) : 0.0;
 }
 
+namespace {
+
+// How alike a mistake's differing functions and the submission's are: the Jaccard index of
+// the two sets (1 when both are empty: every function agrees for both), 0 without probes.
+double probe_agreement(const MistakeSignature& s, const std::set<std::string>* differing) {
+  if (!differing || !s.probed) return 0.0;
+  if (s.functions.empty() && differing->empty()) return 1.0;
+  size_t common = 0;
+  for (const std::string& f : s.functions) common += differing->count(f);
+  return static_cast<double>(common) / static_cast<double>(s.functions.size() + differing->size() - common);
+}
+
+}  // namespace
+
 std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, int lab,
-                                           const std::map<std::string, std::vector<float>>& submission) {
+                                           const std::map<std::string, std::vector<float>>& submission,
+                                           const std::set<std::string>* differing) {
   std::vector<LikelyMistake> named;
   auto it = signatures.labs.find(lab);
   if (it == signatures.labs.end()) return named;
-  std::vector<std::pair<LikelyMistake, const std::string*>> all;
-  for (const MistakeSignature& s : it->second)
-    all.push_back({{s.id, s.description, signature_similarity(s.checks, submission)}, &s.family});
-  std::stable_sort(all.begin(), all.end(),
-                   [](const auto& x, const auto& y) { return x.first.similarity > y.first.similarity; });
+  struct Ranked {
+    LikelyMistake mistake;
+    const std::string* family;
+    double rank;
+  };
+  std::vector<Ranked> all;
+  for (const MistakeSignature& s : it->second) {
+    const double similarity = signature_similarity(s.checks, submission);
+    all.push_back({{s.id, s.description, similarity}, &s.family, similarity + kProbeWeight * probe_agreement(s, differing)});
+  }
+  std::stable_sort(all.begin(), all.end(), [](const Ranked& x, const Ranked& y) { return x.rank > y.rank; });
   std::set<std::string> families;
-  for (const auto& [m, family] : all) {
-    if (named.size() == kMostNamed || m.similarity < kMinNamedSimilarity) break;
-    if (families.insert(*family).second) named.push_back(m);
+  for (const auto& [m, family, rank] : all) {
+    if (named.size() == kMostNamed) break;
+    if (m.similarity >= kMinNamedSimilarity && families.insert(*family).second) named.push_back(m);
   }
   return named;
 }

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <set>
+#include <string>
 
 #include "render/renderer.h"
 #include "gbuffer_layout.h"  // KIT_LIGHT_*
@@ -147,7 +149,14 @@ void name_likely_mistakes(const MistakeSignatures& mistakes, LabOutcome& lab) {
   if (mistakes.empty() || lab.passed_checks() >= static_cast<int>(lab.checks.size())) return;
   std::map<std::string, std::vector<float>> signatures;
   for (const CheckOutcome& c : lab.checks) signatures[c.check->key] = check_features(c.comparison.signature, !c.passed);
-  lab.likely_mistakes = likely_mistakes(mistakes, lab.lab, signatures);
+  // The probed functions that differ, where every probe of the lab ran (function_probes.h).
+  std::set<std::string> differing;
+  bool probed = !lab.probes.empty();
+  for (const ProbeOutcome& p : lab.probes) {
+    probed = probed && p.status != kProbeNotRun;
+    if (p.status == kProbeDiffers) differing.insert(p.probe->function);
+  }
+  lab.likely_mistakes = likely_mistakes(mistakes, lab.lab, signatures, probed ? &differing : nullptr);
   lab.diagnosed = true;
 }
 
