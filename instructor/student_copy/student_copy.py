@@ -131,13 +131,19 @@ def student_readme(lab, labs, held):
                 .replace("@RELEASED@", released).replace("@LAST@", str(labs[-1][0])))
 
 
-def keep_released_mistakes(path, lab):
-    """The grader's mistake signatures (tools/grade/diagnosis.h) of labs 1..lab only: a later
-    lab's mistakes, described in words, would say what that lab's answer is."""
+def keep_released(path, key, lab):
+    """Of the grader's file `path`, the entries under `key` of labs 1..lab only: a later lab's mistake
+    signatures (tools/grade/diagnosis.h, mistakes.json), described in words, would say what that lab's
+    answer is, and its function probes' expected values (tools/grade/function_probes.h, probes.json) what
+    its functions return."""
     if not path.is_file():
         return
     doc = json.loads(path.read_text(encoding="utf-8"))
-    doc["mistakes"] = [m for m in doc.get("mistakes", []) if m.get("lab", 0) <= lab]
+    entries = doc.get(key, [])
+    if isinstance(entries, dict):
+        doc[key] = {k: v for k, v in entries.items() if v.get("lab", 0) <= lab}
+    else:
+        doc[key] = [m for m in entries if m.get("lab", 0) <= lab]
     path.write_text(json.dumps(doc, separators=(",", ":")) + "\n", encoding="utf-8")
 
 
@@ -182,7 +188,9 @@ def main():
                     target.write_text(stripped, encoding="utf-8")
             copied += 1
         (dest / "README.md").write_text(student_readme(args.lab, labs, held), encoding="utf-8")
-        keep_released_mistakes(dest / "tools" / "grade" / "references" / "mistakes.json", args.lab)
+        references = dest / "tools" / "grade" / "references"
+        keep_released(references / "mistakes.json", "mistakes", args.lab)
+        keep_released(references / "probes.json", "probes", args.lab)
 
         leaks = subprocess.run([sys.executable, str(HERE / "leak_check.py"), str(dest), str(args.lab),
                                 "--kit", str(ROOT)], capture_output=True, text=True)
