@@ -154,9 +154,15 @@ def main(argv=None):
     before = hashes()
 
     step(1, "references (kit-grade --update-references)")
-    if run([kit_grade, "--update-references"], env=env) != 0:
+    print(f"  $ {kit_grade} --update-references", flush=True)
+    updated = subprocess.run([str(kit_grade), "--update-references"], cwd=ROOT, env=env, capture_output=True, text=True)
+    print(updated.stdout + updated.stderr, end="")
+    if updated.returncode != 0:
         problems.append("kit-grade --update-references failed: the solutions do not render (see above)")
         return report(before, None, [], problems, started)
+    # A probed function the new solutions do not declare (tools/grade/function_probes.h).
+    probes_left_out = [line.split("says: ", 1)[1] for line in updated.stdout.splitlines()
+                       if "function probe left out" in line and "says: " in line]
 
     step(2, f"self-check with signatures, labs {','.join(map(str, labs))}")
     rows_file = pathlib.Path(tempfile.mkstemp(prefix="kit-rebaseline-", suffix=".json")[1])
@@ -202,10 +208,11 @@ def main(argv=None):
         tests = "passed" if status == 0 else "FAILED: run ./kit test --quick to see which"
         if status != 0:
             problems.append("the quick tests failed")
-    return report(before, rows_needing, figure_changes, problems, started, tests, calls_changed)
+    return report(before, rows_needing, figure_changes, problems, started, tests, calls_changed, probes_left_out)
 
 
-def report(before, rows_needing, figure_changes, problems, started, tests="not run", calls_changed=False):
+def report(before, rows_needing, figure_changes, problems, started, tests="not run", calls_changed=False,
+           probes_left_out=()):
     after = hashes()
     changed = sorted(p for p in set(before) | set(after) if before.get(p) != after.get(p))
     print("\nrebaseline: report")
@@ -217,6 +224,12 @@ def report(before, rows_needing, figure_changes, problems, started, tests="not r
     print(f"  handout figures changed: {len(figure_changes)}" + "".join(f"\n    {f}" for f in figure_changes))
     if calls_changed:
         print("  the calls table in instructor/changing_a_lab/README.md changed: a lab calls other functions now")
+    if probes_left_out:
+        print(f"  function probes left out: {len(probes_left_out)} (the solutions do not declare the function)"
+              + "".join(f"\n    {p}" for p in probes_left_out)
+              + "\n      next step: probe the new function, or leave it unprobed: its inputs in "
+                "tools/grade/function_probes.cpp, its call in the lab's shaders/probe_*.frag, its CPU value in "
+                "instructor/tests/test_function_probes.cpp")
     if rows_needing is not None:
         print(f"  catalogue entries that need a decision: {len(rows_needing)}")
         for r in rows_needing:

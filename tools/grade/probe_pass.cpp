@@ -15,10 +15,17 @@ namespace {
 
 constexpr TextureFormat kProbeFormat{GL_RGBA32F, GL_RGBA, GL_FLOAT};
 
-// The first line of a build error: enough to say why a function was not probed.
+// The first line of a build error, with the next where it only introduces it ("compile
+// error in FILE:"): enough to say why a function was not probed.
 std::string first_line(const std::string& text) {
   const size_t end = text.find('\n');
-  return end == std::string::npos ? text : text.substr(0, end);
+  if (end == std::string::npos) return text;
+  std::string line = text.substr(0, end);
+  if (!line.empty() && line.back() == ':') {
+    const size_t next = text.find('\n', end + 1);
+    line += " " + text.substr(end + 1, next == std::string::npos ? std::string::npos : next - end - 1);
+  }
+  return line;
 }
 
 ProbeValues draw_probe(const FunctionProbe& probe, const Program& program, const FullscreenTriangle& triangle) {
