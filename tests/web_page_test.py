@@ -16,7 +16,8 @@ browser profile:
      site) draws; a dropped .obj is refused by name;
   7. "Download my labs" gives a zip that `unzip -l` lists as labs/NN-name/FILE, every lab file,
      with the edit in it;
-  8. "Check my lab" shows lab 2's checks with their images, and says it is a preview; with
+  8. "Check my lab" shows lab 2's checks with their images, and says it is a preview, and
+     names the starter's functions that differ with their inputs; with
      (11, last) with lab 2 done in the editor it passes every check, and kit-grade gives the
      zip the page downloads the same verdicts and score;
   9. "Open folder" reads the student's folder, saves edits into it and takes changes made
@@ -345,6 +346,18 @@ def main():
                "Check my lab shows lab 2's checks with their images",
                f"{check.get('status')}, {check.get('passed')} of {check.get('total')} pass, {shown} shown with "
                f"{images} images, mistakes {[m['id'] for m in check.get('likely_mistakes', [])][:2]}")
+        # The starter's functions differ from the solution's (tools/grade/function_probes.h): each
+        # is named with its first inputs, as kit-grade's report names them.
+        functions = page.js("[...document.querySelectorAll('#check-body li')].map(li => li.textContent)"
+                            ".filter(t => t.startsWith('Your function'))")
+        expect(any(f.startswith("Your function fresnel_schlick(v_dot_h = ") for f in functions) and
+               len(functions) == len(check.get("functions_text", [])),
+               "Check my lab names the lab's functions that differ, with their inputs",
+               f"{len(functions)} lines, the first: {functions[:1]}")
+        page.js("[...document.querySelectorAll('#check-body h3')].find(h => h.textContent === 'Your functions')"
+                ".scrollIntoView()")
+        shot = page.chromium.call("Page.captureScreenshot", format="png")
+        (work / "check-my-lab.png").write_bytes(base64.b64decode(shot["data"]))
 
         # 9. Open folder: the page reads the student's folder, saves edits into it, and takes
         # changes made there. The folder is one in the origin's private file system, the same

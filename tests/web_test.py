@@ -182,8 +182,9 @@ def kit_call(chromium, command):
 
 
 def check_labs(chromium, kit_grade, work, failures):
-    """The page's check of each lab: the solutions pass everything; the starters (labs/) get
-    kit-grade's verdict on every check and the same first likely mistake."""
+    """The page's check of each lab: the solutions pass everything and their probed functions agree;
+    the starters (labs/) get kit-grade's verdict on every check and function and the same first likely
+    mistake."""
     graded = work / "kit-grade-starters"
     # The starters fail checks: kit-grade's exit status says so, and is not the test's.
     subprocess.run([kit_grade, str(KIT_ROOT / "labs"), "--out", str(graded)], stdout=subprocess.DEVNULL, check=False)
@@ -197,16 +198,23 @@ def check_labs(chromium, kit_grade, work, failures):
               f"checks in {seconds:.1f} s{'; failed: ' + ', '.join(failed) if failed else ''}")
         if solution.get("status") != "graded" or failed or solution.get("passed") != len(expected[str(lab)]["checks"]):
             failures.append(f"page check of lab {lab}'s solution: {solution.get('error') or solution.get('message') or failed}")
+        # The function probes on SwiftShader: the solution's agree everywhere.
+        differing = [f["message"] for f in solution.get("functions", []) if f.get("status") != "agrees"]
+        if differing:
+            failures.append(f"page check of lab {lab}'s solution: its functions do not agree: {differing}")
         starter = kit_call(chromium, {"cmd": "check", "lab": lab})
         page = {c["key"]: c["passed"] for c in starter.get("checks", [])}
         grader = {key: c["passed"] for key, c in expected[str(lab)]["checks"].items()}
         page_first = (starter.get("likely_mistakes") or [{}])[0].get("id")
         grader_first = (expected[str(lab)].get("likely_mistakes") or [{}])[0].get("id")
-        agree = page == grader and page_first == grader_first
+        page_functions = {f["id"]: f["status"] for f in starter.get("functions", [])}
+        grader_functions = {f["id"]: f["status"] for f in expected[str(lab)].get("functions", [])}
+        agree = page == grader and page_first == grader_first and page_functions == grader_functions
         print(f"page check, lab {lab} starter: {sum(page.values())}/{len(page)} checks, likely {page_first}; kit-grade "
               f"{sum(grader.values())}/{len(grader)}, likely {grader_first}: {'same' if agree else 'DIFFERENT'}")
         if not agree:
-            failures.append(f"page check of lab {lab}'s starter: {page} {page_first} against kit-grade's {grader} {grader_first}")
+            failures.append(f"page check of lab {lab}'s starter: {page} {page_first} {page_functions} against kit-grade's "
+                            f"{grader} {grader_first} {grader_functions}")
 
 
 def student_site(chromium, server_root, port, work, failures):

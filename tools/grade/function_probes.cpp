@@ -1,13 +1,15 @@
 #include "function_probes.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <utility>
 
+#include "base/error.h"
 #include "gbuffer_layout.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
@@ -268,11 +270,15 @@ int components(ProbeType type) { return type == ProbeType::Float ? 1 : type == P
 
 // A float as the shortest decimal that reads back as the same float: probes.json stays
 // readable ("0.1", not "0.10000000149011612") and exact.
+// (Fewest digits first, up to 9, which always reads back: float std::to_chars is missing from
+// the browser build's libc++.)
 double short_decimal(float v) {
   if (!std::isfinite(v)) return v;
   char text[32];
-  auto result = std::to_chars(text, text + sizeof text, v);
-  *result.ptr = '\0';
+  for (int digits = 1; digits <= 9; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, static_cast<double>(v));
+    if (std::strtof(text, nullptr) == v) break;
+  }
   return std::strtod(text, nullptr);
 }
 
@@ -329,7 +335,7 @@ bool finite(const FunctionProbe& probe, const glm::vec4& v) {
 // A constant factor, by its name where it is a usual one.
 std::string factor_text(double k) {
   if (std::abs(k + 1.0) <= kShapeTolerance) return "each of the opposite sign";
-  if (std::abs(k) <= kShapeTolerance) return "each 0 where the expected value is not";
+  if (std::abs(k) <= kShapeTolerance) return "0 at each of them";
   const std::pair<double, const char*> named[] = {
       {kPi, "pi"},          {1.0 / kPi, "1/pi"},          {0.5, "1/2"},       {0.25, "1/4"},
       {4.0 * kPi, "4 pi"}, {1.0 / (4.0 * kPi), "1/(4 pi)"}, {2.0 * kPi, "2 pi"}, {1.0 / (2.0 * kPi), "1/(2 pi)"}};
@@ -617,6 +623,41 @@ nlohmann::json probe_outcome_json(const ProbeOutcome& o) {
   return out;
 }
 
+nlohmann::json read_probes_reference(const std::filesystem::path& dir) {
+  std::ifstream in(dir / "probes.json");
+  if (!in) return nullptr;
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return nullptr;  // the probes say so ("no expected values"); the images do not depend on it
+  }
+}
+
+std::vector<std::string> write_probes_reference(const std::filesystem::path& dir, const nlohmann::json& probes) {
+  // One line per case, so that a change to one function's values is a diff of its lines.
+  std::string text = "{\n  \"about\": " + probes.value("about", nlohmann::json("")).dump() + ",\n  \"probes\": {";
+  bool first = true;
+  const nlohmann::json listed = probes.value("probes", nlohmann::json::object());
+  for (const auto& [id, probe] : listed.items()) {
+    text += std::string(first ? "" : ",") + "\n    " + nlohmann::json(id).dump() + ": {";
+    first = false;
+    for (const auto& [key, value] : probe.items())
+      if (key != "cases") text += nlohmann::json(key).dump() + ": " + value.dump() + ", ";
+    text += "\"cases\": [";
+    const nlohmann::json cases = probe.value("cases", nlohmann::json::array());
+    for (size_t i = 0; i < cases.size(); ++i) text += std::string(i ? "," : "") + "\n      " + cases[i].dump();
+    text += "\n    ]}";
+  }
+  text += "\n  }\n}\n";
+  const std::filesystem::path path = dir / "probes.json";
+  std::ifstream old(path, std::ios::binary);
+  if (old && std::string(std::istreambuf_iterator<char>(old), {}) == text) return {};
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw Error(path.string() + ": cannot write");
+  return {"probes.json"};
+}
+
 std::vector<ProbeOutcome> probe_outcomes(int lab, const nlohmann::json& child, const nlohmann::json& reference) {
   std::vector<ProbeOutcome> out;
   const nlohmann::json got = child.is_object() ? child.value("probes", nlohmann::json::object()) : nlohmann::json::object();
@@ -626,6 +667,23 @@ std::vector<ProbeOutcome> probe_outcomes(int lab, const nlohmann::json& child, c
     if (!error.empty()) values.error = error;
     else if (!got.contains(probe.id)) values.error = "the renderer did not probe it";
     out.push_back(compare_probe(probe, values, expected_probe_values(reference, probe)));
+  }
+  return out;
+}
+
+std::vector<std::string> probe_feedback(const std::vector<ProbeOutcome>& probes, bool a_check_failed) {
+  std::vector<std::string> out;
+  int agree = 0;
+  for (const ProbeOutcome& p : probes) {
+    if (p.status == kProbeDiffers) out.push_back("Your function " + p.message);
+    agree += p.status == kProbeAgrees;
+  }
+  if (out.empty() && a_check_failed && agree > 0 && agree == static_cast<int>(probes.size())) {
+    std::string files;
+    for (const ProbeOutcome& p : probes)
+      if (files.find(p.probe->file) == std::string::npos) files += (files.empty() ? "" : " and ") + p.probe->file;
+    out.push_back("Every probed function of " + files + " agrees with the reference solution's at all its inputs: "
+                  "look for the mistake where they are called.");
   }
   return out;
 }

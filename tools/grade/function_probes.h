@@ -12,6 +12,7 @@
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,11 @@ ProbeValues probe_values_from_json(const nlohmann::json& json);
 
 // references/probes.json: each probe's inputs and the reference solution's values.
 nlohmann::json probes_reference_json(const std::vector<std::pair<const FunctionProbe*, ProbeValues>>& expected);
+// <dir>/probes.json, the references' (null when it is not there or cannot be read), and
+// writing it (unless it holds that text already; returns its name when written).
+nlohmann::json read_probes_reference(const std::filesystem::path& dir);
+std::vector<std::string> write_probes_reference(const std::filesystem::path& dir, const nlohmann::json& probes);
+
 // The probes of lab `lab` as a grading run probes them: at the inputs probes.json holds
 // where it holds the probe (so the expected values are those of the very inputs drawn,
 // whatever libm made the table's on this machine), else at the table's.
@@ -106,5 +112,10 @@ nlohmann::json probe_outcome_json(const ProbeOutcome& outcome);
 // Lab `lab`'s probes (probes_to_run) from a render worker's child.json ("probes") against
 // probes.json, in the table's order (empty for a lab without probes).
 std::vector<ProbeOutcome> probe_outcomes(int lab, const nlohmann::json& child, const nlohmann::json& reference);
+
+// What a report says of a lab's probes: a line for each function that differs ("Your
+// function ..."), or, where every one agrees and `a_check_failed`, that the mistake lies
+// where they are called. Empty otherwise.
+std::vector<std::string> probe_feedback(const std::vector<ProbeOutcome>& probes, bool a_check_failed);
 
 }  // namespace kit::grade

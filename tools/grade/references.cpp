@@ -257,41 +257,6 @@ std::vector<std::string> write_references(const fs::path& dir, const std::map<st
   return changed;
 }
 
-nlohmann::json read_probes_reference(const fs::path& dir) {
-  std::ifstream in(dir / "probes.json");
-  if (!in) return nullptr;
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception&) {
-    return nullptr;  // the probes say so ("no expected values"); the images do not depend on it
-  }
-}
-
-std::vector<std::string> write_probes_reference(const fs::path& dir, const nlohmann::json& probes) {
-  // One line per case, so that a change to one function's values is a diff of its lines.
-  std::string text = "{\n  \"about\": " + probes.value("about", nlohmann::json("")).dump() + ",\n  \"probes\": {";
-  bool first = true;
-  const nlohmann::json listed = probes.value("probes", nlohmann::json::object());
-  for (const auto& [id, probe] : listed.items()) {
-    text += std::string(first ? "" : ",") + "\n    " + nlohmann::json(id).dump() + ": {";
-    first = false;
-    for (const auto& [key, value] : probe.items())
-      if (key != "cases") text += nlohmann::json(key).dump() + ": " + value.dump() + ", ";
-    text += "\"cases\": [";
-    const nlohmann::json cases = probe.value("cases", nlohmann::json::array());
-    for (size_t i = 0; i < cases.size(); ++i) text += std::string(i ? "," : "") + "\n      " + cases[i].dump();
-    text += "\n    ]}";
-  }
-  text += "\n  }\n}\n";
-  const fs::path path = dir / "probes.json";
-  std::ifstream old(path, std::ios::binary);
-  if (old && std::string(std::istreambuf_iterator<char>(old), {}) == text) return {};
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-  if (!out) throw Error(path.string() + ": cannot write");
-  return {"probes.json"};
-}
-
 std::string references_renderer(const fs::path& dir) {
   const nlohmann::json manifest = read_manifest(dir);
   return manifest.contains("renderer") && manifest["renderer"].is_string() ? manifest["renderer"].get<std::string>() : "";

@@ -53,11 +53,6 @@ std::vector<std::string> write_references(const std::filesystem::path& dir,
                                           const std::map<std::string, Image>& allowances,
                                           const std::string& renderer);
 
-// <dir>/probes.json (function_probes.h): null when it is not there or cannot be read.
-nlohmann::json read_probes_reference(const std::filesystem::path& dir);
-// Writes probes.json unless it holds that text already; returns its name when written.
-std::vector<std::string> write_probes_reference(const std::filesystem::path& dir, const nlohmann::json& probes);
-
 // What rendered the references: the manifest's "renderer" ("" when it names none).
 std::string references_renderer(const std::filesystem::path& dir);
 

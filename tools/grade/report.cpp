@@ -139,24 +139,10 @@ nlohmann::json likely_json(const LabOutcome& lab) {
   return out;
 }
 
-// The probed functions (function_probes.h) that differ from the reference solution's, one
-// line each; where every one agrees and a check failed, that the fault lies elsewhere.
+// The lab's probe feedback (function_probes.h) where a check failed.
 std::vector<std::string> functions_lines(const LabOutcome& lab) {
-  std::vector<std::string> out;
-  int agree = 0;
-  for (const ProbeOutcome& p : lab.probes) {
-    if (p.status == kProbeDiffers) out.push_back("Your function " + p.message);
-    agree += p.status == kProbeAgrees;
-  }
   const bool failed = std::any_of(lab.checks.begin(), lab.checks.end(), [](const CheckOutcome& c) { return c.compared && !c.passed; });
-  if (out.empty() && failed && agree > 0 && agree == static_cast<int>(lab.probes.size())) {
-    std::string files;
-    for (const ProbeOutcome& p : lab.probes)
-      if (files.find(p.probe->file) == std::string::npos) files += (files.empty() ? "" : " and ") + p.probe->file;
-    out.push_back("Every probed function of " + files + " agrees with the reference solution's at all its inputs: "
-                  "look for the mistake where they are called.");
-  }
-  return out;
+  return probe_feedback(lab.probes, failed);
 }
 
 // `first`: the lab's first check (a lab not graded says why there); `functions`: the lab's

@@ -11,9 +11,11 @@
 #include "compare.h"
 #include "config.h"
 #include "diagnosis.h"
+#include "function_probes.h"
 #include "gl/pass_clock.h"
 #include "lab_frames.h"
 #include "lab_verdict.h"
+#include "probe_pass.h"
 #include "render/renderer.h"
 #include "render/stages.h"
 
@@ -77,6 +79,7 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
   // "work" and "hdr_non_finite".
   std::map<std::string, Image> renders;
   Json child = Json::object();
+  const Json probes_reference = read_probes_reference(references_dir());
   {
     LabFrames frames(stage, lab_root, scenes);
     for (const RenderSpec* spec : lab_renders(lab_number)) {
@@ -97,11 +100,22 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
         break;
       }
     }
+    // The lab's function probes (function_probes.h), with the same context, as the render
+    // worker runs them; they inform and never fail the check.
+    if (!answer.contains("status") && !function_probes(lab_number).empty()) {
+      try {
+        for (const auto& [id, values] : run_function_probes(stage, lab_root, probes_reference))
+          child["probes"][id] = probe_values_json(values);
+      } catch (const Error& e) {
+        child["probes_error"] = e.what();
+      }
+    }
   }
   const double render_seconds = seconds_since(t0);
 
   if (!answer.contains("status")) {
     answer["status"] = "graded";
+    lab.probes = probe_outcomes(lab_number, child, probes_reference);
     std::map<std::string, Image> gbuffer_references;  // by reference id, for the worst pixels' inputs
     for (CheckOutcome& c : lab.checks) {
       const Check& check = *c.check;
@@ -147,6 +161,9 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
       answer["checks"].push_back(row);
     }
     name_likely_mistakes(load_mistake_signatures(references_dir() / kMistakeSignaturesFile), lab);
+    answer["functions"] = Json::array();
+    for (const ProbeOutcome& p : lab.probes) answer["functions"].push_back(probe_outcome_json(p));
+    answer["functions_text"] = probe_feedback(lab.probes, lab.passed_checks() < static_cast<int>(lab.checks.size()));
     for (const LikelyMistake& m : lab.likely_mistakes)
       answer["likely_mistakes"].push_back({{"id", m.id}, {"description", m.description}, {"similarity", m.similarity}});
   }

@@ -48,6 +48,16 @@ export function showCheck(container, FS, lab, answer) {
   if (answer.seconds && answer.seconds.total !== undefined)
     container.append(element("p", {className: "hint"}, `Rendered and compared in ${answer.seconds.total.toFixed(1)} s.`));
 
+  // The probed functions that differ, with their first inputs (tools/grade/function_probes.h):
+  // first, as they point at the line to fix.
+  const functions = answer.functions_text || [];
+  if (functions.length) {
+    container.append(element("h3", {}, "Your functions"));
+    const list = element("ul");
+    for (const line of functions) list.append(element("li", {}, line));
+    container.append(list);
+  }
+
   for (const check of answer.checks || []) {
     const box = element("article", {className: "check " + (check.passed ? "passed" : "failed")});
     box.append(element("h3", {}, `${check.passed ? "Passed" : "Failed"}: ${check.title} `,
