@@ -8,6 +8,7 @@
 //     and a lab that renamed a function loses only that function's probe.
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <iterator>
 #include <map>
@@ -105,8 +106,10 @@ ref::dvec3 cpu_value(const FunctionProbe& probe, const std::vector<float>& in, b
 
 // How many compared values of every probe are off the CPU reference (finite_only cases:
 // how many are not finite), and the first such, in words.
-int cpu_disagreements(const nlohmann::json& reference, std::string* first, bool ggx_without_pi = false) {
+int cpu_disagreements(const nlohmann::json& reference, std::string* first, bool ggx_without_pi = false,
+                      std::string* worst = nullptr) {
   int off = 0;
+  double worst_relative = 0.0;
   for (const FunctionProbe& table : grade::all_function_probes()) {
     const std::vector<FunctionProbe> run = grade::probes_to_run(table.lab, reference);
     const FunctionProbe& probe = *std::find_if(run.begin(), run.end(), [&](const FunctionProbe& p) { return p.id == table.id; });
@@ -117,6 +120,15 @@ int cpu_disagreements(const nlohmann::json& reference, std::string* first, bool 
       const int components = probe.result == ProbeType::Float ? 1 : 3;
       for (int k = 0; k < components; ++k) {
         const double gpu = expected[i][k];
+        if (!probe.cases[i].finite_only && std::abs(cpu[k]) > 1e-3) {
+          const double relative = std::abs(gpu - cpu[k]) / std::abs(cpu[k]);
+          if (worst && relative > worst_relative) {
+            worst_relative = relative;
+            std::ostringstream s;
+            s << relative << " (" << probe.id << " case " << i << ")";
+            *worst = s.str();
+          }
+        }
         const bool bad = probe.cases[i].finite_only
                              ? !std::isfinite(gpu)
                              : !(std::abs(gpu - cpu[k]) <= kCpuRelativeTolerance * std::abs(cpu[k]) + 1e-7);
@@ -136,8 +148,9 @@ TEST(FunctionProbes, ExpectedValuesMatchTheCpuReference) {
   ASSERT_FALSE(reference.is_null()) << "no tools/grade/references/probes.json (kit-grade --update-references)";
   const std::vector<std::string> stale = grade::probes_reference_differences(reference);
   EXPECT_TRUE(stale.empty()) << stale.front();
-  std::string first;
-  EXPECT_EQ(cpu_disagreements(reference, &first), 0) << first;
+  std::string first, worst;
+  EXPECT_EQ(cpu_disagreements(reference, &first, false, &worst), 0) << first;
+  std::printf("largest relative difference from the CPU reference: %s\n", worst.c_str());
   // Witness: the comparison sees a GGX that lacks its pi.
   EXPECT_GT(cpu_disagreements(reference, nullptr, true), 20);
 }
