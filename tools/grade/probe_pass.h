@@ -22,4 +22,11 @@ namespace kit::grade {
 std::map<std::string, ProbeValues> run_function_probes(const Stage& stage, const std::filesystem::path& lab_root,
                                                        const nlohmann::json& reference);
 
+// The same, written where a render worker's report (child.json) and the page's check keep
+// them for probe_outcomes: "probes" (by id, probe_values_json), or "probes_error" when a GL
+// error stopped the pass. They only inform: a probe that cannot run changes no lab's status.
+// Nothing for a lab without probes.
+void report_function_probes(const Stage& stage, const std::filesystem::path& lab_root, const nlohmann::json& reference,
+                            nlohmann::json& report);
+
 }  // namespace kit::grade

@@ -134,18 +134,11 @@ int render_lab(const RenderJob& job, std::unique_ptr<GlContext>& context) {
       return kChildRenderError;
     }
   }
-  // The lab's function probes (function_probes.h), with the context the renders used. They
-  // only inform: a probe that cannot run leaves the lab's renders and status as they are.
+  // The lab's function probes (probe_pass.h), with the context the renders used.
   if (!function_probes(job.lab).empty()) {
     auto t = Clock::now();
-    try {
-      for (const auto& [id, values] : run_function_probes(stage, job.worker->lab_root,
-                                                          job.worker->probes_reference ? *job.worker->probes_reference
-                                                                                        : nlohmann::json()))
-        report["probes"][id] = probe_values_json(values);
-    } catch (const Error& e) {
-      report["probes_error"] = e.what();
-    }
+    report_function_probes(stage, job.worker->lab_root,
+                           job.worker->probes_reference ? *job.worker->probes_reference : nlohmann::json(), report);
     report["seconds"]["probes"] = seconds_since(t);
   }
   report["programs_reused"] = frames.programs_reused();

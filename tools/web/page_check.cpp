@@ -100,16 +100,8 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
         break;
       }
     }
-    // The lab's function probes (function_probes.h), with the same context, as the render
-    // worker runs them; they inform and never fail the check.
-    if (!answer.contains("status") && !function_probes(lab_number).empty()) {
-      try {
-        for (const auto& [id, values] : run_function_probes(stage, lab_root, probes_reference))
-          child["probes"][id] = probe_values_json(values);
-      } catch (const Error& e) {
-        child["probes_error"] = e.what();
-      }
-    }
+    // The lab's function probes, with the same context, as the render worker runs them.
+    if (!answer.contains("status")) report_function_probes(stage, lab_root, probes_reference, child);
   }
   const double render_seconds = seconds_since(t0);
 
