@@ -1,6 +1,9 @@
 #include "function_probes.h"
 
+#include <glm/gtc/constants.hpp>
+
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -18,7 +21,7 @@ namespace kit::grade {
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+constexpr double kPi = glm::pi<double>();
 // How far a value may be from the reference solution's and still agree: relative, with a
 // floor for values at 0 (relative to the probe's largest expected value). Every input is
 // chosen well conditioned (no GGX peak of a near-mirror, no point on a cone's edge), so a
@@ -29,11 +32,9 @@ constexpr double kZeroTolerance = 1e-6;
 // A shape fits when every differing value fits it within this (relative).
 constexpr double kShapeTolerance = 1e-2;
 
-float radians(float degrees) { return degrees * static_cast<float>(kPi / 180.0); }
-
 // A unit direction `theta` degrees from +z, turned `phi` degrees about z from +x.
 glm::vec3 direction(float theta, float phi) {
-  const float t = radians(theta), p = radians(phi);
+  const float t = glm::radians(theta), p = glm::radians(phi);
   return glm::vec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
 }
 
@@ -55,19 +56,26 @@ void push(std::vector<float>& to, const Light& light) {
   push(to, 0.0f);  // volume_radius: lab 7's, read by no probed function
 }
 
-FunctionProbe lab2_probe(const std::string& function, int index, std::vector<ProbeArgument> arguments, ProbeType result) {
+// A probe of `function` in lab `lab`'s `file`, called by branch `index` of `shader` under
+// the #if KIT_PROBE_<FUNCTION>.
+FunctionProbe probe_of(int lab, const std::string& file, const std::string& shader, const std::string& function,
+                       int index, std::vector<ProbeArgument> arguments, ProbeType result) {
   FunctionProbe p;
   p.id = function;
-  p.lab = 2;
-  p.file = "brdf.glsl";
+  p.lab = lab;
+  p.file = file;
   p.function = function;
-  p.shader = "probe_brdf.frag";
+  p.shader = shader;
   p.index = index;
   p.define = "KIT_PROBE_";
   for (char c : function) p.define += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
   p.arguments = std::move(arguments);
   p.result = result;
   return p;
+}
+
+FunctionProbe lab2_probe(const std::string& function, int index, std::vector<ProbeArgument> arguments, ProbeType result) {
+  return probe_of(2, "brdf.glsl", "probe_brdf.frag", function, index, std::move(arguments), result);
 }
 
 std::vector<FunctionProbe> make_lab2() {
@@ -154,14 +162,9 @@ std::vector<FunctionProbe> make_lab2() {
   return probes;
 }
 
-FunctionProbe lab3_probe(const std::string& id, const std::string& file, const std::string& function, int index,
+FunctionProbe lab3_probe(const std::string& file, const std::string& function, int index,
                          std::vector<ProbeArgument> arguments, ProbeType result) {
-  FunctionProbe p = lab2_probe(function, index, std::move(arguments), result);
-  p.id = id;
-  p.lab = 3;
-  p.file = file;
-  p.shader = "probe_attenuation.frag";
-  return p;
+  return probe_of(3, file, "probe_attenuation.frag", function, index, std::move(arguments), result);
 }
 
 Light spot_light(float inner_degrees, float outer_degrees) {
@@ -171,14 +174,14 @@ Light spot_light(float inner_degrees, float outer_degrees) {
   light.direction = glm::vec3(0.0f, -1.0f, 0.0f);
   light.color = glm::vec3(1.0f, 0.8f, 0.6f);
   light.intensity = 20.0f;
-  light.inner_cone = radians(inner_degrees);
-  light.outer_cone = radians(outer_degrees);
+  light.inner_cone = glm::radians(inner_degrees);
+  light.outer_cone = glm::radians(outer_degrees);
   return light;
 }
 
 // A point `distance` from the light, `degrees` off the straight-down direction (toward +x).
 glm::vec3 below(const Light& light, float degrees, float distance) {
-  const float t = radians(degrees);
+  const float t = glm::radians(degrees);
   return light.position + distance * glm::vec3(std::sin(t), -std::cos(t), 0.0f);
 }
 
@@ -186,7 +189,7 @@ std::vector<FunctionProbe> make_lab3() {
   std::vector<FunctionProbe> probes;
   using T = ProbeType;
   {
-    FunctionProbe p = lab3_probe("spot_cone_factor", "attenuation.glsl", "spot_cone_factor", 0,
+    FunctionProbe p = lab3_probe("attenuation.glsl", "spot_cone_factor", 0,
                                  {{"light", T::Light}, {"p", T::Vec3}}, T::Float);
     struct Cone {
       float inner, outer;
@@ -209,9 +212,8 @@ std::vector<FunctionProbe> make_lab3() {
     probes.push_back(p);
   }
   for (int model : {0, 1}) {
-    FunctionProbe p = lab3_probe(model == 0 ? "light_radiance/physical" : "light_radiance/simple", "attenuation.glsl",
-                                 "light_radiance", 1, {{"light", T::Light}, {"p", T::Vec3}}, T::Vec3);
-    p.define = "KIT_PROBE_LIGHT_RADIANCE";
+    FunctionProbe p = lab3_probe("attenuation.glsl", "light_radiance", 1, {{"light", T::Light}, {"p", T::Vec3}}, T::Vec3);
+    p.id = model == 0 ? "light_radiance/physical" : "light_radiance/simple";
     p.setting = "u_attenuation_model = " + std::to_string(model);
     p.uniforms = {{"u_attenuation_model", true, static_cast<float>(model)}};
     Light point;
@@ -246,8 +248,8 @@ std::vector<FunctionProbe> make_lab3() {
     probes.push_back(p);
   }
   for (float gamma : {2.2f, 1.0f}) {
-    FunctionProbe p = lab3_probe(gamma == 1.0f ? "tonemap/gamma-1.0" : "tonemap/gamma-2.2", "tonemap.glsl", "tonemap", 2,
-                                 {{"hdr", T::Vec3}}, T::Vec3);
+    FunctionProbe p = lab3_probe("tonemap.glsl", "tonemap", 2, {{"hdr", T::Vec3}}, T::Vec3);
+    p.id = gamma == 1.0f ? "tonemap/gamma-1.0" : "tonemap/gamma-2.2";
     p.setting = gamma == 1.0f ? "u_gamma = 1.0" : "u_gamma = 2.2";
     p.uniforms = {{"u_gamma", false, gamma}};
     for (glm::vec3 hdr : {glm::vec3(0.0f), glm::vec3(0.01f, 0.02f, 0.03f), glm::vec3(0.18f), glm::vec3(0.5f, 1.0f, 2.0f),
