@@ -15,6 +15,7 @@
 #include "lab_frames.h"
 #include "probe_pass.h"
 #include "base/error.h"
+#include "base/freed_memory.h"
 #include "gl/gl.h"
 #include "gl/pass_clock.h"
 #include "render/renderer.h"
@@ -156,6 +157,7 @@ int render_lab(const RenderJob& job, std::unique_ptr<GlContext>& context) {
 fs::path lab_folder(const fs::path& temp, int lab) { return temp / ("lab" + std::to_string(lab)); }
 
 int serve_labs(const LabWorker& worker, TaskChannel& channel) {
+  keep_freed_memory_between_scenes();  // a lab's scenes, then the next lab's, reuse the pages
   std::unique_ptr<GlContext> context;
   int status = kChildOk;
   while (status == kChildOk) {
