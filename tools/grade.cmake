@@ -25,9 +25,6 @@ set_target_properties(kit_grade_core PROPERTIES UNITY_BUILD ${KIT_UNITY_BUILD} U
 target_include_directories(kit_grade_core PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
 target_link_libraries(kit_grade_core PUBLIC kitcore OpenSSL::Crypto nlohmann_json::nlohmann_json)
 add_library(kit_grade_submission ALIAS kit_grade_core)
-# Without the huge-page launcher kit-render has (launcher/hugepage_launcher.cpp): in the
-# grader its 2 MiB pages cost more to zero than the page faults they save (one submission
-# 7 % slower, 8 % more CPU and 41 MiB more at its peak, docs/performance.md, Grading).
 add_executable(kit-grade ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
 target_link_libraries(kit-grade PRIVATE kit_grade_core)
 # The references decoded, with their backgrounds and report PNGs, once when kit-grade is
