@@ -6,22 +6,27 @@
 #include <OpenImageIO/imagebufalgo.h>
 #include <cmath>
 #include <csignal>
+#include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <set>
+#include <utility>
 #include <vector>
 
 #include "checks.h"
 #include "compare.h"
 #include "config.h"
+#include "gbuffer_layout.h"  // KIT_LIGHT_*
 #include "grader.h"
 #include "grading_run.h"
 #include "images/image_io.h"
+#include "lab_verdict.h"
 #include "kit_test.h"
 #include "references.h"
 #include "render_child.h"
@@ -355,6 +360,14 @@ TEST(Grader, FailedLabNamesTheLikelyMistake) {
       said = said || t["output"].get<std::string>().find("Looks like: back faces culled") != std::string::npos;
   EXPECT_TRUE(said) << r.results.dump();
   EXPECT_NE(read_file(r.out / "report.html").find("handouts/07-lightvolumes.md#common-mistakes"), std::string::npos);
+  // The failed checks' worst pixels say what the lighting read there, also on scenes whose
+  // G-buffer is kept for that alone (checks.h, describes_pixels_only), with each light's range.
+  for (const auto& [key, light] : {std::pair<const char*, const char*>{"inside-hdr", "light 1 (point, range 4 m): towards it"},
+                                   {"unranged-hdr", "light 1 (point, no range): towards it"}}) {
+    const std::string worst = lab(r, 7)["checks"][key].value("worst_pixel", std::string());
+    EXPECT_NE(worst.find("there the G-buffer holds position"), std::string::npos) << key << ": " << worst;
+    EXPECT_NE(worst.find(light), std::string::npos) << key << ": " << worst;
+  }
 
   const fs::path references = kit::test::temp_dir("grader-no-signatures");
   fs::copy(kit::kit_root() / "tools/grade/references", references, fs::copy_options::recursive);
@@ -1494,4 +1507,96 @@ TEST(GraderScores, TotalsAreExactForEverySubsetOfFailingChecks) {
     for (const kit::grade::Check* c : kit::grade::lab_checks(number)) sum += config.max_score(*c);
     EXPECT_EQ(sum, static_cast<Thousandths>(std::llround(config.weight.at(number) * 1000))) << "lab " << number;
   }
+}
+
+// The G-buffers kept only to describe a worst pixel (checks.h, describes_pixels_only) hold
+// what the scenes are built of (tools/scenes/scene_catalogue.cpp), not what a shader of the
+// kit says: on the sphere scene every covered pixel lies on the unit sphere (within its 64 x
+// 32 facets), its normal pointing away from the centre, terracotta (0.8, 0.3, 0.2), roughness
+// 0.4, not metallic, not emissive; on the grazing scene on the plane y = 0, facing up, white,
+// roughness 0.3. And every scene a lab 2-7 image renders has the five attachments.
+TEST(GraderVerdicts, PixelDescribingReferencesHoldTheScenes) {
+  for (const kit::grade::RenderSpec& spec : kit::grade::renders()) {
+    if (spec.stage >= 2 && (spec.view == kit::View::Final || spec.view == kit::View::Hdr)) {
+      EXPECT_EQ(kit::grade::gbuffer_reference_ids(spec).size(), 5u) << spec.id;
+    }
+  }
+  const fs::path references = kit::kit_root() / "tools/grade/references";
+  const auto read = [&](const std::string& id) { return kit::read_image((references / (id + ".exr")).string()); };
+  struct Expected {
+    std::string scene;
+    std::function<std::string(const glm::dvec3& position, const glm::dvec3& normal)> geometry;
+    glm::dvec3 albedo;
+    double roughness;
+  };
+  const auto angle = [](const glm::dvec3& a, const glm::dvec3& b) {
+    return glm::degrees(std::acos(std::clamp(glm::dot(glm::normalize(a), glm::normalize(b)), -1.0, 1.0)));
+  };
+  const std::vector<Expected> scenes = {
+      {"sphere",
+       [&](const glm::dvec3& p, const glm::dvec3& n) -> std::string {
+         // A facet's middle lies at most 1 - cos(pi / 32) (0.5 %) inside the sphere.
+         if (glm::length(p) < 0.994 || glm::length(p) > 1.0005) return "not on the unit sphere";
+         return angle(n, p) > 3.0 ? "a normal not along the radius" : "";
+       },
+       {0.8, 0.3, 0.2}, 0.4},
+      {"grazing",
+       [&](const glm::dvec3& p, const glm::dvec3& n) -> std::string {
+         if (std::abs(p.y) > 1e-4) return "not on the plane y = 0";
+         return angle(n, {0, 1, 0}) > 0.1 ? "a normal not facing up" : "";
+       },
+       {1.0, 1.0, 1.0}, 0.3},
+  };
+  for (const Expected& e : scenes) {
+    const kit::Image position = read("lab1-" + e.scene + "-position"), normal = read("lab1-" + e.scene + "-normal");
+    const kit::Image albedo = read("lab1-" + e.scene + "-albedo"), material = read("lab1-" + e.scene + "-material");
+    const kit::Image emission = read("lab1-" + e.scene + "-emission");
+    int covered = 0, wrong = 0;
+    std::string first;
+    for (int y = 0; y < position.height; ++y)
+      for (int x = 0; x < position.width; ++x) {
+        if (material.at(x, y, 3) < 0.5f) continue;
+        ++covered;
+        const auto at = [&](const kit::Image& image) {
+          return glm::dvec3(image.at(x, y, 0), image.at(x, y, 1), image.at(x, y, 2));
+        };
+        std::string why = e.geometry(at(position), at(normal));
+        if (why.empty() && glm::length(at(albedo) - e.albedo) > 0.004) why = "another albedo";
+        if (why.empty() && (std::abs(material.at(x, y, 0)) > 1e-6 || std::abs(material.at(x, y, 1) - e.roughness) > 1e-3))
+          why = "another metallic or roughness";
+        if (why.empty() && glm::length(at(emission)) > 1e-6) why = "emission";
+        if (!why.empty() && wrong++ == 0) first = why + " at (" + std::to_string(x) + ", " + std::to_string(y) + ")";
+      }
+    EXPECT_GT(covered, 1000) << e.scene;
+    EXPECT_EQ(wrong, 0) << e.scene << ": " << first;
+  }
+}
+
+// Where a scene has more lights than a worst pixel's description lists (lab 7's 128), it
+// names the nearest, numbered as the scene lists them; a directional light comes first.
+TEST(GraderVerdicts, PixelDescriptionNamesTheNearestLights) {
+  kit::Scene scene;
+  for (float x : {9.0f, 1.0f, 7.0f, 2.0f, 8.0f, 3.0f}) {
+    kit::Light light;
+    light.type = KIT_LIGHT_POINT;
+    light.position = {x, 0.0f, 0.0f};
+    scene.lights.push_back(light);
+  }
+  scene.lights[1].range = 5.0f;
+  kit::grade::PixelInputs at;  // the origin
+  std::string text = kit::grade::describe_pixel_inputs(at, scene);
+  for (const char* named : {"light 2 (point, range 5 m)", "light 4 (point, no range)", "light 6 (point", "light 3 (point",
+                            "and 2 more lights"})
+    EXPECT_NE(text.find(named), std::string::npos) << named << " in " << text;
+  for (const char* left : {"light 1 ", "light 5 "}) EXPECT_EQ(text.find(left), std::string::npos) << left << " in " << text;
+  EXPECT_LT(text.find("light 2 "), text.find("light 4 ")) << text;
+  kit::Light sun;
+  sun.type = KIT_LIGHT_DIRECTIONAL;
+  scene.lights.push_back(sun);
+  text = kit::grade::describe_pixel_inputs(at, scene);
+  EXPECT_LT(text.find("light 7 (directional)"), text.find("light 2 ")) << text;
+  // Four or fewer: in the scene's order.
+  scene.lights.resize(3);
+  text = kit::grade::describe_pixel_inputs(at, scene);
+  EXPECT_LT(text.find("light 1 "), text.find("light 2 ")) << text;
 }

@@ -190,6 +190,24 @@ const std::vector<RenderSpec>& renders() {
     r.push_back(hdr("lab7-inside-hdr", 7, "inside"));
     r.push_back(hdr("lab7-range-hdr", 7, "range"));
     r.push_back(hdr("lab7-unranged-hdr", 7, "unranged"));
+    // What a failed lit check's worst pixel is described from: every scene a lab 2-7 image
+    // renders gets the G-buffer attachments the checks leave out, each from the stage that
+    // writes what the lit stage reads (lab_verdict.h, gbuffer_reference_ids): stage 1's, and
+    // from stage 4 on lab 4's normal-mapped normal.
+    std::vector<RenderSpec> describing;
+    const auto add = [&](const std::string& id, int stage, const std::string& scene, View view) {
+      const auto same = [&](const RenderSpec& other) { return other.id == id; };
+      if (std::none_of(r.begin(), r.end(), same) && std::none_of(describing.begin(), describing.end(), same))
+        describing.push_back(with(gbuffer(id, stage, scene, view), [](RenderSpec& d) { d.describes_pixels_only = true; }));
+    };
+    for (const RenderSpec& spec : r) {
+      if (spec.stage < 2 || (spec.view != View::Final && spec.view != View::Hdr)) continue;
+      for (View view : {View::Position, View::Normal, View::Albedo, View::Material, View::Emission}) {
+        const int stage = view == View::Normal && spec.stage >= 4 ? 4 : 1;
+        add("lab" + std::to_string(stage) + "-" + spec.scene + "-" + view_name(view), stage, spec.scene, view);
+      }
+    }
+    r.insert(r.end(), describing.begin(), describing.end());
     return r;
   }();
   return kRenders;
@@ -296,17 +314,17 @@ std::vector<const Check*> lab_checks(int lab) {
   return out;
 }
 
-std::vector<const RenderSpec*> lab_renders(int lab) {
+std::vector<const RenderSpec*> lab_renders(int lab, bool describing) {
   std::vector<const RenderSpec*> out;
   for (const RenderSpec& r : renders())
-    if (r.stage == lab) out.push_back(&r);
+    if (r.stage == lab && (describing || !r.describes_pixels_only)) out.push_back(&r);
   return out;
 }
 
 std::vector<const RenderSpec*> reference_renders() {
   std::vector<const RenderSpec*> out;
   for (const RenderSpec& r : renders()) {
-    bool referenced = std::any_of(checks().begin(), checks().end(), [&](const Check& c) {
+    bool referenced = r.describes_pixels_only || std::any_of(checks().begin(), checks().end(), [&](const Check& c) {
       return !compares_own_renders(c.metric) && c.reference == r.id;
     });
     if (referenced) out.push_back(&r);

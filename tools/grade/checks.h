@@ -70,6 +70,11 @@ struct RenderSpec {
   // Stage 6: the environment that lights the scene (a kit environment's name; empty:
   // kDefaultEnvironment).
   std::string environment = {};
+  // A G-buffer attachment kept only to describe a failed check's worst pixel (lab_verdict.h,
+  // gbuffer_reference_ids), for a scene whose lab 1 checks do not render it: made from the
+  // solutions by --update-references, never rendered from a submission, compared by no
+  // check. The lab 1 checks and the lit checks of its scene show when it goes stale.
+  bool describes_pixels_only = false;
 };
 
 struct Check {
@@ -85,9 +90,11 @@ const std::vector<RenderSpec>& renders();
 const std::vector<Check>& checks();
 const RenderSpec& find_render(const std::string& id);  // throws kit::Error
 std::vector<const Check*> lab_checks(int lab);
-// Every render a lab's child makes: the images of its checks, in list order.
-std::vector<const RenderSpec*> lab_renders(int lab);
-// The renders whose solution images are stored as references.
+// Every render a lab's child makes when it grades: the images of its checks, in list order;
+// with `describing`, those of RenderSpec::describes_pixels_only too (--update-references).
+std::vector<const RenderSpec*> lab_renders(int lab, bool describing = false);
+// The renders whose solution images are stored as references: the checks' and those that
+// describe a worst pixel.
 std::vector<const RenderSpec*> reference_renders();
 // RenderSettings for a render at the grading size.
 RenderSettings render_settings(const RenderSpec& spec);

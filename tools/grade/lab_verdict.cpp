@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "render/renderer.h"
 #include "gbuffer_layout.h"  // KIT_LIGHT_*
@@ -97,11 +98,29 @@ std::string describe_pixel_inputs(const PixelInputs& in, const Scene& scene) {
   const glm::vec3 to_eye = camera.position - in.position;
   if (glm::length(to_eye) > 0.0f) out += "; towards the camera " + vec(glm::normalize(to_eye));
   constexpr size_t kMostLights = 4;
-  for (size_t i = 0; i < scene.lights.size() && i < kMostLights; ++i) {
+  // Where there are more (lab 7's 128), the ones that light this pixel most likely: the nearest.
+  std::vector<size_t> order(scene.lights.size());
+  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  const auto distance = [&](size_t i) {
+    const Light& light = scene.lights[i];
+    return light.type == KIT_LIGHT_DIRECTIONAL ? 0.0f : glm::length(light.position - in.position);
+  };
+  if (order.size() > kMostLights)
+    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return distance(a) < distance(b); });
+  for (size_t n = 0; n < order.size() && n < kMostLights; ++n) {
+    const size_t i = order[n];
     const Light& light = scene.lights[i];
     const char* type = light.type == KIT_LIGHT_DIRECTIONAL ? "directional" : light.type == KIT_LIGHT_SPOT ? "spot" : "point";
-    out += "; light " + std::to_string(i + 1) + " (" + type + "): towards it ";
     const bool parallel = light.type == KIT_LIGHT_DIRECTIONAL;  // no position: a direction only
+    // Its glTF range: where lab 3's window ends, and what lab 7's volumes must not be scaled by.
+    char range[48] = "";
+    if (!parallel) {
+      if (light.range > 0.0f)
+        std::snprintf(range, sizeof range, ", range %.3g m", static_cast<double>(light.range));
+      else
+        std::snprintf(range, sizeof range, ", no range");
+    }
+    out += "; light " + std::to_string(i + 1) + " (" + type + range + "): towards it ";
     if (parallel) {
       out += vec(-light.direction);
     } else {

@@ -48,10 +48,13 @@ struct PixelInputs {
 // The G-buffer references a lit check's pixel inputs come from, by attachment ("position",
 // "normal", "albedo", "material", "emission"): lab 1's of the render's scene, the normal lab
 // 4's from lab 5 on (stages 5-7 draw lab 4's normal-mapped G-buffer), and those of lab 4's own
-// checks. Empty where the scene has no lab 1 references (its G-buffer is not stored).
+// checks. Every scene a lab 2-7 image renders has them (checks.h, describes_pixels_only);
+// empty for another (a lab 1 or lab 6 map's).
 std::map<std::string, std::string> gbuffer_reference_ids(const RenderSpec& spec);
 // "There: position (x, y, z) m, normal (...), albedo (...), metallic m, roughness r, emission
-// (...); towards the camera (...); light 1 (point): towards it (...), 2.3 m" (at most 4 lights).
+// (...); towards the camera (...); light 1 (point, range 5 m): towards it (...), 2.3 m": at most 4 lights,
+// the scene's first, or where it has more the nearest (a directional light counts as nearest),
+// each numbered as the scene lists it.
 std::string describe_pixel_inputs(const PixelInputs& inputs, const Scene& scene);
 // Fills c's worst pixel's inputs from `gbuffer` (by attachment, as gbuffer_reference_ids names
 // them) for a failed display or HDR check of a lit lab; nothing where an attachment is missing.

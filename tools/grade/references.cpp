@@ -169,6 +169,8 @@ nlohmann::json manifest_entry(const RenderSpec& spec) {
                           {"isolate_custom", spec.isolate_custom}};
   // Only where an environment lights the stage: the other entries stay as they were.
   if (find_stage(spec.stage).ibl) entry["environment"] = environment_name(spec);
+  // Kept to describe a failed check's worst pixel, compared by no check (checks.h).
+  if (spec.describes_pixels_only) entry["describes_pixels_only"] = true;
   return entry;
 }
 

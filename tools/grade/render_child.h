@@ -42,6 +42,7 @@ struct LabWorker {
   Device device = Device::Software;
   const std::map<std::string, Scene>* scenes = nullptr;  // loaded by the parent before forking
   const nlohmann::json* probes_reference = nullptr;        // probes.json (function_probes.h), or null
+  bool describing_renders = false;  // --update-references: RenderSpec::describes_pixels_only too
 };
 
 // Where lab `lab` of a worker writes its files (the grader makes the folder first).
