@@ -354,6 +354,21 @@ def main():
                len(functions) == len(check.get("functions_text", [])),
                "Check my lab names the lab's functions that differ, with their inputs",
                f"{len(functions)} lines, the first: {functions[:1]}")
+        # A failed check's worst pixel is ringed on its difference image: the ring passes 6 pixels
+        # beside the pixel the answer names.
+        ring = page.js("(() => { const checks = kitPage.lastCheck.checks || [];"
+                       " const i = checks.findIndex(c => c.worst); if (i < 0) return null;"
+                       " const w = checks[i].worst;"
+                       " const canvas = document.querySelectorAll('#check-body .check')[i]"
+                       ".querySelector('canvas[aria-label^=\"difference\"]');"
+                       " const dx = w.x + 6 < canvas.width ? 6 : -6;"
+                       " const g = canvas.getContext('2d');"
+                       " return [w.x, w.y, ...g.getImageData(w.x + dx, w.y, 1, 1).data,"
+                       " ...g.getImageData(w.x, w.y, 1, 1).data]; })()")
+        # Witness: the pixel itself, inside the ring, keeps the difference's colour.
+        expect(ring is not None and list(ring[2:6]) == [0, 255, 0, 255] and list(ring[6:10]) != [0, 255, 0, 255],
+               "Check my lab rings a failed check's worst pixel on its difference image",
+               f"worst pixel, the ring's colour beside it and the pixel's own: {ring}")
         page.js("[...document.querySelectorAll('#check-body h3')].find(h => h.textContent === 'Your functions')"
                 ".scrollIntoView()")
         shot = page.chromium.call("Page.captureScreenshot", format="png")

@@ -621,6 +621,14 @@ TEST(Grader, BatchWritesAGradebookAndResumes) {
   EXPECT_NE(worst.find("there the G-buffer holds position"), std::string::npos) << worst;
   EXPECT_NE(worst.find("metallic 1"), std::string::npos) << worst;  // the mistake shows on metals
   EXPECT_FALSE(read_json(out / "alice" / "summary.json")["labs"]["2"]["checks"]["default-hdr"].contains("worst_pixel"));
+  // The report rings it on the difference image, at the pixel the text names.
+  const std::string report = read_file(out / "dave" / "report.html");
+  const size_t at = worst.find("the worst pixel, (");
+  ASSERT_NE(at, std::string::npos);
+  const std::string where = worst.substr(at, worst.find(')', at) + 1 - at);
+  EXPECT_NE(report.find("class=\"worst\""), std::string::npos);
+  EXPECT_NE(report.find("title=\"" + where + "\""), std::string::npos) << where;
+  EXPECT_EQ(read_file(out / "alice" / "report.html").find("class=\"worst\""), std::string::npos);
   const std::string page = read_file(out / "class-summary.html");
   EXPECT_NE(page.find("<svg role=\"img\""), std::string::npos);
   EXPECT_EQ(page.find("http"), std::string::npos) << "the page loads nothing from elsewhere";

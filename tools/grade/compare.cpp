@@ -664,6 +664,8 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
     for (size_t i = 0; i < over.size(); ++i) r.summary += (i ? "; " : "") + over[i];
     r.summary += ". All numbers: " + numbers;
   }
+  r.width = image.width;
+  r.height = image.height;
   if (!r.passed && r.max_x >= 0 && r.max_x < image.width && r.max_y >= 0 && r.max_y < image.height)
     r.worst_pixel = worst_pixel_text(metric, image, reference, r.max_x, r.max_y);
   if (r.non_finite > 0) {

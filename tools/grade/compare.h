@@ -16,6 +16,7 @@ struct Comparison {
   bool passed = false;
   double max_error = 0.0;        // largest per-channel difference (Normal: degrees)
   int max_x = 0, max_y = 0;      // where it is
+  int width = 0, height = 0;     // the compared images' size (the report marks max_x, max_y on them)
   double mean_error = 0.0;
   double failing_percent = 0.0;  // pixels over the per-pixel threshold (Changes: pixels changed)
   size_t failing_pixels = 0;     // the same as a count

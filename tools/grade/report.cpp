@@ -342,12 +342,14 @@ std::string report_html(const SubmissionOutcome& s) {
        "img{display:block;width:256px;image-rendering:pixelated}\n"
        ".swap{position:relative;width:256px}.swap .ref{position:absolute;left:0;top:0;opacity:0}\n"
        ".swap:hover .ref{opacity:1}.numbers{max-width:28em;font-size:90%}.note{color:#a00}\n"
+       ".spot{position:relative;width:256px}.worst{position:absolute;width:12px;height:12px;margin:-8px 0 0 -8px;"
+       "border:2px solid #0f0;border-radius:50%;box-shadow:0 0 0 1px #000;pointer-events:none}\n"
        "</style></head><body>\n";
   h += "<h1>" + html_escape(s.name) + ": " + format_points(s.total()) + " / " + format_points(s.max_total()) + "</h1>\n";
   h += "<p>Rendered with " + html_escape(s.renderer.empty() ? std::string("(nothing rendered)") : s.renderer) + " at " +
        std::to_string(kGradeWidth) + "x" + std::to_string(kGradeHeight) + " in " + format_score(s.seconds) +
        " s. Hover a submission image to see the reference; the diff shows |submission - reference| &times; " +
-       format_score(kDiffScale) + ".</p>\n";
+       format_score(kDiffScale) + ", a green ring on it the worst pixel of a failed check.</p>\n";
   h += "<p>References rendered with " + html_escape(s.references_renderer.empty() ? "(unknown)" : s.references_renderer) +
        "; tolerances measured on " + html_escape(s.measured_on.empty() ? "(none listed)" : s.measured_on) + ".</p>\n";
   if (s.gpu) h += "<p class=\"note\">" + html_escape(gpu_note(s)) + "</p>\n";
@@ -400,7 +402,17 @@ std::string report_html(const SubmissionOutcome& s) {
     h += "<td><div class=\"swap\"><img src=\"" + html_escape(c->image) + "\" alt=\"submission: " + alt + "\">" +
          "<img class=\"ref\" src=\"" + html_escape(c->reference) + "\" alt=\"reference\"></div></td>";
     h += "<td><img src=\"" + html_escape(c->reference) + "\" alt=\"reference: " + alt + "\"></td>";
-    h += "<td><img src=\"" + html_escape(c->diff) + "\" alt=\"difference\"></td>";
+    // The worst pixel ringed on the difference, where the numbers name it.
+    const Comparison& cmp = c->comparison;
+    std::string ring;
+    if (!cmp.worst_pixel.empty() && cmp.width > 0 && cmp.height > 0) {
+      char style[96];
+      std::snprintf(style, sizeof style, "left:%.2f%%;top:%.2f%%", 100.0 * (cmp.max_x + 0.5) / cmp.width,
+                    100.0 * (cmp.max_y + 0.5) / cmp.height);
+      ring = "<span class=\"worst\" style=\"" + std::string(style) + "\" title=\"the worst pixel, (" +
+             std::to_string(cmp.max_x) + ", " + std::to_string(cmp.max_y) + ")\"></span>";
+    }
+    h += "<td><div class=\"spot\"><img src=\"" + html_escape(c->diff) + "\" alt=\"difference\">" + ring + "</div></td>";
     h += "<td class=\"numbers\">";
     if (!c->comparison.note.empty()) h += "<p class=\"note\">" + html_escape(c->comparison.note) + "</p>";
     h += html_escape(c->comparison.summary);

@@ -143,7 +143,10 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
       Json row = {{"key", check.key},       {"title", check.title},           {"passed", c.passed},
                   {"points", c.max_score / 1000.0}, {"summary", c.comparison.summary}, {"note", c.comparison.note},
                   {"metric", metric_name(check.metric)}};
-      if (!c.comparison.worst_pixel.empty()) row["worst_pixel"] = c.comparison.worst_pixel;
+      if (!c.comparison.worst_pixel.empty()) {
+        row["worst_pixel"] = c.comparison.worst_pixel;
+        row["worst"] = {{"x", c.comparison.max_x}, {"y", c.comparison.max_y}};  // ringed on the difference
+      }
       {
         const Metric shown = shown_metric(check);
         row["image"] = write_rgba(stem.string() + ".image.rgba", display_image(shown, image, reference));

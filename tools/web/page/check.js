@@ -12,15 +12,24 @@ function element(tag, attributes = {}, ...children) {
   return e;
 }
 
-// An RGBA8 file of kit-web's file system (rows top-down) in a canvas.
-function image(FS, info, caption) {
+// An RGBA8 file of kit-web's file system (rows top-down) in a canvas; with `worst` ({x, y}),
+// that pixel ringed in green, as kit-grade's report rings a failed check's worst pixel.
+function image(FS, info, caption, worst) {
   const figure = element("figure");
   try {
     const bytes = FS.readFile(info.path);
     const canvas = element("canvas", {width: info.width, height: info.height, role: "img",
                                       "aria-label": `${caption}, ${info.width}x${info.height}`});
     const pixels = new Uint8ClampedArray(bytes.buffer, bytes.byteOffset, info.width * info.height * 4);
-    canvas.getContext("2d").putImageData(new ImageData(pixels, info.width, info.height), 0, 0);
+    const context = canvas.getContext("2d");
+    context.putImageData(new ImageData(pixels, info.width, info.height), 0, 0);
+    if (worst) {
+      context.lineWidth = 2;
+      context.strokeStyle = "#00ff00";
+      context.beginPath();
+      context.arc(worst.x + 0.5, worst.y + 0.5, 6, 0, 2 * Math.PI);
+      context.stroke();
+    }
     figure.append(canvas);
   } catch (e) {
     figure.append(element("p", {className: "error"}, `${caption}: could not read ${info.path}: ${e.message || e}`));
@@ -67,7 +76,7 @@ export function showCheck(container, FS, lab, answer) {
     if (check.worst_pixel) box.append(element("p", {}, "At " + check.worst_pixel + "."));
     if (check.image) box.append(image(FS, check.image, "your render"));
     if (check.reference) box.append(image(FS, check.reference, "reference"));
-    if (check.diff) box.append(image(FS, check.diff, "difference"));
+    if (check.diff) box.append(image(FS, check.diff, "difference", check.worst));
     container.append(box);
   }
 
