@@ -72,7 +72,10 @@ constexpr double kMinNamedSimilarity = 0.1;
 // At most this many are named, one per family: the closest, then the closest of each other
 // family above the floor. Three near-copies of one mistake would tell a student less than
 // three different places to look (with each mistake left out of the catalogue's signatures,
-// its family is among the first three for 109 of 125 this way, 100 counting every mistake).
+// its family is among the first three for 112 of 126 this way, 101 counting every mistake).
+// A family is ranked by its closest mistake: scoring it by more of its members named fewer
+// relatives first (126 with a relative, 78 this way: the mean of its two closest 72, the
+// closest plus 0.1 of the second 69, a soft maximum at temperature 0.02 73).
 constexpr size_t kMostNamed = 3;
 
 // What the probes add to a mistake's rank: kProbeWeight times the Jaccard index of its
