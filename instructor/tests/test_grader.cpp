@@ -1580,6 +1580,21 @@ TEST(GraderVerdicts, PixelDescribingReferencesHoldTheScenes) {
   }
 }
 
+// --check-references compares the references no check compares too: one of them swapped for
+// another scene's (the grazing plane's positions for the sphere's) is named stale. The
+// unchanged references pass (the ctest grade_references_reproduce).
+TEST(Grader, CheckReferencesComparesThoseThatDescribeAPixel) {
+  const fs::path references = kit::test::temp_dir("grader-describing-stale");
+  fs::copy(kit::kit_root() / "tools/grade/references", references, fs::copy_options::recursive);
+  fs::copy_file(references / "lab1-grazing-position.exr", references / "lab1-sphere-position.exr",
+                fs::copy_options::overwrite_existing);
+  std::string output;
+  EXPECT_EQ(kit::test::run(kit::test::tool("kit-grade") + " --check-references --references " + quoted(references), &output), 1)
+      << output;
+  EXPECT_NE(output.find("lab1-sphere-position (kept to describe a worst pixel): Over the limit"), std::string::npos) << output;
+  EXPECT_EQ(output.find("lab1-grazing-position"), std::string::npos) << output;
+}
+
 // Where a scene has more lights than a worst pixel's description lists (lab 7's 128), it
 // names the nearest, numbered as the scene lists them; a directional light comes first.
 TEST(GraderVerdicts, PixelDescriptionNamesTheNearestLights) {

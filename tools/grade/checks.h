@@ -73,7 +73,7 @@ struct RenderSpec {
   // A G-buffer attachment kept only to describe a failed check's worst pixel (lab_verdict.h,
   // gbuffer_reference_ids), for a scene whose lab 1 checks do not render it: made from the
   // solutions by --update-references, never rendered from a submission, compared by no
-  // check. The lab 1 checks and the lit checks of its scene show when it goes stale.
+  // check; --check-references renders it again and compares it with its file.
   bool describes_pixels_only = false;
 };
 

@@ -70,10 +70,10 @@ fs::path make_temp_dir(const fs::path& base, const std::string& prefix) {
   return pattern;
 }
 
-std::map<std::string, Scene> load_scenes(const std::vector<int>& labs) {
+std::map<std::string, Scene> load_scenes(const std::vector<int>& labs, bool describing) {
   std::map<std::string, Scene> scenes;
   for (int lab : labs)
-    for (const RenderSpec* spec : lab_renders(lab))
+    for (const RenderSpec* spec : lab_renders(lab, describing))
       if (!scenes.count(spec->scene)) scenes.emplace(spec->scene, load_scene(resolve_scene(spec->scene)));
   return scenes;
 }
@@ -673,7 +673,8 @@ Run make_run(const Options& options, bool need_references) {
     run.references_renderer = references_renderer(run.references_dir);
     run.probes_reference = read_probes_reference(run.references_dir);
   }
-  run.scenes = load_scenes(options.labs);
+  // A run that makes the references (none needed) renders those that describe a pixel too.
+  run.scenes = load_scenes(options.labs, !need_references);
   const char* tmp = std::getenv("TMPDIR");
   fs::path base = fs::absolute(tmp && *tmp ? tmp : "/tmp");
   remove_stale_run_temps(base);

@@ -83,7 +83,9 @@ struct Entry {
 using Finished = std::function<void(Entry&)>;
 
 // The run of `options`: its config and scenes, its temporary folder, and (with
-// `need_references`) its references, which must be current (else kit::Error).
+// `need_references`) its references, which must be current (else kit::Error). Without, a
+// run that makes references: the scenes of the renders that only describe a pixel
+// (checks.h) are loaded too.
 Run make_run(const Options& options, bool need_references);
 // Has the run's children write the Mesa shader cache seed that graded submissions
 // start from (runs that render only the kit's own files).

@@ -6,8 +6,11 @@
 #include <vector>
 
 #include "base/error.h"
+#include "checks.h"
+#include "compare.h"
 #include "function_probes.h"
 #include "grading_run.h"
+#include "images/image_io.h"
 #include "references.h"
 #include "report.h"
 #include "render/stages.h"
@@ -23,6 +26,53 @@ std::string labs_list(const std::vector<int>& labs) {
   std::string out;
   for (int lab : labs) out += (out.empty() ? "" : ",") + std::to_string(lab);
   return out.empty() ? "none" : out;
+}
+
+// The metric a G-buffer attachment is compared under (emitted radiance like HDR radiance).
+Metric attachment_metric(View view) {
+  switch (view) {
+    case View::Position: return Metric::Position;
+    case View::Normal: return Metric::Normal;
+    case View::Albedo: return Metric::Albedo;
+    case View::Material: return Metric::Material;
+    default: return Metric::Hdr;
+  }
+}
+
+// The references kept only to describe a worst pixel (checks.h, describes_pixels_only),
+// which no check compares: the solutions of the labs that make them (of `o.labs`) render
+// them again, and each must match its file as a check's reference must (no pixel over its
+// attachment's threshold). What differs is added to `stale`; false when the run was stopped.
+bool check_describing_references(const Options& o, const Config& config, const fs::path& dir,
+                                 std::vector<std::string>& stale) {
+  Options making = o;
+  making.labs.clear();
+  for (int lab : o.labs)
+    if (lab_renders(lab, true).size() != lab_renders(lab).size()) making.labs.push_back(lab);
+  if (making.labs.empty()) return true;
+  Run run = make_run(making, false);
+  std::map<std::string, Image> collected;
+  run.collect = &collected;
+  std::vector<Entry> entries(1);
+  entries[0].source = kit_root() / "solutions";
+  entries[0].result_dir = run.temp / "unused";
+  const bool completed = run_entries(run, entries, [&](Entry& e) {
+    for (const auto& [n, lab] : e.outcome.labs)
+      if (lab.status != kGraded) stale.push_back(lab_title(n) + ": " + lab.status + ": " + lab.message);
+  });
+  remove_run_temp(run);
+  for (int lab : making.labs)
+    for (const RenderSpec* spec : lab_renders(lab, true)) {
+      auto it = collected.find(spec->id);
+      if (!spec->describes_pixels_only || it == collected.end()) continue;
+      const Metric metric = attachment_metric(spec->view);
+      Tolerance tolerance = config.tolerances.at(metric_name(metric));
+      tolerance.fail_percent = 0.0;
+      const Image reference = read_image((dir / (spec->id + "." + reference_extension(*spec))).string());
+      const Comparison c = compare_images(metric, tolerance, it->second, reference, nullptr, nullptr);
+      if (!c.passed) stale.push_back(spec->id + " (kept to describe a worst pixel): " + c.summary);
+    }
+  return completed;
 }
 
 }  // namespace
@@ -127,6 +177,7 @@ int check_references(const Options& options) {
       }
     });
     remove_run_temp(run);
+    if (completed) completed = check_describing_references(o, run.config, dir, stale);
     if (!completed) return 130;
   }
   if (stale.empty()) {
