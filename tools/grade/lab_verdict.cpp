@@ -113,13 +113,11 @@ std::string describe_pixel_inputs(const PixelInputs& in, const Scene& scene) {
     const char* type = light.type == KIT_LIGHT_DIRECTIONAL ? "directional" : light.type == KIT_LIGHT_SPOT ? "spot" : "point";
     const bool parallel = light.type == KIT_LIGHT_DIRECTIONAL;  // no position: a direction only
     // Its glTF range: where lab 3's window ends, and what lab 7's volumes must not be scaled by.
-    char range[48] = "";
-    if (!parallel) {
-      if (light.range > 0.0f)
-        std::snprintf(range, sizeof range, ", range %.3g m", static_cast<double>(light.range));
-      else
-        std::snprintf(range, sizeof range, ", no range");
-    }
+    char range[48] = ", no range";
+    if (parallel)
+      range[0] = '\0';
+    else if (light.range > 0.0f)
+      std::snprintf(range, sizeof range, ", range %.3g m", static_cast<double>(light.range));
     out += "; light " + std::to_string(i + 1) + " (" + type + range + "): towards it ";
     if (parallel) {
       out += vec(-light.direction);

@@ -28,6 +28,19 @@ std::string labs_list(const std::vector<int>& labs) {
   return out.empty() ? "none" : out;
 }
 
+// "lab 2 lighting: crash: ...": a lab of the solutions that did not render.
+std::string not_graded(int n, const LabOutcome& lab) { return lab_title(n) + ": " + lab.status + ": " + lab.message; }
+
+// Renders the solutions of the run's labs into `collected` (render id -> image), with the
+// run's children as they are set now; `finished` sees their outcome. False when stopped.
+bool render_solutions(Run& run, std::map<std::string, Image>& collected, const Finished& finished) {
+  run.collect = &collected;
+  std::vector<Entry> entries(1);
+  entries[0].source = kit_root() / "solutions";
+  entries[0].result_dir = run.temp / "unused";
+  return run_entries(run, entries, finished);
+}
+
 // The metric a G-buffer attachment is compared under (emitted radiance like HDR radiance).
 Metric attachment_metric(View view) {
   switch (view) {
@@ -52,13 +65,9 @@ bool check_describing_references(const Options& o, const Config& config, const f
   if (making.labs.empty()) return true;
   Run run = make_run(making, false);
   std::map<std::string, Image> collected;
-  run.collect = &collected;
-  std::vector<Entry> entries(1);
-  entries[0].source = kit_root() / "solutions";
-  entries[0].result_dir = run.temp / "unused";
-  const bool completed = run_entries(run, entries, [&](Entry& e) {
+  const bool completed = render_solutions(run, collected, [&](Entry& e) {
     for (const auto& [n, lab] : e.outcome.labs)
-      if (lab.status != kGraded) stale.push_back(lab_title(n) + ": " + lab.status + ": " + lab.message);
+      if (lab.status != kGraded) stale.push_back(not_graded(n, lab));
   });
   remove_run_temp(run);
   for (int lab : making.labs)
@@ -84,22 +93,15 @@ int update_references(const Options& options) {
   Run run = make_run(o, false);
   write_cache_seed(run);
   std::string failures, renderer;
-  // The solutions rendered once, with the run's children as they are set now.
-  auto render_solutions = [&](std::map<std::string, Image>& collected) {
-    run.collect = &collected;
-    std::vector<Entry> entries(1);
-    entries[0].source = kit_root() / "solutions";
-    entries[0].result_dir = run.temp / "unused";
-    return run_entries(run, entries, [&](Entry& e) {
-      renderer = e.outcome.renderer;
-      for (const auto& [n, lab] : e.outcome.labs)
-        if (lab.status != kGraded) failures += "\n  " + lab_title(n) + ": " + lab.status + ": " + lab.message;
-    });
+  const Finished note_failures = [&](Entry& e) {
+    renderer = e.outcome.renderer;
+    for (const auto& [n, lab] : e.outcome.labs)
+      if (lab.status != kGraded) failures += "\n  " + not_graded(n, lab);
   };
   std::map<std::string, Image> collected;
   std::map<std::string, ProbeValues> probes;
   run.collect_probes = &probes;
-  bool completed = render_solutions(collected);
+  bool completed = render_solutions(run, collected, note_failures);
   run.collect_probes = nullptr;  // the filter renderings' probe values are not the references'
 
   const std::string reference_renderer = renderer;
@@ -111,7 +113,7 @@ int update_references(const Options& options) {
   if (llvmpipe) run.writes_cache_seed = false;
   for (size_t i = 0; completed && failures.empty() && llvmpipe && i < kFilterRenderings.size(); ++i) {
     run.child_environment = {{"GALLIVM_PERF", kFilterRenderings[i].name}, {"MESA_SHADER_CACHE_DISABLE", "true"}};
-    completed = render_solutions(variants.emplace_back());
+    completed = render_solutions(run, variants.emplace_back(), note_failures);
   }
   remove_run_temp(run);
   if (!completed) return 130;
@@ -162,7 +164,7 @@ int check_references(const Options& options) {
     entries[0].result_dir = run.temp / "result";
     bool completed = run_entries(run, entries, [&](Entry& e) {
       for (const auto& [n, lab] : e.outcome.labs) {
-        if (lab.status != kGraded) stale.push_back(lab_title(n) + ": " + lab.status + ": " + lab.message);
+        if (lab.status != kGraded) stale.push_back(not_graded(n, lab));
         for (const CheckOutcome& c : lab.checks)
           if (lab.status == kGraded && !c.passed)
             stale.push_back(lab_title(n) + ": " + c.check->title + ": " + c.comparison.note +
