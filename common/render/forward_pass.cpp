@@ -71,7 +71,17 @@ std::optional<PixelRect> projected_rect(const glm::vec3& bounds_min, const glm::
   return PixelRect{x0, y0, std::max(x1 - x0, 0), std::max(y1 - y0, 0)};
 }
 
-Mesh enclosing_sphere_mesh(int subdivisions) {
+namespace {
+
+// The subdivided icosahedron's unit vertices and faces, and the distance of its nearest face
+// plane from the centre (what enclosing_sphere_mesh scales by).
+struct Icosphere {
+  std::vector<glm::vec3> vertices;
+  std::vector<glm::uvec3> faces;
+  float nearest_plane = 1.0f;
+};
+
+Icosphere icosphere(int subdivisions) {
   const float t = (1.0f + std::sqrt(5.0f)) / 2.0f;
   std::vector<glm::vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
                               {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
@@ -100,12 +110,22 @@ Mesh enclosing_sphere_mesh(int subdivisions) {
     glm::vec3 n = glm::normalize(glm::cross(v[tri.y] - v[tri.x], v[tri.z] - v[tri.x]));
     nearest_plane = std::min(nearest_plane, std::fabs(glm::dot(n, v[tri.x])));
   }
+  return {std::move(v), std::move(f), nearest_plane};
+}
+
+}  // namespace
+
+Mesh enclosing_sphere_mesh(int subdivisions) {
+  const Icosphere ico = icosphere(subdivisions);
   std::vector<Vertex> vertices;
-  for (const glm::vec3& p : v) vertices.push_back({p / nearest_plane, p, glm::vec2(0.0f), glm::vec2(0.0f), glm::vec4(1, 0, 0, 1)});
+  for (const glm::vec3& p : ico.vertices)
+    vertices.push_back({p / ico.nearest_plane, p, glm::vec2(0.0f), glm::vec2(0.0f), glm::vec4(1, 0, 0, 1)});
   std::vector<uint32_t> indices;
-  for (const glm::uvec3& tri : f) indices.insert(indices.end(), {tri.x, tri.y, tri.z});  // CCW seen from outside
+  for (const glm::uvec3& tri : ico.faces) indices.insert(indices.end(), {tri.x, tri.y, tri.z});  // CCW seen from outside
   return Mesh(vertices, indices);
 }
+
+float enclosing_sphere_circumradius(int subdivisions) { return 1.0f / icosphere(subdivisions).nearest_plane; }
 
 float light_marker_radius(const Scene& scene) {
   return std::max(0.005f * glm::length(scene.bounds_max - scene.bounds_min), 1e-4f);

@@ -52,6 +52,8 @@ std::optional<PixelRect> projected_rect(const glm::vec3& bounds_min, const glm::
 // vertices on the sphere would cut into the sphere between them). Light volumes
 // (kit-bench) and light markers draw it.
 Mesh enclosing_sphere_mesh(int subdivisions);
+// The distance of that mesh's vertices from its centre: the smallest sphere enclosing it.
+float enclosing_sphere_circumradius(int subdivisions);
 
 // Radius of a light marker: 0.5 % of the scene's bounding-box diagonal, so
 // markers look alike at any scale.

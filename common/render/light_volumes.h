@@ -58,6 +58,30 @@ struct LightVolumeState {
 LightVolumeState parse_light_volume_state(const AssembledShader& vertex);
 std::string describe(const LightVolumeState& state);  // "cull(front) depth(greater_equal) blend(add)"
 
+// Where a frame's volumes go wrong, measured light by light (each light's volume drawn alone
+// inside occlusion queries; up to kEvidenceLights of them, evenly spread over the list, so a
+// frame of 128 lights costs 16 lights' queries): evidence for naming lab 7's mistakes
+// (tools/grade/diagnosis.h) and for telling a student which light to look at. Pixels, summed
+// over the lights measured. Zeros where the counts are not exact (WebGL2, gl_flavour.h).
+constexpr int kEvidenceLights = 16;
+struct VolumeEvidence {
+  int lights = 0;              // lights measured
+  uint64_t footprint = 0;      // pixels the framework's volumes cover (back faces, no depth test)
+  uint64_t missing = 0;        // of those, pixels the student's volumes do not cover
+  uint64_t extra = 0;          // pixels the student's volumes cover outside the framework's
+  uint64_t must_shade = 0;     // surface pixels inside a light's sphere: each to be shaded once
+  uint64_t shaded_wrong = 0;   // how far the fragments the student's state lets through on those pixels,
+                               // drawing the framework's volume, are from one each (|fragments - pixels|
+                               // per light, summed)
+  bool adds = true;            // the state adds each light's term (blend(add)) rather than replacing
+  // The light (its index in the scene's light list, from 0) whose volume misses or adds the
+  // most pixels, with its counts, and the one whose state is furthest off; -1 for none.
+  int worst_volume_light = -1;
+  uint64_t worst_footprint = 0, worst_missing = 0, worst_extra = 0;
+  int worst_state_light = -1;
+  uint64_t worst_must_shade = 0, worst_shaded = 0;
+};
+
 // The work of one frame's light volume pass, counted with GL_SAMPLES_PASSED (exact on
 // Mesa's rasterisers): what lab 7 is graded on beside the image.
 struct LightVolumeWork {
@@ -68,6 +92,7 @@ struct LightVolumeWork {
                                    // test): every pixel each volume covers on screen, once
   // The loop's work over the volumes': surface_pixels * volume_lights / shaded_fragments.
   double speedup() const;
+  VolumeEvidence evidence;  // light by light: where the volumes go wrong
 };
 
 }  // namespace kit

@@ -72,7 +72,7 @@ struct Renderer::Programs {
   // Stage 6: the lab's precompute shaders, its IBL pass, and the framework's background.
   Program irradiance, prefilter, brdf_lut, ibl, background;
   // Stage 7: the lab's light volumes, and the framework's programs that count their work.
-  Program volume, volume_count, volume_coverage, surface_count;
+  Program volume, volume_count, volume_coverage, surface_count, volume_evidence, state_evidence;
 };
 
 View parse_view(const std::string& name) {
@@ -198,14 +198,22 @@ bool uses_default_light_rig(const Scene& scene, const Stage& stage, const Render
   return !stage.ibl && uses_default_light_rig(scene, settings);
 }
 
-std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings) {
+std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings,
+                                std::vector<int>* list_index) {
   std::vector<Light> lights = uses_default_light_rig(scene, stage, settings)
                                   ? default_light_rig(scene, stage, settings.attenuation_model)
                                   : scene.lights;
   std::vector<Light> extra = spawned_lights(scene, settings.extra_lights);
   lights.insert(lights.end(), extra.begin(), extra.end());
-  if (stage.light_volumes)
-    std::stable_partition(lights.begin(), lights.end(), [](const Light& l) { return l.type == KIT_LIGHT_DIRECTIONAL; });
+  std::vector<int> index(lights.size());
+  for (size_t i = 0; i < index.size(); ++i) index[i] = static_cast<int>(i);
+  if (stage.light_volumes) {
+    std::stable_partition(index.begin(), index.end(), [&](int i) { return lights[static_cast<size_t>(i)].type == KIT_LIGHT_DIRECTIONAL; });
+    std::vector<Light> ordered;
+    for (int i : index) ordered.push_back(lights[static_cast<size_t>(i)]);
+    lights = std::move(ordered);
+  }
+  if (list_index) *list_index = std::move(index);
   return lights;
 }
 
@@ -422,6 +430,8 @@ void Renderer::build_programs() {
     build(&Programs::volume_count, "light_volume.vert", "light_volume_count.frag");
     build(&Programs::volume_coverage, "light_volume_coverage.vert", "light_volume_count.frag");
     build(&Programs::surface_count, "fullscreen.vert", "light_volume_count.frag");
+    build(&Programs::volume_evidence, "light_volume.vert", "light_volume_evidence.frag");
+    build(&Programs::state_evidence, "light_volume_coverage.vert", "light_volume_evidence.frag");
   }
   if (stage_.ibl) {
     build(&Programs::irradiance, "fullscreen.vert", "irradiance.frag");
@@ -549,7 +559,7 @@ void Renderer::resize(int width, int height) {
 
 void Renderer::upload_lights() {
   lit_frame_.reset();
-  frame_lights_ = frame_lights(scene_, stage_, settings_);
+  frame_lights_ = frame_lights(scene_, stage_, settings_, &frame_light_numbers_);
   light_count_ = static_cast<int>(frame_lights_.size());
   directional_count_ = static_cast<int>(std::count_if(frame_lights_.begin(), frame_lights_.end(),
                                                       [](const Light& l) { return l.type == KIT_LIGHT_DIRECTIONAL; }));
@@ -720,6 +730,81 @@ void Renderer::light_volume_pass() {
     triangle_.pass_over_surfaces(p.surface_count, lighting_fbo_, settings_.width, settings_.height);
     glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   });
+  if (samples_passed_counts()) measure_volume_evidence();
+}
+
+void Renderer::measure_volume_evidence() {
+  const Programs& p = *programs_;
+  const int volumes = light_count_ - directional_count_;
+  VolumeEvidence& e = volume_work_.evidence;
+  e = VolumeEvidence{};
+  e.adds = volume_state_.blend_add;
+  // The framework's counting state: back faces only, no depth test, so a closed volume
+  // gives each pixel it covers one fragment, also with the camera inside it.
+  LightVolumeState once;
+  once.cull = LightVolumeState::Cull::Front;
+  once.depth = LightVolumeState::Depth::Off;
+  // One light's volume alone: instance 0 of the draw is light u_volume_light_offset.
+  enum Count { kFootprint, kOverlap, kStudentFootprint, kMustShade, kShaded, kCounts };
+  const int measured = std::min(volumes, kEvidenceLights);
+  std::vector<GLuint> queries(static_cast<size_t>(measured) * kCounts);
+  glGenQueries(static_cast<GLsizei>(queries.size()), queries.data());
+  std::vector<int> light_index(static_cast<size_t>(measured));
+  const float circumradius = enclosing_sphere_circumradius(kLightVolumeSubdivisions);
+  for (int m = 0; m < measured; ++m) {
+    // Evenly spread over the volume lights, the first and the last included.
+    const int i = measured == 1 ? 0 : static_cast<int>((static_cast<int64_t>(m) * (volumes - 1)) / (measured - 1));
+    const int light = directional_count_ + i;
+    light_index[static_cast<size_t>(m)] = light;
+    auto count = [&](Count which, const Program& program, const LightVolumeState& state, int mode) {
+      set_frame_uniforms(program);
+      program.set("u_volume_light_offset", light);
+      if (mode >= 0) {
+        program.set("u_evidence_mode", mode);
+        program.set("u_volume_circumradius", circumradius);
+      }
+      begin_samples_passed(queries[static_cast<size_t>(m) * kCounts + which]);
+      draw_light_volumes(volume_sphere_, 1, state, false);
+      end_samples_passed();
+    };
+    count(kFootprint, p.volume_coverage, once, -1);
+    count(kOverlap, p.volume_evidence, once, 0);
+    count(kStudentFootprint, p.volume_count, once, -1);
+    // The state alone, on the framework's volume: does it give each surface pixel inside the
+    // light's sphere one fragment?
+    count(kMustShade, p.state_evidence, once, 1);
+    count(kShaded, p.state_evidence, volume_state_, 1);
+  }
+  // Read once all are drawn: one wait for the queries, not one per light.
+  uint64_t worst_volume = 0, worst_state = 0;
+  for (int m = 0; m < measured; ++m) {
+    uint64_t c[kCounts];
+    for (int k = 0; k < kCounts; ++k) c[k] = samples_passed_result(queries[static_cast<size_t>(m) * kCounts + k]);
+    // The framework's footprint is the enclosing sphere's less a sliver: overlap may exceed it.
+    const uint64_t missing = c[kFootprint] > c[kOverlap] ? c[kFootprint] - c[kOverlap] : 0;
+    const uint64_t extra = c[kStudentFootprint] > c[kOverlap] ? c[kStudentFootprint] - c[kOverlap] : 0;
+    const uint64_t state_off = c[kShaded] > c[kMustShade] ? c[kShaded] - c[kMustShade] : c[kMustShade] - c[kShaded];
+    e.lights += 1;
+    e.footprint += c[kFootprint];
+    e.missing += missing;
+    e.extra += extra;
+    e.must_shade += c[kMustShade];
+    e.shaded_wrong += state_off;
+    if (missing + extra > worst_volume) {
+      worst_volume = missing + extra;
+      e.worst_volume_light = frame_light_numbers_[static_cast<size_t>(light_index[static_cast<size_t>(m)])];
+      e.worst_footprint = c[kFootprint];
+      e.worst_missing = missing;
+      e.worst_extra = extra;
+    }
+    if (state_off > worst_state) {
+      worst_state = state_off;
+      e.worst_state_light = frame_light_numbers_[static_cast<size_t>(light_index[static_cast<size_t>(m)])];
+      e.worst_must_shade = c[kMustShade];
+      e.worst_shaded = c[kShaded];
+    }
+  }
+  glDeleteQueries(static_cast<GLsizei>(queries.size()), queries.data());
 }
 
 void Renderer::render(const FrameCamera& camera, PassTimes* pass_times) { render_frame(camera, pass_times, false); }
@@ -813,7 +898,8 @@ bool Renderer::lit_frame_current(const FrameCamera& camera) const {
   const Programs& p = *programs_;
   std::vector<const Program*> before_post = p.geometry.all();
   for (const Program* program : {&p.lighting, &p.ibl, &p.background, &p.volume, &p.volume_count,
-                                 &p.volume_coverage, &p.surface_count})
+                                 &p.volume_coverage, &p.surface_count, &p.volume_evidence,
+                                 &p.state_evidence})
     before_post.push_back(program);
   if (forward_) {
     before_post.push_back(&forward_->blend_program());

@@ -128,8 +128,10 @@ bool uses_default_light_rig(const Scene& scene, const Stage& stage, const Render
 // The lights a frame uploads: the scene's (or the default rig), then
 // RenderSettings::extra_lights spawned ones. At a stage drawing light volumes the
 // directional lights come first, in their order, then the rest in theirs: the full-screen
-// pass loops over the first ones, the volumes are the others.
-std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings);
+// pass loops over the first ones, the volumes are the others. `list_index`, where given,
+// gets each frame light's index in the list before that reordering.
+std::vector<Light> frame_lights(const Scene& scene, const Stage& stage, const RenderSettings& settings,
+                                std::vector<int>* list_index = nullptr);
 
 // Defines KIT_ATTENUATION_MODEL_PHYSICAL (model 0) or KIT_ATTENUATION_MODEL_SIMPLE (1)
 // in `library` and no other, so light_specialisation.glsl (which lights.glsl includes)
@@ -321,6 +323,7 @@ class Renderer {
   void fullscreen_pass(const Program& program, const Framebuffer& target, int width, int height) const;
   void lighting_pass(const Program& lighting) const;
   void light_volume_pass();
+  void measure_volume_evidence();  // light_volume_work().evidence, after the pass
   void allocate_targets();
   // Stage 6: the maps for settings_.environment and settings_.ibl, from the cache or
   // made (loading the environment when it is another than ibl_'s).
@@ -359,6 +362,7 @@ class Renderer {
   float lights_gamma_ = -1.0f;  // the volume radii depend on it (light_volume_epsilon)
   // Stage 7: the directional lights lead frame_lights_; the volumes draw the rest.
   int directional_count_ = 0;
+  std::vector<int> frame_light_numbers_;  // each frame light's index in the scene's (or rig's) list
   LightVolumeState volume_state_;
   LightVolumeWork volume_work_;
   Mesh volume_sphere_;

@@ -406,10 +406,17 @@ def features(signatures, failed_checks):
 
 
 def similarity(a, b):
-    """diagnosis.cpp signature_similarity: the cosine of the checks' features, concatenated."""
-    dot = sum(x * y for key in a.keys() & b.keys() for x, y in zip(a[key], b[key]))
-    aa = sum(x * x for v in a.values() for x in v)
-    bb = sum(x * x for v in b.values() for x in v)
+    """diagnosis.cpp signature_similarity: the cosine of the checks' features, concatenated; a check whose
+    features are longer on one side is compared over the signature both have and the failed flag."""
+    dot = aa = bb = 0.0
+    for key in a.keys() | b.keys():
+        va, vb = a.get(key, []), b.get(key, [])
+        if va and vb and len(va) != len(vb):
+            n = min(len(va), len(vb))
+            va, vb = va[:n - 1] + va[-1:], vb[:n - 1] + vb[-1:]
+        dot += sum(x * y for x, y in zip(va, vb))
+        aa += sum(x * x for x in va)
+        bb += sum(x * x for x in vb)
     return dot / (aa * bb) ** 0.5 if aa > 0 and bb > 0 else 0.0
 
 

@@ -368,6 +368,12 @@ TEST(Grader, FailedLabNamesTheLikelyMistake) {
     EXPECT_NE(worst.find("there the G-buffer holds position"), std::string::npos) << key << ": " << worst;
     EXPECT_NE(worst.find(light), std::string::npos) << key << ": " << worst;
   }
+  // The frame's evidence, light by light (VolumeEvidence): the light around the camera gets no
+  // fragment from front faces, and its volume itself is right.
+  const std::string note = lab(r, 7)["checks"]["inside-hdr"].value("note", std::string());
+  EXPECT_NE(note.find("light 1 has "), std::string::npos) << note;
+  EXPECT_NE(note.find("let 0 fragments reach them"), std::string::npos) << note;
+  EXPECT_EQ(note.find("volume, drawn alone"), std::string::npos) << note;
 
   const fs::path references = kit::test::temp_dir("grader-no-signatures");
   fs::copy(kit::kit_root() / "tools/grade/references", references, fs::copy_options::recursive);
@@ -907,6 +913,14 @@ TEST(GraderVerdicts, SignatureSimilarityAndNaming) {
   EXPECT_NEAR(kit::grade::signature_similarity(a, c), 0.70710678, 1e-7);  // 1 / sqrt(2)
   EXPECT_NEAR(kit::grade::signature_similarity({{"x", {1.0f}}, {"y", {1.0f}}}, {{"x", {1.0f}}}), 0.70710678, 1e-7);
   EXPECT_DOUBLE_EQ(kit::grade::signature_similarity(a, {{"x", {0.0f, 0.0f}}}), 0.0) << "no error: nothing alike";
+  // Longer on one side (lab 7's volume evidence, which a browser cannot count): the signature
+  // both have and the failed flags (last). Tile 1, evidence 5 and flag 0.5 against tile 1 and
+  // flag 0.5: the evidence left out, (1 + 0.25) / (1.25) = 1; counted as zeros it would be
+  // 1.25 / sqrt(26.25 x 1.25) = 0.218. Witness: the same lengths keep every value.
+  EXPECT_DOUBLE_EQ(kit::grade::signature_similarity({{"x", {1.0f, 5.0f, 0.5f}}}, {{"x", {1.0f, 0.5f}}}), 1.0);
+  EXPECT_DOUBLE_EQ(kit::grade::signature_similarity({{"x", {1.0f, 0.5f}}}, {{"x", {1.0f, 5.0f, 0.5f}}}), 1.0);
+  EXPECT_NEAR(kit::grade::signature_similarity({{"x", {1.0f, 5.0f, 0.5f}}}, {{"x", {1.0f, 0.0f, 0.5f}}}),
+              1.25 / std::sqrt(26.25 * 1.25), 1e-7);
   // Features (kit::grade::check_features): sqrt(tile / cap) per tile, then the failed flag.
   const std::vector<float> f = kit::grade::check_features({0.0f, kit::grade::kSignatureCap / 4.0f, 9.0f}, true);
   ASSERT_EQ(f.size(), 4u);

@@ -119,6 +119,70 @@ TEST(LightVolumes, WorkCountsAgreeWithCountsMadeOnTheCpu) {
   EXPECT_GT(work.shaded_fragments, pixels / 2);
 }
 
+// The evidence that names what is wrong with a student's volumes (VolumeEvidence), light by
+// light on the "inside" scene (two lights, the camera inside the first's volume). The
+// surface pixels each light must shade are counted again here on the CPU from the G-buffer's
+// positions; the solution's volumes miss and add nothing and its state shades each of those
+// pixels once. Witnesses: a volume of half the radius leaves out most of the sphere's pixels,
+// and drawing both faces without a depth test shades the second light's pixels twice; each
+// is seen by its own measure and not by the other.
+TEST(LightVolumes, EvidenceSaysWhichPartOfTheVolumesIsWrong) {
+  const Scene& s = scene("inside");
+  const FrameCamera camera = scene_frame_camera(s, volume_settings());
+  auto evidence = [&](const std::vector<LineSwap>& swaps, const char* name) {
+    auto renderer = swaps.empty() ? make_renderer("lightvolumes", s, volume_settings())
+                                  : make_renderer("lightvolumes", s, volume_settings(),
+                                                  full_root_library(find_stage("lightvolumes"), variant_root(name, swaps)));
+    const Frame frame = render_frame(*renderer, camera);
+    return std::make_pair(renderer->light_volume_work().evidence, frame);
+  };
+  const auto [right, frame] = evidence({}, "");
+  ASSERT_EQ(right.lights, 2);
+  EXPECT_GT(right.footprint, 0u);
+  EXPECT_EQ(right.missing, 0u);
+  EXPECT_EQ(right.extra, 0u);
+  EXPECT_EQ(right.shaded_wrong, 0u);
+  EXPECT_TRUE(right.adds);
+  EXPECT_EQ(right.worst_volume_light, -1);
+  EXPECT_EQ(right.worst_state_light, -1);
+  // The pixels to shade, counted on the CPU: a surface within a light's volume radius.
+  const std::vector<Light> lights = ref::frame_lights(s, volume_settings());
+  const float epsilon = light_volume_epsilon(lights, volume_settings().gamma);
+  uint64_t must_shade = 0;
+  for (const Light& light : lights) {
+    if (light.type == KIT_LIGHT_DIRECTIONAL) continue;
+    const double r = light_cutoff_radius(light, epsilon, volume_settings().attenuation_model);
+    for (const auto& [x, y] : covered_pixels(frame)) {
+      const ref::dvec3 p = ref::pixel_rgb(frame.gbuffer.position, x, y);
+      must_shade += glm::length(p - ref::dvec3(light.position)) <= r;
+    }
+  }
+  ASSERT_GT(must_shade, 1000u);
+  // A pixel exactly at the radius may go either way in float.
+  EXPECT_NEAR(static_cast<double>(right.must_shade), static_cast<double>(must_shade), 2.0 + 1e-3 * must_shade);
+
+  const auto [small, small_frame] =
+      evidence({{"07-lightvolumes/light_volume.vert", "light.position + light.volume_radius * a_position",
+                 "light.position + 0.5 * light.volume_radius * a_position"}},
+               "light_volumes_half_radius");
+  // The second light's sphere (the first holds the camera at half its radius too): a quarter of it.
+  EXPECT_EQ(small.worst_volume_light, 1);  // from 0, as the scene lists its lights
+  EXPECT_GT(small.worst_missing, small.worst_footprint / 2) << "half the radius covers about a quarter of the pixels";
+  EXPECT_GT(small.missing, 0u);
+  EXPECT_EQ(small.extra, 0u);
+  EXPECT_EQ(small.shaded_wrong, 0u) << "the state is the solution's";
+
+  const auto [twice, twice_frame] =
+      evidence({{"07-lightvolumes/light_volume.vert", "cull(front) depth(greater_equal)", "cull(none) depth(off)"}},
+               "light_volumes_both_faces");
+  EXPECT_EQ(twice.missing, 0u);
+  EXPECT_EQ(twice.extra, 0u);
+  // The camera is inside the first light's volume (one face in front of it), outside the second's.
+  EXPECT_GT(twice.shaded_wrong, 1000u);
+  EXPECT_LT(twice.shaded_wrong, right.must_shade);
+  EXPECT_EQ(twice.worst_shaded, 2 * twice.worst_must_shade);
+}
+
 TEST(LightVolumes, StatePragmaErrorsNameTheFileAndLine) {
   auto assembled = [](const std::string& text) {
     AssembledShader a;

@@ -708,6 +708,52 @@ Comparison compare_work(const Tolerance& tol, const LightVolumeWork& work, bool 
   return r;
 }
 
+std::vector<float> volume_evidence_signature(const VolumeEvidence& e) {
+  if (e.lights == 0) return {};
+  const double footprint = static_cast<double>(std::max<uint64_t>(e.footprint, 1));
+  const double missing = static_cast<double>(e.missing), extra = static_cast<double>(e.extra);
+  const double size = std::fabs(missing - extra) / footprint;
+  const double place = 2.0 * std::min(missing, extra) / footprint;
+  const double state = static_cast<double>(e.shaded_wrong) / static_cast<double>(std::max<uint64_t>(e.must_shade, 1)) +
+                       (e.adds ? 0.0 : 1.0);
+  std::vector<float> out;
+  for (double share : {size, place, state})
+    out.insert(out.end(), kEvidenceWidth, static_cast<float>(kSignatureCap * std::min(share, 1.0)));
+  return out;
+}
+
+std::string describe_volume_evidence(const VolumeEvidence& e) {
+  std::string out;
+  auto add = [&](const std::string& sentence) { out += (out.empty() ? "" : "; ") + sentence; };
+  // A sliver at the volume's edge is rasterisation, not a mistake: 2 % of its footprint.
+  const uint64_t off = e.worst_missing + e.worst_extra;
+  if (e.worst_volume_light >= 0 && off * 50 > std::max<uint64_t>(e.worst_footprint, 1)) {
+    const char* what = e.worst_missing > 0 && e.worst_extra > 0 && std::min(e.worst_missing, e.worst_extra) * 4 > off
+                           ? "it lies elsewhere than its light"
+                       : e.worst_missing > e.worst_extra ? "too small"
+                                                         : "too large";
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "light %d's volume, drawn alone, leaves out %llu of the %llu pixels its sphere covers on screen and "
+                  "covers %llu outside it: %s",
+                  e.worst_volume_light + 1, static_cast<unsigned long long>(e.worst_missing),
+                  static_cast<unsigned long long>(e.worst_footprint), static_cast<unsigned long long>(e.worst_extra), what);
+    add(text);
+  }
+  if (e.worst_state_light >= 0 && e.worst_shaded != e.worst_must_shade) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "light %d has %llu surface pixels inside its sphere, and the volume's state let %llu fragments reach "
+                  "them (one each is right: %s)",
+                  e.worst_state_light + 1, static_cast<unsigned long long>(e.worst_must_shade),
+                  static_cast<unsigned long long>(e.worst_shaded),
+                  e.worst_shaded > e.worst_must_shade ? "some pixels are shaded twice" : "some pixels get no light");
+    add(text);
+  }
+  if (e.lights > 0 && !e.adds) add("blend(off): each light's term replaces what is already in the target instead of adding to it");
+  return out;
+}
+
 Image display_image(Metric metric, const Image& image, const Image& reference) {
   Image out(image.width, image.height, 3);
   float lo[3] = {0, 0, 0}, span[3] = {1, 1, 1};

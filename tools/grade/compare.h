@@ -9,6 +9,7 @@
 #include "checks.h"
 #include "config.h"
 #include "images/image_io.h"
+#include "render/light_volumes.h"
 
 namespace kit::grade {
 
@@ -88,6 +89,24 @@ Comparison compare_images(Metric metric, const Tolerance& tolerance, const Image
 // names that check). The diff is black, `width` x `height`.
 Comparison compare_work(const Tolerance& tolerance, const LightVolumeWork& work, bool image_passed,
                         const std::string& image_check, int width, int height);
+
+// Lab 7's evidence (render/light_volumes.h VolumeEvidence), for naming its mistakes
+// (diagnosis.h): a lab 7 frame's HDR check carries it after its tiles' signature
+// (lab_verdict.cpp). Three shares of the lights measured, each as kSignatureCap x
+// min(share, 1), repeated kEvidenceWidth times:
+//   size:  |missing - extra| / footprint, a volume centred on its light but of another size
+//          (its radius halved, doubled, a light's range for its radius, a full-screen quad);
+//   place: 2 min(missing, extra) / footprint, a volume of about the right size elsewhere;
+//   state: shaded_wrong / must_shade, plus 1 where the state replaces rather than adds: the
+//          faces and depth test shade a pixel twice or not at all, or blending is off.
+// Repeated, a scene's evidence weighs about as much as one of its images' 48 tiles would when
+// they all fail (measured: instructors.md, Naming the mistake). Empty without evidence.
+constexpr int kEvidenceWidth = 48;
+std::vector<float> volume_evidence_signature(const VolumeEvidence& evidence);
+// The evidence in words, for the worst light measured ("light 7's volume ... too small"),
+// numbered from 1 as the scene lists its lights (like the worst pixel's description), or ""
+// when the volumes and their state are right.
+std::string describe_volume_evidence(const VolumeEvidence& evidence);
 
 // The image as the report shows it (RGB, [0,1]): G-buffer vectors as (v+1)/2,
 // positions over the reference's bounds, HDR through Reinhard and gamma 2.2,

@@ -76,12 +76,34 @@ double LabFrames::draw(const RenderSpec& spec) {
   return seconds_since(t);
 }
 
+namespace {
+
+nlohmann::json evidence_json(const VolumeEvidence& v) {
+  return {{"lights", v.lights},
+          {"footprint", v.footprint},
+          {"missing", v.missing},
+          {"extra", v.extra},
+          {"must_shade", v.must_shade},
+          {"shaded_wrong", v.shaded_wrong},
+          {"adds", v.adds},
+          {"worst_volume_light", v.worst_volume_light},
+          {"worst_footprint", v.worst_footprint},
+          {"worst_missing", v.worst_missing},
+          {"worst_extra", v.worst_extra},
+          {"worst_state_light", v.worst_state_light},
+          {"worst_must_shade", v.worst_must_shade},
+          {"worst_shaded", v.worst_shaded}};
+}
+
+}  // namespace
+
 nlohmann::json work_json(const LightVolumeWork& work, const LightVolumeState& state) {
   return {{"volume_lights", work.volume_lights},
           {"surface_pixels", work.surface_pixels},
           {"shaded_fragments", work.shaded_fragments},
           {"volume_coverage", work.volume_coverage},
-          {"state", describe(state)}};
+          {"state", describe(state)},
+          {"evidence", evidence_json(work.evidence)}};
 }
 
 LightVolumeWork work_from_json(const nlohmann::json& json) {
@@ -91,6 +113,24 @@ LightVolumeWork work_from_json(const nlohmann::json& json) {
   work.surface_pixels = json.value("surface_pixels", uint64_t{0});
   work.shaded_fragments = json.value("shaded_fragments", uint64_t{0});
   work.volume_coverage = json.value("volume_coverage", uint64_t{0});
+  const nlohmann::json e = json.value("evidence", nlohmann::json::object());
+  if (e.is_object()) {
+    VolumeEvidence& v = work.evidence;
+    v.lights = e.value("lights", 0);
+    v.footprint = e.value("footprint", uint64_t{0});
+    v.missing = e.value("missing", uint64_t{0});
+    v.extra = e.value("extra", uint64_t{0});
+    v.must_shade = e.value("must_shade", uint64_t{0});
+    v.shaded_wrong = e.value("shaded_wrong", uint64_t{0});
+    v.adds = e.value("adds", true);
+    v.worst_volume_light = e.value("worst_volume_light", -1);
+    v.worst_footprint = e.value("worst_footprint", uint64_t{0});
+    v.worst_missing = e.value("worst_missing", uint64_t{0});
+    v.worst_extra = e.value("worst_extra", uint64_t{0});
+    v.worst_state_light = e.value("worst_state_light", -1);
+    v.worst_must_shade = e.value("worst_must_shade", uint64_t{0});
+    v.worst_shaded = e.value("worst_shaded", uint64_t{0});
+  }
   return work;
 }
 

@@ -55,6 +55,19 @@ void compare_check(const Config& config, LabOutcome& lab, CheckOutcome& c, const
     const Background* background = own ? nullptr : stored.background;
     const Image* allowance = !own && stored.allowance && stored.allowance->width > 0 ? stored.allowance : nullptr;
     c.comparison = compare_images(check.metric, config.tolerance(check), image, reference, background, allowance);
+    // Lab 7: where the frame's volumes go wrong, light by light, beside where its image does.
+    const nlohmann::json counted =
+        check.metric == Metric::Hdr && child.contains("work") ? child["work"].value(check.image, nlohmann::json()) : nlohmann::json();
+    if (counted.is_object()) {
+      const VolumeEvidence evidence = work_from_json(counted).evidence;
+      const std::vector<float> signature = volume_evidence_signature(evidence);
+      // After the tiles, at the same place for every submission (an image not compared has none).
+      c.comparison.signature.resize(static_cast<size_t>(kSignatureColumns * kSignatureRows), 0.0f);
+      c.comparison.signature.insert(c.comparison.signature.end(), signature.begin(), signature.end());
+      const std::string text = describe_volume_evidence(evidence);
+      if (!c.comparison.passed && !text.empty())
+        c.comparison.note += (c.comparison.note.empty() ? "" : "; ") + text;
+    }
   }
   const size_t hdr_bad = child.contains("hdr_non_finite") ? child["hdr_non_finite"].value(check.image, size_t{0}) : 0;
   if (hdr_bad > 0 && !own) {
