@@ -259,7 +259,7 @@ def judge(row, out, status, tail, args, submission):
 
 
 # --- Function probes (tools/grade/function_probes.h) -------------------------------------------
-DEFINITION = re.compile(r"^[ \t]*(?:vec[234]|float|int|bool|mat[234]|Light)[ \t]+(\w+)[ \t]*\([^)]*\)[ \t]*\{", re.M)
+DEFINITION = re.compile(r"^[ \t]*(?:void|vec[234]|float|int|bool|mat[234]|Light)[ \t]+(\w+)[ \t]*\([^)]*\)[ \t]*\{", re.M)
 
 
 def enclosing_function(text, position):
@@ -483,8 +483,9 @@ def write_json(path, rows, started):
 
 
 def differing_functions(row):
-    """The probed functions (tools/grade/function_probes.h) that differ for the row."""
-    return {f.get("function") for f in row.functions if f.get("status") == "differs"}
+    """The probed parts (tools/grade/function_probes.h, FunctionProbe::part: a function, or a lab 5 pass's file)
+    that differ for the row."""
+    return {f.get("part", f.get("function")) for f in row.functions if f.get("status") == "differs"}
 
 
 def probed_lab(row):
@@ -493,6 +494,7 @@ def probed_lab(row):
 
 
 PROBE_WEIGHT = 0.1   # diagnosis.h kProbeWeight
+PASS_PROBE_WEIGHT = 0.5   # diagnosis.h kPassProbeWeight: where the lab's probes are passes (function "main")
 
 
 def probe_agreement(row, candidate):
@@ -508,7 +510,8 @@ def ranked(row, candidates):
     """candidates (same lab, not row) as kit-grade ranks them for row (diagnosis.cpp likely_mistakes):
     similarity plus the probes' share, closest first, as (similarity, row)."""
     scored = [(similarity(row.features, c.features), c) for c in candidates if c.lab == row.lab and c is not row]
-    return sorted(scored, key=lambda t: -(t[0] + PROBE_WEIGHT * probe_agreement(row, t[1])))
+    weight = PASS_PROBE_WEIGHT if getattr(row, "passes", False) else PROBE_WEIGHT
+    return sorted(scored, key=lambda t: -(t[0] + weight * probe_agreement(row, t[1])))
 
 
 def naming_figures(caught, rows):
@@ -517,7 +520,8 @@ def naming_figures(caught, rows):
     # The rows' features as kit-grade reads them from the file, each ranked once.
     stored = [types.SimpleNamespace(id=r.id, lab=r.lab, family=r.family,
                                     features=features(r.signatures, r.failed_checks),
-                                    functions=differing_functions(r) if probed_lab(r) else None) for r in caught]
+                                    functions=differing_functions(r) if probed_lab(r) else None,
+                                    passes=any(f.get("function") == "main" for f in r.functions)) for r in caught]
     scores = {r.id: ranked(r, stored) for r in stored}
     with_relatives = [r for r in stored if any(o.family == r.family for o in stored if o is not r)]
     top1 = top3 = 0

@@ -104,6 +104,42 @@ ref::dvec3 cpu_value(const FunctionProbe& probe, const std::vector<float>& in, b
   return ref::dvec3(0.0);
 }
 
+// A lab 5 pass probe's values from the CPU reference (cpu_reference.h, lab 5), every case at
+// once: the blur's value at a texel depends on its neighbours'.
+std::vector<ref::dvec3> cpu_pass_values(const FunctionProbe& probe) {
+  ref::ShadingSettings settings;
+  settings.stage = 5;
+  bool horizontal = true;
+  for (const grade::ProbeUniform& u : probe.uniforms) {
+    if (u.name == "u_bloom_threshold") settings.bloom_threshold = u.value;
+    if (u.name == "u_gamma") settings.gamma = u.value;
+    if (u.name == "u_postprocess_enabled") settings.postprocess = u.value != 0.0f;
+    if (u.name == "u_horizontal") horizontal = u.value != 0.0f;
+  }
+  const int n = static_cast<int>(probe.cases.size());
+  const int width = probe.column ? 1 : n, height = probe.column ? n : 1;
+  std::vector<Image> inputs(probe.arguments.size(), Image(width, height, 4));
+  for (int i = 0; i < n; ++i)
+    for (size_t a = 0; a < inputs.size(); ++a)
+      for (int k = 0; k < 3; ++k)
+        inputs[a].at(probe.column ? 0 : i, probe.column ? i : 0, k) = probe.cases[static_cast<size_t>(i)].inputs[a * 3 + k];
+  Image out;
+  if (probe.file == "bright.frag") {
+    out = inputs[0];
+    for (int i = 0; i < n; ++i) {
+      const int x = probe.column ? 0 : i, y = probe.column ? i : 0;
+      const ref::dvec3 kept = ref::bright_pass(ref::pixel_rgb(inputs[0], x, y), settings.bloom_threshold);
+      for (int k = 0; k < 3; ++k) out.at(x, y, k) = static_cast<float>(kept[k]);
+    }
+  } else if (probe.file == "blur.frag")
+    out = ref::blur_pass(inputs[0], horizontal);
+  else
+    out = ref::composite(inputs[0], inputs[1], settings);
+  std::vector<ref::dvec3> values;
+  for (int i = 0; i < n; ++i) values.push_back(ref::pixel_rgb(out, probe.column ? 0 : i, probe.column ? i : 0));
+  return values;
+}
+
 // How many compared values of every probe are off the CPU reference (finite_only cases:
 // how many are not finite), and the first such, in words.
 int cpu_disagreements(const nlohmann::json& reference, std::string* first, bool ggx_without_pi = false,
@@ -115,8 +151,9 @@ int cpu_disagreements(const nlohmann::json& reference, std::string* first, bool 
     const FunctionProbe& probe = *std::find_if(run.begin(), run.end(), [&](const FunctionProbe& p) { return p.id == table.id; });
     const std::vector<glm::vec4> expected = grade::expected_probe_values(reference, probe);
     EXPECT_EQ(expected.size(), probe.cases.size()) << probe.id << ": probes.json lacks it (./kit rebaseline)";
+    const std::vector<ref::dvec3> pass_values = probe.pass ? cpu_pass_values(probe) : std::vector<ref::dvec3>{};
     for (size_t i = 0; i < expected.size(); ++i) {
-      const ref::dvec3 cpu = cpu_value(probe, probe.cases[i].inputs, ggx_without_pi);
+      const ref::dvec3 cpu = probe.pass ? pass_values.at(i) : cpu_value(probe, probe.cases[i].inputs, ggx_without_pi);
       const int components = probe.result == ProbeType::Float ? 1 : 3;
       for (int k = 0; k < components; ++k) {
         const double gpu = expected[i][k];
@@ -155,30 +192,37 @@ TEST(FunctionProbes, ExpectedValuesMatchTheCpuReference) {
   EXPECT_GT(cpu_disagreements(reference, nullptr, true), 20);
 }
 
-// Lab 2's solution with `find` replaced by `replace` in brdf.glsl, as a lab folder.
-std::filesystem::path lab2_with(const std::string& name, const std::string& find, const std::string& replace) {
+// A solution's lab folder with `find` replaced by `replace` in `file`, as a lab root.
+std::filesystem::path lab_with(const std::string& name, const std::string& folder, const std::string& file,
+                               const std::string& find, const std::string& replace) {
   const std::filesystem::path root = temp_dir("function_probes_" + name);
-  const std::filesystem::path lab = root / "02-lighting";
+  const std::filesystem::path lab = root / folder;
   std::filesystem::create_directories(lab);
-  for (const auto& entry : std::filesystem::directory_iterator(kit_root() / "solutions" / "02-lighting"))
+  for (const auto& entry : std::filesystem::directory_iterator(kit_root() / "solutions" / folder))
     std::filesystem::copy_file(entry.path(), lab / entry.path().filename());
-  std::ifstream in(lab / "brdf.glsl");
+  std::ifstream in(lab / file);
   std::string text((std::istreambuf_iterator<char>(in)), {});
   size_t at = text.find(find);
+  EXPECT_NE(at, std::string::npos) << file << " no longer holds " << find;
   while (at != std::string::npos) {
     text.replace(at, find.size(), replace);
     at = text.find(find, at + replace.size());
   }
-  std::ofstream(lab / "brdf.glsl") << text;
+  std::ofstream(lab / file) << text;
   return root;
 }
 
-std::map<std::string, grade::ProbeOutcome> probe_lab2(const std::filesystem::path& root) {
+// Lab 2's solution with `find` replaced by `replace` in brdf.glsl, as a lab folder.
+std::filesystem::path lab2_with(const std::string& name, const std::string& find, const std::string& replace) {
+  return lab_with(name, "02-lighting", "brdf.glsl", find, replace);
+}
+
+std::map<std::string, grade::ProbeOutcome> probe_lab(int lab, const std::filesystem::path& root) {
   context();
   const nlohmann::json reference = probes_reference();
-  const auto values = grade::run_function_probes(find_stage(2), root, reference);
+  const auto values = grade::run_function_probes(find_stage(lab), root, reference);
   std::map<std::string, grade::ProbeOutcome> out;
-  for (const FunctionProbe& probe : grade::probes_to_run(2, reference)) {
+  for (const FunctionProbe& probe : grade::probes_to_run(lab, reference)) {
     auto it = values.find(probe.id);
     out[probe.id] = grade::compare_probe(probe, it == values.end() ? grade::ProbeValues{} : it->second,
                                          grade::expected_probe_values(reference, probe));
@@ -187,11 +231,11 @@ std::map<std::string, grade::ProbeOutcome> probe_lab2(const std::filesystem::pat
 }
 
 TEST(FunctionProbes, TheSolutionAgreesEverywhere) {
-  for (const auto& [id, outcome] : probe_lab2(kit_root() / "solutions")) EXPECT_EQ(outcome.status, grade::kProbeAgrees) << outcome.message;
+  for (const auto& [id, outcome] : probe_lab(2, kit_root() / "solutions")) EXPECT_EQ(outcome.status, grade::kProbeAgrees) << outcome.message;
 }
 
 TEST(FunctionProbes, AGgxWithoutPiIsNamedWithItsFactor) {
-  auto probes = probe_lab2(lab2_with("ggx_no_pi", "KIT_PI * d * d", "d * d"));
+  auto probes = probe_lab(2, lab2_with("ggx_no_pi", "KIT_PI * d * d", "d * d"));
   const grade::ProbeOutcome& ggx = probes.at("distribution_ggx");
   EXPECT_EQ(ggx.status, grade::kProbeDiffers);
   EXPECT_NE(ggx.message.find("distribution_ggx(n_dot_h = "), std::string::npos) << ggx.message;
@@ -201,7 +245,7 @@ TEST(FunctionProbes, AGgxWithoutPiIsNamedWithItsFactor) {
 }
 
 TEST(FunctionProbes, SwappedArgumentsAreNamed) {
-  auto probes = probe_lab2(lab2_with("ggx_swapped", "float distribution_ggx(float n_dot_h, float alpha)",
+  auto probes = probe_lab(2, lab2_with("ggx_swapped", "float distribution_ggx(float n_dot_h, float alpha)",
                                      "float distribution_ggx(float alpha, float n_dot_h)"));
   const grade::ProbeOutcome& ggx = probes.at("distribution_ggx");
   EXPECT_EQ(ggx.status, grade::kProbeDiffers);
@@ -209,17 +253,45 @@ TEST(FunctionProbes, SwappedArgumentsAreNamed) {
 }
 
 TEST(FunctionProbes, ARenamedFunctionLosesOnlyItsOwnProbe) {
-  auto probes = probe_lab2(lab2_with("ggx_renamed", "distribution_ggx(", "my_ggx("));
+  auto probes = probe_lab(2, lab2_with("ggx_renamed", "distribution_ggx(", "my_ggx("));
   EXPECT_EQ(probes.at("distribution_ggx").status, grade::kProbeNotRun) << probes.at("distribution_ggx").message;
   for (const char* other : {"fresnel_schlick", "geometry_cook_torrance", "cook_torrance"})
     EXPECT_EQ(probes.at(other).status, grade::kProbeAgrees) << probes.at(other).message;
 }
 
 TEST(FunctionProbes, AMissingGuardIsReportedAsNotFinite) {
-  auto probes = probe_lab2(lab2_with("ggx_unguarded", "max(KIT_PI * d * d, KIT_MIN_GGX_DENOMINATOR)", "(KIT_PI * d * d)"));
+  auto probes = probe_lab(2, lab2_with("ggx_unguarded", "max(KIT_PI * d * d, KIT_MIN_GGX_DENOMINATOR)", "(KIT_PI * d * d)"));
   const grade::ProbeOutcome& ggx = probes.at("distribution_ggx");
   EXPECT_EQ(ggx.status, grade::kProbeDiffers);
   EXPECT_NE(ggx.message.find("expected a finite value"), std::string::npos) << ggx.message;
+}
+
+}  // namespace
+}  // namespace kit::test
+
+namespace kit::test {
+namespace {
+
+// Lab 5's passes, each drawn alone (FunctionProbe::pass): the solution's agree at every texel,
+// and a bright pass that ignores its threshold is named with a texel, while blur.frag and
+// composite.frag, drawn on their own inputs, still agree (witness: the pass, not its callers).
+TEST(FunctionProbes, APassDrawnAloneIsNamedWithItsTexel) {
+  for (const auto& [id, outcome] : probe_lab(5, kit_root() / "solutions"))
+    EXPECT_EQ(outcome.status, grade::kProbeAgrees) << outcome.message;
+  auto probes = probe_lab(5, lab_with("bright_threshold_ignored", "05-postprocess", "bright.frag",
+                                      "luminance > u_bloom_threshold ? c : vec3(0.0)", "c"));
+  const grade::ProbeOutcome& bright = probes.at("bright/threshold-1");
+  EXPECT_EQ(bright.status, grade::kProbeDiffers);
+  // Under the threshold 1: the texels of luminance 0.25, 0.75, 0.45, 0.28 and 0.8 (0 stays 0).
+  EXPECT_NE(bright.message.find("bright.frag at texel 1 (u_hdr = (0.25, 0.25, 0.25)) writes (0.25, 0.25, 0.25), "
+                                "expected (0, 0, 0); 5 of 9 texels differ"),
+            std::string::npos) << bright.message;
+  for (const char* other : {"blur/horizontal", "blur/vertical", "composite/bloom-on", "composite/gamma-1.0", "composite/bloom-off"})
+    EXPECT_EQ(probes.at(other).status, grade::kProbeAgrees) << probes.at(other).message;
+  const std::vector<std::string> feedback = grade::probe_feedback(
+      {probes.at("bright/threshold-1"), probes.at("blur/vertical")}, true);
+  ASSERT_EQ(feedback.size(), 1u);
+  EXPECT_EQ(feedback[0].rfind("Your pass bright.frag at texel", 0), 0u) << feedback[0];
 }
 
 }  // namespace

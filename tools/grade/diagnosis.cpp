@@ -9,6 +9,7 @@
 
 #include "base/error.h"
 #include "compare.h"
+#include "function_probes.h"
 
 namespace kit::grade {
 
@@ -120,9 +121,11 @@ std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, 
     double rank;
   };
   std::vector<Ranked> all;
+  const std::vector<FunctionProbe>& probes = function_probes(lab);
+  const double weight = !probes.empty() && probes.front().pass ? kPassProbeWeight : kProbeWeight;
   for (const MistakeSignature& s : it->second) {
     const double similarity = signature_similarity(s.checks, submission);
-    all.push_back({{s.id, s.description, similarity}, &s.family, similarity + kProbeWeight * probe_agreement(s, differing)});
+    all.push_back({{s.id, s.description, similarity}, &s.family, similarity + weight * probe_agreement(s, differing)});
   }
   std::stable_sort(all.begin(), all.end(), [](const Ranked& x, const Ranked& y) { return x.rank > y.rank; });
   std::set<std::string> families;

@@ -89,10 +89,17 @@ constexpr size_t kMostNamed = 3;
 // relative): 26 relatives named first and 36 within three by the images alone, 30 and 38
 // with 0.1 (0.05: 26 and 36; 0.3: 28 and 38; ranking every exact match first: 28 and 34).
 constexpr double kProbeWeight = 0.1;
+// The same for a lab whose probes are passes (lab 5: function_probes.h, FunctionProbe::pass).
+// A pass drawn alone on its own inputs confines a difference to its file, with no caller to
+// spread it, so agreement counts for more. Measured the same way (lab 5, 13 mistakes with a
+// relative): 5 relatives named first and 8 within three by the images alone; with its pass
+// probes 8 and 11 at 0.1, 9 at 0.2 and 0.3, 11 and 11 at 0.5 and at 1.
+constexpr double kPassProbeWeight = 0.5;
 // The mistakes of `lab` that `submission` (check key -> check_features) most resembles,
 // closest first, one per family; empty when none reaches kMinNamedSimilarity. With
 // `differing` (the probed functions that differ, where every probe of the lab ran), each
-// mistake's similarity gets kProbeWeight's share for its functions before they are ranked.
+// mistake's similarity gets kProbeWeight's share for its functions (kPassProbeWeight's where the
+// lab's probes are passes) before they are ranked.
 std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, int lab,
                                            const std::map<std::string, std::vector<float>>& submission,
                                            const std::set<std::string>* differing = nullptr);

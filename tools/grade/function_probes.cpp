@@ -263,8 +263,82 @@ std::vector<FunctionProbe> make_lab3() {
   return probes;
 }
 
+// Lab 5's passes, each drawn alone. Every input is exact in half float (the inputs are
+// RGBA16F textures, as the passes' own are), and no luminance lies within 10 % of a threshold,
+// where the catalogue's equivalents (a rounded luminance, step() for >) may differ.
+FunctionProbe lab5_pass(const std::string& file, const std::string& id, const std::string& setting,
+                        std::vector<ProbeArgument> arguments, std::vector<ProbeUniform> uniforms) {
+  FunctionProbe p = probe_of(5, file, file, "main", 0, std::move(arguments), ProbeType::Vec3);
+  p.id = id;
+  p.setting = setting;
+  p.uniforms = std::move(uniforms);
+  p.define.clear();
+  p.pass = true;
+  return p;
+}
+
+std::vector<FunctionProbe> make_lab5() {
+  std::vector<FunctionProbe> probes;
+  using T = ProbeType;
+  for (float threshold : {1.0f, 0.5f}) {
+    FunctionProbe p = lab5_pass("bright.frag", threshold == 1.0f ? "bright/threshold-1" : "bright/threshold-0.5",
+                                threshold == 1.0f ? "u_bloom_threshold = 1" : "u_bloom_threshold = 0.5",
+                                {{"u_hdr", T::Vec3}}, {{"u_bloom_threshold", false, threshold}});
+    // Luminances (Rec. 709): 0, 0.25, 0.75, 0.45 (a mean of 1.17), 0.28 (a mean of 0.58),
+    // 1.25, 3.1, 0.8 (its mean 0.33), 64.
+    for (glm::vec3 hdr : {glm::vec3(0.0f), glm::vec3(0.25f), glm::vec3(0.75f), glm::vec3(0.25f, 0.25f, 3.0f),
+                          glm::vec3(1.0f, 0.0625f, 0.5f), glm::vec3(1.25f), glm::vec3(2.0f, 3.5f, 3.0f),
+                          glm::vec3(0.125f, 1.0625f, 0.0f), glm::vec3(64.0f)}) {
+      ProbeCase c;
+      push(c.inputs, hdr);
+      p.cases.push_back(c);
+    }
+    probes.push_back(p);
+  }
+  // An impulse in the middle of 17 texels: the output is the kernel, along a row for the
+  // horizontal pass and down a column for the vertical one.
+  for (bool horizontal : {true, false}) {
+    FunctionProbe p = lab5_pass("blur.frag", horizontal ? "blur/horizontal" : "blur/vertical",
+                                horizontal ? "u_horizontal = true, along a row" : "u_horizontal = false, down a column",
+                                {{"u_bloom", T::Vec3}}, {{"u_horizontal", true, horizontal ? 1.0f : 0.0f}});
+    p.column = !horizontal;
+    for (int i = 0; i < 17; ++i) {
+      ProbeCase c;
+      push(c.inputs, i == 8 ? glm::vec3(1.0f, 0.5f, 0.25f) : glm::vec3(0.0f));
+      p.cases.push_back(c);
+    }
+    probes.push_back(p);
+  }
+  struct Composite {
+    const char* id;
+    const char* setting;
+    float gamma;
+    bool postprocess;
+  };
+  for (Composite k : {Composite{"composite/bloom-on", "u_gamma = 2.2, u_postprocess_enabled = true", 2.2f, true},
+                      Composite{"composite/gamma-1.0", "u_gamma = 1.0, u_postprocess_enabled = true", 1.0f, true},
+                      Composite{"composite/bloom-off", "u_gamma = 2.2, u_postprocess_enabled = false", 2.2f, false}}) {
+    FunctionProbe p = lab5_pass("composite.frag", k.id, k.setting, {{"u_hdr", T::Vec3}, {"u_bloom", T::Vec3}},
+                                {{"u_gamma", false, k.gamma}, {"u_postprocess_enabled", true, k.postprocess ? 1.0f : 0.0f}});
+    for (const auto& [hdr, bloom] : {std::pair{glm::vec3(0.0f), glm::vec3(0.0f)},
+                                     std::pair{glm::vec3(0.25f, 0.5f, 1.0f), glm::vec3(0.0f)},
+                                     std::pair{glm::vec3(0.5f, 0.25f, 0.125f), glm::vec3(0.25f)},
+                                     std::pair{glm::vec3(1.0f), glm::vec3(0.5f, 1.0f, 2.0f)},
+                                     std::pair{glm::vec3(4.0f, 2.0f, 1.0f), glm::vec3(1.0f, 0.5f, 0.25f)},
+                                     std::pair{glm::vec3(0.0f), glm::vec3(2.0f)},
+                                     std::pair{glm::vec3(16.0f, 8.0f, 4.0f), glm::vec3(0.125f, 0.0f, 8.0f)}}) {
+      ProbeCase c;
+      push(c.inputs, hdr);
+      push(c.inputs, bloom);
+      p.cases.push_back(c);
+    }
+    probes.push_back(p);
+  }
+  return probes;
+}
+
 const std::map<int, std::vector<FunctionProbe>>& probe_table() {
-  static const std::map<int, std::vector<FunctionProbe>> table = {{2, make_lab2()}, {3, make_lab3()}};
+  static const std::map<int, std::vector<FunctionProbe>> table = {{2, make_lab2()}, {3, make_lab3()}, {5, make_lab5()}};
   return table;
 }
 
@@ -312,8 +386,10 @@ std::string light_text(const float* v) {
   return text + ")";
 }
 
-std::string call_text(const FunctionProbe& probe, const ProbeCase& c) {
-  std::string text = probe.function + "(";
+std::string call_text(const FunctionProbe& probe, size_t index) {
+  const ProbeCase& c = probe.cases[index];
+  // A pass: where it writes, with what its samplers hold there ("bright.frag at texel 3 (u_hdr = ...)").
+  std::string text = probe.pass ? probe.file + " at texel " + std::to_string(index) + " (" : probe.function + "(";
   const float* at = c.inputs.data();
   for (size_t i = 0; i < probe.arguments.size(); ++i) {
     const ProbeArgument& a = probe.arguments[i];
@@ -351,7 +427,12 @@ bool near(double a, double b) { return std::abs(a - b) <= kShapeTolerance * std:
 
 }  // namespace
 
-std::string FunctionProbe::title() const { return setting.empty() ? function : function + " (" + setting + ")"; }
+std::string FunctionProbe::title() const {
+  const std::string& name = pass ? file : function;
+  return setting.empty() ? name : name + " (" + setting + ")";
+}
+
+std::string FunctionProbe::part() const { return pass ? file : function; }
 
 const std::vector<FunctionProbe>& function_probes(int lab) {
   static const std::vector<FunctionProbe> none;
@@ -529,12 +610,12 @@ ProbeOutcome compare_probe(const FunctionProbe& probe, const ProbeValues& got, c
   o.differing = static_cast<int>(differing.size());
   if (differing.empty()) {
     o.status = kProbeAgrees;
-    o.message = probe.title() + ": agrees at all " + std::to_string(o.total) + " inputs";
+    o.message = probe.title() + ": agrees at all " + std::to_string(o.total) + (probe.pass ? " texels" : " inputs");
     return o;
   }
   o.status = kProbeDiffers;
   const size_t first = differing.front();
-  o.first = call_text(probe, probe.cases[first]) + " = " + value_text(probe, got.values[first]) +
+  o.first = call_text(probe, first) + (probe.pass ? " writes " : " = ") + value_text(probe, got.values[first]) +
             (probe.cases[first].finite_only ? ", expected a finite value" : ", expected " + value_text(probe, expected[first]));
 
   // The shape of the difference, over the differing values compared.
@@ -607,9 +688,9 @@ ProbeOutcome compare_probe(const FunctionProbe& probe, const ProbeValues& got, c
         inner_cases = true;
         inner_agree = inner_agree && !differs[i];
       }
-    if (inner_cases && inner_agree) o.shape = "only where an argument is 0 or 1";
+    if (!probe.pass && inner_cases && inner_agree) o.shape = "only where an argument is 0 or 1";
   }
-  o.message = o.first + "; " + std::to_string(o.differing) + " of " + std::to_string(o.total) + " inputs differ" +
+  o.message = o.first + "; " + std::to_string(o.differing) + " of " + std::to_string(o.total) + (probe.pass ? " texels differ" : " inputs differ") +
               (o.shape.empty() ? "" : ", " + o.shape);
   if (!probe.setting.empty()) o.message += " (" + probe.setting + ")";
   return o;
@@ -617,6 +698,7 @@ ProbeOutcome compare_probe(const FunctionProbe& probe, const ProbeValues& got, c
 
 nlohmann::json probe_outcome_json(const ProbeOutcome& o) {
   nlohmann::json out = {{"id", o.probe->id},     {"function", o.probe->function}, {"file", o.probe->file},
+                        {"part", o.probe->part()},
                         {"status", o.status},    {"differing", o.differing},      {"total", o.total},
                         {"message", o.message}};
   if (!o.probe->setting.empty()) out["setting"] = o.probe->setting;
@@ -677,15 +759,19 @@ std::vector<std::string> probe_feedback(const std::vector<ProbeOutcome>& probes,
   std::vector<std::string> out;
   int agree = 0;
   for (const ProbeOutcome& p : probes) {
-    if (p.status == kProbeDiffers) out.push_back("Your function " + p.message);
+    if (p.status == kProbeDiffers) out.push_back((p.probe->pass ? "Your pass " : "Your function ") + p.message);
     agree += p.status == kProbeAgrees;
   }
   if (out.empty() && a_check_failed && agree > 0 && agree == static_cast<int>(probes.size())) {
     std::string files;
     for (const ProbeOutcome& p : probes)
       if (files.find(p.probe->file) == std::string::npos) files += (files.empty() ? "" : " and ") + p.probe->file;
-    out.push_back("Every probed function of " + files + " agrees with the reference solution's at all its inputs: "
-                  "look for the mistake where they are called.");
+    if (probes.front().probe->pass)
+      out.push_back("Each of " + files + ", drawn alone, writes what the reference solution's does at every "
+                    "probed texel: look for the mistake elsewhere (custom_effect.frag, or a setting the probes do not draw).");
+    else
+      out.push_back("Every probed function of " + files + " agrees with the reference solution's at all its inputs: "
+                    "look for the mistake where they are called.");
   }
   return out;
 }

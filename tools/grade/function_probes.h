@@ -1,6 +1,7 @@
 #pragma once
 // Function probes: where a lab's starter declares functions with fixed signatures (lab 2's
-// BRDF terms, lab 3's falloff and tone map), the grader's render worker evaluates the
+// BRDF terms, lab 3's falloff and tone map), or its files are whole passes (lab 5's bright
+// pass, blur and composite, each drawn alone on a few texels), the grader's render worker evaluates the
 // submission's functions at fixed inputs in a small off-screen pass (probe_pass.h) and the
 // grader compares the values with the reference solution's, made with the references
 // (`--update-references` writes them to references/probes.json, as numbers: no formula
@@ -53,7 +54,14 @@ struct FunctionProbe {
   ProbeType result = ProbeType::Float;
   std::vector<ProbeUniform> uniforms;
   std::vector<ProbeCase> cases;
-  std::string title() const;  // "distribution_ggx" or "light_radiance (u_attenuation_model = 1)"
+  // A pass probe (lab 5, whose files are whole passes): the lab's own `file` drawn with
+  // fullscreen.vert over one texel per case, each argument a sampler it reads (u_hdr, u_bloom)
+  // holding the case's value at that texel; down a column where `column` (a vertical blur).
+  // Its function is "main".
+  bool pass = false;
+  bool column = false;
+  std::string title() const;  // "distribution_ggx", "light_radiance (u_attenuation_model = 1)", "bright.frag (...)"
+  std::string part() const;   // what holds a difference, for naming: the function, or a pass's file
 };
 
 // Floats one case of a probe holds at most: the probe shaders read KIT_PROBE_TEXELS texels.

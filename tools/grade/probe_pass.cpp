@@ -8,6 +8,8 @@
 #include "gl/gl_flavour.h"
 #include "gl/gl_objects.h"
 #include "gl/shader_source.h"
+#include "gbuffer_layout.h"  // KIT_UNIT_*
+#include "render/renderer.h"  // set_resource_bindings
 
 namespace kit::grade {
 
@@ -62,6 +64,46 @@ ProbeValues draw_probe(const FunctionProbe& probe, const Program& program, const
   return out;
 }
 
+// A pass probe (function_probes.h, FunctionProbe::pass): the lab's own pass over one texel
+// per case, its samplers' textures holding the cases' values (RGBA16F, as the passes' own).
+ProbeValues draw_pass_probe(const FunctionProbe& probe, const Program& program, const FullscreenTriangle& triangle) {
+  const int n = static_cast<int>(probe.cases.size());
+  const int width = probe.column ? 1 : n, height = probe.column ? n : 1;
+  // The target first: making a texture binds it to the active unit, where an input may be.
+  Texture2D values(width, height, kProbeFormat);
+  Framebuffer target;
+  target.attach_color(0, values);
+  target.set_draw_buffers(1);
+  if (const std::string why = target.incomplete_reason(); !why.empty()) throw Error("pass probes: the target is " + why);
+  program.use();
+  std::vector<std::unique_ptr<Texture2D>> inputs;
+  size_t offset = 0;
+  for (const ProbeArgument& a : probe.arguments) {
+    std::vector<float> texels(static_cast<size_t>(n) * 4, 0.0f);
+    for (size_t i = 0; i < static_cast<size_t>(n); ++i)
+      for (size_t k = 0; k < 3; ++k) texels[i * 4 + k] = probe.cases[i].inputs.at(offset + k);
+    inputs.push_back(std::make_unique<Texture2D>(width, height, TextureFormat{GL_RGBA16F, GL_RGBA, GL_FLOAT}, texels.data()));
+    offset += 3;
+  }
+  // Bound once all are made (each is made on the active unit).
+  for (size_t i = 0; i < inputs.size(); ++i) inputs[i]->bind(probe.arguments[i].name == "u_bloom" ? KIT_UNIT_BLOOM : KIT_UNIT_HDR);
+  program.set("u_resolution", glm::vec2(static_cast<float>(width), static_cast<float>(height)));
+  for (const ProbeUniform& u : probe.uniforms) {
+    if (u.integer) program.set(u.name, static_cast<int>(u.value));
+    else program.set(u.name, u.value);
+  }
+  triangle.pass(program, target, width, height);
+  ProbeValues out;
+  out.values.resize(static_cast<size_t>(n));
+  target.bind();
+  glReadBuffer(GL_COLOR_ATTACHMENT0);
+  read_colour_pixels_as_float(width, height, &out.values[0].x);
+  if (const GLenum error = glGetError(); error != GL_NO_ERROR)
+    throw Error("pass probes: GL error " + std::to_string(error) + " while probing " + probe.file);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  return out;
+}
+
 }  // namespace
 
 std::map<std::string, ProbeValues> run_function_probes(const Stage& stage, const std::filesystem::path& lab_root,
@@ -71,7 +113,19 @@ std::map<std::string, ProbeValues> run_function_probes(const Stage& stage, const
   if (probes.empty()) return out;
   FullscreenTriangle triangle;
   std::map<std::string, std::vector<const FunctionProbe*>> by_shader;
-  for (const FunctionProbe& p : probes) by_shader[p.shader].push_back(&p);
+  std::map<std::string, std::vector<const FunctionProbe*>> passes;  // by the lab's file
+  for (const FunctionProbe& p : probes) (p.pass ? passes : by_shader)[p.shader].push_back(&p);
+  for (const auto& [file, list] : passes) {
+    std::unique_ptr<Program> program;
+    try {
+      program = std::make_unique<Program>(stage_library(stage, lab_root), "fullscreen.vert", file);
+      set_resource_bindings(*program);
+    } catch (const Error& e) {
+      for (const FunctionProbe* p : list) out[p->id].error = first_line(e.what());
+      continue;
+    }
+    for (const FunctionProbe* p : list) out[p->id] = draw_pass_probe(*p, *program, triangle);
+  }
   for (const auto& [shader, list] : by_shader) {
     ShaderLibrary library = stage_library(stage, lab_root);
     // Every call in one program first: one build where the files declare every function.
