@@ -581,6 +581,26 @@ TEST(Grader, ZipWithParentEntriesIsRefused) {
   expect_zero(d, 2, "invalid_files", "starts with '-'");
 }
 
+// Lab 5's pass probes in the class summary: each pass counted apart by its file, though every
+// one is a main() (witness: counted by function name, the two would be one row of 2).
+TEST(Grader, ClassSummaryCountsEachPassApart) {
+  fs::path dir = kit::test::temp_dir("grader-batch-passes");
+  fs::path in = dir / "submissions", out = dir / "results";
+  copy_lab("solutions", 5, in / "frank");
+  edit(in / "frank" / "05-postprocess/bright.frag", "luminance > u_bloom_threshold ? c : vec3(0.0)", "c");
+  copy_lab("solutions", 5, in / "grace");
+  edit(in / "grace" / "05-postprocess/blur.frag", "(u_horizontal ? vec2(1.0, 0.0) : vec2(0.0, 1.0))", "vec2(1.0, 0.0)");
+  std::string output;
+  ASSERT_EQ(kit::test::run(kit::test::tool("kit-grade") + " --batch " + quoted(in) + " --out " + quoted(out) + " --labs 5",
+                           &output), 0) << output;
+  const std::string summary = read_file(out / "class-summary.csv");
+  EXPECT_NE(summary.find("5,function,bright.frag,bright.frag,1,2\n"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("5,function,blur.frag,blur.frag,1,2\n"), std::string::npos) << summary;
+  EXPECT_EQ(summary.find("5,function,main,"), std::string::npos) << summary;
+  EXPECT_NE(read_file(out / "class-summary.html").find("<tr><td>main() (the whole pass)</td><td>blur.frag</td>"),
+            std::string::npos);
+}
+
 // A batch: one result folder per submission, a gradebook, the class summary, and a second
 // run that skips what is already graded.
 TEST(Grader, BatchWritesAGradebookAndResumes) {
