@@ -749,13 +749,13 @@ void Renderer::measure_volume_evidence() {
   const int measured = std::min(volumes, kEvidenceLights);
   std::vector<GLuint> queries(static_cast<size_t>(measured) * kCounts);
   glGenQueries(static_cast<GLsizei>(queries.size()), queries.data());
-  std::vector<int> light_index(static_cast<size_t>(measured));
-  const float circumradius = enclosing_sphere_circumradius(kLightVolumeSubdivisions);
+  std::vector<int> number(static_cast<size_t>(measured));  // each measured light's in the scene's list
+  static const float circumradius = enclosing_sphere_circumradius(kLightVolumeSubdivisions);
   for (int m = 0; m < measured; ++m) {
     // Evenly spread over the volume lights, the first and the last included.
     const int i = measured == 1 ? 0 : static_cast<int>((static_cast<int64_t>(m) * (volumes - 1)) / (measured - 1));
     const int light = directional_count_ + i;
-    light_index[static_cast<size_t>(m)] = light;
+    number[static_cast<size_t>(m)] = frame_light_numbers_[static_cast<size_t>(light)];
     auto count = [&](Count which, const Program& program, const LightVolumeState& state, int mode) {
       set_frame_uniforms(program);
       program.set("u_volume_light_offset", light);
@@ -792,14 +792,14 @@ void Renderer::measure_volume_evidence() {
     e.shaded_wrong += state_off;
     if (missing + extra > worst_volume) {
       worst_volume = missing + extra;
-      e.worst_volume_light = frame_light_numbers_[static_cast<size_t>(light_index[static_cast<size_t>(m)])];
+      e.worst_volume_light = number[static_cast<size_t>(m)];
       e.worst_footprint = c[kFootprint];
       e.worst_missing = missing;
       e.worst_extra = extra;
     }
     if (state_off > worst_state) {
       worst_state = state_off;
-      e.worst_state_light = frame_light_numbers_[static_cast<size_t>(light_index[static_cast<size_t>(m)])];
+      e.worst_state_light = number[static_cast<size_t>(m)];
       e.worst_must_shade = c[kMustShade];
       e.worst_shaded = c[kShaded];
     }

@@ -60,38 +60,30 @@ MistakeSignatures load_mistake_signatures(const std::filesystem::path& file) {
 double signature_similarity(const std::map<std::string, std::vector<float>>& a,
                             const std::map<std::string, std::vector<float>>& b) {
   double dot = 0.0, aa = 0.0, bb = 0.0;
-  const auto squares = [](const std::vector<float>& v) {
-    double sum = 0.0;
-    for (float x : v) sum += static_cast<double>(x) * x;
-    return sum;
+  const auto pair = [&](double x, double y) {
+    dot += x * y;
+    aa += x * x;
+    bb += y * y;
   };
   for (const auto& [key, va] : a) {
     auto it = b.find(key);
-    if (it == b.end()) {
-      aa += squares(va);
+    if (it == b.end() || va.empty() || it->second.empty()) {
+      for (float x : va) aa += static_cast<double>(x) * x;
+      if (it != b.end())
+        for (float y : it->second) bb += static_cast<double>(y) * y;
       continue;
     }
+    // Over the signature both have, then the failed flags (each vector's last value): every
+    // value where the lengths agree; where one side has more (lab 7's volume evidence, which
+    // a browser cannot count), those are left out.
     const std::vector<float>& vb = it->second;
-    if (va.empty() || vb.empty() || va.size() == vb.size()) {
-      for (size_t i = 0; i < std::min(va.size(), vb.size()); ++i) dot += static_cast<double>(va[i]) * vb[i];
-      aa += squares(va);
-      bb += squares(vb);
-      continue;
-    }
-    // One side has more (lab 7's volume evidence, which a browser cannot count): compare the
-    // signature both have, then the failed flags (each vector's last value).
     const size_t n = std::min(va.size(), vb.size());
-    for (size_t i = 0; i + 1 < n; ++i) {
-      dot += static_cast<double>(va[i]) * vb[i];
-      aa += static_cast<double>(va[i]) * va[i];
-      bb += static_cast<double>(vb[i]) * vb[i];
-    }
-    dot += static_cast<double>(va.back()) * vb.back();
-    aa += static_cast<double>(va.back()) * va.back();
-    bb += static_cast<double>(vb.back()) * vb.back();
+    for (size_t i = 0; i + 1 < n; ++i) pair(va[i], vb[i]);
+    pair(va.back(), vb.back());
   }
   for (const auto& [key, vb] : b)
-    if (!a.count(key)) bb += squares(vb);
+    if (!a.count(key))
+      for (float y : vb) bb += static_cast<double>(y) * y;
   return aa > 0.0 && bb > 0.0 ? dot / std::sqrt(aa * bb) : 0.0;
 }
 

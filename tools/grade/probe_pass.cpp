@@ -30,6 +30,49 @@ std::string first_line(const std::string& text) {
   return line;
 }
 
+// What a probe draws into: one float RGBA texel per case, `probe.column` deciding its shape.
+// Made before the probe's inputs are bound: making a texture binds it to the active unit.
+class ProbeTarget {
+ public:
+  explicit ProbeTarget(const FunctionProbe& probe)
+      : probe_(probe),
+        width_(probe.column ? 1 : static_cast<int>(probe.cases.size())),
+        height_(probe.column ? static_cast<int>(probe.cases.size()) : 1),
+        values_(width_, height_, kProbeFormat) {
+    target_.attach_color(0, values_);
+    target_.set_draw_buffers(1);
+    if (const std::string why = target_.incomplete_reason(); !why.empty()) throw Error(kind() + ": the target is " + why);
+  }
+  int width() const { return width_; }
+  int height() const { return height_; }
+
+  // Sets the probe's uniforms on `program` (in use, its inputs bound), draws it over the
+  // target and reads the values back.
+  ProbeValues draw(const Program& program, const FullscreenTriangle& triangle) const {
+    for (const ProbeUniform& u : probe_.uniforms) {
+      if (u.integer) program.set(u.name, static_cast<int>(u.value));
+      else program.set(u.name, u.value);
+    }
+    triangle.pass(program, target_, width_, height_);
+    ProbeValues out;
+    out.values.resize(probe_.cases.size());
+    target_.bind();
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    read_colour_pixels_as_float(width_, height_, &out.values[0].x);
+    if (const GLenum error = glGetError(); error != GL_NO_ERROR)
+      throw Error(kind() + ": GL error " + std::to_string(error) + " while probing " + probe_.part());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return out;
+  }
+
+ private:
+  std::string kind() const { return probe_.pass ? "pass probes" : "function probes"; }
+  const FunctionProbe& probe_;
+  int width_, height_;
+  Texture2D values_;
+  Framebuffer target_;
+};
+
 ProbeValues draw_probe(const FunctionProbe& probe, const Program& program, const FullscreenTriangle& triangle) {
   const int width = static_cast<int>(probe.cases.size());
   std::vector<float> texels(static_cast<size_t>(width) * kProbeTexels * 4, 0.0f);
@@ -39,69 +82,33 @@ ProbeValues draw_probe(const FunctionProbe& probe, const Program& program, const
       texels[(k / 4 * static_cast<size_t>(width) + static_cast<size_t>(x)) * 4 + k % 4] = in[k];
   }
   Texture2D inputs(width, kProbeTexels, kProbeFormat, texels.data());
-  Texture2D values(width, 1, kProbeFormat);
-  Framebuffer target;
-  target.attach_color(0, values);
-  target.set_draw_buffers(1);
-  if (const std::string why = target.incomplete_reason(); !why.empty()) throw Error("function probes: the target is " + why);
+  const ProbeTarget target(probe);
   program.use();
   inputs.bind(0);
   program.set("u_probe_inputs", 0);
   program.set("u_probe_function", probe.index);
-  for (const ProbeUniform& u : probe.uniforms) {
-    if (u.integer) program.set(u.name, static_cast<int>(u.value));
-    else program.set(u.name, u.value);
-  }
-  triangle.pass(program, target, width, 1);
-  ProbeValues out;
-  out.values.resize(static_cast<size_t>(width));
-  target.bind();
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  read_colour_pixels_as_float(width, 1, &out.values[0].x);
-  if (const GLenum error = glGetError(); error != GL_NO_ERROR)
-    throw Error("function probes: GL error " + std::to_string(error) + " while probing " + probe.function);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  return out;
+  return target.draw(program, triangle);
 }
 
 // A pass probe (function_probes.h, FunctionProbe::pass): the lab's own pass over one texel
 // per case, its samplers' textures holding the cases' values (RGBA16F, as the passes' own).
 ProbeValues draw_pass_probe(const FunctionProbe& probe, const Program& program, const FullscreenTriangle& triangle) {
-  const int n = static_cast<int>(probe.cases.size());
-  const int width = probe.column ? 1 : n, height = probe.column ? n : 1;
-  // The target first: making a texture binds it to the active unit, where an input may be.
-  Texture2D values(width, height, kProbeFormat);
-  Framebuffer target;
-  target.attach_color(0, values);
-  target.set_draw_buffers(1);
-  if (const std::string why = target.incomplete_reason(); !why.empty()) throw Error("pass probes: the target is " + why);
-  program.use();
+  const ProbeTarget target(probe);
+  const size_t n = probe.cases.size();
   std::vector<std::unique_ptr<Texture2D>> inputs;
   size_t offset = 0;
-  for (const ProbeArgument& a : probe.arguments) {
-    std::vector<float> texels(static_cast<size_t>(n) * 4, 0.0f);
-    for (size_t i = 0; i < static_cast<size_t>(n); ++i)
+  for (size_t a = 0; a < probe.arguments.size(); ++a, offset += 3) {
+    std::vector<float> texels(n * 4, 0.0f);
+    for (size_t i = 0; i < n; ++i)
       for (size_t k = 0; k < 3; ++k) texels[i * 4 + k] = probe.cases[i].inputs.at(offset + k);
-    inputs.push_back(std::make_unique<Texture2D>(width, height, TextureFormat{GL_RGBA16F, GL_RGBA, GL_FLOAT}, texels.data()));
-    offset += 3;
+    inputs.push_back(std::make_unique<Texture2D>(target.width(), target.height(),
+                                                 TextureFormat{GL_RGBA16F, GL_RGBA, GL_FLOAT}, texels.data()));
   }
+  program.use();
   // Bound once all are made (each is made on the active unit).
-  for (size_t i = 0; i < inputs.size(); ++i) inputs[i]->bind(probe.arguments[i].name == "u_bloom" ? KIT_UNIT_BLOOM : KIT_UNIT_HDR);
-  program.set("u_resolution", glm::vec2(static_cast<float>(width), static_cast<float>(height)));
-  for (const ProbeUniform& u : probe.uniforms) {
-    if (u.integer) program.set(u.name, static_cast<int>(u.value));
-    else program.set(u.name, u.value);
-  }
-  triangle.pass(program, target, width, height);
-  ProbeValues out;
-  out.values.resize(static_cast<size_t>(n));
-  target.bind();
-  glReadBuffer(GL_COLOR_ATTACHMENT0);
-  read_colour_pixels_as_float(width, height, &out.values[0].x);
-  if (const GLenum error = glGetError(); error != GL_NO_ERROR)
-    throw Error("pass probes: GL error " + std::to_string(error) + " while probing " + probe.file);
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  return out;
+  for (size_t a = 0; a < inputs.size(); ++a) inputs[a]->bind(probe.arguments[a].name == "u_bloom" ? KIT_UNIT_BLOOM : KIT_UNIT_HDR);
+  program.set("u_resolution", glm::vec2(static_cast<float>(target.width()), static_cast<float>(target.height())));
+  return target.draw(program, triangle);
 }
 
 }  // namespace
