@@ -57,6 +57,18 @@ void set_resource_bindings(const Program& program) {
   if (lights != GL_INVALID_INDEX) glUniformBlockBinding(program.id(), lights, KIT_BLOCK_LIGHTS);
 }
 
+int sampler_unit(const std::string& name) {
+  for (const auto& [sampler, unit] : kSamplerUnits)
+    if (name == sampler) return unit;
+  return -1;
+}
+
+std::set<int> sampler_units() {
+  std::set<int> units;
+  for (const auto& [sampler, unit] : kSamplerUnits) units.insert(unit);
+  return units;
+}
+
 Program make_program(const ShaderLibrary& library, const std::string& vs, const std::string& fs) {
   Program p(library, vs, fs);
   set_resource_bindings(p);

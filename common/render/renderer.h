@@ -7,7 +7,9 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "render/forward_pass.h"
 #include "render/gbuffer.h"
@@ -100,6 +102,11 @@ void set_frame_uniforms(const Program& program, const FrameCamera& camera, const
 // Points every sampler uniform the framework binds at its texture unit, and every
 // uniform block at its binding point (gbuffer_layout.h).
 void set_resource_bindings(const Program& program);
+// The texture unit of a sampler uniform the framework binds ("u_irradiance"), or -1.
+int sampler_unit(const std::string& name);
+// Every texture unit the framework binds a sampler to (the geometry pass's material textures
+// share units with the G-buffer's).
+std::set<int> sampler_units();
 // A vertex + fragment program from `library` with the sampler units set.
 Program make_program(const ShaderLibrary& library, const std::string& vertex, const std::string& fragment);
 

@@ -545,15 +545,26 @@ dvec3 irradiance(const Image& env, dvec3 n) {
   return sum;
 }
 
-dvec3 split_sum_radiance(const Image& env, const SurfaceSample& s, dvec3 camera_position, const Guards& guards) {
-  const dvec3 n = glm::normalize(s.normal);
-  const dvec3 v = glm::normalize(camera_position - s.position);
-  const dvec3 r = glm::reflect(-v, n);
-  const dvec3 table = brdf_table(std::max(glm::dot(n, v), guards.min_n_dot_v), s.roughness, guards);
+SplitSumLookups split_sum_lookups(const SurfaceSample& s, dvec3 camera_position, const Guards& guards) {
+  SplitSumLookups at;
+  at.n = glm::normalize(s.normal);
+  at.v = glm::normalize(camera_position - s.position);
+  at.r = glm::reflect(-at.v, at.n);
+  at.n_dot_v = std::max(glm::dot(at.n, at.v), guards.min_n_dot_v);
+  return at;
+}
+
+dvec3 split_sum_combination(const SurfaceSample& s, dvec3 table, dvec3 prefiltered, dvec3 irradiance) {
   const dvec3 f0 = glm::mix(dvec3(KIT_DIELECTRIC_F0), s.albedo, s.metallic);
-  const dvec3 specular = (f0 * table.x + table.y) * prefiltered_radiance(env, r, s.roughness, guards);
-  const dvec3 diffuse = (1.0 - s.metallic) * s.albedo * (1.0 - f0) * table.z * irradiance(env, n) / KIT_PI;
+  const dvec3 specular = (f0 * table.x + table.y) * prefiltered;
+  const dvec3 diffuse = (1.0 - s.metallic) * s.albedo * (1.0 - f0) * table.z * irradiance / KIT_PI;
   return specular + diffuse;
+}
+
+dvec3 split_sum_radiance(const Image& env, const SurfaceSample& s, dvec3 camera_position, const Guards& guards) {
+  const SplitSumLookups at = split_sum_lookups(s, camera_position, guards);
+  return split_sum_combination(s, brdf_table(at.n_dot_v, s.roughness, guards), prefiltered_radiance(env, at.r, s.roughness, guards),
+                               irradiance(env, at.n));
 }
 
 }  // namespace kit::reference

@@ -170,4 +170,15 @@ class IrradianceIntegral {
 // reflected_radiance_integral; emission not included.
 dvec3 split_sum_radiance(const Image& env, const SurfaceSample& s, dvec3 camera_position, const Guards& guards = {});
 
+// The same in two steps, for maps other than an environment's (the grader's probes of ibl.frag,
+// function_probes.h): where the three factors are looked up (n.v already floored at
+// min_n_dot_v, as the table is read), then their combination.
+struct SplitSumLookups {
+  dvec3 n, v, r;
+  double n_dot_v = 0.0;
+};
+SplitSumLookups split_sum_lookups(const SurfaceSample& s, dvec3 camera_position, const Guards& guards = {});
+// (F0 A + B) prefiltered + (1 - metallic) albedo (1 - F0) C irradiance / pi, (A, B, C) = table.
+dvec3 split_sum_combination(const SurfaceSample& s, dvec3 table, dvec3 prefiltered, dvec3 irradiance);
+
 }  // namespace kit::reference

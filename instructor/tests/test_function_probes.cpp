@@ -17,6 +17,8 @@
 #include <vector>
 
 #include "cpu_reference.h"
+#include "ibl_reference.h"
+#include "images/texture_prepare.h"  // srgb_to_linear
 #include "function_probes.h"
 #include "gbuffer_layout.h"
 #include "kit_test.h"
@@ -36,6 +38,9 @@ using grade::ProbeType;
 // alpha^2 in float and loses 1.4e-4 (test_lab_equations.cpp, kMinHdrAgreement, says more);
 // the catalogued mistakes are 1e-2 and more.
 constexpr double kCpuRelativeTolerance = 5e-4;
+// Values through an 8-bit sRGB decode, which GL lets an implementation approximate
+// (FunctionProbe::srgb_decoded): llvmpipe's is 0.17 % low at 200/255.
+constexpr double kCpuSrgbTolerance = 1e-2;
 
 nlohmann::json probes_reference() { return grade::read_probes_reference(grade::default_references_dir()); }
 
@@ -104,9 +109,120 @@ ref::dvec3 cpu_value(const FunctionProbe& probe, const std::vector<float>& in, b
   return ref::dvec3(0.0);
 }
 
+// What a map of a lab 6 pass probe returns at (s, t) and level `level` (function_probes.h,
+// ProbeMap): its value, its coordinates, or its value times 1 + the level.
+ref::dvec3 probe_map_value(const grade::ProbeMap& map, ref::dvec2 st, double level) {
+  const ref::dvec3 value(map.value);
+  switch (map.fill) {
+    case grade::ProbeMap::Fill::Coordinates: return {st.x, st.y, value.z};
+    case grade::ProbeMap::Fill::Levels: return value * (1.0 + level);
+    default: return value;
+  }
+}
+
+// GL's (s, t) of direction d in the equirectangular convention (ibl_reference.h: v from the
+// top row; GL's t from the bottom).
+ref::dvec2 equirect_st(ref::dvec3 d) {
+  const ref::dvec2 uv = ref::equirect_uv(d);
+  return {uv.x, 1.0 - uv.y};
+}
+
+// A lab 6 probe of ibl.frag from ibl_reference.h's split sum, its three factors read from the
+// probe's maps where the split sum looks them up: the BRDF table's texel i holds the grid
+// value i / (KIT_BRDF_LUT_SIZE - 1) (handouts/06-ibl.md), the prefiltered map's level is the
+// roughness times KIT_PREFILTER_LEVELS - 1.
+std::vector<ref::dvec3> cpu_ibl_values(const FunctionProbe& probe) {
+  ref::dvec3 camera(0.0);
+  for (const grade::ProbeUniform& u : probe.uniforms)
+    if (u.name == "u_camera_position") camera = ref::dvec3(u.vec3);
+  const grade::ProbeMap* irradiance = nullptr;
+  const grade::ProbeMap* prefiltered = nullptr;
+  const grade::ProbeMap* table = nullptr;
+  for (const grade::ProbeMap& m : probe.maps)
+    (m.sampler == "u_irradiance" ? irradiance : m.sampler == "u_prefiltered" ? prefiltered : table) = &m;
+  std::vector<ref::dvec3> values;
+  for (const grade::ProbeCase& c : probe.cases) {
+    Arguments a{c.inputs};
+    ref::SurfaceSample s;
+    s.position = a.vec3();
+    s.normal = a.vec3();
+    s.albedo = a.vec3();
+    const ref::dvec3 material = a.vec3();
+    s.metallic = material.x;
+    s.roughness = material.y;
+    s.covered = true;
+    const ref::SplitSumLookups at = ref::split_sum_lookups(s, camera);
+    const auto table_coordinate = [](double grid) { return (grid * (KIT_BRDF_LUT_SIZE - 1) + 0.5) / KIT_BRDF_LUT_SIZE; };
+    const ref::dvec3 abc = probe_map_value(*table, {table_coordinate(at.n_dot_v), table_coordinate(s.roughness)}, 0.0);
+    const ref::dvec3 p = probe_map_value(*prefiltered, equirect_st(at.r), s.roughness * (KIT_PREFILTER_LEVELS - 1));
+    const ref::dvec3 e = probe_map_value(*irradiance, equirect_st(at.n), 0.0);
+    values.push_back(ref::split_sum_combination(s, abc, p, e));
+  }
+  return values;
+}
+
+// The texel a geometry probe's texture `unit` gives at vertex `v`: nearest, repeating, row
+// 0 at v = 0 (glTF's UVs read the image as loaded), each channel / 255 (colour textures'
+// RGB decoded from sRGB).
+ref::dvec4 probe_texel(const grade::GeometryProbeSetup& setup, int unit, const Vertex& v) {
+  const MaterialTexture& t = setup.material.texture(unit);
+  if (t.image < 0) return ref::dvec4(0.5, 0.5, 1.0, 1.0);  // the framework's flat normal
+  const ImageRgba8& image = setup.images.at(static_cast<size_t>(t.image));
+  const glm::dvec2 uv(t.uv.of(v));
+  const auto wrap = [](double x, int size) {
+    const int i = static_cast<int>(std::floor((x - std::floor(x)) * size));
+    return std::min(i, size - 1);
+  };
+  const unsigned char* texel =
+      &image.pixels[(static_cast<size_t>(wrap(uv.y, image.height)) * image.width + wrap(uv.x, image.width)) * 4];
+  ref::dvec4 out;
+  for (int c = 0; c < 4; ++c) {
+    const double value = texel[c] / 255.0;
+    out[c] = c < 3 && material_texture_is_color(unit) ? srgb_to_linear(value) : value;
+  }
+  return out;
+}
+
+// A lab 1 or 4 geometry probe from the CPU reference (cpu_reference.h: base_color,
+// normal_matrix, world_tangent_frame, mapped_normal) and glTF's material definitions.
+std::vector<ref::dvec3> cpu_geometry_values(const FunctionProbe& probe) {
+  const grade::GeometryProbeSetup& setup = *probe.geometry;
+  const Material& m = setup.material;
+  const ref::dmat4 model(setup.model), view(setup.view);
+  std::vector<ref::dvec3> values;
+  const int n = static_cast<int>(probe.cases.size());
+  for (int i = 0; i < n; ++i) {
+    const Vertex v = grade::geometry_probe_vertex(probe.cases[static_cast<size_t>(i)].inputs);
+    const ref::dvec4 base = ref::base_color(m, probe_texel(setup, KIT_UNIT_BASE_COLOR, v), ref::vertex_color(v));
+    const ref::dvec4 mr = probe_texel(setup, KIT_UNIT_METALLIC_ROUGHNESS, v);
+    const bool discarded = m.alpha_mode == KIT_ALPHA_MASK && base.a < m.alpha_cutoff;
+    ref::dvec3 value(0.0);
+    switch (setup.attachment) {
+      case KIT_GBUF_POSITION:
+        value = ref::dvec3(glm::inverse(view) * ref::dvec4(ref::dvec3(grade::geometry_probe_view_point(i, n)), 1.0));
+        break;
+      case KIT_GBUF_NORMAL: {
+        const bool mapped = probe.lab == 4 && m.texture(KIT_UNIT_NORMAL_MAP).image >= 0;
+        value = mapped ? ref::mapped_normal(ref::world_tangent_frame(model, ref::dvec3(v.normal), ref::dvec4(v.tangent)),
+                                            ref::dvec3(probe_texel(setup, KIT_UNIT_NORMAL_MAP, v)), m.normal_scale)
+                       : glm::normalize(ref::normal_matrix(model) * ref::dvec3(v.normal));
+        if (setup.back_faces) value = -value;  // glTF: a double-sided material's back faces the other way
+        break;
+      }
+      case KIT_GBUF_ALBEDO: value = setup.alpha ? ref::dvec3(discarded ? 0.0 : base.a, 0.0, 0.0) : ref::dvec3(base); break;
+      case KIT_GBUF_MATERIAL: value = ref::dvec3(m.metallic_factor * mr.b, m.roughness_factor * mr.g, 0.0); break;
+      default: value = ref::dvec3(m.emissive) * ref::dvec3(probe_texel(setup, KIT_UNIT_EMISSIVE, v));
+    }
+    values.push_back(value);
+  }
+  return values;
+}
+
 // A lab 5 pass probe's values from the CPU reference (cpu_reference.h, lab 5), every case at
 // once: the blur's value at a texel depends on its neighbours'.
 std::vector<ref::dvec3> cpu_pass_values(const FunctionProbe& probe) {
+  if (probe.file == "ibl.frag") return cpu_ibl_values(probe);
+  if (probe.geometry) return cpu_geometry_values(probe);
   ref::ShadingSettings settings;
   settings.stage = 5;
   bool horizontal = true;
@@ -157,7 +273,7 @@ int cpu_disagreements(const nlohmann::json& reference, std::string* first, bool 
       const int components = probe.result == ProbeType::Float ? 1 : 3;
       for (int k = 0; k < components; ++k) {
         const double gpu = expected[i][k];
-        if (!probe.cases[i].finite_only && std::abs(cpu[k]) > 1e-3) {
+        if (!probe.cases[i].finite_only && !probe.srgb_decoded && std::abs(cpu[k]) > 1e-3) {
           const double relative = std::abs(gpu - cpu[k]) / std::abs(cpu[k]);
           if (worst && relative > worst_relative) {
             worst_relative = relative;
@@ -168,7 +284,8 @@ int cpu_disagreements(const nlohmann::json& reference, std::string* first, bool 
         }
         const bool bad = probe.cases[i].finite_only
                              ? !std::isfinite(gpu)
-                             : !(std::abs(gpu - cpu[k]) <= kCpuRelativeTolerance * std::abs(cpu[k]) + 1e-7);
+                             : probe.srgb_decoded ? !(std::abs(gpu - cpu[k]) <= kCpuSrgbTolerance * std::abs(cpu[k]) + 2e-3)
+                                                  : !(std::abs(gpu - cpu[k]) <= kCpuRelativeTolerance * std::abs(cpu[k]) + 1e-7);
         if (bad && off++ == 0 && first) {
           std::ostringstream s;
           s << probe.id << " case " << i << " component " << k << ": probes.json " << gpu << ", CPU " << cpu[k];
@@ -227,6 +344,14 @@ std::map<std::string, grade::ProbeOutcome> probe_lab(int lab, const std::filesys
     out[probe.id] = grade::compare_probe(probe, it == values.end() ? grade::ProbeValues{} : it->second,
                                          grade::expected_probe_values(reference, probe));
   }
+  return out;
+}
+
+// The ids of the probes that differ, in order.
+std::vector<std::string> differing(const std::map<std::string, grade::ProbeOutcome>& probes) {
+  std::vector<std::string> out;
+  for (const auto& [id, outcome] : probes)
+    if (outcome.status == grade::kProbeDiffers) out.push_back(id);
   return out;
 }
 
@@ -292,6 +417,58 @@ TEST(FunctionProbes, APassDrawnAloneIsNamedWithItsTexel) {
       {probes.at("bright/threshold-1"), probes.at("blur/vertical")}, true);
   ASSERT_EQ(feedback.size(), 1u);
   EXPECT_EQ(feedback[0].rfind("Your pass bright.frag at texel", 0), 0u) << feedback[0];
+}
+
+}  // namespace
+}  // namespace kit::test
+
+namespace kit::test {
+namespace {
+
+// Lab 6's ibl.frag, drawn four times with its maps filled to show one part each
+// (function_probes.cpp, make_lab6): the solution agrees everywhere; the irradiance looked up
+// at the reflection vector differs only where the maps hold their directions, while a diffuse
+// term without its 1/pi differs wherever the diffuse term shows, and not where only the
+// specular term does (witness: the probes tell the two apart, where the images could not).
+TEST(FunctionProbes, IblProbesTellItsPartsApart) {
+  for (const auto& [id, outcome] : probe_lab(6, kit_root() / "solutions"))
+    EXPECT_EQ(outcome.status, grade::kProbeAgrees) << outcome.message;
+  auto at_r = probe_lab(6, lab_with("irradiance_at_r", "06-ibl", "ibl.frag", "kit_irradiance(n)", "kit_irradiance(reflect(-v, n))"));
+  EXPECT_EQ(differing(at_r), std::vector<std::string>{"ibl/directions"});
+  EXPECT_NE(at_r.at("ibl/directions").message.find("ibl.frag at texel 0 (u_gbuffer_position = (0.5, 0.25, 3)"), std::string::npos)
+      << at_r.at("ibl/directions").message;
+  auto no_pi = probe_lab(6, lab_with("diffuse_no_pi", "06-ibl", "ibl.frag", "kit_irradiance(n) / KIT_PI", "kit_irradiance(n)"));
+  EXPECT_EQ(differing(no_pi), (std::vector<std::string>{"ibl/diffuse", "ibl/directions", "ibl/table"}));
+  EXPECT_NE(no_pi.at("ibl/diffuse").shape.find("(pi)"), std::string::npos) << no_pi.at("ibl/diffuse").message;
+  EXPECT_EQ(no_pi.at("ibl/diffuse").probe->part(), "ibl.frag, diffuse");
+}
+
+}  // namespace
+}  // namespace kit::test
+
+namespace kit::test {
+namespace {
+
+// Labs 1 and 4's geometry pass, one attachment at a time (function_probes.cpp, make_geometry):
+// the solutions agree everywhere; metallic and roughness swapped in out_material differ in
+// the two probes that read it, and the metallic-roughness texture read at the base colour's
+// UV differs only where textures vary by texel (witness: the plain probe's one texel hides a
+// UV, so the two are told apart), each named with the case's vertex attributes.
+TEST(FunctionProbes, GeometryProbesTellAttachmentsAndUvsApart) {
+  for (int lab : {1, 4})
+    for (const auto& [id, outcome] : probe_lab(lab, kit_root() / "solutions"))
+      EXPECT_EQ(outcome.status, grade::kProbeAgrees) << outcome.message;
+  auto swapped = probe_lab(1, lab_with("material_swapped", "01-gbuffer", "gbuffer.frag", "vec4(metallic, roughness, 0.0, 1.0)",
+                                       "vec4(roughness, metallic, 0.0, 1.0)"));
+  EXPECT_EQ(differing(swapped), (std::vector<std::string>{"gbuffer/metallic-roughness", "gbuffer/uv-material"}));
+  EXPECT_NE(swapped.at("gbuffer/metallic-roughness").message.find("gbuffer.frag at texel 0 (a_normal = (0.2, 0.3, 1.2), "
+                                                                  "a_tangent = (1, 0, 0.1, 1)"),
+            std::string::npos)
+      << swapped.at("gbuffer/metallic-roughness").message;
+  EXPECT_EQ(swapped.at("gbuffer/metallic-roughness").probe->part(), "gbuffer.frag, metallic-roughness");
+  auto at_base_uv = probe_lab(1, lab_with("mr_at_base_uv", "01-gbuffer", "gbuffer.frag", "kit_metallic_roughness_uv(v_texcoords)",
+                                          "kit_base_color_uv(v_texcoords)"));
+  EXPECT_EQ(differing(at_base_uv), std::vector<std::string>{"gbuffer/uv-material"});
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "function_probes.h"
 
 #include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <cctype>
@@ -29,6 +30,11 @@ constexpr double kPi = glm::pi<double>();
 // mistake a probe must see, a tone map lifted by 0.004, is 0.4 % of its largest value.
 constexpr double kRelativeTolerance = 2e-3;
 constexpr double kZeroTolerance = 1e-6;
+// The same for a probe whose values went through an sRGB decode (FunctionProbe::srgb_decoded).
+// The catalogued mistakes there (a texel decoded twice, a factor or a vertex colour left
+// out) are 20 % and more.
+constexpr double kSrgbRelativeTolerance = 1e-2;
+constexpr double kSrgbZeroTolerance = 2e-3;
 // A shape fits when every differing value fits it within this (relative).
 constexpr double kShapeTolerance = 1e-2;
 
@@ -337,12 +343,267 @@ std::vector<FunctionProbe> make_lab5() {
   return probes;
 }
 
+// Lab 6's ibl.frag, drawn alone on eight G-buffer texels seen from a camera at the origin,
+// five times: each time its maps are filled so that one part of the pass shows and the
+// others cannot (function_probes.h, ProbeMap). What differs where tells the part apart:
+//   diffuse     the prefiltered map black, the others uniform: the diffuse term's weights;
+//   specular    the irradiance map black, the others uniform: the specular term's weights;
+//   levels      the same, the prefiltered map's value growing with its level: also the
+//               roughness it is looked up at;
+//   directions  both maps their own coordinates: where each is looked up;
+//   table       the BRDF table its own coordinates: at which (n.v, roughness) it is read.
+// Every roughness is a whole prefiltered level (a multiple of 1 / (KIT_PREFILTER_LEVELS - 1)),
+// so trilinear filtering and a GPU's faster blend of levels agree, and the normals and
+// reflection vectors look up coordinates away from the maps' wrap and poles (u and t within
+// [0.25, 0.75]), where bilinear filtering returns a texel's coordinates exactly.
+std::vector<FunctionProbe> make_lab6() {
+  using T = ProbeType;
+  using F = ProbeMap::Fill;
+  static_assert(KIT_PREFILTER_LEVELS == 6, "the roughnesses below are whole levels of 6");
+  struct Texel {
+    glm::vec3 position, normal, albedo;
+    float metallic, roughness;
+  };
+  const Texel texels[] = {
+      {{0.5f, 0.25f, 3.0f}, {0.25f, 0.125f, -1.0f}, {0.75f, 0.5f, 0.25f}, 0.0f, 0.2f},
+      {{-1.0f, 0.5f, 2.0f}, {-0.5f, 0.25f, -1.0f}, {0.25f, 0.5f, 1.0f}, 0.5f, 0.4f},
+      {{2.0f, -0.5f, 4.0f}, {0.0f, 0.0f, -1.0f}, {1.0f, 0.75f, 0.5f}, 1.0f, 0.6f},
+      {{0.25f, -1.0f, 2.5f}, {0.5f, -0.25f, -1.0f}, {0.5f, 0.5f, 0.5f}, 0.0f, 0.8f},
+      {{-2.0f, -0.25f, 3.5f}, {-0.25f, -0.5f, -1.0f}, {0.9f, 0.2f, 0.1f}, 0.5f, 1.0f},
+      {{1.0f, 0.25f, 2.0f}, {0.125f, 0.375f, -1.0f}, {0.1f, 0.9f, 0.3f}, 0.0f, 0.4f},
+      {{-0.5f, -0.5f, 1.5f}, {-0.375f, -0.125f, -1.0f}, {0.95f, 0.65f, 0.55f}, 1.0f, 0.6f},
+      {{1.5f, 0.0f, 5.0f}, {0.375f, 0.25f, -1.0f}, {0.6f, 0.6f, 0.9f}, 0.5f, 0.2f},
+  };
+  const glm::vec3 black(0.0f), sky(0.75f, 0.5f, 0.25f), table(0.5f, 0.25f, 0.875f);
+  struct Part {
+    const char* term;
+    const char* setting;
+    ProbeMap irradiance, prefiltered, brdf_lut;
+  };
+  const Part parts[] = {
+      {"diffuse", "camera at the origin; u_prefiltered black, u_irradiance (0.75, 0.5, 0.25) and u_brdf_lut (0.5, 0.25, 0.875) everywhere",
+       {"u_irradiance", F::Uniform, sky}, {"u_prefiltered", F::Uniform, black}, {"u_brdf_lut", F::Uniform, table}},
+      {"specular", "camera at the origin; u_irradiance black, u_prefiltered (0.75, 0.5, 0.25) and u_brdf_lut (0.5, 0.25, 0.875) everywhere",
+       {"u_irradiance", F::Uniform, black}, {"u_prefiltered", F::Uniform, sky}, {"u_brdf_lut", F::Uniform, table}},
+      {"levels", "camera at the origin; u_irradiance black, u_prefiltered (0.75, 0.5, 0.25) times 1 + its level, u_brdf_lut (0.5, 0.25, 0.875) everywhere",
+       {"u_irradiance", F::Uniform, black}, {"u_prefiltered", F::Levels, sky}, {"u_brdf_lut", F::Uniform, table}},
+      {"directions", "camera at the origin; u_irradiance and u_prefiltered hold their texture coordinates (s, t, 0.5), u_brdf_lut (0.5, 0.25, 0.875) everywhere",
+       {"u_irradiance", F::Coordinates, glm::vec3(0.5f)}, {"u_prefiltered", F::Coordinates, glm::vec3(0.5f)}, {"u_brdf_lut", F::Uniform, table}},
+      {"table", "camera at the origin; u_brdf_lut holds its texture coordinates (s, t, 0.875), u_irradiance and u_prefiltered (0.75, 0.5, 0.25) everywhere",
+       {"u_irradiance", F::Uniform, sky}, {"u_prefiltered", F::Uniform, sky}, {"u_brdf_lut", F::Coordinates, table}},
+  };
+  std::vector<FunctionProbe> probes;
+  for (const Part& part : parts) {
+    FunctionProbe p = probe_of(6, "ibl.frag", "ibl.frag", "main", 0,
+                               {{"u_gbuffer_position", T::Vec3}, {"u_gbuffer_normal", T::Vec3},
+                                {"u_gbuffer_albedo", T::Vec3}, {"u_gbuffer_material", T::Vec3}},
+                               T::Vec3);
+    p.id = std::string("ibl/") + part.term;
+    p.term = part.term;
+    p.setting = part.setting;
+    p.define.clear();
+    p.pass = true;
+    p.maps = {part.irradiance, part.prefiltered, part.brdf_lut};
+    ProbeUniform camera{"u_camera_position"};
+    camera.is_vec3 = true;
+    p.uniforms = {camera};
+    for (const Texel& t : texels) {
+      ProbeCase c;
+      push(c.inputs, t.position);
+      push(c.inputs, t.normal);
+      push(c.inputs, t.albedo);
+      push(c.inputs, glm::vec3(t.metallic, t.roughness, 0.0f));
+      p.cases.push_back(c);
+    }
+    probes.push_back(p);
+  }
+  return probes;
+}
+
+// --- Labs 1 and 4: the geometry pass, one attachment at a time -------------------------------
+
+// A texture for the geometry probes: 4 x 4 texels, each its own colour (RGB from its place,
+// alpha 255), or every one `texel`. One size for all: on llvmpipe a texture of another shape
+// compiles the fragment shader again (tens of milliseconds for lab 4's).
+ImageRgba8 probe_texture(bool distinct, glm::u8vec4 texel = glm::u8vec4(0)) {
+  constexpr int side = 4;
+  ImageRgba8 image{side, side, std::vector<unsigned char>(static_cast<size_t>(side) * side * 4)};
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      const glm::u8vec4 v = distinct ? glm::u8vec4(40 + 50 * x, 30 + 55 * y, 20 + 13 * (4 * x + y), 255) : texel;
+      for (int c = 0; c < 4; ++c) image.pixels[(static_cast<size_t>(y) * side + x) * 4 + c] = v[c];
+    }
+  return image;
+}
+
+// Labs 1 and 4's geometry pass (gbuffer.vert and gbuffer.frag) drawn alone, one probe per
+// attachment and material, each set up so that one part of the pass shows:
+//   position, normal      a rotated, unevenly scaled model seen by a turned camera;
+//   back face             a double-sided material seen from behind;
+//   base colour           a factor, a uniform texture and the vertex colours (not the alpha);
+//   alpha                 a MASK material whose cases lie on both sides of the cutoff;
+//   metallic-roughness    factors and a uniform texture of distinct R, G and B;
+//   emission              a factor, a uniform texture, and a base colour to leave out of it;
+//   texture coordinates   every texture 4 x 4 texels of distinct colours, each read at its
+//                         own UV slot and offset, factors 1 and white vertex colours, the
+//                         model and camera untransformed: only where each texture is
+//                         sampled shows (one probe per attachment);
+//   normal map (lab 4)    a uniform tilted texel, its scale 0.8, the model and camera untransformed;
+//   tangent frame (lab 4) the same under the rotated, unevenly scaled model and a turned
+//                         camera, and half the tangents mirrored (w = -1): only there do the
+//                         frame's transforms and handedness show.
+// Every UV lies at a texel's centre, offsets are whole texels, and the textures are sampled
+// nearest: a texel's value is exact, whatever the filtering.
+std::vector<FunctionProbe> make_geometry(int lab) {
+  using T = ProbeType;
+  struct Attributes {
+    glm::vec3 normal;
+    glm::vec4 tangent, color;
+    glm::vec2 uv0, uv1;
+  };
+  const Attributes cases[] = {
+      {{0.2f, 0.3f, 1.2f}, {1.0f, 0.0f, 0.1f, 1.0f}, {1.0f, 0.8f, 0.6f, 1.0f}, {0.125f, 0.375f}, {0.375f, 0.125f}},
+      {{-0.5f, 0.1f, 0.9f}, {0.9f, 0.3f, 0.0f, -1.0f}, {0.5f, 1.0f, 0.75f, 0.8f}, {0.625f, 0.125f}, {0.875f, 0.375f}},
+      {{0.4f, -0.6f, 0.8f}, {1.0f, 0.2f, -0.3f, 1.0f}, {0.9f, 0.4f, 1.0f, 0.95f}, {0.875f, 0.625f}, {0.125f, 0.625f}},
+      {{0.0f, 0.0f, 1.5f}, {0.8f, -0.5f, 0.2f, -1.0f}, {0.3f, 0.6f, 0.9f, 0.5f}, {0.375f, 0.875f}, {0.625f, 0.875f}},
+      {{-0.3f, -0.4f, 0.6f}, {0.6f, 0.7f, 0.1f, 1.0f}, {1.0f, 1.0f, 1.0f, 1.0f}, {0.125f, 0.875f}, {0.375f, 0.625f}},
+      {{0.7f, 0.2f, 0.5f}, {1.0f, -0.1f, 0.4f, -1.0f}, {0.7f, 0.9f, 0.2f, 0.7f}, {0.625f, 0.625f}, {0.875f, 0.875f}},
+  };
+  const glm::mat4 turned_model =
+      glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, -0.25f, 0.3f)) *
+      glm::rotate(glm::mat4(1.0f), 0.6f, glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f))) *
+      glm::scale(glm::mat4(1.0f), glm::vec3(1.5f, 0.5f, 1.0f));
+  const glm::mat4 turned_view = glm::lookAt(glm::vec3(0.4f, 0.3f, 2.0f), glm::vec3(0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+  // The plain materials' one-texel textures, and the texture-coordinate probes' offsets.
+  const glm::u8vec4 base_texel(200, 150, 100, 153), mr_texel(60, 100, 200, 255), emissive_texel(180, 120, 60, 255),
+      normal_texel(180, 100, 230, 255);
+  struct Part {
+    const char* id;
+    const char* term;
+    const char* setting;
+    int attachment;
+    bool alpha = false, back_faces = false, white = false, uv = false, turned = true;
+    int alpha_mode = KIT_ALPHA_OPAQUE;
+    bool normal_map = false;
+  };
+  std::vector<Part> parts = {
+      {"gbuffer/position", "position", "out_position.xyz; a rotated, unevenly scaled model seen by a turned camera", KIT_GBUF_POSITION},
+      {"gbuffer/normal", "normal", "out_normal.xyz; a rotated, unevenly scaled model seen by a turned camera", KIT_GBUF_NORMAL},
+      {"gbuffer/back-face", "back face", "out_normal.xyz; a double-sided material seen from behind", KIT_GBUF_NORMAL, false, true},
+      {"gbuffer/base-colour", "base colour",
+       "out_albedo.rgb; u_base_color_factor (0.8, 0.6, 0.4, 0.9), a base colour texture uniformly (200, 150, 100, 153)",
+       KIT_GBUF_ALBEDO},
+      {"gbuffer/alpha", "alpha",
+       "out_albedo.a; MASK at 0.5, u_base_color_factor (0.8, 0.6, 0.4, 0.9), a base colour texture uniformly (200, 150, 100, 153); 0 where no surface is written",
+       KIT_GBUF_ALBEDO, true, false, false, false, true, KIT_ALPHA_MASK},
+      {"gbuffer/metallic-roughness", "metallic-roughness",
+       "out_material.rgb; u_metallic_factor 0.7, u_roughness_factor 0.9, a metallic-roughness texture uniformly (60, 100, 200)",
+       KIT_GBUF_MATERIAL},
+      {"gbuffer/emission", "emission",
+       "out_emission.rgb; u_emissive_factor (2, 1.5, 0.5), an emissive texture uniformly (180, 120, 60)", KIT_GBUF_EMISSION},
+      {"gbuffer/uv-albedo", "texture coordinates",
+       "out_albedo.rgb; textures of 4 x 4 distinct texels, each at its own UV slot and offset; factors 1, vertex colours white; the model and camera untransformed",
+       KIT_GBUF_ALBEDO, false, false, true, true, false},
+      {"gbuffer/uv-material", "texture coordinates",
+       "out_material.rgb; textures of 4 x 4 distinct texels, each at its own UV slot and offset; factors 1, vertex colours white; the model and camera untransformed",
+       KIT_GBUF_MATERIAL, false, false, true, true, false},
+      {"gbuffer/uv-emission", "texture coordinates",
+       "out_emission.rgb; textures of 4 x 4 distinct texels, each at its own UV slot and offset; factors 1, vertex colours white; the model and camera untransformed",
+       KIT_GBUF_EMISSION, false, false, true, true, false},
+  };
+  if (lab == 4) {
+    parts.push_back({"gbuffer/normal-map", "normal map",
+                     "out_normal.xyz; a normal map uniformly (180, 100, 230), scale 0.8; the model and camera untransformed",
+                     KIT_GBUF_NORMAL, false, false, false, false, false});
+    parts.back().normal_map = true;
+    parts.push_back({"gbuffer/tangent-frame", "tangent frame",
+                     "out_normal.xyz; a normal map uniformly (180, 100, 230), scale 0.8; a rotated, unevenly scaled model seen by a turned camera",
+                     KIT_GBUF_NORMAL});
+    parts.back().normal_map = true;
+    parts.push_back({"gbuffer/uv-normal", "texture coordinates",
+                     "out_normal.xyz; textures of 4 x 4 distinct texels, each at its own UV slot and offset; factors 1, vertex colours white; the model and camera untransformed",
+                     KIT_GBUF_NORMAL, false, false, true, true, false});
+    parts.back().normal_map = true;
+  }
+  std::vector<FunctionProbe> probes;
+  for (const Part& part : parts) {
+    FunctionProbe p = probe_of(lab, "gbuffer.frag", "gbuffer.frag", "main", 0,
+                               {{"a_normal", T::Vec3}, {"a_tangent", T::Vec4}, {"a_texcoord0", T::Vec2},
+                                {"a_texcoord1", T::Vec2}, {"a_color", T::Vec4}},
+                               part.alpha ? T::Float : T::Vec3);
+    // Unique over the kit: lab 4's are "normalmap/...".
+    p.id = lab == 4 ? "normalmap/" + std::string(part.id).substr(std::string("gbuffer/").size()) : part.id;
+    p.srgb_decoded = !part.alpha && (part.attachment == KIT_GBUF_ALBEDO || part.attachment == KIT_GBUF_EMISSION);
+    p.term = part.term;
+    p.setting = part.setting;
+    p.define.clear();
+    p.pass = true;
+    auto setup = std::make_shared<GeometryProbeSetup>();
+    setup->attachment = part.attachment;
+    setup->alpha = part.alpha;
+    setup->back_faces = part.back_faces;
+    if (part.turned) {
+      setup->model = turned_model;
+      setup->view = turned_view;
+    }
+    Material& m = setup->material;
+    m.alpha_mode = part.alpha_mode;
+    m.double_sided = part.back_faces;
+    if (part.uv) {
+      for (int unit = 0; unit < kMaterialTextureCount; ++unit) setup->images.push_back(probe_texture(true));
+      const glm::vec2 offsets[] = {{0.25f, 0.0f}, {0.5f, 0.25f}, {0.0f, 0.5f}, {0.75f, 0.25f}};  // by unit
+      for (int unit = 0; unit < kMaterialTextureCount; ++unit) {
+        m.texture(unit).uv.slot = unit == KIT_UNIT_NORMAL_MAP || unit == KIT_UNIT_EMISSIVE ? 1 : 0;
+        m.texture(unit).uv.transform = texture_transform_matrix(offsets[unit], 0.0f, glm::vec2(1.0f));
+      }
+      m.emissive = glm::vec3(1.0f);
+    } else {
+      setup->images = {probe_texture(false, base_texel), probe_texture(false, mr_texel), probe_texture(false, normal_texel),
+                       probe_texture(false, emissive_texel)};
+      m.base_color_factor = glm::vec4(0.8f, 0.6f, 0.4f, 0.9f);
+      m.metallic_factor = 0.7f;
+      m.roughness_factor = 0.9f;
+      m.emissive = glm::vec3(2.0f, 1.5f, 0.5f);
+      m.normal_scale = 0.8f;
+    }
+    for (int unit = 0; unit < kMaterialTextureCount; ++unit) {
+      m.texture(unit).image = unit;
+      m.texture(unit).sampler = 0;
+    }
+    if (!part.normal_map) m.texture(KIT_UNIT_NORMAL_MAP).image = -1;
+    p.geometry = setup;
+    for (const Attributes& a : cases) {
+      ProbeCase c;
+      push(c.inputs, a.normal);
+      // Mirrored tangents only where the frame is under test: elsewhere the handedness
+      // would show as a decode mistake would.
+      const float w = part.turned ? a.tangent.w : 1.0f;
+      for (float v : {a.tangent.x, a.tangent.y, a.tangent.z, w}) push(c.inputs, v);
+      for (float v : {a.uv0.x, a.uv0.y, a.uv1.x, a.uv1.y}) push(c.inputs, v);
+      const glm::vec4 color = part.white ? glm::vec4(1.0f) : a.color;
+      for (float v : {color.x, color.y, color.z, color.w}) push(c.inputs, v);
+      p.cases.push_back(c);
+    }
+    probes.push_back(p);
+  }
+  return probes;
+}
+
 const std::map<int, std::vector<FunctionProbe>>& probe_table() {
-  static const std::map<int, std::vector<FunctionProbe>> table = {{2, make_lab2()}, {3, make_lab3()}, {5, make_lab5()}};
+  static const std::map<int, std::vector<FunctionProbe>> table = {{1, make_geometry(1)}, {2, make_lab2()}, {3, make_lab3()},
+                                                                     {4, make_geometry(4)}, {5, make_lab5()}, {6, make_lab6()}};
   return table;
 }
 
-int components(ProbeType type) { return type == ProbeType::Float ? 1 : type == ProbeType::Vec3 ? 3 : 16; }
+int components(ProbeType type) {
+  switch (type) {
+    case ProbeType::Float: return 1;
+    case ProbeType::Vec2: return 2;
+    case ProbeType::Vec3: return 3;
+    case ProbeType::Vec4: return 4;
+    default: return 16;
+  }
+}
 
 // A float as the shortest decimal that reads back as the same float: probes.json stays
 // readable ("0.1", not "0.10000000149011612") and exact.
@@ -371,9 +632,12 @@ std::string vec3_text(const float* v) { return "(" + number(v[0]) + ", " + numbe
 // An input as a student would write it: a direction's 0 made from sin(180 degrees) is
 // -4.4e-08 in float, shown as 0.
 double input(float v) { return std::abs(v) < 1e-6f ? 0.0 : v; }
-std::string input_vec3_text(const float* v) {
-  return "(" + number(input(v[0])) + ", " + number(input(v[1])) + ", " + number(input(v[2])) + ")";
+std::string input_vector_text(const float* v, int n) {
+  std::string text = "(";
+  for (int i = 0; i < n; ++i) text += (i ? ", " : "") + number(input(v[i]));
+  return text + ")";
 }
+std::string input_vec3_text(const float* v) { return input_vector_text(v, 3); }
 
 std::string light_text(const float* v) {
   const int type = static_cast<int>(v[0] + 0.5f);
@@ -394,7 +658,7 @@ std::string call_text(const FunctionProbe& probe, size_t index) {
   for (size_t i = 0; i < probe.arguments.size(); ++i) {
     const ProbeArgument& a = probe.arguments[i];
     text += (i ? ", " : "") + a.name + " = ";
-    text += a.type == ProbeType::Float ? number(input(*at)) : a.type == ProbeType::Vec3 ? input_vec3_text(at) : light_text(at);
+    text += a.type == ProbeType::Float ? number(input(*at)) : a.type == ProbeType::Light ? light_text(at) : input_vector_text(at, components(a.type));
     at += components(a.type);
   }
   return text + ")";
@@ -432,7 +696,24 @@ std::string FunctionProbe::title() const {
   return setting.empty() ? name : name + " (" + setting + ")";
 }
 
-std::string FunctionProbe::part() const { return pass ? file : function; }
+std::string FunctionProbe::part() const { return !pass ? function : term.empty() ? file : file + ", " + term; }
+
+glm::mat4 geometry_probe_projection() { return glm::ortho(-1.0f, 1.0f, -1.0f, 1.0f, 0.0f, 2.0f); }
+
+glm::vec3 geometry_probe_view_point(int index, int count) {
+  return glm::vec3(-1.0f + (2.0f * static_cast<float>(index) + 1.0f) / static_cast<float>(count), 0.0f, -1.0f);
+}
+
+Vertex geometry_probe_vertex(const std::vector<float>& in) {
+  Vertex v{};
+  v.normal = glm::vec3(in.at(0), in.at(1), in.at(2));
+  v.tangent = glm::vec4(in.at(3), in.at(4), in.at(5), in.at(6));
+  v.texcoord = glm::vec2(in.at(7), in.at(8));
+  v.texcoord1 = glm::vec2(in.at(9), in.at(10));
+  for (int c = 0; c < 4; ++c)
+    v.color[c] = static_cast<uint16_t>(std::lround(std::clamp(in.at(11 + static_cast<size_t>(c)), 0.0f, 1.0f) * 65535.0f));
+  return v;
+}
 
 const std::vector<FunctionProbe>& function_probes(int lab) {
   static const std::vector<FunctionProbe> none;
@@ -588,7 +869,8 @@ ProbeOutcome compare_probe(const FunctionProbe& probe, const ProbeValues& got, c
   for (const glm::vec4& e : expected)
     for (int k = 0; k < n; ++k)
       if (std::isfinite(e[k])) scale = std::max(scale, static_cast<double>(std::abs(e[k])));
-  const double zero = kZeroTolerance * std::max(1.0, scale);
+  const double relative = probe.srgb_decoded ? kSrgbRelativeTolerance : kRelativeTolerance;
+  const double zero = (probe.srgb_decoded ? kSrgbZeroTolerance : kZeroTolerance) * std::max(1.0, scale);
   std::vector<size_t> differing;
   std::vector<bool> differs(probe.cases.size(), false);
   int non_finite = 0;
@@ -598,7 +880,7 @@ ProbeOutcome compare_probe(const FunctionProbe& probe, const ProbeValues& got, c
     bool bad = !finite(probe, s);
     if (!bad && !probe.cases[i].finite_only)
       for (int k = 0; k < n; ++k) {
-        const double tolerance = kRelativeTolerance * std::max(std::abs(s[k]), std::abs(e[k])) + zero;
+        const double tolerance = relative * std::max(std::abs(s[k]), std::abs(e[k])) + zero;
         bad = bad || std::abs(static_cast<double>(s[k]) - e[k]) > tolerance;
       }
     if (bad) {

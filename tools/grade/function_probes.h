@@ -14,24 +14,71 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "images/image_io.h"  // ImageRgba8
+#include "scene/scene.h"      // Material, Vertex
+
 namespace kit::grade {
 
-enum class ProbeType { Float, Vec3, Light };
+enum class ProbeType { Float, Vec2, Vec3, Vec4, Light };
 
 struct ProbeArgument {
   std::string name;  // as the starter's signature names it
   ProbeType type;
 };
 
-// A uniform the probed functions read, set for the whole probe (lab 3's falloff model, gamma).
+// A uniform the probed functions read, set for the whole probe (lab 3's falloff model, gamma;
+// lab 6's camera, a vec3).
 struct ProbeUniform {
   std::string name;
   bool integer = false;
   float value = 0.0f;
+  bool is_vec3 = false;
+  glm::vec3 vec3{0.0f};
 };
+
+// A map a pass probe's file samples by direction or by table coordinates (lab 6's irradiance
+// map, prefiltered map and BRDF table), filled so that what the pass looks up shows in its
+// value: the same value everywhere, or each texel its own texture coordinates.
+struct ProbeMap {
+  enum class Fill {
+    Uniform,      // `value` at every texel of every level
+    Coordinates,  // (s, t, value.z): a texel's centre coordinates, at every level (bilinear returns the coordinates looked up)
+    Levels,       // value (1 + k) at every texel of level k (trilinear between whole levels returns value (1 + level))
+  };
+  std::string sampler;  // "u_irradiance", "u_prefiltered", "u_brdf_lut"
+  Fill fill = Fill::Uniform;
+  glm::vec3 value{0.0f};
+};
+
+// A geometry pass probe (labs 1 and 4, FunctionProbe::geometry): the lab's gbuffer.vert and
+// gbuffer.frag draw one quad per case through the framework's own draw (draw_item), each
+// quad covering its texel of a row, every vertex of it the case's attributes (so every
+// fragment gets them unchanged), and one attachment of the G-buffer is read back.
+struct GeometryProbeSetup {
+  int attachment = 0;      // KIT_GBUF_*: the attachment read
+  bool alpha = false;      // its alpha (a Float probe), else its rgb
+  glm::mat4 model{1.0f};   // every quad's world matrix
+  glm::mat4 view{1.0f};    // the camera's; its projection is orthographic, so that a
+                           // texel's world position is the quad's at its centre exactly
+  bool back_faces = false; // the quads seen from behind (a double-sided material's back)
+  Material material;       // its textures index `images`, each sampled nearest, repeating
+  std::vector<ImageRgba8> images;
+};
+
+// The camera's projection of a geometry probe: x and y in [-1, 1] and z in [-1, 1] of view
+// space (looking down -z) onto the row of texels.
+glm::mat4 geometry_probe_projection();
+// Where case `index` of `count` lies: the view-space point its quad shows at its texel's
+// centre (y = 0, z = -1, x from -1 to 1 across the row). A geometry probe's quad is made
+// around it in the plane z = -1 of view space.
+glm::vec3 geometry_probe_view_point(int index, int count);
+// A geometry probe case's vertex attributes (a_position aside): a_normal, a_tangent,
+// a_texcoord0, a_texcoord1, a_color, as the case's inputs hold them.
+Vertex geometry_probe_vertex(const std::vector<float>& inputs);
 
 struct ProbeCase {
   std::vector<float> inputs;  // the arguments' floats in order (a Light as function_probe_inputs.glsl reads it)
@@ -57,11 +104,21 @@ struct FunctionProbe {
   // A pass probe (lab 5, whose files are whole passes): the lab's own `file` drawn with
   // fullscreen.vert over one texel per case, each argument a sampler it reads (u_hdr, u_bloom)
   // holding the case's value at that texel; down a column where `column` (a vertical blur).
-  // Its function is "main".
+  // Its function is "main". Lab 6's ibl.frag reads the G-buffer the same way, and `maps`.
   bool pass = false;
   bool column = false;
+  std::vector<ProbeMap> maps;
+  // What a pass probe isolates, where its file holds more than one term (lab 6: "diffuse",
+  // "directions"): its part is then "FILE, TERM", and naming tells the terms apart.
+  std::string term;
+  // A geometry pass probe (labs 1 and 4): its arguments are vertex attributes.
+  std::shared_ptr<const GeometryProbeSetup> geometry;
+  // Its values went through an 8-bit sRGB texel's decode, which GL lets an implementation
+  // approximate (llvmpipe's is 0.17 % low at 200/255): compared within 1 %, or 2e-3 of the
+  // largest expected value where that is more, instead of 0.2 %.
+  bool srgb_decoded = false;
   std::string title() const;  // "distribution_ggx", "light_radiance (u_attenuation_model = 1)", "bright.frag (...)"
-  std::string part() const;   // what holds a difference, for naming: the function, or a pass's file
+  std::string part() const;   // what holds a difference, for naming: the function, a pass's file, or "FILE, TERM"
 };
 
 // Floats one case of a probe holds at most: the probe shaders read KIT_PROBE_TEXELS texels.

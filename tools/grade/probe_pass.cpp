@@ -1,6 +1,9 @@
 #include "probe_pass.h"
 
+#include <algorithm>
 #include <memory>
+#include <map>
+#include <utility>
 #include <vector>
 
 #include "base/error.h"
@@ -9,7 +12,8 @@
 #include "gl/gl_objects.h"
 #include "gl/shader_source.h"
 #include "gbuffer_layout.h"  // KIT_UNIT_*
-#include "render/renderer.h"  // set_resource_bindings
+#include "render/renderer.h"  // set_resource_bindings, draw_item
+#include "scene/scene.h"
 
 namespace kit::grade {
 
@@ -50,7 +54,8 @@ class ProbeTarget {
   // target and reads the values back.
   ProbeValues draw(const Program& program, const FullscreenTriangle& triangle) const {
     for (const ProbeUniform& u : probe_.uniforms) {
-      if (u.integer) program.set(u.name, static_cast<int>(u.value));
+      if (u.is_vec3) program.set(u.name, u.vec3);
+      else if (u.integer) program.set(u.name, static_cast<int>(u.value));
       else program.set(u.name, u.value);
     }
     triangle.pass(program, target_, width_, height_);
@@ -90,25 +95,130 @@ ProbeValues draw_probe(const FunctionProbe& probe, const Program& program, const
   return target.draw(program, triangle);
 }
 
+// The sizes of lab 6's maps in a pass probe: the real maps' shapes (equirectangular 2:1, the
+// prefiltered map with every level the lab writes, the BRDF table the size kit_brdf_lut reads).
+// The prefiltered map's smallest level is 8 x 4, so its coordinates are still bilinear over
+// the [0.25, 0.75] the probes look up.
+constexpr int kProbeIrradianceWidth = 64;
+constexpr int kProbePrefilteredWidth = 256;
+
+// A map of a pass probe (function_probes.h, ProbeMap), sampled as the framework's own are:
+// RGBA32F, bilinear (trilinear over levels), wrapping in u where it is equirectangular.
+Texture2D probe_map(const ProbeMap& map) {
+  const bool table = map.sampler == "u_brdf_lut";
+  const bool levels = map.sampler == "u_prefiltered";
+  const int width = table ? KIT_BRDF_LUT_SIZE : levels ? kProbePrefilteredWidth : kProbeIrradianceWidth;
+  const int height = table ? KIT_BRDF_LUT_SIZE : width / 2;
+  std::vector<std::vector<float>> texels;
+  std::vector<TextureLevelData> data;
+  for (int k = 0; k < (levels ? KIT_PREFILTER_LEVELS : 1); ++k) {
+    const int w = std::max(width >> k, 1), h = std::max(height >> k, 1);
+    std::vector<float>& level = texels.emplace_back(static_cast<size_t>(w) * h * 4);
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) {
+        glm::vec3 v = map.value;
+        if (map.fill == ProbeMap::Fill::Coordinates) v = glm::vec3((x + 0.5f) / w, (y + 0.5f) / h, map.value.z);
+        if (map.fill == ProbeMap::Fill::Levels) v = map.value * (1.0f + static_cast<float>(k));
+        float* at = &level[(static_cast<size_t>(y) * w + x) * 4];
+        at[0] = v.x, at[1] = v.y, at[2] = v.z, at[3] = 1.0f;
+      }
+    data.push_back({w, h, level.data(), 0});
+  }
+  Texture2D texture(kProbeFormat, false, data);
+  texture.set_filter(levels ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR, GL_LINEAR);
+  texture.set_wrap(table ? GL_CLAMP_TO_EDGE : GL_REPEAT, GL_CLAMP_TO_EDGE);
+  return texture;
+}
+
 // A pass probe (function_probes.h, FunctionProbe::pass): the lab's own pass over one texel
-// per case, its samplers' textures holding the cases' values (RGBA16F, as the passes' own).
+// per case, its samplers' textures holding the cases' values (alpha 1: the G-buffer's
+// coverage), its maps filled as the probe says, and every other unit the framework binds
+// holding one black texel, so that nothing a submission reads depends on the frames before.
 ProbeValues draw_pass_probe(const FunctionProbe& probe, const Program& program, const FullscreenTriangle& triangle) {
   const ProbeTarget target(probe);
   const size_t n = probe.cases.size();
-  std::vector<std::unique_ptr<Texture2D>> inputs;
+  std::map<int, Texture2D> bound;
+  const float black[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+  for (int unit : sampler_units()) bound.emplace(unit, Texture2D(1, 1, kProbeFormat, black));
+  const auto bind_at = [&](const std::string& sampler, Texture2D texture) {
+    const int unit = sampler_unit(sampler);
+    if (unit < 0) throw Error("pass probes: " + sampler + " is no sampler the framework binds");
+    bound.at(unit) = std::move(texture);
+  };
   size_t offset = 0;
   for (size_t a = 0; a < probe.arguments.size(); ++a, offset += 3) {
-    std::vector<float> texels(n * 4, 0.0f);
+    std::vector<float> texels(n * 4, 1.0f);
     for (size_t i = 0; i < n; ++i)
       for (size_t k = 0; k < 3; ++k) texels[i * 4 + k] = probe.cases[i].inputs.at(offset + k);
-    inputs.push_back(std::make_unique<Texture2D>(target.width(), target.height(),
-                                                 TextureFormat{GL_RGBA16F, GL_RGBA, GL_FLOAT}, texels.data()));
+    bind_at(probe.arguments[a].name, Texture2D(target.width(), target.height(), kProbeFormat, texels.data()));
   }
+  for (const ProbeMap& map : probe.maps) bind_at(map.sampler, probe_map(map));
   program.use();
   // Bound once all are made (each is made on the active unit).
-  for (size_t a = 0; a < inputs.size(); ++a) inputs[a]->bind(probe.arguments[a].name == "u_bloom" ? KIT_UNIT_BLOOM : KIT_UNIT_HDR);
+  for (const auto& [unit, texture] : bound) texture.bind(unit);
   program.set("u_resolution", glm::vec2(static_cast<float>(target.width()), static_cast<float>(target.height())));
   return target.draw(program, triangle);
+}
+
+// A geometry pass probe (function_probes.h, GeometryProbeSetup): a scene of one quad per
+// case, drawn by the framework's own draw_item with the lab's gbuffer.vert and gbuffer.frag
+// into a row of float G-buffer attachments (0 where nothing is written), one read back.
+ProbeValues draw_geometry_probe(const FunctionProbe& probe, const Program& program) {
+  const GeometryProbeSetup& setup = *probe.geometry;
+  const int n = static_cast<int>(probe.cases.size());
+  Scene scene;
+  for (const ImageRgba8& image : setup.images)
+    scene.images.push_back({"a probe texture", image.width, image.height, {}, image});
+  scene.samplers.push_back({GL_NEAREST, GL_NEAREST, GL_REPEAT, GL_REPEAT});
+  scene.materials.push_back(setup.material);
+  // Each quad around its texel's centre in the view's plane z = -1, taken back to object space.
+  const glm::mat4 to_object = glm::inverse(setup.view * setup.model);
+  const float half_width = 1.0f / static_cast<float>(n);
+  for (int i = 0; i < n; ++i) {
+    Primitive quad;
+    quad.material = 0;
+    const glm::vec3 centre = geometry_probe_view_point(i, n);
+    for (const glm::vec2 corner : {glm::vec2(-1, -1), glm::vec2(1, -1), glm::vec2(1, 1), glm::vec2(-1, 1)}) {
+      Vertex v = geometry_probe_vertex(probe.cases[static_cast<size_t>(i)].inputs);
+      v.position = glm::vec3(to_object * glm::vec4(centre + glm::vec3(corner.x * half_width, corner.y * 2.0f, 0.0f), 1.0f));
+      quad.vertices.push_back(v);
+    }
+    // Counter-clockwise on screen is the front; the other way round shows the back.
+    quad.indices = setup.back_faces ? std::vector<uint32_t>{0, 2, 1, 0, 3, 2} : std::vector<uint32_t>{0, 1, 2, 0, 2, 3};
+    scene.primitives.push_back(quad);
+    scene.draws.push_back({i, setup.model});
+  }
+  const SceneGpu gpu(scene, TextureCompression::Off);
+  std::vector<Texture2D> attachments;
+  for (int k = 0; k < KIT_GBUF_COUNT; ++k) attachments.emplace_back(n, 1, kProbeFormat);
+  Framebuffer target;
+  for (int k = 0; k < KIT_GBUF_COUNT; ++k) target.attach_color(k, attachments[static_cast<size_t>(k)]);
+  target.set_draw_buffers(KIT_GBUF_COUNT);
+  if (const std::string why = target.incomplete_reason(); !why.empty()) throw Error("geometry probes: the target is " + why);
+  target.bind();
+  glViewport(0, 0, n, 1);
+  const GLboolean depth_test = glIsEnabled(GL_DEPTH_TEST);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_BLEND);
+  glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
+  glClear(GL_COLOR_BUFFER_BIT);
+  program.use();
+  program.set("u_view", setup.view);
+  program.set("u_projection", geometry_probe_projection());
+  program.set("u_camera_position", glm::vec3(glm::inverse(setup.view)[3]));
+  for (const DrawItem& draw : scene.draws) draw_item(program, scene, gpu, draw);
+  end_scene_draws();
+  ProbeValues out;
+  out.values.resize(probe.cases.size());
+  glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(setup.attachment));
+  read_colour_pixels_as_float(n, 1, &out.values[0].x);
+  if (setup.alpha)
+    for (glm::vec4& v : out.values) v = glm::vec4(v.a, 0.0f, 0.0f, 0.0f);
+  if (const GLenum error = glGetError(); error != GL_NO_ERROR)
+    throw Error("geometry probes: GL error " + std::to_string(error) + " while probing " + probe.part());
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  if (depth_test) glEnable(GL_DEPTH_TEST);
+  return out;
 }
 
 }  // namespace
@@ -123,15 +233,18 @@ std::map<std::string, ProbeValues> run_function_probes(const Stage& stage, const
   std::map<std::string, std::vector<const FunctionProbe*>> passes;  // by the lab's file
   for (const FunctionProbe& p : probes) (p.pass ? passes : by_shader)[p.shader].push_back(&p);
   for (const auto& [file, list] : passes) {
+    // A geometry probe draws the lab's vertex stage too (all of a file's probes are alike).
+    const bool geometry = list.front()->geometry != nullptr;
     std::unique_ptr<Program> program;
     try {
-      program = std::make_unique<Program>(stage_library(stage, lab_root), "fullscreen.vert", file);
+      program = std::make_unique<Program>(stage_library(stage, lab_root), geometry ? "gbuffer.vert" : "fullscreen.vert", file);
       set_resource_bindings(*program);
     } catch (const Error& e) {
       for (const FunctionProbe* p : list) out[p->id].error = first_line(e.what());
       continue;
     }
-    for (const FunctionProbe* p : list) out[p->id] = draw_pass_probe(*p, *program, triangle);
+    for (const FunctionProbe* p : list)
+      out[p->id] = geometry ? draw_geometry_probe(*p, *program) : draw_pass_probe(*p, *program, triangle);
   }
   for (const auto& [shader, list] : by_shader) {
     ShaderLibrary library = stage_library(stage, lab_root);

@@ -560,8 +560,8 @@ void write_class_summary(const fs::path& dir, const BatchSummaries& summaries, c
           if (added) t.check_order.push_back(key);
           it->second.second += check.value("passed", false) ? 1 : 0;
         }
-      // Each probed function that differs (function_probes.h), once per submission; a lab 5
-      // pass by its file (FunctionProbe::part: its function is main()).
+      // Each probed function that differs (function_probes.h), once per submission; a pass by
+      // its file, or its file and term (FunctionProbe::part: its function is main()).
       if (entry.contains("functions") && entry["functions"].is_array())
         for (const nlohmann::json& f : entry["functions"])
           if (f.value("status", std::string()) == kProbeDiffers) {
@@ -624,7 +624,11 @@ void write_class_summary(const fs::path& dir, const BatchSummaries& summaries, c
            "<th>submissions</th></tr>\n";
       for (const auto& [function, f] : failing) {
         const std::string count = std::to_string(f.second.size());
-        h += "<tr><td>" + html_escape(function == f.first ? std::string("main() (the whole pass)") : function) + "</td><td>" +
+        // A pass by its file, or by its file and the term a probe isolates ("ibl.frag, diffuse").
+        const std::string shown = function == f.first ? std::string("main() (the whole pass)")
+                                  : function.rfind(f.first + ", ", 0) == 0 ? "main(): " + function.substr(f.first.size() + 2)
+                                                                         : function;
+        h += "<tr><td>" + html_escape(shown) + "</td><td>" +
              html_escape(f.first) + "</td><td class=\"n\">" + count +
              "</td></tr>\n";
         csv += std::to_string(lab) + ",function," + csv_field(function) + "," + csv_field(f.first) + "," + count + "," + of + "\n";
