@@ -494,7 +494,7 @@ def probed_lab(row):
 
 
 PROBE_WEIGHT = 0.1   # diagnosis.h kProbeWeight
-PASS_PROBE_WEIGHT = 0.5   # diagnosis.h kPassProbeWeight: where the lab's probes are passes (function "main")
+PASS_PROBE_WEIGHT = 1.0   # diagnosis.h kPassProbeWeight: where the lab's probes are passes (function "main")
 
 
 def probe_agreement(row, candidate):
@@ -514,9 +514,10 @@ def ranked(row, candidates):
     return sorted(scored, key=lambda t: -(t[0] + weight * probe_agreement(row, t[1])))
 
 
-def naming_figures(caught, rows):
+def naming_figures(caught, rows, detail=False):
     """The naming measures: named first with every signature in; with each left out, a relative
-    (its family) named first or within the first three; and what kit-grade itself named."""
+    (its family) named first or within the first three; and what kit-grade itself named. With
+    `detail`, then the left-out measure by lab and each mistake whose family is not named first."""
     # The rows' features as kit-grade reads them from the file, each ranked once.
     stored = [types.SimpleNamespace(id=r.id, lab=r.lab, family=r.family,
                                     features=features(r.signatures, r.failed_checks),
@@ -525,17 +526,27 @@ def naming_figures(caught, rows):
     scores = {r.id: ranked(r, stored) for r in stored}
     with_relatives = [r for r in stored if any(o.family == r.family for o in stored if o is not r)]
     top1 = top3 = 0
+    by_lab, misses = {}, []
     for r in with_relatives:
         fams = list(dict.fromkeys(o.family for s, o in scores[r.id] if s >= MIN_NAMED))[:3]  # one per family
-        top1 += bool(fams) and fams[0] == r.family
-        top3 += r.family in fams
+        first, within = bool(fams) and fams[0] == r.family, r.family in fams
+        top1 += first
+        top3 += within
+        lab = by_lab.setdefault(r.lab, [0, 0, 0])
+        lab[0] += first
+        lab[1] += within
+        lab[2] += 1
+        if not first:
+            misses.append(f"  lab {r.lab}: {r.id} ({r.family}): named {', '.join(fams) or 'nothing'}")
     named_right = sum(1 for r in caught if r.named and r.named[0] == r.id)
     distinct = sum(1 for r in stored if all(s < 0.999 for s, _ in scores[r.id]))
     return (f"naming: {len(caught)} caught mistakes; with every signature in, named first by its own: "
             f"{distinct}/{len(caught)} have signatures unlike any other's (a duplicate ties); kit-grade named the "
             f"right one first for {named_right}/{len(caught)} (with the mistakes.json it read); "
             f"each left out: a mistake of its family named first for {top1}/{len(with_relatives)}, within the first "
-            f"three named (one per family) for {top3}/{len(with_relatives)} (families: the catalogue's)")
+            f"three named (one per family) for {top3}/{len(with_relatives)} (families: the catalogue's)" +
+            ("".join(f"\n  lab {lab}: first {a}/{n}, within three {b}/{n}" for lab, (a, b, n) in sorted(by_lab.items())) +
+             "\nnot named first, each left out:\n" + "\n".join(misses) if detail else ""))
 
 
 def main(argv=None):
@@ -570,6 +581,8 @@ def main(argv=None):
                         help="seconds one kit-grade run may take, plus 10 s per entry in a batch (default 300)")
     parser.add_argument("--keep", action="store_true", help="keep the submissions and results (paths are printed)")
     parser.add_argument("--wide", action="store_true", help="do not shorten descriptions")
+    parser.add_argument("--naming-detail", action="store_true",
+                        help="the naming measure by lab, and each mistake whose family is not named first")
     parser.add_argument("--write-signatures", type=Path, metavar="FILE",
                         help="write each caught mistake's signatures to FILE (tools/grade/references/mistakes.json"
                              " is the grader's) and print how well they name the mistakes")
@@ -671,7 +684,7 @@ def main(argv=None):
     caught = [r for r in rows if r.kind == "mistake" and r.passed and r.status == "graded"]
     if caught:
         print()
-        print(naming_figures(caught, rows))
+        print(naming_figures(caught, rows, args.naming_detail))
     if any(r.functions for r in rows):
         print(probe_figures(rows))
     failed = [r for r in rows if r.failed]

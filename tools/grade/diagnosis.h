@@ -89,12 +89,15 @@ constexpr size_t kMostNamed = 3;
 // relative): 26 relatives named first and 36 within three by the images alone, 30 and 38
 // with 0.1 (0.05: 26 and 36; 0.3: 28 and 38; ranking every exact match first: 28 and 34).
 constexpr double kProbeWeight = 0.1;
-// The same for a lab whose probes are passes (lab 5: function_probes.h, FunctionProbe::pass).
-// A pass drawn alone on its own inputs confines a difference to its file, with no caller to
-// spread it, so agreement counts for more. Measured the same way (lab 5, 13 mistakes with a
-// relative): 5 relatives named first and 8 within three by the images alone; with its pass
-// probes 8 and 11 at 0.1, 9 at 0.2 and 0.3, 11 and 11 at 0.5 and at 1.
-constexpr double kPassProbeWeight = 0.5;
+// The same for a lab whose probes are passes (labs 1 and 4's geometry pass, lab 5's passes,
+// lab 6's ibl.frag: function_probes.h, FunctionProbe::pass). A pass drawn alone on its own
+// inputs confines a difference to its file, or to the part of it a probe isolates (an
+// attachment, a term), with no caller to spread it, so agreement counts as much as the
+// images. Measured the same way (labs 1, 4, 5 and 6, 79 mistakes with a relative): with
+// 0.5, 67 relatives named first and 75 within three; with 1, 71 and 76; with 2, 72 and 77.
+// Lab 5 alone, before the others had probes: 5 and 8 by the images alone, 11 and 11 at 0.5
+// and at 1.
+constexpr double kPassProbeWeight = 1.0;
 // The mistakes of `lab` that `submission` (check key -> check_features) most resembles,
 // closest first, one per family; empty when none reaches kMinNamedSimilarity. With
 // `differing` (the probed functions that differ, where every probe of the lab ran), each
