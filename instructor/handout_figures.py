@@ -13,6 +13,9 @@ and this script knows where each key's value comes from:
   grade.size         the size the checks render at ("256×192", tools/grade/references/manifest.json)
   mistake.ID.cost    the points catalogue entry ID loses: max - score in a self-check's --json
                      file (./kit rebaseline runs one); unchecked without one, and counted as such
+  naming.KEY         the self-check's naming measure (self_check.py naming_counts): caught,
+                     named_right, with_relatives, first, within_three; unchecked without a
+                     self-check of every lab
 
     handout_figures.py [--self-check-json FILE] [--write] [FILES...]
 
@@ -42,6 +45,7 @@ class Sources:
         self.grading = json.loads((ROOT / "tools/grade/grading.json").read_text(encoding="utf-8"))
         self.manifest = json.loads((ROOT / "tools/grade/references/manifest.json").read_text(encoding="utf-8"))
         self.costs = None
+        self.naming = None
         if self_check_json:
             rows = json.loads(pathlib.Path(self_check_json).read_text(encoding="utf-8"))["rows"]
             self.costs = {r["id"]: r["max_score"] - r["score"] for r in rows if r.get("score") is not None}
@@ -49,6 +53,9 @@ class Sources:
             self.checked_labs = {r["lab"] for r in rows}
             catalogue = json.loads((ROOT / "instructor/grading/catalogue.json").read_text(encoding="utf-8"))
             self.mistake_labs = {e["id"]: e["lab"] for e in catalogue["entries"]}
+            doc = json.loads(pathlib.Path(self_check_json).read_text(encoding="utf-8"))
+            every_lab = {int(lab) for lab in self.grading["labs"]} <= self.checked_labs
+            self.naming = doc.get("naming") if every_lab else None
 
     def value(self, key, written):
         """The key's value as text, None where it cannot be known here (a mistake's cost without a self-check),
@@ -75,6 +82,10 @@ class Sources:
             if parts[1] not in self.costs:
                 raise KeyError(f"{key}: no row '{parts[1]}' in the self-check's results")
             return number(self.costs[parts[1]])
+        if parts[0] == "naming" and len(parts) == 2:
+            if parts[1] not in ("caught", "named_right", "with_relatives", "first", "within_three"):
+                raise KeyError(f"{key}: no such naming measure")
+            return None if self.naming is None else str(self.naming[parts[1]])
         raise KeyError(f"{key}: no such figure (handout_figures.py lists the keys)")
 
 
@@ -126,7 +137,7 @@ def main(argv=None):
     for d in differences:
         print(f"handout figures: {'written' if args.write else 'stale'}: {d}")
     print(f"handout figures: {total} figures, {len(differences)} {'rewritten' if args.write else 'stale'}"
-          + (f", {unchecked} mistakes' costs not checked (no --self-check-json)" if unchecked else ""))
+          + (f", {unchecked} figures from a self-check not checked (no --self-check-json of every lab)" if unchecked else ""))
     return 1 if errors or (differences and not args.write) else 0
 
 

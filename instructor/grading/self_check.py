@@ -474,8 +474,12 @@ def next_step(row):
 
 
 def write_json(path, rows, started):
-    """The rows as JSON (./kit rebaseline reads it): verdict, score, next step."""
+    """The rows as JSON (./kit rebaseline and handout_figures.py read it): verdict, score, next step;
+    and the naming measures where the run graded every lab."""
+    caught = [r for r in rows if r.kind == "mistake" and r.passed and r.status == "graded"]
     doc = {"seconds": round(time.monotonic() - started, 1),
+           "labs": sorted({r.lab for r in rows}),
+           "naming": naming_counts(caught) if caught else None,
            "rows": [{"id": r.id, "lab": r.lab, "kind": r.kind, "verdict": r.verdict, "score": r.score,
                      "max_score": r.max_score, "known_gap": r.known_gap, "named": r.named,
                      "details": r.details, "next_step": next_step(r)} for r in rows]}
@@ -514,10 +518,10 @@ def ranked(row, candidates):
     return sorted(scored, key=lambda t: -(t[0] + weight * probe_agreement(row, t[1])))
 
 
-def naming_figures(caught, rows, detail=False):
-    """The naming measures: named first with every signature in; with each left out, a relative
-    (its family) named first or within the first three; and what kit-grade itself named. With
-    `detail`, then the left-out measure by lab and each mistake whose family is not named first."""
+def naming_counts(caught):
+    """The naming measures as numbers (handout_figures.py checks the handouts' against them): named
+    first with every signature in; with each left out, a relative (its family) named first or within
+    the first three, in all and by lab; and the mistakes whose family is not named first."""
     # The rows' features as kit-grade reads them from the file, each ranked once.
     stored = [types.SimpleNamespace(id=r.id, lab=r.lab, family=r.family,
                                     features=features(r.signatures, r.failed_checks),
@@ -525,28 +529,38 @@ def naming_figures(caught, rows, detail=False):
                                     passes=any(f.get("function") == "main" for f in r.functions)) for r in caught]
     scores = {r.id: ranked(r, stored) for r in stored}
     with_relatives = [r for r in stored if any(o.family == r.family for o in stored if o is not r)]
-    top1 = top3 = 0
-    by_lab, misses = {}, []
+    counts = {"caught": len(caught), "with_relatives": len(with_relatives), "first": 0, "within_three": 0,
+              "named_right": sum(1 for r in caught if r.named and r.named[0] == r.id),
+              "distinct": sum(1 for r in stored if all(s < 0.999 for s, _ in scores[r.id])),
+              "by_lab": {}, "misses": []}
     for r in with_relatives:
         fams = list(dict.fromkeys(o.family for s, o in scores[r.id] if s >= MIN_NAMED))[:3]  # one per family
         first, within = bool(fams) and fams[0] == r.family, r.family in fams
-        top1 += first
-        top3 += within
-        lab = by_lab.setdefault(r.lab, [0, 0, 0])
-        lab[0] += first
-        lab[1] += within
-        lab[2] += 1
+        counts["first"] += first
+        counts["within_three"] += within
+        lab = counts["by_lab"].setdefault(str(r.lab), {"first": 0, "within_three": 0, "with_relatives": 0})
+        lab["first"] += first
+        lab["within_three"] += within
+        lab["with_relatives"] += 1
         if not first:
-            misses.append(f"  lab {r.lab}: {r.id} ({r.family}): named {', '.join(fams) or 'nothing'}")
-    named_right = sum(1 for r in caught if r.named and r.named[0] == r.id)
-    distinct = sum(1 for r in stored if all(s < 0.999 for s, _ in scores[r.id]))
-    return (f"naming: {len(caught)} caught mistakes; with every signature in, named first by its own: "
-            f"{distinct}/{len(caught)} have signatures unlike any other's (a duplicate ties); kit-grade named the "
-            f"right one first for {named_right}/{len(caught)} (with the mistakes.json it read); "
-            f"each left out: a mistake of its family named first for {top1}/{len(with_relatives)}, within the first "
-            f"three named (one per family) for {top3}/{len(with_relatives)} (families: the catalogue's)" +
-            ("".join(f"\n  lab {lab}: first {a}/{n}, within three {b}/{n}" for lab, (a, b, n) in sorted(by_lab.items())) +
-             "\nnot named first, each left out:\n" + "\n".join(misses) if detail else ""))
+            counts["misses"].append(f"lab {r.lab}: {r.id} ({r.family}): named {', '.join(fams) or 'nothing'}")
+    return counts
+
+
+def naming_figures(caught, detail=False):
+    """The naming measures in words, as the self-check prints them; with `detail`, then by lab and
+    each mistake whose family is not named first."""
+    c = naming_counts(caught)
+    text = (f"naming: {c['caught']} caught mistakes; with every signature in, named first by its own: "
+            f"{c['distinct']}/{c['caught']} have signatures unlike any other's (a duplicate ties); kit-grade named the "
+            f"right one first for {c['named_right']}/{c['caught']} (with the mistakes.json it read); "
+            f"each left out: a mistake of its family named first for {c['first']}/{c['with_relatives']}, within the first "
+            f"three named (one per family) for {c['within_three']}/{c['with_relatives']} (families: the catalogue's)")
+    if detail:
+        text += "".join(f"\n  lab {lab}: first {v['first']}/{v['with_relatives']}, within three "
+                        f"{v['within_three']}/{v['with_relatives']}" for lab, v in sorted(c["by_lab"].items()))
+        text += "\nnot named first, each left out:\n" + "\n".join("  " + m for m in c["misses"])
+    return text
 
 
 def main(argv=None):
@@ -684,7 +698,7 @@ def main(argv=None):
     caught = [r for r in rows if r.kind == "mistake" and r.passed and r.status == "graded"]
     if caught:
         print()
-        print(naming_figures(caught, rows, args.naming_detail))
+        print(naming_figures(caught, args.naming_detail))
     if any(r.functions for r in rows):
         print(probe_figures(rows))
     failed = [r for r in rows if r.failed]
