@@ -461,8 +461,12 @@ TEST(FunctionProbes, GeometryProbesTellAttachmentsAndUvsApart) {
   auto swapped = probe_lab(1, lab_with("material_swapped", "01-gbuffer", "gbuffer.frag", "vec4(metallic, roughness, 0.0, 1.0)",
                                        "vec4(roughness, metallic, 0.0, 1.0)"));
   EXPECT_EQ(differing(swapped), (std::vector<std::string>{"gbuffer/metallic-roughness", "gbuffer/uv-material"}));
-  EXPECT_NE(swapped.at("gbuffer/metallic-roughness").message.find("gbuffer.frag at texel 0 (a_normal = (0.2, 0.3, 1.2), "
-                                                                  "a_tangent = (1, 0, 0.1, 1)"),
+  // As docs/grading.md and handouts/01-gbuffer.md quote it.
+  EXPECT_NE(swapped.at("gbuffer/metallic-roughness").message.find(
+                "gbuffer.frag at texel 0 (a_normal = (0.2, 0.3, 1.2), a_tangent = (1, 0, 0.1, 1), a_texcoord0 = (0.125, "
+                "0.375), a_texcoord1 = (0.375, 0.125), a_color = (1, 0.8, 0.6, 1)) writes (0.3529, 0.549, 0), expected "
+                "(0.549, 0.3529, 0); 6 of 6 texels differ (out_material.rgb; u_metallic_factor 0.7, u_roughness_factor "
+                "0.9, a metallic-roughness texture uniformly (60, 100, 200))"),
             std::string::npos)
       << swapped.at("gbuffer/metallic-roughness").message;
   EXPECT_EQ(swapped.at("gbuffer/metallic-roughness").probe->part(), "gbuffer.frag, metallic-roughness");
