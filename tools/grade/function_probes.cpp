@@ -698,7 +698,15 @@ std::string FunctionProbe::title() const {
 
 std::string FunctionProbe::part() const { return !pass ? function : term.empty() ? file : file + ", " + term; }
 
-glm::mat4 geometry_probe_projection() { return glm::ortho(-1.0f, 1.0f, -1.0f, 1.0f, 0.0f, 2.0f); }
+FrameCamera geometry_probe_camera(const glm::mat4& view) {
+  FrameCamera camera;
+  camera.view = view;
+  camera.znear = 0.0f;
+  camera.zfar = 2.0f;
+  camera.projection = glm::ortho(-1.0f, 1.0f, -1.0f, 1.0f, camera.znear, camera.zfar);
+  camera.position = glm::vec3(glm::inverse(view)[3]);
+  return camera;
+}
 
 glm::vec3 geometry_probe_view_point(int index, int count) {
   return glm::vec3(-1.0f + (2.0f * static_cast<float>(index) + 1.0f) / static_cast<float>(count), 0.0f, -1.0f);
@@ -710,8 +718,7 @@ Vertex geometry_probe_vertex(const std::vector<float>& in) {
   v.tangent = glm::vec4(in.at(3), in.at(4), in.at(5), in.at(6));
   v.texcoord = glm::vec2(in.at(7), in.at(8));
   v.texcoord1 = glm::vec2(in.at(9), in.at(10));
-  for (int c = 0; c < 4; ++c)
-    v.color[c] = static_cast<uint16_t>(std::lround(std::clamp(in.at(11 + static_cast<size_t>(c)), 0.0f, 1.0f) * 65535.0f));
+  for (int c = 0; c < 4; ++c) v.color[c] = vertex_color_component(in.at(11 + static_cast<size_t>(c)));
   return v;
 }
 

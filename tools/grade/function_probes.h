@@ -18,8 +18,9 @@
 #include <string>
 #include <vector>
 
-#include "images/image_io.h"  // ImageRgba8
-#include "scene/scene.h"      // Material, Vertex
+#include "images/image_io.h"     // ImageRgba8
+#include "render/renderer.h"     // FrameCamera
+#include "scene/scene.h"         // Material, Vertex
 
 namespace kit::grade {
 
@@ -69,9 +70,9 @@ struct GeometryProbeSetup {
   std::vector<ImageRgba8> images;
 };
 
-// The camera's projection of a geometry probe: x and y in [-1, 1] and z in [-1, 1] of view
-// space (looking down -z) onto the row of texels.
-glm::mat4 geometry_probe_projection();
+// A geometry probe's camera: `view`, and an orthographic projection of x and y in [-1, 1]
+// and z in [-2, 0] of view space (looking down -z) onto the row of texels.
+FrameCamera geometry_probe_camera(const glm::mat4& view);
 // Where case `index` of `count` lies: the view-space point its quad shows at its texel's
 // centre (y = 0, z = -1, x from -1 to 1 across the row). A geometry probe's quad is made
 // around it in the plane z = -1 of view space.

@@ -12,7 +12,7 @@
 #include "gl/gl_objects.h"
 #include "gl/shader_source.h"
 #include "gbuffer_layout.h"  // KIT_UNIT_*
-#include "render/renderer.h"  // set_resource_bindings, draw_item
+#include "render/renderer.h"  // set_resource_bindings, set_frame_uniforms, draw_item
 #include "scene/scene.h"
 
 namespace kit::grade {
@@ -34,21 +34,24 @@ std::string first_line(const std::string& text) {
   return line;
 }
 
-// What a probe draws into: one float RGBA texel per case, `probe.column` deciding its shape.
+// What a probe draws into: one float RGBA texel per case, `probe.column` deciding its shape;
+// for a geometry probe, one such attachment for each of the G-buffer's.
 // Made before the probe's inputs are bound: making a texture binds it to the active unit.
 class ProbeTarget {
  public:
   explicit ProbeTarget(const FunctionProbe& probe)
       : probe_(probe),
         width_(probe.column ? 1 : static_cast<int>(probe.cases.size())),
-        height_(probe.column ? static_cast<int>(probe.cases.size()) : 1),
-        values_(width_, height_, kProbeFormat) {
-    target_.attach_color(0, values_);
-    target_.set_draw_buffers(1);
+        height_(probe.column ? static_cast<int>(probe.cases.size()) : 1) {
+    const int attachments = probe.geometry ? KIT_GBUF_COUNT : 1;
+    for (int k = 0; k < attachments; ++k) values_.emplace_back(width_, height_, kProbeFormat);
+    for (int k = 0; k < attachments; ++k) target_.attach_color(k, values_[static_cast<size_t>(k)]);
+    target_.set_draw_buffers(attachments);
     if (const std::string why = target_.incomplete_reason(); !why.empty()) throw Error(kind() + ": the target is " + why);
   }
   int width() const { return width_; }
   int height() const { return height_; }
+  const Framebuffer& framebuffer() const { return target_; }
 
   // Sets the probe's uniforms on `program` (in use, its inputs bound), draws it over the
   // target and reads the values back.
@@ -59,10 +62,15 @@ class ProbeTarget {
       else program.set(u.name, u.value);
     }
     triangle.pass(program, target_, width_, height_);
+    return read(0);
+  }
+
+  // The values of attachment `attachment`, once drawn.
+  ProbeValues read(int attachment) const {
     ProbeValues out;
     out.values.resize(probe_.cases.size());
     target_.bind();
-    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(attachment));
     read_colour_pixels_as_float(width_, height_, &out.values[0].x);
     if (const GLenum error = glGetError(); error != GL_NO_ERROR)
       throw Error(kind() + ": GL error " + std::to_string(error) + " while probing " + probe_.part());
@@ -74,7 +82,7 @@ class ProbeTarget {
   std::string kind() const { return probe_.pass ? "pass probes" : "function probes"; }
   const FunctionProbe& probe_;
   int width_, height_;
-  Texture2D values_;
+  std::vector<Texture2D> values_;
   Framebuffer target_;
 };
 
@@ -189,34 +197,23 @@ ProbeValues draw_geometry_probe(const FunctionProbe& probe, const Program& progr
     scene.draws.push_back({i, setup.model});
   }
   const SceneGpu gpu(scene, TextureCompression::Off);
-  std::vector<Texture2D> attachments;
-  for (int k = 0; k < KIT_GBUF_COUNT; ++k) attachments.emplace_back(n, 1, kProbeFormat);
-  Framebuffer target;
-  for (int k = 0; k < KIT_GBUF_COUNT; ++k) target.attach_color(k, attachments[static_cast<size_t>(k)]);
-  target.set_draw_buffers(KIT_GBUF_COUNT);
-  if (const std::string why = target.incomplete_reason(); !why.empty()) throw Error("geometry probes: the target is " + why);
-  target.bind();
+  const ProbeTarget target(probe);
+  target.framebuffer().bind();
   glViewport(0, 0, n, 1);
   const GLboolean depth_test = glIsEnabled(GL_DEPTH_TEST);
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_BLEND);
   glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
   glClear(GL_COLOR_BUFFER_BIT);
-  program.use();
-  program.set("u_view", setup.view);
-  program.set("u_projection", geometry_probe_projection());
-  program.set("u_camera_position", glm::vec3(glm::inverse(setup.view)[3]));
+  RenderSettings settings;
+  settings.width = n;
+  settings.height = 1;
+  set_frame_uniforms(program, geometry_probe_camera(setup.view), settings, 0);
   for (const DrawItem& draw : scene.draws) draw_item(program, scene, gpu, draw);
   end_scene_draws();
-  ProbeValues out;
-  out.values.resize(probe.cases.size());
-  glReadBuffer(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(setup.attachment));
-  read_colour_pixels_as_float(n, 1, &out.values[0].x);
+  ProbeValues out = target.read(setup.attachment);
   if (setup.alpha)
     for (glm::vec4& v : out.values) v = glm::vec4(v.a, 0.0f, 0.0f, 0.0f);
-  if (const GLenum error = glGetError(); error != GL_NO_ERROR)
-    throw Error("geometry probes: GL error " + std::to_string(error) + " while probing " + probe.part());
-  glBindFramebuffer(GL_FRAMEBUFFER, 0);
   if (depth_test) glEnable(GL_DEPTH_TEST);
   return out;
 }
