@@ -47,13 +47,13 @@ class Sources:
         self.costs = None
         self.naming = None
         if self_check_json:
-            rows = json.loads(pathlib.Path(self_check_json).read_text(encoding="utf-8"))["rows"]
+            doc = json.loads(pathlib.Path(self_check_json).read_text(encoding="utf-8"))
+            rows = doc["rows"]
             self.costs = {r["id"]: r["max_score"] - r["score"] for r in rows if r.get("score") is not None}
             # A self-check of some labs (./kit rebaseline --labs N) knows nothing of the others' mistakes.
             self.checked_labs = {r["lab"] for r in rows}
             catalogue = json.loads((ROOT / "instructor/grading/catalogue.json").read_text(encoding="utf-8"))
             self.mistake_labs = {e["id"]: e["lab"] for e in catalogue["entries"]}
-            doc = json.loads(pathlib.Path(self_check_json).read_text(encoding="utf-8"))
             every_lab = {int(lab) for lab in self.grading["labs"]} <= self.checked_labs
             self.naming = doc.get("naming") if every_lab else None
 

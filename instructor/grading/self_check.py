@@ -473,13 +473,11 @@ def next_step(row):
     return NEXT_STEPS.get(row.verdict, "")
 
 
-def write_json(path, rows, started):
+def write_json(path, rows, started, naming):
     """The rows as JSON (./kit rebaseline and handout_figures.py read it): verdict, score, next step;
-    and the naming measures where the run graded every lab."""
-    caught = [r for r in rows if r.kind == "mistake" and r.passed and r.status == "graded"]
+    and the naming measures (naming_counts, None where no mistake was caught)."""
     doc = {"seconds": round(time.monotonic() - started, 1),
-           "labs": sorted({r.lab for r in rows}),
-           "naming": naming_counts(caught) if caught else None,
+           "naming": naming,
            "rows": [{"id": r.id, "lab": r.lab, "kind": r.kind, "verdict": r.verdict, "score": r.score,
                      "max_score": r.max_score, "known_gap": r.known_gap, "named": r.named,
                      "details": r.details, "next_step": next_step(r)} for r in rows]}
@@ -487,8 +485,8 @@ def write_json(path, rows, started):
 
 
 def differing_functions(row):
-    """The probed parts (tools/grade/function_probes.h, FunctionProbe::part: a function, or a lab 5 pass's file)
-    that differ for the row."""
+    """The probed parts (tools/grade/function_probes.h, FunctionProbe::part: a function, a pass's file, or
+    "FILE, TERM" for a part of a pass) that differ for the row."""
     return {f.get("part", f.get("function")) for f in row.functions if f.get("status") == "differs"}
 
 
@@ -547,10 +545,9 @@ def naming_counts(caught):
     return counts
 
 
-def naming_figures(caught, detail=False):
-    """The naming measures in words, as the self-check prints them; with `detail`, then by lab and
-    each mistake whose family is not named first."""
-    c = naming_counts(caught)
+def naming_figures(c, detail=False):
+    """The naming measures (naming_counts) in words, as the self-check prints them; with `detail`,
+    then by lab and each mistake whose family is not named first."""
     text = (f"naming: {c['caught']} caught mistakes; with every signature in, named first by its own: "
             f"{c['distinct']}/{c['caught']} have signatures unlike any other's (a duplicate ties); kit-grade named the "
             f"right one first for {c['named_right']}/{c['caught']} (with the mistakes.json it read); "
@@ -696,9 +693,10 @@ def main(argv=None):
                          [r for r in rows if r.kind in ("mistake", "starter") and r.passed and r.status == "graded"],
                          args.lab)
     caught = [r for r in rows if r.kind == "mistake" and r.passed and r.status == "graded"]
-    if caught:
+    naming = naming_counts(caught) if caught else None
+    if naming:
         print()
-        print(naming_figures(caught, args.naming_detail))
+        print(naming_figures(naming, args.naming_detail))
     if any(r.functions for r in rows):
         print(probe_figures(rows))
     failed = [r for r in rows if r.failed]
@@ -721,7 +719,7 @@ def main(argv=None):
     mistakes = [r for r in rows if r.kind == "mistake"]
     equivalents = [r for r in rows if r.kind == "equivalent"]
     if args.json:
-        write_json(args.json, rows, started)
+        write_json(args.json, rows, started, naming)
     print()
     if args.validate:
         print(f"{len(rows) - len(failed)} passed, {len(failed)} failed (catalogue check only: entries whose edits"
