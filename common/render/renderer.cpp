@@ -120,6 +120,7 @@ bool same_image_settings(const RenderSettings& a, const RenderSettings& b) {
   return a.gamma == b.gamma && a.attenuation_model == b.attenuation_model && a.postprocess == b.postprocess &&
          a.custom_effect == b.custom_effect && a.bloom_threshold == b.bloom_threshold &&
          a.blur_passes == b.blur_passes && a.clear_color == b.clear_color && a.extra_lights == b.extra_lights &&
+         a.only_light == b.only_light &&
          a.frustum_culling == b.frustum_culling && a.texture_compression == b.texture_compression &&
          a.default_light_rig == b.default_light_rig &&
          a.light_markers == b.light_markers && a.environment == b.environment && a.ibl == b.ibl &&
@@ -579,6 +580,10 @@ void Renderer::upload_lights() {
   const float epsilon = light_volume_epsilon(frame_lights_, settings_.gamma);
   for (const Light& l : frame_lights_)
     radii.push_back(l.type == KIT_LIGHT_DIRECTIONAL ? 0.0f : light_cutoff_radius(l, epsilon, settings_.attenuation_model));
+  // After the radii: a light alone keeps the volume it has among the others.
+  if (settings_.only_light >= 0)
+    for (size_t j = 0; j < frame_lights_.size(); ++j)
+      if (frame_light_numbers_[j] != settings_.only_light) frame_lights_[j].intensity = 0.0f;
   lights_ = LightBuffers(frame_lights_, radii);
   lights_.apply_defines(library_, settings_.specialise_shaders);
   // -1: neither model's define, u_attenuation_model a uniform (set_frame_uniforms).
@@ -586,6 +591,7 @@ void Renderer::upload_lights() {
   if (programs_ && (library_.defines() != programs_defines_ || settings_.specialise_shaders != shaders_specialised_))
     build_programs();
   lights_extra_ = settings_.extra_lights;
+  lights_only_ = settings_.only_light;
   lights_default_rig_ = settings_.default_light_rig;
   lights_attenuation_model_ = settings_.attenuation_model;
   lights_gamma_ = settings_.gamma;
@@ -839,7 +845,8 @@ bool Renderer::render_frame(const FrameCamera& camera, PassTimes* pass_times, bo
 }
 
 bool Renderer::render_passes(const FrameCamera& camera, PassClock& clock, bool reuse_lit_frame) {
-  if (settings_.extra_lights != lights_extra_ || settings_.default_light_rig != lights_default_rig_ ||
+  if (settings_.extra_lights != lights_extra_ || settings_.only_light != lights_only_ ||
+      settings_.default_light_rig != lights_default_rig_ ||
       settings_.attenuation_model != lights_attenuation_model_ || settings_.specialise_shaders != shaders_specialised_ ||
       (stage_.light_volumes && settings_.gamma != lights_gamma_))
     upload_lights();

@@ -34,6 +34,12 @@ struct RenderSettings {
   float time = 0.0f;                // u_time for animated custom effects; fixed headless
   glm::vec3 clear_color{0.02f, 0.02f, 0.025f};  // u_clear_color, linear HDR
   int extra_lights = 0;             // small point lights added around the scene (viewer slider, bench)
+  // -1: every frame light shines. i >= 0: frame light i alone (numbered as frame_lights lists
+  // them before a stage's reordering; i past the last: none). The others are uploaded with
+  // intensity 0, so the frame keeps its programs, light order and volumes, and the difference
+  // from the frame with none is exactly that light's share of it: the grader's per-light
+  // references (tools/grade/light_shares.h).
+  int only_light = -1;
   bool frustum_culling = false;     // skip draws wholly outside the view (mesh_optimize.h); off by default
   // Whether textures of at least kLargeTextureTexels are uploaded as S3TC blocks
   // (--compress-textures): Auto decides by the scene's texture bytes and the context
@@ -363,7 +369,7 @@ class Renderer {
   LightBuffers lights_;
   int light_count_ = 0;
   // The settings the uploaded lights were made for: a change re-uploads them.
-  int lights_extra_ = -1, lights_attenuation_model_ = -1;
+  int lights_extra_ = -1, lights_attenuation_model_ = -1, lights_only_ = -1;
   bool shaders_specialised_ = true;  // the setting the programs were built for
   bool lights_default_rig_ = false;
   float lights_gamma_ = -1.0f;  // the volume radii depend on it (light_volume_epsilon)

@@ -367,6 +367,10 @@ TEST(Grader, FailedLabNamesTheLikelyMistake) {
     const std::string worst = lab(r, 7)["checks"][key].value("worst_pixel", std::string());
     EXPECT_NE(worst.find("there the G-buffer holds position"), std::string::npos) << key << ": " << worst;
     EXPECT_NE(worst.find(light), std::string::npos) << key << ": " << worst;
+    // And what each light gives there in the reference (light_shares.h).
+    EXPECT_TRUE(worst.find("the lights give it luminance") != std::string::npos ||
+                worst.find("no light reaches it in the reference") != std::string::npos)
+        << key << ": " << worst;
   }
   // The frame's evidence, light by light (VolumeEvidence): the light around the camera gets no
   // fragment from front faces, and its volume itself is right.

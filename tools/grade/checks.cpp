@@ -206,6 +206,18 @@ const std::vector<RenderSpec>& renders() {
         const int stage = view == View::Normal && spec.stage >= 4 ? 4 : 1;
         add("lab" + std::to_string(stage) + "-" + spec.scene + "-" + view_name(view), stage, spec.scene, view);
       }
+      // Each light's share of the frame, from the first of its renders (the settings that
+      // change no light's share may differ between them).
+      const std::string shares = light_shares_id(spec);
+      const auto same = [&](const RenderSpec& other) { return other.id == shares; };
+      if (!spec.isolate_custom && std::none_of(describing.begin(), describing.end(), same))
+        describing.push_back(with(spec, [&](RenderSpec& d) {
+          d.id = shares;
+          d.view = View::Hdr;
+          d.raw = true;
+          d.describes_pixels_only = true;
+          d.light_shares = true;
+        }));
     }
     r.insert(r.end(), describing.begin(), describing.end());
     return r;
@@ -349,6 +361,13 @@ RenderSettings render_settings(const RenderSpec& spec) {
   // materials (renderer.h).
   s.specialise_shaders = false;
   return s;
+}
+
+std::string light_shares_id(const RenderSpec& spec) {
+  if (spec.stage < 2 || (spec.view != View::Final && spec.view != View::Hdr)) return "";
+  // Stage 2 has no falloff model (shaders/attenuation.glsl).
+  const std::string model = spec.stage < 3 ? "" : spec.attenuation_model == 1 ? "-simple" : "-physical";
+  return "lab" + std::to_string(spec.stage) + "-" + spec.scene + model + "-lights";
 }
 
 std::string environment_name(const RenderSpec& spec) {

@@ -75,6 +75,9 @@ struct RenderSpec {
   // solutions by --update-references, never rendered from a submission, compared by no
   // check; --check-references renders it again and compares it with its file.
   bool describes_pixels_only = false;
+  // Describing only too: each light's share of this lit frame, pixel by pixel
+  // (light_shares.h), drawn light by light from the solutions; view Hdr, the frame's settings.
+  bool light_shares = false;
 };
 
 struct Check {
@@ -93,6 +96,11 @@ std::vector<const Check*> lab_checks(int lab);
 // Every render a lab's child makes when it grades: the images of its checks, in list order;
 // with `describing`, those of RenderSpec::describes_pixels_only too (--update-references).
 std::vector<const RenderSpec*> lab_renders(int lab, bool describing = false);
+// The id of the light shares (RenderSpec::light_shares) of `spec`'s frame: one per lab, scene
+// and falloff model, since neither gamma, post-processing nor a stage 6 environment changes
+// what each light gives ("lab3-default-physical-lights", "lab2-sphere-lights"); "" for a frame
+// without lighting (lab 1's, lab 6's maps).
+std::string light_shares_id(const RenderSpec& spec);
 // The renders whose solution images are stored as references: the checks' and those that
 // describe a worst pixel.
 std::vector<const RenderSpec*> reference_renders();

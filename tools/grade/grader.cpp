@@ -267,27 +267,13 @@ void load_mistakes_once(Run& run) {
   run.mistakes_loaded = true;
 }
 
-// A failed display or HDR check's worst pixel: what the G-buffer held there, from the
-// references of the render's scene (nothing where they are not stored or cannot be read).
+// A failed display or HDR check's worst pixel: what the G-buffer held there and what each light
+// gave, from the references of the render's scene (nothing where they are not stored or cannot
+// be read).
 void add_worst_pixel_inputs(const Run& run, CheckOutcome& c) {
-  const RenderSpec& spec = find_render(c.check->image);
-  const auto scene = run.scenes.find(spec.scene);
+  const auto scene = run.scenes.find(find_render(c.check->image).scene);
   if (scene == run.scenes.end() || run.references_dir.empty()) return;
-  std::map<std::string, const Image*> gbuffer;
-  for (const auto& [attachment, id] : gbuffer_reference_ids(spec)) {
-    auto cached = run.pixel_input_references.find(id);
-    if (cached == run.pixel_input_references.end()) {
-      Image image;
-      try {
-        image = read_image((run.references_dir / (id + ".exr")).string());
-      } catch (const Error&) {
-        // Left out: the check's verdict does not depend on it.
-      }
-      cached = run.pixel_input_references.emplace(id, std::move(image)).first;
-    }
-    if (cached->second.width > 0) gbuffer[attachment] = &cached->second;
-  }
-  add_pixel_inputs(c, gbuffer, scene->second);
+  add_reference_pixel_inputs(c, scene->second, run.references_dir, run.pixel_input_references);
 }
 
 // Compares every check of a lab whose child rendered it.

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "light_shares.h"
 #include "gl/gl.h"
 
 namespace fs = std::filesystem;
@@ -74,6 +75,25 @@ double LabFrames::draw(const RenderSpec& spec) {
   glFinish();
   last_frame_[key] = settings;
   return seconds_since(t);
+}
+
+Image LabFrames::light_shares(const RenderSpec& spec) {
+  Renderer& renderer = renderer_for(spec);
+  RenderSettings settings = render_settings(spec);
+  const Scene& scene = renderer.scene();
+  const Camera camera = scene.camera ? *scene.camera : framing_camera(scene);
+  const FrameCamera frame = frame_camera(camera, static_cast<float>(settings.width) / static_cast<float>(settings.height));
+  const int lights = static_cast<int>(frame_lights(scene, stage_, settings).size());
+  std::vector<Image> alone;
+  Image none;
+  for (int light = 0; light <= lights; ++light) {  // the last: past every light, none
+    settings.only_light = light;
+    renderer.settings() = settings;
+    renderer.render(frame);
+    (light < lights ? alone.emplace_back() : none) = renderer.read_view(View::Hdr, true);
+  }
+  last_frame_.erase({spec.scene, spec.isolate_custom});  // its frame is the one without lights
+  return light_shares_image(alone, none);
 }
 
 namespace {

@@ -45,6 +45,9 @@ class LabFrames {
   // Draws `spec`'s frame with the scene's camera at the grading size unless its Renderer's
   // last frame is that frame; the seconds drawing took (0 when it was there). Throws kit::Error.
   double draw(const RenderSpec& spec);
+  // The light shares of `spec`'s frame (RenderSpec::light_shares, light_shares.h): the frame
+  // drawn once with each of its lights alone and once with none. Throws kit::Error.
+  Image light_shares(const RenderSpec& spec);
   size_t programs_reused() const { return program_cache_.reused(); }
 
  private:

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <map>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "base/error.h"
 #include "render/renderer.h"
 #include "gbuffer_layout.h"  // KIT_LIGHT_*
 #include "lab_frames.h"
@@ -111,15 +113,38 @@ std::string describe_pixel_inputs(const PixelInputs& in, const Scene& scene) {
   const glm::vec3 to_eye = camera.position - in.position;
   if (glm::length(to_eye) > 0.0f) out += "; towards the camera " + vec(glm::normalize(to_eye));
   constexpr size_t kMostLights = 4;
-  // Where there are more (lab 7's 128), the ones that light this pixel most likely: the nearest.
-  std::vector<size_t> order(scene.lights.size());
-  for (size_t i = 0; i < order.size(); ++i) order[i] = i;
+  // Where the light shares are stored, the lights that give the most lead, each with its share.
+  std::vector<size_t> order;
+  std::map<size_t, double> share;
+  const bool shared = in.has_light_shares;
+  if (shared) {
+    char luminance[96];
+    std::snprintf(luminance, sizeof luminance, "; the lights give it luminance %.2g in the reference",
+                  in.light_shares.luminance);
+    out += in.light_shares.lights.empty() ? std::string("; no light reaches it in the reference") : luminance;
+    for (const LightShare& s : in.light_shares.lights)
+      if (s.light >= 0 && static_cast<size_t>(s.light) < scene.lights.size() && !share.count(static_cast<size_t>(s.light))) {
+        order.push_back(static_cast<size_t>(s.light));
+        share[static_cast<size_t>(s.light)] = s.share;
+      }
+  }
+  // Every light that gives some is named: the others give none. Or the named give (to their
+  // rounding) all of it: the others give under 1 %.
+  double named = 0.0;
+  for (const LightShare& s : in.light_shares.lights) named += s.share;
+  const bool all_named = shared && in.light_shares.lights.size() < static_cast<size_t>(kSharedLights);
+  const bool nearly_all_named = shared && !all_named && named >= 0.99;
+  // Then, where there are more (lab 7's 128), the ones that light this pixel most likely: the nearest.
+  std::vector<size_t> rest;
+  for (size_t i = 0; i < scene.lights.size(); ++i)
+    if (!share.count(i)) rest.push_back(i);
   const auto distance = [&](size_t i) {
     const Light& light = scene.lights[i];
     return light.type == KIT_LIGHT_DIRECTIONAL ? 0.0f : glm::length(light.position - in.position);
   };
-  if (order.size() > kMostLights)
-    std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return distance(a) < distance(b); });
+  if (scene.lights.size() > kMostLights)
+    std::stable_sort(rest.begin(), rest.end(), [&](size_t a, size_t b) { return distance(a) < distance(b); });
+  order.insert(order.end(), rest.begin(), rest.end());
   for (size_t n = 0; n < order.size() && n < kMostLights; ++n) {
     const size_t i = order[n];
     const Light& light = scene.lights[i];
@@ -140,12 +165,22 @@ std::string describe_pixel_inputs(const PixelInputs& in, const Scene& scene) {
       std::snprintf(distance, sizeof distance, ", %.3g m", static_cast<double>(glm::length(d)));
       out += vec(glm::length(d) > 0.0f ? glm::normalize(d) : d) + distance;
     }
+    if (share.count(i)) {
+      char given[48];
+      std::snprintf(given, sizeof given, ", %.0f %% of it", 100.0 * share[i]);
+      out += given;
+    } else if (all_named) {
+      out += ", none";
+    } else if (nearly_all_named) {
+      out += ", under 1 %";
+    }
   }
   if (scene.lights.size() > kMostLights) out += "; and " + std::to_string(scene.lights.size() - kMostLights) + " more lights";
   return out;
 }
 
-void add_pixel_inputs(CheckOutcome& c, const std::map<std::string, const Image*>& gbuffer, const Scene& scene) {
+void add_pixel_inputs(CheckOutcome& c, const std::map<std::string, const Image*>& gbuffer, const Scene& scene,
+                      const Image* light_shares) {
   const Metric metric = c.check->metric;
   if (c.passed || c.comparison.worst_pixel.empty() || (metric != Metric::Ldr && metric != Metric::Hdr)) return;
   for (const char* attachment : {"position", "normal", "albedo", "material", "emission"})
@@ -168,7 +203,34 @@ void add_pixel_inputs(CheckOutcome& c, const std::map<std::string, const Image*>
   in.emission = at("emission");
   in.metallic = gbuffer.at("material")->at(x, y, 0);
   in.roughness = gbuffer.at("material")->at(x, y, 1);
+  if (light_shares && light_shares->width == position.width && light_shares->height == position.height) {
+    in.has_light_shares = true;
+    in.light_shares = light_shares_at(*light_shares, x, y);
+  }
   c.comparison.worst_pixel += "; " + describe_pixel_inputs(in, scene);
+}
+
+void add_reference_pixel_inputs(CheckOutcome& c, const Scene& scene, const std::filesystem::path& dir,
+                                std::map<std::string, Image>& cache) {
+  const auto stored = [&](const std::string& id) -> const Image* {
+    auto cached = cache.find(id);
+    if (cached == cache.end()) {
+      Image image;
+      try {
+        image = read_image((dir / (id + ".exr")).string());
+      } catch (const Error&) {
+        // Left out: the check's verdict does not depend on it.
+      }
+      cached = cache.emplace(id, std::move(image)).first;
+    }
+    return cached->second.width > 0 ? &cached->second : nullptr;
+  };
+  const RenderSpec& spec = find_render(c.check->image);
+  std::map<std::string, const Image*> gbuffer;
+  for (const auto& [attachment, id] : gbuffer_reference_ids(spec))
+    if (const Image* image = stored(id)) gbuffer[attachment] = image;
+  const std::string shares = light_shares_id(spec);
+  add_pixel_inputs(c, gbuffer, scene, shares.empty() ? nullptr : stored(shares));
 }
 
 Metric shown_metric(const Check& check) {

@@ -3,6 +3,7 @@
 // and the catalogued mistakes the failures resemble. kit-grade (grader.cpp, compare_lab)
 // and the browser's in-page check (tools/web/page_check.cpp) both come here, so the page's
 // preview is the grader's own comparison compiled for WebAssembly.
+#include <filesystem>
 #include <map>
 #include <string>
 
@@ -13,6 +14,7 @@
 #include "diagnosis.h"
 #include "grader.h"
 #include "images/image_io.h"
+#include "light_shares.h"
 #include "scene/scene.h"
 
 #include <glm/glm.hpp>
@@ -44,6 +46,9 @@ Metric shown_metric(const Check& check);
 struct PixelInputs {
   glm::vec3 position{0.0f}, normal{0.0f}, albedo{0.0f}, emission{0.0f};
   float metallic = 0.0f, roughness = 0.0f;
+  // What each light gives there in the reference frame (light_shares.h), where it is stored.
+  bool has_light_shares = false;
+  PixelLightShares light_shares;
 };
 // The G-buffer references a lit check's pixel inputs come from, by attachment ("position",
 // "normal", "albedo", "material", "emission"): lab 1's of the render's scene, the normal lab
@@ -53,12 +58,23 @@ struct PixelInputs {
 std::map<std::string, std::string> gbuffer_reference_ids(const RenderSpec& spec);
 // "There: position (x, y, z) m, normal (...), albedo (...), metallic m, roughness r, emission
 // (...); towards the camera (...); light 1 (point, range 5 m): towards it (...), 2.3 m": at most 4 lights,
-// the scene's first, or where it has more the nearest (a directional light counts as nearest),
-// each numbered as the scene lists it.
+// each numbered as the scene lists it. With the light shares: "the lights give it luminance
+// 0.31 in the reference", then the lights that give the most first, each with its share
+// ("62 % of it"; "none" where every light that gives some is named before), then the others;
+// without them, or after them, the scene's first, or where it has more the nearest (a
+// directional light counts as nearest).
 std::string describe_pixel_inputs(const PixelInputs& inputs, const Scene& scene);
 // Fills c's worst pixel's inputs from `gbuffer` (by attachment, as gbuffer_reference_ids names
-// them) for a failed display or HDR check of a lit lab; nothing where an attachment is missing.
-void add_pixel_inputs(CheckOutcome& c, const std::map<std::string, const Image*>& gbuffer, const Scene& scene);
+// them) and, where given, the frame's light shares, for a failed display or HDR check of a lit
+// lab; nothing where an attachment is missing.
+void add_pixel_inputs(CheckOutcome& c, const std::map<std::string, const Image*>& gbuffer, const Scene& scene,
+                      const Image* light_shares = nullptr);
+// The same from the references in `dir` of c's render: its scene's G-buffer
+// (gbuffer_reference_ids) and its frame's light shares (light_shares_id), each read once into
+// `cache` (by id; an empty image where it is not stored or cannot be read: the verdict does not
+// depend on it). The grader and the browser page both describe a worst pixel so.
+void add_reference_pixel_inputs(CheckOutcome& c, const Scene& scene, const std::filesystem::path& dir,
+                                std::map<std::string, Image>& cache);
 
 // Where a check of `lab` failed: the catalogued mistakes its signatures resemble (diagnosis.h).
 void name_likely_mistakes(const MistakeSignatures& mistakes, LabOutcome& lab);

@@ -171,6 +171,7 @@ nlohmann::json manifest_entry(const RenderSpec& spec) {
   if (find_stage(spec.stage).ibl) entry["environment"] = environment_name(spec);
   // Kept to describe a failed check's worst pixel, compared by no check (checks.h).
   if (spec.describes_pixels_only) entry["describes_pixels_only"] = true;
+  if (spec.light_shares) entry["light_shares"] = true;  // light_shares.h says what it holds
   return entry;
 }
 

@@ -114,6 +114,10 @@ int render_lab(const RenderJob& job, std::unique_ptr<GlContext>& context) {
       return job.worker->scenes->count(spec->scene) ? kChildShaderError : kChildEnvironmentError;
     }
     try {
+      if (spec->light_shares) {  // describing only: no check reads it, nothing counted
+        write_raw_image(raw_image_path(job.out_dir, spec->id), frames.light_shares(*spec));
+        continue;
+      }
       if (const double seconds = frames.draw(*spec); seconds > 0.0) {
         render += seconds;
         report["seconds"]["render_each"][spec->id] = seconds;

@@ -108,7 +108,7 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
   if (!answer.contains("status")) {
     answer["status"] = "graded";
     lab.probes = probe_outcomes(lab_number, child, probes_reference);
-    std::map<std::string, Image> gbuffer_references;  // by reference id, for the worst pixels' inputs
+    std::map<std::string, Image> pixel_references;  // by reference id, for the worst pixels' inputs
     for (CheckOutcome& c : lab.checks) {
       const Check& check = *c.check;
       const bool own = compares_own_renders(check.metric);
@@ -126,16 +126,8 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
       }
       compare_check(config, lab, c, renders, child, stored);
       if (!c.passed && lab_number >= 2) {
-        // The worst pixel's inputs, from the reference G-buffer of the render's scene.
-        const RenderSpec& spec = find_render(check.image);
-        std::map<std::string, const Image*> gbuffer;
-        for (const auto& [attachment, id] : gbuffer_reference_ids(spec)) {
-          auto read = gbuffer_references.find(id);  // each read once: the checks of a scene share them
-          if (read == gbuffer_references.end())
-            read = gbuffer_references.emplace(id, read_image((references_dir() / (id + ".exr")).string())).first;
-          gbuffer[attachment] = &read->second;
-        }
-        add_pixel_inputs(c, gbuffer, scenes.at(spec.scene));
+        // The worst pixel's inputs, from the references of the render's scene and frame.
+        add_reference_pixel_inputs(c, scenes.at(find_render(check.image).scene), references_dir(), pixel_references);
       }
       const Image& image = renders.at(check.image);
       const Image& reference = own ? renders.at(check.reference) : reference_image;
