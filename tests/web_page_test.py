@@ -369,6 +369,12 @@ def main():
         expect(ring is not None and list(ring[2:6]) == [0, 255, 0, 255] and list(ring[6:10]) != [0, 255, 0, 255],
                "Check my lab rings a failed check's worst pixel on its difference image",
                f"worst pixel, the ring's colour beside it and the pixel's own: {ring}")
+        # And says what each light gives there in the reference (tools/grade/light_shares.h), as
+        # kit-grade's report does.
+        worst = page.js("(kitPage.lastCheck.checks || []).map(c => c.worst_pixel || '').filter(t => t)")
+        expect(bool(worst) and all("in the reference" in w for w in worst) and any("% of it" in w for w in worst),
+               "Check my lab's worst pixels say what each light gives there in the reference",
+               f"{len(worst)} worst pixels, the first: ...{worst[0][-160:] if worst else ''}")
         page.js("[...document.querySelectorAll('#check-body h3')].find(h => h.textContent === 'Your functions')"
                 ".scrollIntoView()")
         shot = page.chromium.call("Page.captureScreenshot", format="png")
