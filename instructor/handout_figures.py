@@ -16,6 +16,10 @@ and this script knows where each key's value comes from:
   naming.KEY         the self-check's naming measure (self_check.py naming_counts): caught,
                      named_right, with_relatives, first, within_three; unchecked without a
                      self-check of every lab
+  references.KEY     tools/grade/references/ as its manifest lists it: compared (the checks'
+                     references), allowances, gbuffer (G-buffer attachments kept to describe a
+                     worst pixel), light_shares, files (in the folder), megabytes (the folder's
+                     bytes in MB, one decimal)
 
     handout_figures.py [--self-check-json FILE] [--write] [FILES...]
 
@@ -86,6 +90,21 @@ class Sources:
             if parts[1] not in ("caught", "named_right", "with_relatives", "first", "within_three"):
                 raise KeyError(f"{key}: no such naming measure")
             return None if self.naming is None else str(self.naming[parts[1]])
+        if parts[0] == "references" and len(parts) == 2:
+            images = self.manifest["images"]
+            folder = ROOT / "tools/grade/references"
+            counts = {
+                "compared": sum(1 for i in images if not i.get("describes_pixels_only")),
+                "allowances": len(self.manifest["filter_allowance"]["images"]),
+                "gbuffer": sum(1 for i in images if i.get("describes_pixels_only") and not i.get("light_shares")),
+                "light_shares": sum(1 for i in images if i.get("light_shares")),
+                "files": sum(1 for f in folder.iterdir() if f.is_file()),
+            }
+            if parts[1] == "megabytes":
+                return f"{sum(f.stat().st_size for f in folder.iterdir() if f.is_file()) / 1e6:.1f}"
+            if parts[1] not in counts:
+                raise KeyError(f"{key}: no such count of the references")
+            return str(counts[parts[1]])
         raise KeyError(f"{key}: no such figure (handout_figures.py lists the keys)")
 
 
