@@ -53,8 +53,8 @@ struct Run {
   // comparison (load_mistakes_once) rather than while the first children wait to start.
   MistakeSignatures mistakes;
   bool mistakes_loaded = false;
-  // The reference G-buffer attachments a failed check's worst pixel is described from
-  // (lab_verdict.h, gbuffer_reference_ids), read when a check first needs them.
+  // The reference G-buffer attachments and light shares a failed check's worst pixel is
+  // described from (lab_verdict.h, add_reference_pixel_inputs), read when a check first needs them.
   mutable std::map<std::string, Image> pixel_input_references;
   // Variables set in every render child after the run's own (--update-references: the
   // filter renderings' GALLIVM_PERF).
@@ -64,6 +64,9 @@ struct Run {
   nlohmann::json probes_reference;
   // --update-references: keep the solutions' probe values too, by probe id.
   std::map<std::string, ProbeValues>* collect_probes = nullptr;
+  // With collect: the renders that only describe a worst pixel too (checks.h). The filter
+  // renderings make allowances for the checks' references alone, and go without them.
+  bool collect_describing = true;
 };
 
 // A submission of a run.

@@ -118,6 +118,7 @@ int update_references(const Options& options) {
   std::vector<std::map<std::string, Image>> variants;
   const bool llvmpipe = renderer.find("llvmpipe") != std::string::npos;
   if (llvmpipe) run.writes_cache_seed = false;
+  run.collect_describing = false;
   for (size_t i = 0; completed && failures.empty() && llvmpipe && i < kFilterRenderings.size(); ++i) {
     run.child_environment = {{"GALLIVM_PERF", kFilterRenderings[i].name}, {"MESA_SHADER_CACHE_DISABLE", "true"}};
     completed = render_solutions(run, variants.emplace_back(), note_failures);
