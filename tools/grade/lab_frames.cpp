@@ -80,6 +80,7 @@ double LabFrames::draw(const RenderSpec& spec) {
 Image LabFrames::light_shares(const RenderSpec& spec) {
   Renderer& renderer = renderer_for(spec);
   RenderSettings settings = render_settings(spec);
+  settings.count_light_volume_work = false;  // no check reads these frames' work
   const Scene& scene = renderer.scene();
   const Camera camera = scene.camera ? *scene.camera : framing_camera(scene);
   const FrameCamera frame = frame_camera(camera, static_cast<float>(settings.width) / static_cast<float>(settings.height));
