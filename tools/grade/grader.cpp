@@ -273,7 +273,9 @@ void load_mistakes_once(Run& run) {
 void add_worst_pixel_inputs(const Run& run, CheckOutcome& c) {
   const auto scene = run.scenes.find(find_render(c.check->image).scene);
   if (scene == run.scenes.end() || run.references_dir.empty()) return;
-  add_reference_pixel_inputs(c, scene->second, run.references_dir, run.pixel_input_references);
+  add_reference_pixel_inputs(c, scene->second, run.pixel_input_references, [&](const std::string& id) {
+    return load_describing_reference(run.references_dir, id, run.reference_cache, run.prepared_references);
+  });
 }
 
 // Compares every check of a lab whose child rendered it.
@@ -758,6 +760,9 @@ int prepare_references(const Options& options, const fs::path& out) {
         cache_png(reference_png(reference, *check),
                   [&] { return display_image(shown_metric(*check), reference.image, reference.image); });
       }
+      // And those a failed check's worst pixel is described from (made at their own stage).
+      for (const RenderSpec* spec : lab_renders(lab, true))
+        if (spec->describes_pixels_only) load_describing_reference(dir, spec->id, out);
     }
   } catch (const std::exception& e) {  // grading makes them in its cache instead
     std::fprintf(stderr, "kit-grade: the references were not prepared in %s: %s\n", out.c_str(), e.what());

@@ -210,14 +210,14 @@ void add_pixel_inputs(CheckOutcome& c, const std::map<std::string, const Image*>
   c.comparison.worst_pixel += "; " + describe_pixel_inputs(in, scene);
 }
 
-void add_reference_pixel_inputs(CheckOutcome& c, const Scene& scene, const std::filesystem::path& dir,
-                                std::map<std::string, Image>& cache) {
+void add_reference_pixel_inputs(CheckOutcome& c, const Scene& scene, std::map<std::string, Image>& cache,
+                                const std::function<Image(const std::string& id)>& read) {
   const auto stored = [&](const std::string& id) -> const Image* {
     auto cached = cache.find(id);
     if (cached == cache.end()) {
       Image image;
       try {
-        image = read_image((dir / (id + ".exr")).string());
+        image = read(id);
       } catch (const Error&) {
         // Left out: the check's verdict does not depend on it.
       }

@@ -3,7 +3,7 @@
 // and the catalogued mistakes the failures resemble. kit-grade (grader.cpp, compare_lab)
 // and the browser's in-page check (tools/web/page_check.cpp) both come here, so the page's
 // preview is the grader's own comparison compiled for WebAssembly.
-#include <filesystem>
+#include <functional>
 #include <map>
 #include <string>
 
@@ -69,12 +69,12 @@ std::string describe_pixel_inputs(const PixelInputs& inputs, const Scene& scene)
 // lab; nothing where an attachment is missing.
 void add_pixel_inputs(CheckOutcome& c, const std::map<std::string, const Image*>& gbuffer, const Scene& scene,
                       const Image* light_shares = nullptr);
-// The same from the references in `dir` of c's render: its scene's G-buffer
-// (gbuffer_reference_ids) and its frame's light shares (light_shares_id), each read once into
-// `cache` (by id; an empty image where it is not stored or cannot be read: the verdict does not
-// depend on it). The grader and the browser page both describe a worst pixel so.
-void add_reference_pixel_inputs(CheckOutcome& c, const Scene& scene, const std::filesystem::path& dir,
-                                std::map<std::string, Image>& cache);
+// The same from the references of c's render: its scene's G-buffer (gbuffer_reference_ids) and
+// its frame's light shares (light_shares_id), each read once with `read(id)` into `cache` (by id;
+// an empty image where `read` throws kit::Error: the verdict does not depend on it). The grader
+// and the browser page both describe a worst pixel so.
+void add_reference_pixel_inputs(CheckOutcome& c, const Scene& scene, std::map<std::string, Image>& cache,
+                                const std::function<Image(const std::string& id)>& read);
 
 // Where a check of `lab` failed: the catalogued mistakes its signatures resemble (diagnosis.h).
 void name_likely_mistakes(const MistakeSignatures& mistakes, LabOutcome& lab);

@@ -313,6 +313,14 @@ std::map<std::string, LoadedReference> load_lab_references(const fs::path& dir, 
   return out;
 }
 
+Image load_describing_reference(const fs::path& dir, const std::string& id, const fs::path& cache,
+                                const fs::path& prepared) {
+  fs::path stem;
+  bool from_prepared = false;
+  return read_cached_image(dir / (id + "." + reference_extension(find_render(id))), id, cache, prepared, &stem,
+                           &from_prepared);
+}
+
 fs::path prepared_references_dir() {
   const char* env = std::getenv("KIT_PREPARED_REFERENCES");
   return fs::path(env ? env : KIT_PREPARED_REFERENCES_DIR);

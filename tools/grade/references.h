@@ -86,6 +86,11 @@ struct LoadedReference {
 std::map<std::string, LoadedReference> load_lab_references(const std::filesystem::path& dir, int lab,
                                                            const std::filesystem::path& cache,
                                                            const std::filesystem::path& prepared = {});
+// A reference kept only to describe a worst pixel (checks.h, describes_pixels_only): the G-buffer
+// attachment or light shares `id` of `dir`, cached and prepared as load_lab_references keeps a
+// check's (decoding one took 3 to 5 ms). Throws kit::Error when the file cannot be read.
+Image load_describing_reference(const std::filesystem::path& dir, const std::string& id,
+                                const std::filesystem::path& cache, const std::filesystem::path& prepared = {});
 // The folder the build prepares the references in (tools/grade.cmake), or
 // $KIT_PREPARED_REFERENCES where it is set ("": none).
 std::filesystem::path prepared_references_dir();

@@ -127,7 +127,8 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
       compare_check(config, lab, c, renders, child, stored);
       if (!c.passed && lab_number >= 2) {
         // The worst pixel's inputs, from the references of the render's scene and frame.
-        add_reference_pixel_inputs(c, scenes.at(find_render(check.image).scene), references_dir(), pixel_references);
+        add_reference_pixel_inputs(c, scenes.at(find_render(check.image).scene), pixel_references,
+                                   [](const std::string& id) { return read_image((references_dir() / (id + ".exr")).string()); });
       }
       const Image& image = renders.at(check.image);
       const Image& reference = own ? renders.at(check.reference) : reference_image;
