@@ -296,7 +296,7 @@ void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir
   lab.child_vm_peak_kib = child.value("vm_peak_kib", 0L);
   std::map<std::string, Image> renders;
   try {
-    for (const RenderSpec* spec : lab_renders(lab.lab, run.collect != nullptr && run.collect_describing))
+    for (const RenderSpec* spec : lab_renders(lab.lab, run.renders_describing()))
       renders[spec->id] = read_raw_image(raw_image_path(dir, spec->id));
   } catch (const Error& e) {
     lab.status = kCrash;
@@ -561,7 +561,7 @@ bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished
     for (skip_unready(); workers.size() < slots && !queue.empty(); skip_unready()) {
       Entry& e = entries[queue.front().entry];
       const LabWorker spec{e.prepared->lab_root, e.temp, run.options.backend, run.options.device, &run.scenes,
-                           &run.probes_reference, run.collect != nullptr && run.collect_describing};
+                           &run.probes_reference, run.renders_describing()};
       Worker w;
       w.entry = queue.front().entry;
       w.child = std::make_unique<Child>(Child::fork_worker(

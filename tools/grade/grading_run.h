@@ -67,6 +67,8 @@ struct Run {
   // With collect: the renders that only describe a worst pixel too (checks.h). The filter
   // renderings make allowances for the checks' references alone, and go without them.
   bool collect_describing = true;
+  // Whether the children render, and the run reads back, the describing renders too.
+  bool renders_describing() const { return collect != nullptr && collect_describing; }
 };
 
 // A submission of a run.

@@ -33,6 +33,11 @@ bool same_frame_settings(const RenderSettings& a, const RenderSettings& b) {
   return same_image_settings(a, b) && a.width == b.width && a.height == b.height && a.time == b.time;
 }
 
+// The camera every render of a check is drawn with: the scene's first, else its framing.
+FrameCamera grading_camera(const Scene& scene, const RenderSettings& settings) {
+  return frame_camera(chosen_camera(scene, -1), static_cast<float>(settings.width) / static_cast<float>(settings.height));
+}
+
 }  // namespace
 
 bool custom_effect_isolated(const Stage& stage) { return fs::is_directory(kit_root() / "solutions" / stage.folder); }
@@ -65,13 +70,10 @@ double LabFrames::draw(const RenderSpec& spec) {
   const auto key = std::make_pair(spec.scene, spec.isolate_custom);
   const auto last = last_frame_.find(key);
   if (last != last_frame_.end() && same_frame_settings(last->second, settings)) return 0.0;
-  const Scene& scene = renderer.scene();
-  const Camera camera = scene.camera ? *scene.camera : framing_camera(scene);
   const auto t = std::chrono::steady_clock::now();
   // Lab 5's frames of one scene differ in post-processing alone: its passes run again,
   // not the whole frame (Renderer::render_reusing_lit_frame).
-  renderer.render_reusing_lit_frame(
-      frame_camera(camera, static_cast<float>(settings.width) / static_cast<float>(settings.height)));
+  renderer.render_reusing_lit_frame(grading_camera(renderer.scene(), settings));
   glFinish();
   last_frame_[key] = settings;
   return seconds_since(t);
@@ -81,10 +83,8 @@ Image LabFrames::light_shares(const RenderSpec& spec) {
   Renderer& renderer = renderer_for(spec);
   RenderSettings settings = render_settings(spec);
   settings.count_light_volume_work = false;  // no check reads these frames' work
-  const Scene& scene = renderer.scene();
-  const Camera camera = scene.camera ? *scene.camera : framing_camera(scene);
-  const FrameCamera frame = frame_camera(camera, static_cast<float>(settings.width) / static_cast<float>(settings.height));
-  const int lights = static_cast<int>(frame_lights(scene, stage_, settings).size());
+  const FrameCamera frame = grading_camera(renderer.scene(), settings);
+  const int lights = static_cast<int>(frame_lights(renderer.scene(), stage_, settings).size());
   std::vector<Image> alone;
   Image none;
   for (int light = 0; light <= lights; ++light) {  // the last: past every light, none

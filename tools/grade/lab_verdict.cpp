@@ -109,7 +109,7 @@ std::string describe_pixel_inputs(const PixelInputs& in, const Scene& scene) {
                 static_cast<double>(in.roughness));
   std::string out = "there the G-buffer holds position " + vec(in.position) + " m, normal " + vec(in.normal) + ", albedo " +
                     vec(in.albedo) + numbers + vec(in.emission);
-  const Camera camera = scene.camera ? *scene.camera : framing_camera(scene);
+  const Camera camera = chosen_camera(scene, -1);
   const glm::vec3 to_eye = camera.position - in.position;
   if (glm::length(to_eye) > 0.0f) out += "; towards the camera " + vec(glm::normalize(to_eye));
   constexpr size_t kMostLights = 4;

@@ -44,7 +44,7 @@ Image light_shares_image(const std::vector<Image>& alone, const Image& none) {
       double sum = 0.0;
       for (size_t i = 0; i < alone.size(); ++i) {
         // Each light's own frame differs from the one without lights by its light alone; a
-        // rounding below zero is none.
+        // rounding below zero is none. Its luminance, until divided by the sum below.
         const double own = luminance(alone[i], x, y) - base;
         lights[i] = {static_cast<int>(i), std::isfinite(own) ? std::max(own, 0.0) : 0.0};
         sum += lights[i].share;
