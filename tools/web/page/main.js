@@ -4,62 +4,73 @@
 // browser (labs.js), "Download my labs", "Open folder", "Check my lab" (check.js), and the
 // GPU resets a shader that never ends causes. kit-web answers every command through
 // kit_call(JSON) -> JSON (tools/web/kit_web.cpp); the page draws only when something changed.
+import {showCheck} from "./check.js";
 import {byPath, parseDiagnostics} from "./diagnostics.js";
 import {LabEditor} from "./editor.js";
 import {LabFiles} from "./labs.js";
-import {showCheck} from "./check.js";
 
+// The page's one state object, made once (main.js) and handed to every module: what the page
+// shows (ui, which the controls mirror and every configure sends), and what the modules must
+// share while it runs (kit-web's file system, the editor, the GPU context's state, the
+// student's folder...). Kept in one place so no module holds state of its own.
 const $ = (id) => document.getElementById(id);
-const pageStart = performance.now();
-const query = new URLSearchParams(window.location.search);
-const canvas = $("canvas");
-const statusLine = $("status");
 
-// What the page shows; the controls mirror it and every configure sends all of it.
-const ui = {
-  catalogue: null,
-  stage: null,             // the catalogue's stage
-  solution: false,         // the reference solution instead of the student's files
-  scene: "default",        // a kit scene's name, or a dropped model's path in the file system
-  view: "final",
-  width: 640, height: 480,
-  settings: {gamma: 2.2, attenuation_model: 0, postprocess: true, custom_effect: false, bloom_threshold: 1.0,
-             extra_lights: 0},
-};
 const SIZES = ["320x240", "640x480", "800x600", "1024x768", "1280x720"];
 const VIEW_LABELS = {
   final: "final image", position: "G-buffer: position", normal: "G-buffer: normal", albedo: "G-buffer: albedo",
   material: "G-buffer: material", emission: "G-buffer: emission", depth: "depth", hdr: "HDR (before tone mapping)",
   irradiance: "lab 6: irradiance map", prefiltered: "lab 6: prefiltered environment", "brdf-lut": "lab 6: BRDF table",
 };
-const COMPILE_DELAY_MS = 300;
-// A context lost this soon after an edit's frame is taken as that edit's doing.
-const LOST_AFTER_EDIT_MS = 10000;
+// Lab 6's maps: small sizes of their own, shown magnified.
+const MAP_VIEWS = ["irradiance", "prefiltered", "brdf-lut"];
 
-let FS = null;
-let labs = null;
-let editor = null;
-let fellBackToLabs = false;  // the URL asked for the solution, and the site has none of that lab
-const pending = new Set();   // paths edited since the last compile
-let compileTimer = 0;
-let drawRequested = false;
-let lost = false, lostAfterEdit = false, editWhileLost = false, waitingForEdit = false;
-let lastDraw = {kind: "", at: 0};
-let compileErrors = new Map();  // path -> diagnostics of the last failed compile
-let folder = null;              // the student's folder (Open folder): {name, labsDir, files: path -> entry}
-let droppedCount = 0;
-const droppedScenes = [];       // [{path, label}]
-const pointers = new Map();
-let pinchDistance = 0;
-const cameraPending = {rotate: [0, 0], pan: [0, 0], zoom: 0};
-let cameraScheduled = false;
+function createPage() {
+  return {
+    startedAt: performance.now(),
+    query: new URLSearchParams(window.location.search),
+    canvas: $("canvas"),
+    // What the page shows; the controls mirror it and every configure sends all of it.
+    ui: {
+      catalogue: null,
+      stage: null,             // the catalogue's stage
+      solution: false,         // the reference solution instead of the student's files
+      scene: "default",        // a kit scene's name, or a dropped model's path in the file system
+      view: "final",
+      width: 640, height: 480,
+      settings: {gamma: 2.2, attenuation_model: 0, postprocess: true, custom_effect: false, bloom_threshold: 1.0,
+                 extra_lights: 0},
+    },
+    FS: null,                  // kit-web's file system
+    labs: null,                // the student's lab files (labs.js)
+    editor: null,              // the lab editor (editor.js)
+    restoredPaths: [],         // the edits this browser kept, in the file system before the first frame
+    fellBackToLabs: false,     // the URL asked for the solution, and the site has none of that lab
+    // Drawing (view.js).
+    drawRequested: false,
+    lastDraw: {kind: "", at: 0},
+    builtKey: "",              // stage/shaders/scene of the renderer kit-web built last
+    lost: false, lostAfterEdit: false, editWhileLost: false, waitingForEdit: false,
+    // The editor's tabs and edits (tabs.js, edits.js).
+    files: [],                 // the files the editor shows for the stage
+    path: null,                // the one shown
+    compileErrors: new Map(),  // path -> diagnostics of the last failed compile
+    pending: new Set(),        // paths edited since the last compile
+    compileTimer: 0,
+    // The student's folder (folder.js): {name, labsDir, files: path -> entry}.
+    folder: null, folderTimer: 0, polling: false,
+    // Dropped models (models.js): [{path, label}].
+    droppedCount: 0, droppedScenes: [],
+    // Camera moves not sent yet (camera.js).
+    camera: {rotate: [0, 0], pan: [0, 0], zoom: 0, scheduled: false},
+    // For the page's test (tests/web_page_test.py) and the curious: counters and state.
+    kitPage: window.kitPage = {ready: false, frames: 0, errors: 0, lastError: "", lastDownload: null,
+                               messages: [], lastCheck: null},
+  };
+}
 
-// For the page's test (tests/web_page_test.py) and the curious: counters and state.
-const kitPage = window.kitPage = {ready: false, frames: 0, errors: 0, lastError: "", lastDownload: null,
-                                  messages: [], lastCheck: null};
-
-// ---- kit-web ----
-
+// Calls into the WebAssembly program, kit-web: every command goes through kit_call(JSON) ->
+// JSON (tools/web/kit_web.cpp), and the lab's files are in its file system. The questions the
+// page asks of the catalogue kit-web answers with are here too.
 function kitCall(command) {
   try {
     return JSON.parse(window.Module.ccall("kit_call", "string", ["string"], [JSON.stringify(command)]));
@@ -68,32 +79,46 @@ function kitCall(command) {
   }
 }
 
-function fsExists(path) {
+function fsExists(page, path) {
   try {
-    return FS.analyzePath(path).exists;
+    return page.FS.analyzePath(path).exists;
   } catch (e) {
     return false;
   }
 }
 
-function findStage(nameOrNumber) {
-  const stages = ui.catalogue ? ui.catalogue.stages : [];
+function findStage(page, nameOrNumber) {
+  const stages = page.ui.catalogue ? page.ui.catalogue.stages : [];
   return stages.find((s) => s.name === nameOrNumber || String(s.number) === nameOrNumber || s.folder === nameOrNumber);
 }
-const hasLabs = (stage) => fsExists(`/kit/labs/${stage.folder}`);
+
+const hasLabs = (page, stage) => fsExists(page, `/kit/labs/${stage.folder}`);
+
 // The first earlier lab this site has no solution of: stage N is built on labs 1..N-1's solutions.
-function missingEarlier(stage) {
-  for (const s of ui.catalogue.stages) {
+function missingEarlier(page, stage) {
+  for (const s of page.ui.catalogue.stages) {
     if (s.number >= stage.number) break;
     if (!s.solution) return s;
   }
   return null;
 }
 
-// ---- messages ----
+// The command that draws what the controls show: all of it, every time.
+function configureCommand(page) {
+  const ui = page.ui;
+  return {cmd: "configure", stage: ui.stage.name, solution: ui.solution, scene: ui.scene, view: ui.view,
+          width: ui.width, height: ui.height, ...ui.settings};
+}
 
+// kit-web builds its renderer anew, from the files, when the stage, the shaders or the
+// scene change (and after a lost context); other settings keep it.
+const buildKey = (page) => `${page.ui.stage.name}/${page.ui.solution}/${page.ui.scene}`;
+
+// The message under the editor (#messages): what the page has to tell the student now, one
+// at a time, with buttons where there is something to do about it. The last ones are kept in
+// kitPage.messages for the page's test.
 // actions: [{label, run}], buttons under the message.
-function say(text, kind = "", detail = "", actions = []) {
+function say(page, text, kind = "", detail = "", actions = []) {
   const box = $("messages");
   box.className = kind;
   box.replaceChildren();
@@ -116,158 +141,198 @@ function say(text, kind = "", detail = "", actions = []) {
     }
     box.append(row);
   }
-  if (text) kitPage.messages.push(text + (detail ? "\n" + detail : ""));
-  if (kitPage.messages.length > 50) kitPage.messages.shift();
+  const messages = page.kitPage.messages;
+  if (text) messages.push(text + (detail ? "\n" + detail : ""));
+  if (messages.length > 50) messages.shift();
 }
 
-function frameInfo(answer, what) {
-  const ms = (s) => (1000 * s).toFixed(1) + " ms";
-  const who = ui.solution ? "reference solution" : "your files";
-  const scene = ui.scene.startsWith("/") ? ui.scene.split("/").pop() : ui.scene;
-  $("frame-info").textContent = `Lab ${ui.stage.number} (${ui.stage.name}), ${who}, scene ${scene}, ` +
-    `${VIEW_LABELS[ui.view] || ui.view}, ${canvas.width}x${canvas.height}: ${what} drawn in ${ms(answer.seconds || 0)}.`;
+// A message with a failure when there is one.
+const showsError = () => $("messages").classList.contains("error");
+
+// The editor's tabs: the files of the lab shown (the student's, or a finished lab's solution,
+// read only), which one is open, and their marks (edited, does not compile). A compile
+// error goes to the lines it names, in the editor and as "Go to" buttons under the message.
+const SOLUTION_NOTE = "The frame shows the reference solution; your edits are kept and drawn when you choose " +
+                      "\"my lab files\".";
+
+// The files the editor shows for the stage: the student's (labs/NN-name/), or, where the
+// site has no labs/ folder of that lab (a lab that is over), its solution, read only.
+function stageFiles(page) {
+  const stage = page.ui.stage;
+  if (hasLabs(page, stage))
+    return stage.files.map((f) => ({path: `/kit/labs/${stage.folder}/${f.name}`, name: f.name, readOnly: false}));
+  if (stage.solution)
+    return stage.files.map((f) => ({path: `/kit/solutions/${stage.folder}/${f.name}`, name: f.name, readOnly: true}));
+  return [];
 }
 
-// The canvas at one canvas pixel per CSS pixel; lab 6's maps, which have small sizes of
-// their own, magnified by a whole factor.
-const MAP_VIEWS = ["irradiance", "prefiltered", "brdf-lut"];
-function fitCanvas() {
-  const zoom = MAP_VIEWS.includes(ui.view) ? Math.max(1, Math.floor(256 / Math.max(canvas.width, canvas.height))) : 1;
-  canvas.style.width = zoom * canvas.width + "px";
-  canvas.style.height = zoom * canvas.height + "px";
+function fileText(page, file) {
+  if (page.labs.has(file.path)) return page.labs.text(file.path);
+  try {
+    return page.FS.readFile(file.path, {encoding: "utf8"});
+  } catch (e) {
+    return `// ${file.path}: ${e.message || e}`;
+  }
 }
 
-// ---- compile errors in the editor ----
+function openStageFiles(page) {
+  page.files = stageFiles(page);
+  const stage = page.ui.stage, files = page.files;
+  const heading = $("editor-heading");
+  if (!files.length) heading.textContent = `Lab ${stage.number}: no files in this site`;
+  else if (files[0].readOnly) heading.textContent = `Lab ${stage.number}'s reference solution (read only)`;
+  else heading.textContent = `Your files of lab ${stage.number}: labs/${stage.folder}/`;
+  if (!files.some((f) => f.path === page.path)) page.path = files.length ? files[0].path : null;
+  renderTabs(page);
+  if (page.path) showFile(page, page.path);
+  $("reset-file").disabled = !page.path || files[0].readOnly;
+  if (page.ui.solution && files.length && !files[0].readOnly) {
+    say(page, SOLUTION_NOTE);
+  } else if (page.kitPage.messages.at(-1) === SOLUTION_NOTE) {
+    say(page, "");
+  }
+}
 
-function showCompileError(error) {
+function renderTabs(page) {
+  const tabs = $("tabs");
+  tabs.replaceChildren();
+  for (const file of page.files) {
+    const tab = document.createElement("button");
+    tab.type = "button";
+    tab.setAttribute("role", "tab");
+    tab.id = "tab-" + file.name.replace(/\W/g, "-");
+    tab.dataset.path = file.path;
+    tab.setAttribute("aria-controls", "editor");
+    tab.addEventListener("click", () => showFile(page, file.path));
+    tab.addEventListener("keydown", (e) => {
+      const files = page.files;
+      const i = files.indexOf(file);
+      const to = {ArrowRight: i + 1, ArrowLeft: i - 1, Home: 0, End: files.length - 1}[e.key];
+      if (to === undefined) return;
+      e.preventDefault();
+      const next = files[(to + files.length) % files.length];
+      showFile(page, next.path);
+      document.querySelector(`[role="tab"][data-path="${next.path}"]`).focus();
+    });
+    tabs.append(tab);
+  }
+  markTabs(page);
+}
+
+function markTabs(page) {
+  for (const tab of document.querySelectorAll('#tabs [role="tab"]')) {
+    const path = tab.dataset.path;
+    const name = path.split("/").pop();
+    const selected = path === page.path;
+    const edited = page.labs.edited(path), broken = page.compileErrors.has(path);
+    tab.setAttribute("aria-selected", String(selected));
+    tab.tabIndex = selected ? 0 : -1;
+    tab.replaceChildren(name);
+    if (edited) tab.append(" \u2022");
+    if (broken) {
+      const mark = document.createElement("span");
+      mark.className = "mark-error";
+      mark.textContent = " \u26a0";
+      tab.append(mark);
+    }
+    tab.setAttribute("aria-label", name + (edited ? ", edited" : "") + (broken ? ", does not compile" : ""));
+  }
+}
+
+function showFile(page, path) {
+  const file = page.files.find((f) => f.path === path);
+  if (!file) return;
+  page.path = path;
+  const label = path.replace(/^\/kit\//, "");
+  page.editor.show(path, fileText(page, file), file.readOnly, label);
+  if (page.compileErrors.has(path)) page.editor.setDiagnostics(path, page.compileErrors.get(path));
+  $("editor").setAttribute("aria-labelledby", $("tabs").querySelector(`[data-path="${path}"]`)?.id || "editor-heading");
+  markTabs(page);
+}
+
+function showCompileError(page, error) {
+  const editor = page.editor;
   const diagnostics = parseDiagnostics(error);
   const grouped = byPath(diagnostics);
-  for (const path of compileErrors.keys())
+  for (const path of page.compileErrors.keys())
     if (!grouped.has(path) && editor.has(path)) editor.setDiagnostics(path, []);
-  compileErrors = grouped;
+  page.compileErrors = grouped;
   for (const [path, list] of grouped) if (editor.has(path)) editor.setDiagnostics(path, list);
-  markTabs();
+  markTabs(page);
   const where = [...grouped.keys()].map((p) => p.replace(/^\/kit\//, "")).join(", ");
-  const actions = diagnostics.filter((d) => currentFiles.some((f) => f.path === d.path)).slice(0, 4).map((d) => ({
+  const actions = diagnostics.filter((d) => page.files.some((f) => f.path === d.path)).slice(0, 4).map((d) => ({
     label: `Go to ${d.path.split("/").pop()} line ${d.line}`,
     run: () => {
-      showFile(d.path);
+      showFile(page, d.path);
       editor.goto(d.line);
     },
   }));
-  say(`Does not compile${where ? " (" + where + ")" : ""}: the frame shows your last good version.`, "error", error,
-      actions);
+  say(page, `Does not compile${where ? " (" + where + ")" : ""}: the frame shows your last good version.`, "error",
+      error, actions);
 }
 
-function clearCompileErrors() {
-  for (const path of compileErrors.keys()) if (editor.has(path)) editor.setDiagnostics(path, []);
-  compileErrors = new Map();
-  markTabs();
+function clearCompileErrors(page) {
+  for (const path of page.compileErrors.keys()) if (page.editor.has(path)) page.editor.setDiagnostics(path, []);
+  page.compileErrors = new Map();
+  markTabs(page);
 }
 
-// ---- drawing ----
-
-// An answer to a command that draws: the frame it drew, or the problem (the canvas keeps
-// the last good frame). kind: "edit" (a compile of the student's files), "build" (a
-// configure that built the renderer anew from the files), "settings" (one that kept the
-// renderer: a compile error of the files stands) or "move".
-function drawn(answer, kind, label) {
-  if (answer.error) {
-    kitPage.errors += 1;
-    kitPage.lastError = answer.error;
-    if (lost || /WebGL context is lost/.test(answer.error)) say("Waiting for the browser to restore the GPU context.", "error");
-    else if (parseDiagnostics(answer.error).length) showCompileError(answer.error);
-    else say(answer.error, "error");
-    return false;
+// The URL: kit-render's options (stage, scene, view, size, shaders, camera) become the first
+// frame's arguments and the controls' first state, and the controls keep it up to date, so a
+// handout can link to a view (index.html says which lab files the first frame draws).
+// kit-web's arguments, as kit-render takes them (--solution comes in firstFrameArguments).
+function kitArguments(page) {
+  const query = page.query, args = [];
+  for (const [key, flag] of [["stage", "--stage"], ["scene", "--scene"], ["view", "--view"], ["size", "--size"],
+                             ["camera", "--camera"]]) {
+    if (query.has(key)) args.push(flag, query.get(key));
   }
-  fitCanvas();
-  kitPage.frames += 1;
-  lastDraw = {kind, at: performance.now()};
-  if (kind === "edit" || kind === "build") {
-    clearCompileErrors();
-    if (kind === "edit") say(`Compiled and drawn (${(1000 * (answer.seconds || 0)).toFixed(0)} ms).`, "ok");
-    else if ($("messages").classList.contains("error")) say("");
-  } else if (!compileErrors.size && $("messages").classList.contains("error")) {
-    say("");
+  const size = /^(\d+)x(\d+)$/.exec(query.get("size") || "");
+  if (size) {
+    // Exactly that many pixels, shown one canvas pixel to one CSS pixel.
+    page.canvas.style.width = size[1] + "px";
+    page.canvas.style.height = size[2] + "px";
   }
-  if (answer.warnings && answer.warnings.length) say("Warnings:", "", answer.warnings.join("\n"));
-  frameInfo(answer, label);
-  return true;
+  return args;
 }
 
-function configureCommand() {
-  return {cmd: "configure", stage: ui.stage.name, solution: ui.solution, scene: ui.scene, view: ui.view,
-          width: ui.width, height: ui.height, ...ui.settings};
-}
-
-function canDraw() {
-  if (lost) {
-    say("The GPU context is lost; the page draws again once the browser restores it.", "error");
-    return false;
+// Before main(), once the file system tells whether the site has the lab's files and its
+// solution: the stage, where the URL names none, and --solution. emscripten passes this same
+// array to main(): the flags are added in place.
+function firstFrameArguments(page, args) {
+  const query = page.query, catalogue = page.ui.catalogue;
+  let stage = catalogue.stages ? findStage(page, query.get("stage") || "gbuffer") : null;
+  if (!query.has("stage") && catalogue.stages) {
+    // No stage in the URL: the first lab this site has the student's files of and can
+    // draw (a class's site: the class's lab; the instructors': lab 1, as kit-render).
+    const own = catalogue.stages.find((s) => hasLabs(page, s) && !missingEarlier(page, s));
+    if (own && own !== stage) {
+      stage = own;
+      args.push("--stage", own.name);
+    }
   }
-  if (waitingForEdit) {
-    say("Not drawing: the GPU reset right after your last edit. Edit a file to try again, or press Redraw.", "error");
-    return false;
-  }
-  return true;
-}
-
-// kit-web builds its renderer anew, from the files, when the stage, the shaders or the
-// scene change (and after a lost context); other settings keep it.
-let builtKey = "";
-const buildKey = () => `${ui.stage.name}/${ui.solution}/${ui.scene}`;
-
-// Draws with the controls' state now; kind as drawn() takes it, "build" or "settings" by
-// what changed since the last frame kit-web built.
-function configure(label, rebuilt = false) {
-  const key = buildKey();
-  const answer = kitCall(configureCommand());
-  const ok = drawn(answer, rebuilt || key !== builtKey ? "build" : "settings", label);
-  if (ok) builtKey = key;
-  return ok;
-}
-
-// Draws with the controls' state at the next animation frame (changes in between coalesce).
-function requestDraw() {
-  updateURL();
-  if (drawRequested) return;
-  drawRequested = true;
-  requestAnimationFrame(() => {
-    drawRequested = false;
-    if (!canDraw()) return;
-    configure("frame");
-  });
-}
-
-function flushCamera() {
-  cameraScheduled = false;
-  if (!canDraw()) return;
-  const [rx, ry] = cameraPending.rotate, [px, py] = cameraPending.pan, zoom = cameraPending.zoom;
-  cameraPending.rotate = [0, 0];
-  cameraPending.pan = [0, 0];
-  cameraPending.zoom = 0;
-  let answer = null;
-  if (rx || ry) answer = kitCall({cmd: "camera", action: "rotate", dx: rx, dy: ry});
-  if (px || py) answer = kitCall({cmd: "camera", action: "pan", dx: px, dy: py});
-  if (zoom) answer = kitCall({cmd: "camera", action: "zoom", steps: zoom});
-  if (answer) drawn(answer, "move", "camera moved,");
-}
-
-function moveCamera(action, a, b = 0) {
-  if (action === "zoom") cameraPending.zoom += a;
-  else {
-    cameraPending[action][0] += a;
-    cameraPending[action][1] += b;
-  }
-  if (!cameraScheduled) {
-    cameraScheduled = true;
-    requestAnimationFrame(flushCamera);
+  if (query.get("shaders") !== "labs") {
+    if (stage && !stage.solution && hasLabs(page, stage)) page.fellBackToLabs = true;
+    else args.push("--solution");
   }
 }
 
-// ---- the URL ----
+// The controls' first state: what the first frame drew (its report), else the URL's.
+function initialState(page, report) {
+  const ui = page.ui, query = page.query;
+  const fromUrl = query.get("stage");
+  ui.stage = findStage(page, report.stage || fromUrl || "gbuffer") || ui.catalogue.stages[0];
+  if (report.solution !== undefined) ui.solution = report.solution;
+  else if (hasLabs(page, ui.stage)) ui.solution = query.get("shaders") !== "labs" && ui.stage.solution;
+  else ui.solution = ui.stage.solution;
+  ui.scene = report.scene || query.get("scene") || "default";
+  ui.view = report.view || query.get("view") || "final";
+  const size = /^(\d+)x(\d+)$/.exec(report.size || query.get("size") || "");
+  if (size) [ui.width, ui.height] = [Number(size[1]), Number(size[2])];
+}
 
-function updateURL() {
+function updateURL(page) {
+  const ui = page.ui;
   const params = new URLSearchParams(window.location.search);
   params.set("stage", ui.stage.name);
   if (!ui.scene.startsWith("/")) params.set("scene", ui.scene);  // a dropped model is not on the next visit
@@ -279,174 +344,172 @@ function updateURL() {
   window.history.replaceState(null, "", url);
 }
 
-// ---- controls ----
+// Drawing: the page draws only when something changed, at most once an animation frame, and
+// every answer of kit-web that draws comes through drawn(): the frame, or the problem while
+// the canvas keeps the last good frame. A shader that never ends makes the browser reset the
+// GPU; the page then waits for the context to come back before it draws again.
+// A context lost this soon after an edit's frame is taken as that edit's doing.
+const LOST_AFTER_EDIT_MS = 10000;
 
-function option(value, text, disabled = false) {
-  const o = document.createElement("option");
-  o.value = value;
-  o.textContent = text;
-  o.disabled = disabled;
-  return o;
+function frameInfo(page, answer, what) {
+  const ui = page.ui, canvas = page.canvas;
+  const ms = (s) => (1000 * s).toFixed(1) + " ms";
+  const who = ui.solution ? "reference solution" : "your files";
+  const scene = ui.scene.startsWith("/") ? ui.scene.split("/").pop() : ui.scene;
+  $("frame-info").textContent = `Lab ${ui.stage.number} (${ui.stage.name}), ${who}, scene ${scene}, ` +
+    `${VIEW_LABELS[ui.view] || ui.view}, ${canvas.width}x${canvas.height}: ${what} drawn in ${ms(answer.seconds || 0)}.`;
 }
 
-function fillStages() {
-  const select = $("stage");
-  select.replaceChildren();
-  for (const s of ui.catalogue.stages) {
-    const missing = missingEarlier(s);
-    const label = `${s.number} ${s.name}` + (missing ? ` (needs lab ${missing.number}'s solution)` : "");
-    select.append(option(s.name, label, Boolean(missing)));
+// The canvas at one canvas pixel per CSS pixel; lab 6's maps, which have small sizes of
+// their own, magnified by a whole factor.
+function fitCanvas(page) {
+  const canvas = page.canvas;
+  const zoom = MAP_VIEWS.includes(page.ui.view) ? Math.max(1, Math.floor(256 / Math.max(canvas.width, canvas.height)))
+                                                : 1;
+  canvas.style.width = zoom * canvas.width + "px";
+  canvas.style.height = zoom * canvas.height + "px";
+}
+
+// An answer to a command that draws: the frame it drew, or the problem (the canvas keeps
+// the last good frame). kind: "edit" (a compile of the student's files), "build" (a
+// configure that built the renderer anew from the files), "settings" (one that kept the
+// renderer: a compile error of the files stands) or "move".
+function drawn(page, answer, kind, label) {
+  const kitPage = page.kitPage;
+  if (answer.error) {
+    kitPage.errors += 1;
+    kitPage.lastError = answer.error;
+    if (page.lost || /WebGL context is lost/.test(answer.error))
+      say(page, "Waiting for the browser to restore the GPU context.", "error");
+    else if (parseDiagnostics(answer.error).length) showCompileError(page, answer.error);
+    else say(page, answer.error, "error");
+    return false;
   }
-  select.value = ui.stage.name;
-}
-
-function fillViews() {
-  const select = $("view");
-  select.replaceChildren();
-  // As kit-view offers them: HDR from the first lit stage, lab 6's maps in lab 6.
-  const allowed = (v) => (v !== "hdr" || ui.stage.number >= 2) &&
-                         (!MAP_VIEWS.includes(v) || ui.stage.name === "ibl");
-  for (const v of ui.catalogue.views) if (allowed(v)) select.append(option(v, VIEW_LABELS[v] || v));
-  if (![...select.options].some((o) => o.value === ui.view)) ui.view = "final";
-  select.value = ui.view;
-}
-
-function fillScenes() {
-  const select = $("scene");
-  select.replaceChildren();
-  const kit = document.createElement("optgroup");
-  kit.label = "The kit's scenes";
-  for (const name of ui.catalogue.scenes) kit.append(option(name, name));
-  select.append(kit);
-  if (droppedScenes.length) {
-    const own = document.createElement("optgroup");
-    own.label = "Your models";
-    for (const d of droppedScenes) own.append(option(d.path, d.label));
-    select.append(own);
+  fitCanvas(page);
+  kitPage.frames += 1;
+  page.lastDraw = {kind, at: performance.now()};
+  if (kind === "edit" || kind === "build") {
+    clearCompileErrors(page);
+    if (kind === "edit") say(page, `Compiled and drawn (${(1000 * (answer.seconds || 0)).toFixed(0)} ms).`, "ok");
+    else if (showsError()) say(page, "");
+  } else if (!page.compileErrors.size && showsError()) {
+    say(page, "");
   }
-  if (![...select.querySelectorAll("option")].some((o) => o.value === ui.scene)) {
-    select.append(option(ui.scene, ui.scene));
+  if (answer.warnings && answer.warnings.length) say(page, "Warnings:", "", answer.warnings.join("\n"));
+  frameInfo(page, answer, label);
+  return true;
+}
+
+function canDraw(page) {
+  if (page.lost) {
+    say(page, "The GPU context is lost; the page draws again once the browser restores it.", "error");
+    return false;
   }
-  select.value = ui.scene;
-}
-
-function fillSizes() {
-  const select = $("size");
-  select.replaceChildren();
-  const sizes = [...SIZES];
-  const current = `${ui.width}x${ui.height}`;
-  if (!sizes.includes(current)) sizes.unshift(current);
-  for (const s of sizes) select.append(option(s, s.replace("x", " x ")));
-  select.value = current;
-}
-
-function syncShaders() {
-  const labsThere = hasLabs(ui.stage);
-  $("shaders-labs").disabled = !labsThere;
-  $("shaders-solution").disabled = !ui.stage.solution;
-  $("shaders-labs").checked = !ui.solution;
-  $("shaders-solution").checked = ui.solution;
-}
-
-function syncSettings() {
-  let shown = 0;
-  for (const row of document.querySelectorAll("[data-from-lab]")) {
-    row.hidden = ui.stage.number < Number(row.dataset.fromLab);
-    if (!row.hidden) shown += 1;
+  if (page.waitingForEdit) {
+    say(page, "Not drawing: the GPU reset right after your last edit. Edit a file to try again, or press Redraw.",
+        "error");
+    return false;
   }
-  $("settings-none").hidden = shown > 0;
-  $("bloom-threshold").disabled = !ui.settings.postprocess;
+  return true;
 }
 
-function syncControls() {
-  fillStages();
-  syncShaders();
-  fillScenes();
-  fillViews();
-  fillSizes();
-  syncSettings();
-  const s = ui.settings;
-  $("postprocess").checked = s.postprocess;
-  $("custom-effect").checked = s.custom_effect;
-  $("gamma").value = s.gamma;
-  $("gamma-value").textContent = Number(s.gamma).toFixed(2);
-  $("bloom-threshold").value = s.bloom_threshold;
-  $("bloom-threshold-value").textContent = Number(s.bloom_threshold).toFixed(2);
-  $("extra-lights").value = s.extra_lights;
-  $("extra-lights-value").textContent = String(s.extra_lights);
-  for (const radio of document.querySelectorAll('input[name="attenuation"]'))
-    radio.checked = Number(radio.value) === s.attenuation_model;
-  $("check").disabled = !hasLabs(ui.stage) || Boolean(missingEarlier(ui.stage));
+// Draws with the controls' state now; kind as drawn() takes it, "build" or "settings" by
+// what changed since the last frame kit-web built.
+function configure(page, label, rebuilt = false) {
+  const key = buildKey(page);
+  const answer = kitCall(configureCommand(page));
+  const ok = drawn(page, answer, rebuilt || key !== page.builtKey ? "build" : "settings", label);
+  if (ok) page.builtKey = key;
+  return ok;
 }
 
-function wireControls() {
-  for (const id of ["stage", "scene", "view", "size", "postprocess", "custom-effect", "gamma", "bloom-threshold",
-                    "extra-lights", "model-file", "shaders-labs", "shaders-solution"])
-    $(id).disabled = false;
-  for (const radio of document.querySelectorAll('input[name="attenuation"]')) radio.disabled = false;
-
-  $("stage").addEventListener("change", () => {
-    ui.stage = findStage($("stage").value);
-    // A student's default is their own files; a lab that is over shows its solution.
-    ui.solution = !hasLabs(ui.stage) && ui.stage.solution;
-    syncControls();
-    openStageFiles();
-    requestDraw();
+// Draws with the controls' state at the next animation frame (changes in between coalesce).
+function requestDraw(page) {
+  updateURL(page);
+  if (page.drawRequested) return;
+  page.drawRequested = true;
+  requestAnimationFrame(() => {
+    page.drawRequested = false;
+    if (!canDraw(page)) return;
+    configure(page, "frame");
   });
-  for (const id of ["shaders-labs", "shaders-solution"]) {
-    $(id).addEventListener("change", () => {
-      ui.solution = $("shaders-solution").checked;
-      openStageFiles();
-      requestDraw();
-    });
+}
+
+// The first frame, drawn by kit-web's main() before the page started: as if configure() drew it.
+function firstFrame(page, report) {
+  frameInfo(page, {seconds: report.seconds && report.seconds.frame}, "first frame");
+  page.lastDraw = {kind: "build", at: performance.now()};
+  page.builtKey = buildKey(page);
+}
+
+function wireContextLoss(page) {
+  const canvas = page.canvas;
+  canvas.addEventListener("webglcontextlost", (e) => {
+    e.preventDefault();  // the browser restores it then
+    page.lost = true;
+    page.lostAfterEdit = page.lastDraw.kind === "edit" && performance.now() - page.lastDraw.at < LOST_AFTER_EDIT_MS;
+    page.editWhileLost = false;
+    kitCall({cmd: "lost"});
+    say(page, "The GPU reset while drawing: a shader took too long (a loop that never ends?). Your files are kept; " +
+        "the page draws again once the browser restores the GPU context.", "error");
+    page.kitPage.lostAt = performance.now();
+  });
+  canvas.addEventListener("webglcontextrestored", () => {
+    page.lost = false;
+    const restored = kitCall({cmd: "restored"});
+    if (restored.error) {
+      say(page, "The GPU context came back, but kit-web could not use it: " + restored.error, "error");
+      return;
+    }
+    if (page.lostAfterEdit && !page.editWhileLost) {
+      page.waitingForEdit = true;
+      say(page, "The GPU reset while drawing: a shader took too long (a loop that never ends?). The GPU context is " +
+          "back, but the page does not draw your last edit again by itself: edit a file to try again (or press " +
+          "Redraw).", "error");
+      return;
+    }
+    page.waitingForEdit = false;
+    if (configure(page, "frame after the GPU reset", true)) {
+      if (page.editWhileLost) page.lastDraw.kind = "edit";  // a loss now is that edit's doing
+      else say(page, "The GPU context is back: drawn again.", "ok");
+    }
+  });
+}
+
+// Orbiting the camera on the canvas: mouse, touch and keyboard. Moves add up until the next
+// animation frame, which sends them to kit-web and draws once, however many events came.
+function flushCamera(page) {
+  const moves = page.camera;
+  moves.scheduled = false;
+  if (!canDraw(page)) return;
+  const [rx, ry] = moves.rotate, [px, py] = moves.pan, zoom = moves.zoom;
+  moves.rotate = [0, 0];
+  moves.pan = [0, 0];
+  moves.zoom = 0;
+  let answer = null;
+  if (rx || ry) answer = kitCall({cmd: "camera", action: "rotate", dx: rx, dy: ry});
+  if (px || py) answer = kitCall({cmd: "camera", action: "pan", dx: px, dy: py});
+  if (zoom) answer = kitCall({cmd: "camera", action: "zoom", steps: zoom});
+  if (answer) drawn(page, answer, "move", "camera moved,");
+}
+
+function moveCamera(page, action, a, b = 0) {
+  const moves = page.camera;
+  if (action === "zoom") moves.zoom += a;
+  else {
+    moves[action][0] += a;
+    moves[action][1] += b;
   }
-  $("scene").addEventListener("change", () => {
-    ui.scene = $("scene").value;
-    requestDraw();
-  });
-  $("view").addEventListener("change", () => {
-    ui.view = $("view").value;
-    requestDraw();
-  });
-  $("size").addEventListener("change", () => {
-    [ui.width, ui.height] = $("size").value.split("x").map(Number);
-    requestDraw();
-  });
-  $("postprocess").addEventListener("change", () => {
-    ui.settings.postprocess = $("postprocess").checked;
-    syncSettings();
-    requestDraw();
-  });
-  $("custom-effect").addEventListener("change", () => {
-    ui.settings.custom_effect = $("custom-effect").checked;
-    requestDraw();
-  });
-  const slider = (id, key, digits) => {
-    $(id).addEventListener("input", () => {
-      ui.settings[key] = Number($(id).value);
-      $(id + "-value").textContent = ui.settings[key].toFixed(digits);
-      requestDraw();
-    });
-  };
-  slider("gamma", "gamma", 2);
-  slider("bloom-threshold", "bloom_threshold", 2);
-  slider("extra-lights", "extra_lights", 0);
-  for (const radio of document.querySelectorAll('input[name="attenuation"]')) {
-    radio.addEventListener("change", () => {
-      ui.settings.attenuation_model = Number(radio.value);
-      requestDraw();
-    });
+  if (!moves.scheduled) {
+    moves.scheduled = true;
+    requestAnimationFrame(() => flushCamera(page));
   }
-  $("model-file").addEventListener("change", () => {
-    const files = [...$("model-file").files];
-    $("model-file").value = "";
-    loadModel(files);
-  });
 }
 
-// ---- the camera: mouse, touch, keyboard ----
-
-function wireCamera() {
+function wireCamera(page) {
+  const canvas = page.canvas;
+  const pointers = new Map();  // the pointers down on the canvas: where they were last
+  let pinchDistance = 0;
   canvas.addEventListener("contextmenu", (e) => e.preventDefault());
   canvas.addEventListener("pointerdown", (e) => {
     canvas.setPointerCapture(e.pointerId);
@@ -465,11 +528,11 @@ function wireCamera() {
     p.x = e.clientX;
     p.y = e.clientY;
     if (pointers.size === 1) {
-      moveCamera(p.button === 2 || p.button === 1 || e.shiftKey ? "pan" : "rotate", dx, dy);
+      moveCamera(page, p.button === 2 || p.button === 1 || e.shiftKey ? "pan" : "rotate", dx, dy);
     } else if (pointers.size === 2) {
       const [a, b] = [...pointers.values()];
       const distance = Math.hypot(a.x - b.x, a.y - b.y);
-      moveCamera("zoom", (distance - pinchDistance) / 40);  // 40 px of pinch: one wheel step
+      moveCamera(page, "zoom", (distance - pinchDistance) / 40);  // 40 px of pinch: one wheel step
       pinchDistance = distance;
     }
   });
@@ -481,177 +544,110 @@ function wireCamera() {
   canvas.addEventListener("wheel", (e) => {
     e.preventDefault();
     const perStep = e.deltaMode === 1 ? 3 : e.deltaMode === 2 ? 1 : 100;
-    moveCamera("zoom", -e.deltaY / perStep);
+    moveCamera(page, "zoom", -e.deltaY / perStep);
   }, {passive: false});
   canvas.addEventListener("keydown", (e) => {
     const step = 20;
     const keys = {ArrowLeft: [-step, 0], ArrowRight: [step, 0], ArrowUp: [0, -step], ArrowDown: [0, step]};
-    if (keys[e.key]) moveCamera(e.shiftKey ? "pan" : "rotate", ...keys[e.key]);
-    else if (e.key === "+" || e.key === "=" || e.key === "PageUp") moveCamera("zoom", 1);
-    else if (e.key === "-" || e.key === "PageDown") moveCamera("zoom", -1);
+    if (keys[e.key]) moveCamera(page, e.shiftKey ? "pan" : "rotate", ...keys[e.key]);
+    else if (e.key === "+" || e.key === "=" || e.key === "PageUp") moveCamera(page, "zoom", 1);
+    else if (e.key === "-" || e.key === "PageDown") moveCamera(page, "zoom", -1);
     else return;
     e.preventDefault();
   });
 }
 
-// ---- the editor and its tabs ----
+// The student's edits: kept in this browser on every keystroke (labs.js), written into
+// kit-web's file system and the student's folder when one is open, then compiled and drawn
+// once the student stops typing, so the frame follows the text without a button.
+const COMPILE_DELAY_MS = 300;
 
-// The files the editor shows for the stage: the student's (labs/NN-name/), or, where the
-// site has no labs/ folder of that lab (a lab that is over), its solution, read only.
-function stageFiles() {
-  const stage = ui.stage;
-  if (hasLabs(stage))
-    return stage.files.map((f) => ({path: `/kit/labs/${stage.folder}/${f.name}`, name: f.name, readOnly: false}));
-  if (stage.solution)
-    return stage.files.map((f) => ({path: `/kit/solutions/${stage.folder}/${f.name}`, name: f.name, readOnly: true}));
-  return [];
+// Before kit-web's main(): the lab files, with the edits this browser kept put into the file
+// system, so the first frame draws them.
+function restoreEdits(page) {
+  page.labs = new LabFiles(page.FS);
+  page.restoredPaths = page.labs.restore();
 }
 
-function fileText(file) {
-  if (labs.has(file.path)) return labs.text(file.path);
-  try {
-    return FS.readFile(file.path, {encoding: "utf8"});
-  } catch (e) {
-    return `// ${file.path}: ${e.message || e}`;
-  }
-}
-
-const SOLUTION_NOTE = "The frame shows the reference solution; your edits are kept and drawn when you choose " +
-                      "\"my lab files\".";
-let currentFiles = [];
-let currentPath = null;
-
-function openStageFiles() {
-  currentFiles = stageFiles();
-  const stage = ui.stage;
-  const heading = $("editor-heading");
-  if (!currentFiles.length) heading.textContent = `Lab ${stage.number}: no files in this site`;
-  else if (currentFiles[0].readOnly) heading.textContent = `Lab ${stage.number}'s reference solution (read only)`;
-  else heading.textContent = `Your files of lab ${stage.number}: labs/${stage.folder}/`;
-  if (!currentFiles.some((f) => f.path === currentPath)) currentPath = currentFiles.length ? currentFiles[0].path : null;
-  renderTabs();
-  if (currentPath) showFile(currentPath);
-  $("reset-file").disabled = !currentPath || currentFiles[0].readOnly;
-  if (ui.solution && currentFiles.length && !currentFiles[0].readOnly) {
-    say(SOLUTION_NOTE);
-  } else if (kitPage.messages.at(-1) === SOLUTION_NOTE) {
-    say("");
-  }
-}
-
-function renderTabs() {
-  const tabs = $("tabs");
-  tabs.replaceChildren();
-  for (const file of currentFiles) {
-    const tab = document.createElement("button");
-    tab.type = "button";
-    tab.setAttribute("role", "tab");
-    tab.id = "tab-" + file.name.replace(/\W/g, "-");
-    tab.dataset.path = file.path;
-    tab.setAttribute("aria-controls", "editor");
-    tab.addEventListener("click", () => showFile(file.path));
-    tab.addEventListener("keydown", (e) => {
-      const i = currentFiles.indexOf(file);
-      const to = {ArrowRight: i + 1, ArrowLeft: i - 1, Home: 0, End: currentFiles.length - 1}[e.key];
-      if (to === undefined) return;
-      e.preventDefault();
-      const next = currentFiles[(to + currentFiles.length) % currentFiles.length];
-      showFile(next.path);
-      document.querySelector(`[role="tab"][data-path="${next.path}"]`).focus();
-    });
-    tabs.append(tab);
-  }
-  markTabs();
-}
-
-function markTabs() {
-  for (const tab of document.querySelectorAll('#tabs [role="tab"]')) {
-    const path = tab.dataset.path;
-    const name = path.split("/").pop();
-    const selected = path === currentPath;
-    const edited = labs.edited(path), broken = compileErrors.has(path);
-    tab.setAttribute("aria-selected", String(selected));
-    tab.tabIndex = selected ? 0 : -1;
-    tab.replaceChildren(name);
-    if (edited) tab.append(" \u2022");
-    if (broken) {
-      const mark = document.createElement("span");
-      mark.className = "mark-error";
-      mark.textContent = " \u26a0";
-      tab.append(mark);
-    }
-    tab.setAttribute("aria-label", name + (edited ? ", edited" : "") + (broken ? ", does not compile" : ""));
-  }
-}
-
-function showFile(path) {
-  const file = currentFiles.find((f) => f.path === path);
-  if (!file) return;
-  currentPath = path;
-  const label = path.replace(/^\/kit\//, "");
-  editor.show(path, fileText(file), file.readOnly, label);
-  if (compileErrors.has(path)) editor.setDiagnostics(path, compileErrors.get(path));
-  $("editor").setAttribute("aria-labelledby", $("tabs").querySelector(`[data-path="${path}"]`)?.id || "editor-heading");
-  markTabs();
-}
-
-// ---- edits: kept, written into the file system, compiled ----
-
-function onEdit(path, text) {
+function onEdit(page, path, text) {
+  const labs = page.labs;
   if (!labs.has(path)) return;
   if (!labs.set(path, text))
-    say(`This browser refused to keep your text (${labs.storageProblem}): use Download my labs before you leave.`,
-        "error");
-  pending.add(path);
-  markTabs();
-  clearTimeout(compileTimer);
-  compileTimer = setTimeout(compileEdits, COMPILE_DELAY_MS);
+    say(page, `This browser refused to keep your text (${labs.storageProblem}): use Download my labs before you ` +
+        "leave.", "error");
+  page.pending.add(path);
+  markTabs(page);
+  clearTimeout(page.compileTimer);
+  page.compileTimer = setTimeout(() => compileEdits(page), COMPILE_DELAY_MS);
 }
 
 // Writes the edited files into kit-web's file system (and the student's folder), then
 // compiles and draws the stage when it draws one of them.
-function compileEdits() {
-  clearTimeout(compileTimer);
-  if (!pending.size) return;
-  const paths = [...pending];
-  pending.clear();
+function compileEdits(page) {
+  clearTimeout(page.compileTimer);
+  if (!page.pending.size) return;
+  const paths = [...page.pending];
+  page.pending.clear();
   for (const path of paths) {
-    labs.writeFS(path);
-    saveToFolder(path);
+    page.labs.writeFS(path);
+    saveToFolder(page, path);
   }
+  const ui = page.ui;
   const drawsThem = !ui.solution && paths.some((p) => p.startsWith(`/kit/labs/${ui.stage.folder}/`));
   if (!drawsThem) {
-    if (ui.solution) say("Saved. The frame shows the reference solution: choose \"my lab files\" to draw your edit.");
+    if (ui.solution)
+      say(page, "Saved. The frame shows the reference solution: choose \"my lab files\" to draw your edit.");
     return;
   }
-  if (lost) {
-    editWhileLost = true;
-    say("Saved. The GPU context is lost: your edit is drawn once the browser restores it.", "error");
+  if (page.lost) {
+    page.editWhileLost = true;
+    say(page, "Saved. The GPU context is lost: your edit is drawn once the browser restores it.", "error");
     return;
   }
-  waitingForEdit = false;
+  page.waitingForEdit = false;
   const answer = kitCall({cmd: "reload"});
-  drawn(answer, "edit", "your edit");
+  drawn(page, answer, "edit", "your edit");
 }
 
-function resetFile() {
-  if (!currentPath || !labs.has(currentPath)) return;
-  const starter = labs.starter(currentPath);
-  if (labs.text(currentPath) === starter) {
-    say("This file is the starter already.");
+// The text now into the student's folder (folder.js), after the writes before it.
+function saveToFolder(page, path) {
+  const folder = page.folder;
+  if (!folder) return;
+  const entry = folder.files.get(path);
+  if (!entry) return;
+  const text = page.labs.text(path);
+  entry.writing = entry.writing.then(async () => {
+    const stream = await entry.handle.createWritable();
+    await stream.write(text);
+    await stream.close();
+    const file = await entry.handle.getFile();
+    entry.lastModified = file.lastModified;
+    entry.text = text;
+  }).catch((e) => say(page, `Could not save ${path.replace(/^\/kit\//, "")} into ${page.folder.name} ` +
+                      `(${e.message || e}); your text is kept in this browser.`, "error"));
+}
+
+function resetFile(page) {
+  const path = page.path, labs = page.labs;
+  if (!path || !labs.has(path)) return;
+  const starter = labs.starter(path);
+  if (labs.text(path) === starter) {
+    say(page, "This file is the starter already.");
     return;
   }
-  editor.setText(currentPath, starter);
-  onEdit(currentPath, starter);
-  say(`${currentPath.replace(/^\/kit\//, "")}: back to the starter. Ctrl+Z in the editor brings your text back.`);
+  page.editor.setText(path, starter);
+  onEdit(page, path, starter);
+  say(page, `${path.replace(/^\/kit\//, "")}: back to the starter. Ctrl+Z in the editor brings your text back.`);
 }
 
-// ---- Download my labs ----
-
-function download() {
-  compileEdits();
-  const bytes = labs.zip();
-  kitPage.lastDownload = {name: "labs.zip", bytes};
+// The student's labs outside this browser: "Download my labs" (a zip in the layout ./kit grade
+// takes) and "Open folder" (the File System Access API), which reads the kit's labs/ folder on
+// the student's computer, saves the edits into it (edits.js) and takes the changes made there
+// in another editor.
+function download(page) {
+  compileEdits(page);
+  const bytes = page.labs.zip();
+  page.kitPage.lastDownload = {name: "labs.zip", bytes};
   const url = URL.createObjectURL(new Blob([bytes], {type: "application/zip"}));
   const a = document.createElement("a");
   a.href = url;
@@ -660,21 +656,20 @@ function download() {
   a.click();
   a.remove();
   setTimeout(() => URL.revokeObjectURL(url), 60000);
-  say(`labs.zip: ${labs.paths().length} files as labs/NN-name/FILE, the layout ./kit grade and the course ` +
-      "platform take.");
+  say(page, `labs.zip: ${page.labs.paths().length} files as labs/NN-name/FILE, the layout ./kit grade and the ` +
+      "course platform take.");
 }
 
-// ---- Open folder (File System Access API) ----
-
-async function openFolder() {
+async function openFolder(page) {
+  const labs = page.labs;
   let dir;
   try {
     dir = await window.showDirectoryPicker({id: "kit-labs", mode: "readwrite"});
   } catch (e) {
-    if (e.name !== "AbortError") say("Could not open the folder: " + (e.message || e), "error");
+    if (e.name !== "AbortError") say(page, "Could not open the folder: " + (e.message || e), "error");
     return;
   }
-  compileEdits();  // what was typed before goes where it went so far, not into this folder
+  compileEdits(page);  // what was typed before goes where it went so far, not into this folder
   let labsDir = null;
   try {
     labsDir = await dir.getDirectoryHandle("labs");
@@ -683,7 +678,7 @@ async function openFolder() {
       if (handle.kind === "directory" && /^\d\d-/.test(name)) labsDir = dir;
   }
   if (!labsDir) {
-    say(`${dir.name} has no labs/ folder: choose your kit's folder, or its labs/ folder.`, "error");
+    say(page, `${dir.name} has no labs/ folder: choose your kit's folder, or its labs/ folder.`, "error");
     return;
   }
   const files = new Map();
@@ -706,7 +701,7 @@ async function openFolder() {
     }
   }
   if (!files.size) {
-    say(`${dir.name}: none of this site's lab files (labs/NN-name/FILE) are in it.`, "error");
+    say(page, `${dir.name}: none of this site's lab files (labs/NN-name/FILE) are in it.`, "error");
     return;
   }
   const conflicts = [...files].filter(([path, entry]) => labs.edited(path) && labs.text(path) !== entry.text);
@@ -717,64 +712,46 @@ async function openFolder() {
                                 "OK: use the folder's files (this page's versions are replaced).\n" +
                                 "Cancel: keep this page's versions and save them into the folder.");
   }
-  folder = {name: dir.name, labsDir, files};
+  page.folder = {name: dir.name, labsDir, files};
   const taken = [];
   for (const [path, entry] of files) {
     if (entry.text === labs.text(path)) continue;
     if (takeFolder || !conflicts.some(([p]) => p === path)) {
-      takeText(path, entry.text);
+      takeText(page, path, entry.text);
       taken.push(path);
     } else {
-      saveToFolder(path);
+      saveToFolder(page, path);
     }
   }
   $("folder-info").hidden = false;
   $("folder-info").textContent = `Folder ${dir.name}: ${files.size} lab files; your edits are saved into it, and ` +
                                  "changes made there (in your editor) show here.";
-  say(`Opened ${dir.name}.`, "ok");
-  drawTaken(taken);
-  if (!folderTimer) folderTimer = setInterval(pollFolder, 1500);
+  say(page, `Opened ${dir.name}.`, "ok");
+  drawTaken(page, taken);
+  if (!page.folderTimer) page.folderTimer = setInterval(() => pollFolder(page), 1500);
 }
 
 // A text from the student's folder: into the editor, this browser's copy and the file system.
-function takeText(path, text) {
-  editor.setText(path, text);
-  labs.set(path, text);
-  labs.writeFS(path);
-  markTabs();
+function takeText(page, path, text) {
+  page.editor.setText(path, text);
+  page.labs.set(path, text);
+  page.labs.writeFS(path);
+  markTabs(page);
 }
 
 // Compiles and draws the texts taken from the folder when the stage draws one of them.
-function drawTaken(paths) {
-  if (ui.solution || lost || !paths.some((p) => p.startsWith(`/kit/labs/${ui.stage.folder}/`))) return;
-  waitingForEdit = false;
-  drawn(kitCall({cmd: "reload"}), "edit", "your folder's files");
+function drawTaken(page, paths) {
+  if (page.ui.solution || page.lost || !paths.some((p) => p.startsWith(`/kit/labs/${page.ui.stage.folder}/`))) return;
+  page.waitingForEdit = false;
+  drawn(page, kitCall({cmd: "reload"}), "edit", "your folder's files");
 }
 
-function saveToFolder(path) {
-  if (!folder) return;
-  const entry = folder.files.get(path);
-  if (!entry) return;
-  const text = labs.text(path);
-  entry.writing = entry.writing.then(async () => {
-    const stream = await entry.handle.createWritable();
-    await stream.write(text);
-    await stream.close();
-    const file = await entry.handle.getFile();
-    entry.lastModified = file.lastModified;
-    entry.text = text;
-  }).catch((e) => say(`Could not save ${path.replace(/^\/kit\//, "")} into ${folder.name} (${e.message || e}); ` +
-                      "your text is kept in this browser.", "error"));
-}
-
-let polling = false;
-let folderTimer = 0;
-async function pollFolder() {
-  if (!folder || polling || document.visibilityState !== "visible") return;
-  polling = true;
+async function pollFolder(page) {
+  if (!page.folder || page.polling || document.visibilityState !== "visible") return;
+  page.polling = true;
   try {
     const changed = [];
-    for (const [path, entry] of folder.files) {
+    for (const [path, entry] of page.folder.files) {
       await entry.writing;
       let file;
       try {
@@ -786,106 +763,249 @@ async function pollFolder() {
       entry.lastModified = file.lastModified;
       const text = await file.text();
       entry.text = text;
-      if (text !== labs.text(path) && !pending.has(path)) {
-        takeText(path, text);
+      if (text !== page.labs.text(path) && !page.pending.has(path)) {
+        takeText(page, path, text);
         changed.push(path);
       }
     }
     if (changed.length) {
-      say(`Changed in ${folder.name}: ${changed.map((p) => p.replace(/^\/kit\//, "")).join(", ")}.`);
-      drawTaken(changed);
+      say(page, `Changed in ${page.folder.name}: ${changed.map((p) => p.replace(/^\/kit\//, "")).join(", ")}.`);
+      drawTaken(page, changed);
     }
   } catch (e) {
-    say(`Could not read ${folder.name}: ${e.message || e}`, "error");
+    say(page, `Could not read ${page.folder.name}: ${e.message || e}`, "error");
   } finally {
-    polling = false;
+    page.polling = false;
   }
 }
 
-// ---- Check my lab ----
-
-function runCheck() {
-  compileEdits();
-  if (!canDraw()) return;
-  const lab = ui.stage.number;
-  const section = $("check-results");
-  section.hidden = false;
-  $("check-body").replaceChildren(Object.assign(document.createElement("p"), {
-    textContent: `Checking lab ${lab}: rendering the grader's checks with your files\u2026`}));
-  $("check").disabled = true;
-  // Let the message show before kit-web takes the main thread.
-  setTimeout(() => {
-    const answer = kitCall({cmd: "check", lab});
-    kitPage.lastCheck = answer;
-    $("check").disabled = false;
-    if (answer.error) {
-      $("check-body").replaceChildren(Object.assign(document.createElement("p"), {
-        className: "error", textContent: `The check could not run: ${answer.error}`}));
-      if (parseDiagnostics(answer.error).length) showCompileError(answer.error);
-    } else {
-      showCheck($("check-body"), FS, lab, answer);
-      if (answer.status === "compile_error" && answer.message) showCompileError(answer.message);
-      fitCanvas();
-    }
-    section.focus();
-  }, 30);
+// The controls beside the frame (lab, shaders, scene, view, size, kit-view's settings): they
+// mirror page.ui, offer only what the lab can draw, and each change goes into page.ui and
+// asks for a frame (view.js), which also puts it in the URL.
+function option(value, text, disabled = false) {
+  const o = document.createElement("option");
+  o.value = value;
+  o.textContent = text;
+  o.disabled = disabled;
+  return o;
 }
 
-// ---- a student's model: dropped or picked ----
+function fillStages(page) {
+  const select = $("stage");
+  select.replaceChildren();
+  for (const s of page.ui.catalogue.stages) {
+    const missing = missingEarlier(page, s);
+    const label = `${s.number} ${s.name}` + (missing ? ` (needs lab ${missing.number}'s solution)` : "");
+    select.append(option(s.name, label, Boolean(missing)));
+  }
+  select.value = page.ui.stage.name;
+}
 
-async function loadModel(files) {
+function fillViews(page) {
+  const ui = page.ui;
+  const select = $("view");
+  select.replaceChildren();
+  // As kit-view offers them: HDR from the first lit stage, lab 6's maps in lab 6.
+  const allowed = (v) => (v !== "hdr" || ui.stage.number >= 2) &&
+                         (!MAP_VIEWS.includes(v) || ui.stage.name === "ibl");
+  for (const v of ui.catalogue.views) if (allowed(v)) select.append(option(v, VIEW_LABELS[v] || v));
+  if (![...select.options].some((o) => o.value === ui.view)) ui.view = "final";
+  select.value = ui.view;
+}
+
+function fillScenes(page) {
+  const ui = page.ui;
+  const select = $("scene");
+  select.replaceChildren();
+  const kit = document.createElement("optgroup");
+  kit.label = "The kit's scenes";
+  for (const name of ui.catalogue.scenes) kit.append(option(name, name));
+  select.append(kit);
+  if (page.droppedScenes.length) {
+    const own = document.createElement("optgroup");
+    own.label = "Your models";
+    for (const d of page.droppedScenes) own.append(option(d.path, d.label));
+    select.append(own);
+  }
+  if (![...select.querySelectorAll("option")].some((o) => o.value === ui.scene)) {
+    select.append(option(ui.scene, ui.scene));
+  }
+  select.value = ui.scene;
+}
+
+function fillSizes(page) {
+  const select = $("size");
+  select.replaceChildren();
+  const sizes = [...SIZES];
+  const current = `${page.ui.width}x${page.ui.height}`;
+  if (!sizes.includes(current)) sizes.unshift(current);
+  for (const s of sizes) select.append(option(s, s.replace("x", " x ")));
+  select.value = current;
+}
+
+function syncShaders(page) {
+  const labsThere = hasLabs(page, page.ui.stage);
+  $("shaders-labs").disabled = !labsThere;
+  $("shaders-solution").disabled = !page.ui.stage.solution;
+  $("shaders-labs").checked = !page.ui.solution;
+  $("shaders-solution").checked = page.ui.solution;
+}
+
+function syncSettings(page) {
+  let shown = 0;
+  for (const row of document.querySelectorAll("[data-from-lab]")) {
+    row.hidden = page.ui.stage.number < Number(row.dataset.fromLab);
+    if (!row.hidden) shown += 1;
+  }
+  $("settings-none").hidden = shown > 0;
+  $("bloom-threshold").disabled = !page.ui.settings.postprocess;
+}
+
+function syncControls(page) {
+  fillStages(page);
+  syncShaders(page);
+  fillScenes(page);
+  fillViews(page);
+  fillSizes(page);
+  syncSettings(page);
+  const s = page.ui.settings;
+  $("postprocess").checked = s.postprocess;
+  $("custom-effect").checked = s.custom_effect;
+  $("gamma").value = s.gamma;
+  $("gamma-value").textContent = Number(s.gamma).toFixed(2);
+  $("bloom-threshold").value = s.bloom_threshold;
+  $("bloom-threshold-value").textContent = Number(s.bloom_threshold).toFixed(2);
+  $("extra-lights").value = s.extra_lights;
+  $("extra-lights-value").textContent = String(s.extra_lights);
+  for (const radio of document.querySelectorAll('input[name="attenuation"]'))
+    radio.checked = Number(radio.value) === s.attenuation_model;
+  $("check").disabled = !hasLabs(page, page.ui.stage) || Boolean(missingEarlier(page, page.ui.stage));
+}
+
+function wireControls(page) {
+  const ui = page.ui;
+  for (const id of ["stage", "scene", "view", "size", "postprocess", "custom-effect", "gamma", "bloom-threshold",
+                    "extra-lights", "model-file", "shaders-labs", "shaders-solution"])
+    $(id).disabled = false;
+  for (const radio of document.querySelectorAll('input[name="attenuation"]')) radio.disabled = false;
+
+  $("stage").addEventListener("change", () => {
+    ui.stage = findStage(page, $("stage").value);
+    // A student's default is their own files; a lab that is over shows its solution.
+    ui.solution = !hasLabs(page, ui.stage) && ui.stage.solution;
+    syncControls(page);
+    openStageFiles(page);
+    requestDraw(page);
+  });
+  for (const id of ["shaders-labs", "shaders-solution"]) {
+    $(id).addEventListener("change", () => {
+      ui.solution = $("shaders-solution").checked;
+      openStageFiles(page);
+      requestDraw(page);
+    });
+  }
+  $("scene").addEventListener("change", () => {
+    ui.scene = $("scene").value;
+    requestDraw(page);
+  });
+  $("view").addEventListener("change", () => {
+    ui.view = $("view").value;
+    requestDraw(page);
+  });
+  $("size").addEventListener("change", () => {
+    [ui.width, ui.height] = $("size").value.split("x").map(Number);
+    requestDraw(page);
+  });
+  $("postprocess").addEventListener("change", () => {
+    ui.settings.postprocess = $("postprocess").checked;
+    syncSettings(page);
+    requestDraw(page);
+  });
+  $("custom-effect").addEventListener("change", () => {
+    ui.settings.custom_effect = $("custom-effect").checked;
+    requestDraw(page);
+  });
+  const slider = (id, key, digits) => {
+    $(id).addEventListener("input", () => {
+      ui.settings[key] = Number($(id).value);
+      $(id + "-value").textContent = ui.settings[key].toFixed(digits);
+      requestDraw(page);
+    });
+  };
+  slider("gamma", "gamma", 2);
+  slider("bloom-threshold", "bloom_threshold", 2);
+  slider("extra-lights", "extra_lights", 0);
+  for (const radio of document.querySelectorAll('input[name="attenuation"]')) {
+    radio.addEventListener("change", () => {
+      ui.settings.attenuation_model = Number(radio.value);
+      requestDraw(page);
+    });
+  }
+}
+
+// The student's own model, dropped on the page or picked with "Your model": its files go into
+// kit-web's file system and it becomes a scene of the Scene list. kit-web reads glTF only;
+// a model it cannot draw leaves the scene as it was.
+async function loadModel(page, files) {
   if (!files.length) return;
+  const ui = page.ui;
   const names = files.map((f) => f.name);
   if (names.some((n) => /\.obj$/i.test(n)) && !names.some((n) => /\.(glb|gltf)$/i.test(n))) {
-    say("OBJ scenes are refused in the browser build (it has no OBJ reader): export the model as glTF (.glb) " +
+    say(page, "OBJ scenes are refused in the browser build (it has no OBJ reader): export the model as glTF (.glb) " +
         "(Blender: File > Export > glTF 2.0), or draw it with ./kit render or ./kit view.", "error");
     return;
   }
   const main = files.find((f) => /\.glb$/i.test(f.name)) || files.find((f) => /\.gltf$/i.test(f.name));
   if (!main) {
-    say(`Not a model: ${names.join(", ")}. Drop a .glb, or a .gltf together with its .bin and images.`, "error");
+    say(page, `Not a model: ${names.join(", ")}. Drop a .glb, or a .gltf together with its .bin and images.`, "error");
     return;
   }
-  droppedCount += 1;
-  const dir = `/work/dropped/${droppedCount}`;
-  FS.mkdirTree(dir);
-  for (const file of files) FS.writeFile(`${dir}/${file.name}`, new Uint8Array(await file.arrayBuffer()));
+  page.droppedCount += 1;
+  const dir = `/work/dropped/${page.droppedCount}`;
+  page.FS.mkdirTree(dir);
+  for (const file of files) page.FS.writeFile(`${dir}/${file.name}`, new Uint8Array(await file.arrayBuffer()));
   if (/\.gltf$/i.test(main.name)) {
     try {
       const gltf = JSON.parse(await main.text());
       const uris = [...(gltf.buffers || []), ...(gltf.images || [])].map((x) => x.uri)
         .filter((u) => u && !u.startsWith("data:")).map((u) => decodeURIComponent(u));
-      const missing = uris.filter((u) => !fsExists(`${dir}/${u}`));
+      const missing = uris.filter((u) => !fsExists(page, `${dir}/${u}`));
       if (missing.length) {
-        say(`${main.name} needs ${missing.join(", ")}: drop or pick them together with it.`, "error");
+        say(page, `${main.name} needs ${missing.join(", ")}: drop or pick them together with it.`, "error");
         return;
       }
     } catch (e) {
-      say(`${main.name} is not glTF's JSON: ${e.message || e}`, "error");
+      say(page, `${main.name} is not glTF's JSON: ${e.message || e}`, "error");
       return;
     }
   }
   const previous = ui.scene;
   ui.scene = `${dir}/${main.name}`;
-  if (!canDraw()) {
+  if (!canDraw(page)) {
     ui.scene = previous;
     return;
   }
-  if (configure(main.name)) {
-    droppedScenes.push({path: ui.scene, label: main.name});
-    fillScenes();
-    say(`Drawing your model ${main.name}.`, "ok");
+  if (configure(page, main.name)) {
+    page.droppedScenes.push({path: ui.scene, label: main.name});
+    fillScenes(page);
+    say(page, `Drawing your model ${main.name}.`, "ok");
   } else {
     // kit-web keeps the scene it was given: back to the one before, the message kept.
     ui.scene = previous;
-    fillScenes();
-    const why = kitPage.lastError;
-    if (!kitCall(configureCommand()).error) fitCanvas();
-    say(`${main.name} could not be drawn: ${why}`, "error");
+    fillScenes(page);
+    const why = page.kitPage.lastError;
+    if (!kitCall(configureCommand(page)).error) fitCanvas(page);
+    say(page, `${main.name} could not be drawn: ${why}`, "error");
   }
 }
 
-function wireDrop() {
+// Files dragged over the page show the drop overlay; dropped or picked, they are loaded.
+function wireModels(page) {
+  $("model-file").addEventListener("change", () => {
+    const files = [...$("model-file").files];
+    $("model-file").value = "";
+    loadModel(page, files);
+  });
   const overlay = $("drop-overlay");
   let depth = 0;
   const hasFiles = (e) => e.dataTransfer && [...e.dataTransfer.types].includes("Files");
@@ -906,158 +1026,110 @@ function wireDrop() {
     overlay.hidden = true;
     if (!e.dataTransfer || !e.dataTransfer.files.length) return;
     e.preventDefault();
-    loadModel([...e.dataTransfer.files]);
+    loadModel(page, [...e.dataTransfer.files]);
   });
 }
 
-// ---- a lost GPU context ----
-
-function wireContextLoss() {
-  canvas.addEventListener("webglcontextlost", (e) => {
-    e.preventDefault();  // the browser restores it then
-    lost = true;
-    lostAfterEdit = lastDraw.kind === "edit" && performance.now() - lastDraw.at < LOST_AFTER_EDIT_MS;
-    editWhileLost = false;
-    kitCall({cmd: "lost"});
-    say("The GPU reset while drawing: a shader took too long (a loop that never ends?). Your files are kept; " +
-        "the page draws again once the browser restores the GPU context.", "error");
-    kitPage.lostAt = performance.now();
-  });
-  canvas.addEventListener("webglcontextrestored", () => {
-    lost = false;
-    const restored = kitCall({cmd: "restored"});
-    if (restored.error) {
-      say("The GPU context came back, but kit-web could not use it: " + restored.error, "error");
-      return;
+// ---- Check my lab ----
+// The button: the student's edits compiled first, then the check, which takes kit-web a while.
+function runCheck(page) {
+  compileEdits(page);
+  if (!canDraw(page)) return;
+  const lab = page.ui.stage.number;
+  const section = $("check-results");
+  section.hidden = false;
+  $("check-body").replaceChildren(Object.assign(document.createElement("p"), {
+    textContent: `Checking lab ${lab}: rendering the grader's checks with your files\u2026`}));
+  $("check").disabled = true;
+  // Let the message show before kit-web takes the main thread.
+  setTimeout(() => {
+    const answer = kitCall({cmd: "check", lab});
+    page.kitPage.lastCheck = answer;
+    $("check").disabled = false;
+    if (answer.error) {
+      $("check-body").replaceChildren(Object.assign(document.createElement("p"), {
+        className: "error", textContent: `The check could not run: ${answer.error}`}));
+      if (parseDiagnostics(answer.error).length) showCompileError(page, answer.error);
+    } else {
+      showCheck($("check-body"), page.FS, lab, answer);
+      if (answer.status === "compile_error" && answer.message) showCompileError(page, answer.message);
+      fitCanvas(page);
     }
-    if (lostAfterEdit && !editWhileLost) {
-      waitingForEdit = true;
-      say("The GPU reset while drawing: a shader took too long (a loop that never ends?). The GPU context is back, " +
-          "but the page does not draw your last edit again by itself: edit a file to try again (or press Redraw).",
-          "error");
-      return;
-    }
-    waitingForEdit = false;
-    if (configure("frame after the GPU reset", true)) {
-      if (editWhileLost) lastDraw.kind = "edit";  // a loss now is that edit's doing
-      else say("The GPU context is back: drawn again.", "ok");
-    }
-  });
+    section.focus();
+  }, 30);
 }
 
-// ---- start ----
+const page = createPage();
+const statusLine = $("status");
 
-function initialState(report) {
-  const fromUrl = query.get("stage");
-  ui.stage = findStage(report.stage || fromUrl || "gbuffer") || ui.catalogue.stages[0];
-  if (report.solution !== undefined) ui.solution = report.solution;
-  else if (hasLabs(ui.stage)) ui.solution = query.get("shaders") !== "labs" && ui.stage.solution;
-  else ui.solution = ui.stage.solution;
-  ui.scene = report.scene || query.get("scene") || "default";
-  ui.view = report.view || query.get("view") || "final";
-  const size = /^(\d+)x(\d+)$/.exec(report.size || query.get("size") || "");
-  if (size) [ui.width, ui.height] = [Number(size[1]), Number(size[2])];
-}
-
+// After kit-web's first frame (or its refusal): the controls, the editor and the buttons.
 function start(state, report) {
+  const ui = page.ui;
   if (!ui.catalogue || ui.catalogue.error) ui.catalogue = kitCall({cmd: "catalogue"});
   if (ui.catalogue.error) {
-    say("kit-web could not list its stages: " + ui.catalogue.error, "error");
+    say(page, "kit-web could not list its stages: " + ui.catalogue.error, "error");
     return;
   }
-  initialState(report);
-  editor = new LabEditor($("editor"), onEdit);
-  wireControls();
-  syncControls();
-  openStageFiles();
-  wireCamera();
-  wireDrop();
-  wireContextLoss();
-  $("reset-file").addEventListener("click", resetFile);
-  $("download").addEventListener("click", download);
+  initialState(page, report);
+  page.editor = new LabEditor($("editor"), (path, text) => onEdit(page, path, text));
+  wireControls(page);
+  syncControls(page);
+  openStageFiles(page);
+  wireCamera(page);
+  wireModels(page);
+  wireContextLoss(page);
+  $("reset-file").addEventListener("click", () => resetFile(page));
+  $("download").addEventListener("click", () => download(page));
   $("download").disabled = false;
   $("redraw").disabled = false;
   $("redraw").addEventListener("click", () => {
-    waitingForEdit = false;
-    requestDraw();
+    page.waitingForEdit = false;
+    requestDraw(page);
   });
-  $("check").addEventListener("click", runCheck);
+  $("check").addEventListener("click", () => runCheck(page));
   if ("showDirectoryPicker" in window) {
     $("open-folder").hidden = false;
     $("open-folder").disabled = false;
-    $("open-folder").addEventListener("click", openFolder);
+    $("open-folder").addEventListener("click", () => openFolder(page));
   }
-  updateURL();
-  fitCanvas();
+  updateURL(page);
+  fitCanvas(page);
   if (state === "ready") {
-    frameInfo({seconds: report.seconds && report.seconds.frame}, "first frame");
-    lastDraw = {kind: "build", at: performance.now()};
-    builtKey = buildKey();
-    if (fellBackToLabs)
-      say(`This site has no reference solution of lab ${ui.stage.number}: the frame shows your files.`);
-    if (restoredPaths.length)
-      say(`Your edits kept in this browser: ${restoredPaths.map((p) => p.replace(/^\/kit\//, "")).join(", ")}.`);
+    firstFrame(page, report);
+    if (page.fellBackToLabs)
+      say(page, `This site has no reference solution of lab ${ui.stage.number}: the frame shows your files.`);
+    const restored = page.restoredPaths.map((p) => p.replace(/^\/kit\//, ""));
+    if (restored.length) say(page, `Your edits kept in this browser: ${restored.join(", ")}.`);
   } else if (report.error) {
-    if (parseDiagnostics(report.error).length) showCompileError(report.error);
-    else say(report.error, "error");
+    if (parseDiagnostics(report.error).length) showCompileError(page, report.error);
+    else say(page, report.error, "error");
   }
-  if (labs.storageProblem) say(`This browser keeps nothing for this page (${labs.storageProblem}): use Download ` +
-                               "my labs to keep your work.", "error");
-  kitPage.ready = true;
-  kitPage.editor = editor;
-  kitPage.labs = labs;
-  kitPage.ui = ui;
-  kitPage.compileNow = compileEdits;
+  const problem = page.labs.storageProblem;
+  if (problem) say(page, `This browser keeps nothing for this page (${problem}): use Download ` +
+                   "my labs to keep your work.", "error");
+  Object.assign(page.kitPage, {ready: true, editor: page.editor, labs: page.labs, ui,
+                               compileNow: () => compileEdits(page)});
   document.body.dataset.kitPage = "ready";
 }
 
-let restoredPaths = [];
-
-// kit-web's Module: the URL's options as kit-render's arguments (--solution added in
-// onRuntimeInitialized, once the file system tells whether the site has that solution).
-const args = [];
-for (const [key, flag] of [["stage", "--stage"], ["scene", "--scene"], ["view", "--view"], ["size", "--size"],
-                           ["camera", "--camera"]]) {
-  if (query.has(key)) args.push(flag, query.get(key));
-}
-const size = /^(\d+)x(\d+)$/.exec(query.get("size") || "");
-if (size) {
-  // Exactly that many pixels, shown one canvas pixel to one CSS pixel.
-  canvas.style.width = size[1] + "px";
-  canvas.style.height = size[2] + "px";
-}
-
+// kit-web's Module: the URL's options as kit-render's arguments.
+const args = kitArguments(page);
 window.Module = {
   arguments: args,
-  canvas,
+  canvas: page.canvas,
   print: (text) => console.log(text),
   printErr: (text) => console.warn(text),
   // Before main(): the file system holds the site's files. The student's kept edits go into
   // it, so the first frame draws them, and the URL's shaders decide --solution.
   onRuntimeInitialized: () => {
-    FS = window.Module.FS;
-    labs = new LabFiles(FS);
-    restoredPaths = labs.restore();
-    ui.catalogue = kitCall({cmd: "catalogue"});
-    let stage = ui.catalogue.stages ? findStage(query.get("stage") || "gbuffer") : null;
-    if (!query.has("stage") && ui.catalogue.stages) {
-      // No stage in the URL: the first lab this site has the student's files of and can
-      // draw (a class's site: the class's lab; the instructors': lab 1, as kit-render).
-      const own = ui.catalogue.stages.find((s) => hasLabs(s) && !missingEarlier(s));
-      if (own && own !== stage) {
-        stage = own;
-        args.push("--stage", own.name);
-      }
-    }
-    if (query.get("shaders") !== "labs") {
-      if (stage && !stage.solution && hasLabs(stage)) fellBackToLabs = true;
-      // emscripten passes this same array to main(): the flag is added in place.
-      else args.push("--solution");
-    }
+    page.FS = window.Module.FS;
+    restoreEdits(page);
+    page.ui.catalogue = kitCall({cmd: "catalogue"});
+    firstFrameArguments(page, args);
   },
   kitDone: (state, json) => {
     const report = JSON.parse(json);
-    report.page_seconds_to_frame = (performance.now() - pageStart) / 1000;
+    report.page_seconds_to_frame = (performance.now() - page.startedAt) / 1000;
     window.kitReport = report;
     $("report").textContent = JSON.stringify(report, null, 2);
     if (state === "ready") {
@@ -1076,7 +1148,7 @@ window.Module = {
 window.addEventListener("error", (event) => {
   if (document.body.dataset.kitState) {
     // After the first frame: the page goes on; the problem shows in the messages.
-    say("The page failed: " + event.message, "error");
+    say(page, "The page failed: " + event.message, "error");
     return;
   }
   statusLine.textContent = "kit-web failed: " + event.message;
