@@ -8,96 +8,13 @@ import {wireCamera} from "./camera.js";
 import {showCheck} from "./check.js";
 import {parseDiagnostics} from "./diagnostics.js";
 import {LabEditor} from "./editor.js";
+import {compileEdits, onEdit, resetFile, restoreEdits, saveToFolder} from "./edits.js";
 import {configureCommand, findStage, fsExists, hasLabs, kitCall, missingEarlier} from "./kit.js";
-import {LabFiles} from "./labs.js";
 import {say} from "./messages.js";
 import {$, MAP_VIEWS, SIZES, VIEW_LABELS, createPage} from "./state.js";
 import {markTabs, openStageFiles, showCompileError} from "./tabs.js";
 import {firstFrameArguments, initialState, kitArguments, updateURL} from "./url.js";
 import {canDraw, configure, drawn, firstFrame, fitCanvas, requestDraw, wireContextLoss} from "./view.js";
-
-// The student's edits: kept in this browser on every keystroke (labs.js), written into
-// kit-web's file system and the student's folder when one is open, then compiled and drawn
-// once the student stops typing, so the frame follows the text without a button.
-const COMPILE_DELAY_MS = 300;
-
-// Before kit-web's main(): the lab files, with the edits this browser kept put into the file
-// system, so the first frame draws them.
-function restoreEdits(page) {
-  page.labs = new LabFiles(page.FS);
-  page.restoredPaths = page.labs.restore();
-}
-
-function onEdit(page, path, text) {
-  const labs = page.labs;
-  if (!labs.has(path)) return;
-  if (!labs.set(path, text))
-    say(page, `This browser refused to keep your text (${labs.storageProblem}): use Download my labs before you ` +
-        "leave.", "error");
-  page.pending.add(path);
-  markTabs(page);
-  clearTimeout(page.compileTimer);
-  page.compileTimer = setTimeout(() => compileEdits(page), COMPILE_DELAY_MS);
-}
-
-// Writes the edited files into kit-web's file system (and the student's folder), then
-// compiles and draws the stage when it draws one of them.
-function compileEdits(page) {
-  clearTimeout(page.compileTimer);
-  if (!page.pending.size) return;
-  const paths = [...page.pending];
-  page.pending.clear();
-  for (const path of paths) {
-    page.labs.writeFS(path);
-    saveToFolder(page, path);
-  }
-  const ui = page.ui;
-  const drawsThem = !ui.solution && paths.some((p) => p.startsWith(`/kit/labs/${ui.stage.folder}/`));
-  if (!drawsThem) {
-    if (ui.solution)
-      say(page, "Saved. The frame shows the reference solution: choose \"my lab files\" to draw your edit.");
-    return;
-  }
-  if (page.lost) {
-    page.editWhileLost = true;
-    say(page, "Saved. The GPU context is lost: your edit is drawn once the browser restores it.", "error");
-    return;
-  }
-  page.waitingForEdit = false;
-  const answer = kitCall({cmd: "reload"});
-  drawn(page, answer, "edit", "your edit");
-}
-
-// The text now into the student's folder (folder.js), after the writes before it.
-function saveToFolder(page, path) {
-  const folder = page.folder;
-  if (!folder) return;
-  const entry = folder.files.get(path);
-  if (!entry) return;
-  const text = page.labs.text(path);
-  entry.writing = entry.writing.then(async () => {
-    const stream = await entry.handle.createWritable();
-    await stream.write(text);
-    await stream.close();
-    const file = await entry.handle.getFile();
-    entry.lastModified = file.lastModified;
-    entry.text = text;
-  }).catch((e) => say(page, `Could not save ${path.replace(/^\/kit\//, "")} into ${page.folder.name} ` +
-                      `(${e.message || e}); your text is kept in this browser.`, "error"));
-}
-
-function resetFile(page) {
-  const path = page.path, labs = page.labs;
-  if (!path || !labs.has(path)) return;
-  const starter = labs.starter(path);
-  if (labs.text(path) === starter) {
-    say(page, "This file is the starter already.");
-    return;
-  }
-  page.editor.setText(path, starter);
-  onEdit(page, path, starter);
-  say(page, `${path.replace(/^\/kit\//, "")}: back to the starter. Ctrl+Z in the editor brings your text back.`);
-}
 
 // The student's labs outside this browser: "Download my labs" (a zip in the layout ./kit grade
 // takes) and "Open folder" (the File System Access API), which reads the kit's labs/ folder on
