@@ -1,6 +1,13 @@
-// "Check my lab": kit-web's answer to {"cmd": "check", "lab": N} (tools/web/page_check.cpp,
-// the grader's own comparison) shown as a list of checks, each with the student's render,
-// the reference and the difference image, the score and the likely mistakes.
+// "Check my lab": the student's edits compiled, then kit-web's answer to {"cmd": "check",
+// "lab": N} (tools/web/page_check.cpp, the grader's own comparison) shown as a list of checks,
+// each with the student's render, the reference and the difference image, the score and the
+// likely mistakes.
+import {parseDiagnostics} from "./diagnostics.js";
+import {compileEdits} from "./edits.js";
+import {kitCall} from "./kit.js";
+import {$} from "./state.js";
+import {showCompileError} from "./tabs.js";
+import {canDraw, fitCanvas} from "./view.js";
 
 function element(tag, attributes = {}, ...children) {
   const e = document.createElement(tag);
@@ -40,7 +47,7 @@ function image(FS, info, caption, worst) {
 
 const points = (n) => (Math.round(n * 100) / 100).toString();
 
-export function showCheck(container, FS, lab, answer) {
+function showCheck(container, FS, lab, answer) {
   container.replaceChildren();
   const status = answer.status;
   const head = element("p");
@@ -91,4 +98,32 @@ export function showCheck(container, FS, lab, answer) {
   } else if (status === "graded" && answer.passed < answer.total) {
     container.append(element("p", {className: "hint"}, "No known mistake matches these renders."));
   }
+}
+
+// The button: the student's edits compiled first, then the check, which takes kit-web a while.
+export function runCheck(page) {
+  compileEdits(page);
+  if (!canDraw(page)) return;
+  const lab = page.ui.stage.number;
+  const section = $("check-results");
+  section.hidden = false;
+  $("check-body").replaceChildren(Object.assign(document.createElement("p"), {
+    textContent: `Checking lab ${lab}: rendering the grader's checks with your files\u2026`}));
+  $("check").disabled = true;
+  // Let the message show before kit-web takes the main thread.
+  setTimeout(() => {
+    const answer = kitCall({cmd: "check", lab});
+    page.kitPage.lastCheck = answer;
+    $("check").disabled = false;
+    if (answer.error) {
+      $("check-body").replaceChildren(Object.assign(document.createElement("p"), {
+        className: "error", textContent: `The check could not run: ${answer.error}`}));
+      if (parseDiagnostics(answer.error).length) showCompileError(page, answer.error);
+    } else {
+      showCheck($("check-body"), page.FS, lab, answer);
+      if (answer.status === "compile_error" && answer.message) showCompileError(page, answer.message);
+      fitCanvas(page);
+    }
+    section.focus();
+  }, 30);
 }

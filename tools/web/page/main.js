@@ -1,11 +1,29 @@
 // The kit's page (index.html): kit-web's first frame from the URL's options, then the
 // controls (lab, shaders, scene, view, size, kit-view's settings), orbiting the camera, the
-// lab editor (editor.js) whose edits recompile as the student types, their copy in this
-// browser (labs.js), "Download my labs", "Open folder", "Check my lab" (check.js), and the
-// GPU resets a shader that never ends causes. kit-web answers every command through
-// kit_call(JSON) -> JSON (tools/web/kit_web.cpp); the page draws only when something changed.
+// lab editor whose edits recompile as the student types, their copy in this browser,
+// "Download my labs", "Open folder", "Check my lab", and the GPU resets a shader that never
+// ends causes. kit-web answers every command through kit_call(JSON) -> JSON
+// (tools/web/kit_web.cpp); the page draws only when something changed.
+//
+// This file only wires the modules together. They share one page object (state.js) and
+// draw through one redraw loop (view.js):
+//   state.js        the page object and its defaults
+//   kit.js          calls into kit-web, and what its catalogue says of a lab
+//   view.js         drawing, the redraw loop, lost GPU contexts
+//   url.js          the URL's options, in and out
+//   controls.js     the controls beside the frame
+//   camera.js       orbiting the camera: mouse, touch, keyboard
+//   models.js       the student's models, dropped or picked
+//   messages.js     the message under the editor
+//   tabs.js         the editor's tabs, and compile errors at their lines
+//   editor.js       the editor (CodeMirror)
+//   diagnostics.js  the files and lines a compile error names
+//   edits.js        the student's edits: kept, saved, compiled
+//   labs.js         the lab files and their copy in this browser
+//   folder.js       Open folder, Download my labs
+//   check.js        Check my lab
 import {wireCamera} from "./camera.js";
-import {showCheck} from "./check.js";
+import {runCheck} from "./check.js";
 import {syncControls, wireControls} from "./controls.js";
 import {parseDiagnostics} from "./diagnostics.js";
 import {LabEditor} from "./editor.js";
@@ -17,36 +35,7 @@ import {wireModels} from "./models.js";
 import {$, createPage} from "./state.js";
 import {openStageFiles, showCompileError} from "./tabs.js";
 import {firstFrameArguments, initialState, kitArguments, updateURL} from "./url.js";
-import {canDraw, firstFrame, fitCanvas, requestDraw, wireContextLoss} from "./view.js";
-
-// ---- Check my lab ----
-// The button: the student's edits compiled first, then the check, which takes kit-web a while.
-function runCheck(page) {
-  compileEdits(page);
-  if (!canDraw(page)) return;
-  const lab = page.ui.stage.number;
-  const section = $("check-results");
-  section.hidden = false;
-  $("check-body").replaceChildren(Object.assign(document.createElement("p"), {
-    textContent: `Checking lab ${lab}: rendering the grader's checks with your files\u2026`}));
-  $("check").disabled = true;
-  // Let the message show before kit-web takes the main thread.
-  setTimeout(() => {
-    const answer = kitCall({cmd: "check", lab});
-    page.kitPage.lastCheck = answer;
-    $("check").disabled = false;
-    if (answer.error) {
-      $("check-body").replaceChildren(Object.assign(document.createElement("p"), {
-        className: "error", textContent: `The check could not run: ${answer.error}`}));
-      if (parseDiagnostics(answer.error).length) showCompileError(page, answer.error);
-    } else {
-      showCheck($("check-body"), page.FS, lab, answer);
-      if (answer.status === "compile_error" && answer.message) showCompileError(page, answer.message);
-      fitCanvas(page);
-    }
-    section.focus();
-  }, 30);
-}
+import {firstFrame, fitCanvas, requestDraw, wireContextLoss} from "./view.js";
 
 const page = createPage();
 const statusLine = $("status");
