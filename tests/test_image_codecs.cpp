@@ -240,6 +240,6 @@ TEST(ImageCodecs, ProgramsDoNotLinkOpenImageIo) {
     EXPECT_NE(output.find("libpng"), std::string::npos) << program;
   }
   std::string output;
-  ASSERT_EQ(kit::test::run(std::string("ldd ") + KIT_BUILD_DIR + "/common/libkit_openimageio.so", &output), 0) << output;
+  ASSERT_EQ(kit::test::run("ldd " + (kit::test::build_dir() / "common/libkit_openimageio.so").string(), &output), 0) << output;
   EXPECT_NE(output.find("libOpenImageIO"), std::string::npos) << output;
 }

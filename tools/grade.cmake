@@ -32,7 +32,9 @@ target_link_libraries(kit-grade PRIVATE kit_grade_core)
 # here, references.h). Made afresh when kit-grade or a reference changes: a file there is
 # named by its reference's SHA-1 alone, and would outlive a change in how it is made.
 set(KIT_PREPARED_REFERENCES_DIR ${CMAKE_BINARY_DIR}/grade-references)
-target_compile_definitions(kit_grade_core PRIVATE KIT_PREPARED_REFERENCES_DIR="${KIT_PREPARED_REFERENCES_DIR}")
+# On the one file that reads it (a build's own folder: common/CMakeLists.txt says why).
+set_property(SOURCE ${PROJECT_SOURCE_DIR}/tools/grade/references.cpp APPEND PROPERTY COMPILE_DEFINITIONS
+  KIT_PREPARED_REFERENCES_DIR="${KIT_PREPARED_REFERENCES_DIR}")
 file(GLOB kit_grade_reference_files CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tools/grade/references/*)
 add_custom_command(
   OUTPUT ${KIT_PREPARED_REFERENCES_DIR}/prepared.stamp

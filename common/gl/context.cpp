@@ -38,9 +38,16 @@
 
 namespace kit {
 
+#ifndef KIT_HAS_OSMESA
+#define KIT_HAS_OSMESA 0
+#endif
+bool has_osmesa() { return KIT_HAS_OSMESA != 0; }
+Backend default_headless_backend() { return has_osmesa() ? Backend::OSMesa : Backend::EGL; }
+const char* default_headless_backend_name() { return has_osmesa() ? "osmesa" : "egl"; }
+
 Backend parse_backend(const std::string& name) {
   if (name == "osmesa") {
-    if (!kHasOSMesa)
+    if (!has_osmesa())
       throw Error("--backend osmesa: this build of the kit has no OSMesa (libosmesa6-dev was not installed when it "
                   "was configured, or Mesa 25.1 and later, which removed OSMesa); use --backend egl, the default here");
     return Backend::OSMesa;

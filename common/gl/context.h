@@ -13,17 +13,16 @@ enum class Backend { OSMesa, EGL, Window };
 Backend parse_backend(const std::string& name);  // "osmesa" | "egl" | "window"
 const char* backend_name(Backend backend);
 
-// Whether this build has the OSMesa backend: KIT_HAS_OSMESA is set by CMake (kitcore's
-// public definitions) to 1 where libosmesa6-dev was found and KIT_OSMESA is ON. Mesa
-// removed OSMesa in 25.1, so newer distributions build without it and render through EGL.
-#ifndef KIT_HAS_OSMESA
-#define KIT_HAS_OSMESA 0
-#endif
-constexpr bool kHasOSMesa = KIT_HAS_OSMESA != 0;
+// Whether this build has the OSMesa backend: 1 where libosmesa6-dev was found and KIT_OSMESA
+// is ON. Mesa removed OSMesa in 25.1, so newer distributions build without it and render
+// through EGL. CMake sets KIT_HAS_OSMESA on context.cpp alone, so that every other object
+// compiles the same with or without OSMesa and a second build (a student copy's) shares them
+// through the compiler cache.
+bool has_osmesa();
 // The headless backend a program uses when no --backend is given: OSMesa where the build
 // has it (its images are bit-identical to EGL's on llvmpipe), else EGL.
-constexpr Backend kDefaultHeadlessBackend = kHasOSMesa ? Backend::OSMesa : Backend::EGL;
-inline const char* default_headless_backend_name() { return kHasOSMesa ? "osmesa" : "egl"; }
+Backend default_headless_backend();
+const char* default_headless_backend_name();
 
 class GlContext {
  public:

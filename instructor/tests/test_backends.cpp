@@ -72,7 +72,7 @@ float value_range(const kit::Image& image) {
 // by name and EGL, the default, renders.
 TEST(Backends, OsmesaAndEglImagesAreBitIdenticalOrOsmesaIsRefused) {
   fs::path dir = kit::test::temp_dir("backends/identical");
-  if (!kit::kHasOSMesa) {
+  if (!kit::has_osmesa()) {
     std::string output;
     EXPECT_NE(kit_render("--solution --stage 1 --size 8x6 --backend osmesa --out " +
                              shell_quoted((dir / "osmesa.png").string()), &output), 0) << output;

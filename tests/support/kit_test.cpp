@@ -27,7 +27,7 @@ RenderSettings small_settings(int width, int height) {
 }
 
 GlContext& context() {
-  static std::unique_ptr<GlContext> ctx = create_headless_context(kDefaultHeadlessBackend);
+  static std::unique_ptr<GlContext> ctx = create_headless_context(default_headless_backend());
   return *ctx;
 }
 
@@ -57,6 +57,8 @@ std::filesystem::path temp_dir(const std::string& name) {
   std::filesystem::create_directories(dir);
   return dir;
 }
+
+std::filesystem::path build_dir() { return KIT_BUILD_DIR; }
 
 std::string tool(const std::string& name) { return std::string(KIT_BUILD_DIR) + "/tools/" + name; }
 

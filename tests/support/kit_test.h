@@ -38,6 +38,9 @@ std::unique_ptr<Renderer> render_stage(const std::string& stage, const std::stri
 // A fresh, empty folder under the build tree for this test's files.
 std::filesystem::path temp_dir(const std::string& name);
 
+// The build folder the tests were built in (build/<preset>).
+std::filesystem::path build_dir();
+
 // Path of a program built in build/<preset>/tools (kit-render, kit-grade, ...).
 std::string tool(const std::string& name);
 

@@ -20,7 +20,7 @@ struct Options {
   std::vector<int> labs;               // --labs (default: every lab)
   std::filesystem::path out;           // --out
   int jobs = 1;                        // --jobs: labs rendered at the same time
-  Backend backend = kDefaultHeadlessBackend;   // --backend
+  Backend backend = default_headless_backend();   // --backend
   // Mesa's software rasteriser, the implementations the tolerances were measured on,
   // whatever GPU the machine has; --gpu: whatever device the platform gives first.
   Device device = Device::Software;

@@ -38,7 +38,7 @@ constexpr int kChildMapError = 5;          // a lab 6 precompute shader wrote Na
 struct LabWorker {
   std::filesystem::path lab_root;  // the sanitized copy of the submission's lab files
   std::filesystem::path temp;      // lab N writes its files in lab_folder(temp, N)
-  Backend backend = kDefaultHeadlessBackend;
+  Backend backend = default_headless_backend();
   Device device = Device::Software;
   const std::map<std::string, Scene>* scenes = nullptr;  // loaded by the parent before forking
   const nlohmann::json* probes_reference = nullptr;        // probes.json (function_probes.h), or null
