@@ -93,6 +93,12 @@ rm -rf "$WORK/planted"
 # grades below all run on EGL.
 # A student's machine has caches of its own: the copy's Mesa shader cache and grader
 # seed are kept apart from the instructor's (which the kit's other tests write meanwhile).
+# Compiled objects are the exception: the copy's build takes from the compiler cache every
+# object that compiles as the kit's did (CMakeLists.txt, ccache), its own cache folder kept.
+if command -v ccache >/dev/null 2>&1; then
+  CCACHE_DIR="${CCACHE_DIR:-$(ccache -k cache_dir)}"
+  export CCACHE_DIR
+fi
 export XDG_CACHE_HOME="$WORK/cache"
 git clone -q "$WORK/copy2" "$WORK/clone"
 cd "$WORK/clone"
