@@ -1,7 +1,9 @@
 #version 330 core
-// The grader's probes of lab 3's functions (tools/grade/function_probes.cpp, the same order):
-// fragment x writes the function's value at case x. Each call stands between #if lines of
-// its own, so a file that lacks one function still has the others probed.
+// The grader's probes of lab 3's functions, written by tools/grade/lab_contract.py from
+// the lab's contract, tools/grade/lab_functions.json (edit that, not this): fragment x
+// writes the value of function u_probe_function (its place in the lab's list) at case x.
+// Each call stands between #if lines of its own, so a file that lacks one function still
+// has the others probed.
 #include "function_probe_inputs.glsl"
 #include "attenuation.glsl"
 #include "tonemap.glsl"

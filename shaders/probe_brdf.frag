@@ -1,7 +1,9 @@
 #version 330 core
-// The grader's probes of lab 2's functions (tools/grade/function_probes.cpp, the same order):
-// fragment x writes the function's value at case x. Each call stands between #if lines of
-// its own, so a file that lacks one function still has the others probed.
+// The grader's probes of lab 2's functions, written by tools/grade/lab_contract.py from
+// the lab's contract, tools/grade/lab_functions.json (edit that, not this): fragment x
+// writes the value of function u_probe_function (its place in the lab's list) at case x.
+// Each call stands between #if lines of its own, so a file that lacks one function still
+// has the others probed.
 #include "function_probe_inputs.glsl"
 #include "brdf.glsl"
 
@@ -40,8 +42,8 @@ void main() {
         vec3 l = kit_probe_vec3(at);
         vec3 albedo = kit_probe_vec3(at);
         float metallic = kit_probe_float(at);
-        float roughness = kit_probe_float(at);
-        o_value.rgb = cook_torrance(n, v, l, albedo, metallic, roughness);
+        float perceptual_roughness = kit_probe_float(at);
+        o_value.rgb = cook_torrance(n, v, l, albedo, metallic, perceptual_roughness);
     }
 #endif
 }

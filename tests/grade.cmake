@@ -14,3 +14,9 @@ set_tests_properties(grade_references_reproduce PROPERTIES
   ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes"
   FIXTURES_SETUP kit_grade_seed
   TIMEOUT 300)
+# The probe shaders (shaders/probe_*.frag) are the labs' contract (tools/grade/lab_functions.json)
+# as tools/grade/lab_contract.py writes them, with a witness (tests/lab_contract_test.py).
+find_program(KIT_CONTRACT_PYTHON NAMES python3 REQUIRED)
+add_test(NAME lab_contract_shaders
+         COMMAND ${KIT_CONTRACT_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/lab_contract_test.py
+                 ${CMAKE_BINARY_DIR}/test-tmp/lab_contract)

@@ -490,4 +490,51 @@ dvec4 base_color(const Material& material, dvec4 linear_texel, dvec4 vertex_colo
   return dvec4(material.base_color_factor) * linear_texel * vertex_color;
 }
 
+dvec3 ProbeArguments::vec3() {
+  const dvec3 v(in_.at(at_), in_.at(at_ + 1), in_.at(at_ + 2));
+  at_ += 3;
+  return v;
+}
+
+ShadingLight ProbeArguments::light() {
+  ShadingLight l;
+  l.type = static_cast<int>(scalar() + 0.5);
+  l.position = vec3();
+  l.direction = vec3();
+  l.range = scalar();
+  l.color = vec3();
+  l.intensity = scalar();
+  l.cos_inner = scalar();
+  l.cos_outer = scalar();
+  l.flux = scalar();
+  scalar();  // volume_radius
+  return l;
+}
+
+const std::map<std::string, ProbeFunction>& probe_functions() {
+  using A = ProbeArguments&;
+  using S = const ShadingSettings&;
+  static const std::map<std::string, ProbeFunction> functions = {
+      // Lab 2 (solutions/02-lighting/brdf.glsl).
+      {"fresnel_schlick", [](A a, S) { const double v_dot_h = a.scalar(); return fresnel_schlick(v_dot_h, a.vec3()); }},
+      {"distribution_ggx", [](A a, S) { const double n_dot_h = a.scalar(); return dvec3(distribution_ggx(n_dot_h, a.scalar())); }},
+      {"geometry_cook_torrance",
+       [](A a, S) {
+         const double n_dot_h = a.scalar(), n_dot_v = a.scalar(), n_dot_l = a.scalar();
+         return dvec3(geometry_cook_torrance(n_dot_h, n_dot_v, n_dot_l, a.scalar()));
+       }},
+      {"cook_torrance",
+       [](A a, S) {
+         const dvec3 n = a.vec3(), v = a.vec3(), l = a.vec3(), albedo = a.vec3();
+         const double metallic = a.scalar();
+         return cook_torrance(n, v, l, albedo, metallic, a.scalar());
+       }},
+      // Lab 3 (solutions/03-attenuation/attenuation.glsl and tonemap.glsl).
+      {"spot_cone_factor", [](A a, S) { const ShadingLight light = a.light(); return dvec3(spot_cone_factor(light, a.vec3())); }},
+      {"light_radiance", [](A a, S s) { const ShadingLight light = a.light(); return light_radiance(light, a.vec3(), s); }},
+      {"tonemap", [](A a, S s) { return tonemap(a.vec3(), s.gamma); }},
+  };
+  return functions;
+}
+
 }  // namespace kit::reference

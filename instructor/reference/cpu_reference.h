@@ -28,7 +28,10 @@
 // double and stored as float (a relative change of at most 6e-8).
 #include <glm/glm.hpp>
 
+#include <functional>
+#include <map>
 #include <optional>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -185,6 +188,29 @@ dvec3 shade(const SurfaceSample& surface, const dvec3& camera_position, const st
 // The same with lights as the renderer uploads them (uploaded_lights).
 dvec3 shade(const SurfaceSample& surface, const dvec3& camera_position, const std::vector<Light>& lights,
             const ShadingSettings& settings);
+
+// --- The labs' contracts (tools/grade/lab_functions.json) ------------------------------
+// A probed function's arguments as the grader's probe shaders read them, in the order of its
+// signature (function_probe_inputs.glsl): floats, vec3s, and Lights as the light texture
+// holds them.
+class ProbeArguments {
+ public:
+  explicit ProbeArguments(const std::vector<float>& in) : in_(in) {}
+  double scalar() { return in_.at(at_++); }
+  dvec3 vec3();
+  ShadingLight light();
+
+ private:
+  const std::vector<float>& in_;
+  size_t at_ = 0;
+};
+// The function's value (a float's in x) at `arguments`, under the probe's uniforms
+// (`settings`: u_attenuation_model, u_gamma).
+using ProbeFunction = std::function<dvec3(ProbeArguments& arguments, const ShadingSettings& settings)>;
+// Every function a lab's contract lists, by its name there, evaluated by the functions above:
+// the tests hold the grader's probe values against these (instructor/tests/test_function_probes.cpp).
+// A course that renames, adds or changes a lab function changes its entry here with it.
+const std::map<std::string, ProbeFunction>& probe_functions();
 
 // --- Display -------------------------------------------------------------------------
 // solutions/03-attenuation/tonemap.glsl: Reinhard c/(c+1) on max(c, 0), then pow(1/gamma).

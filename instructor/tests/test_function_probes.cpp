@@ -16,12 +16,14 @@
 #include <string>
 #include <vector>
 
+#include "base/error.h"
 #include "cpu_reference.h"
 #include "ibl_reference.h"
 #include "images/texture_prepare.h"  // srgb_to_linear
 #include "function_probes.h"
 #include "gbuffer_layout.h"
 #include "kit_test.h"
+#include "lab_functions.h"
 #include "probe_pass.h"
 #include "references.h"
 #include "render/stages.h"
@@ -44,51 +46,18 @@ constexpr double kCpuSrgbTolerance = 1e-2;
 
 nlohmann::json probes_reference() { return grade::read_probes_reference(grade::default_references_dir()); }
 
-// Reads a probe case's arguments in order.
-struct Arguments {
-  const std::vector<float>& in;
-  size_t at = 0;
-  double scalar() { return in.at(at++); }
-  ref::dvec3 vec3() {
-    ref::dvec3 v(in.at(at), in.at(at + 1), in.at(at + 2));
-    at += 3;
-    return v;
-  }
-  // As function_probe_inputs.glsl reads a Light.
-  ref::ShadingLight light() {
-    ref::ShadingLight l;
-    l.type = static_cast<int>(scalar() + 0.5);
-    l.position = vec3();
-    l.direction = vec3();
-    l.range = scalar();
-    l.color = vec3();
-    l.intensity = scalar();
-    l.cos_inner = scalar();
-    l.cos_outer = scalar();
-    l.flux = scalar();
-    scalar();  // volume_radius
-    return l;
-  }
-};
+// Reads a probe case's arguments in order (cpu_reference.h).
+using Arguments = ref::ProbeArguments;
 
+// A function probe's value from the CPU reference: the function of that name in the contract's
+// table (cpu_reference.h, probe_functions), under the probe's uniforms.
 ref::dvec3 cpu_value(const FunctionProbe& probe, const std::vector<float>& in, bool ggx_without_pi = false) {
-  Arguments a{in};
-  if (probe.function == "fresnel_schlick") {
-    const double v_dot_h = a.scalar();
-    return ref::fresnel_schlick(v_dot_h, a.vec3());
-  }
-  if (probe.function == "distribution_ggx") {
-    const double n_dot_h = a.scalar(), alpha = a.scalar();
-    return ref::dvec3(ref::distribution_ggx(n_dot_h, alpha) * (ggx_without_pi ? 3.14159265358979323846 : 1.0));
-  }
-  if (probe.function == "geometry_cook_torrance") {
-    const double n_dot_h = a.scalar(), n_dot_v = a.scalar(), n_dot_l = a.scalar(), v_dot_h = a.scalar();
-    return ref::dvec3(ref::geometry_cook_torrance(n_dot_h, n_dot_v, n_dot_l, v_dot_h));
-  }
-  if (probe.function == "cook_torrance") {
-    const ref::dvec3 n = a.vec3(), v = a.vec3(), l = a.vec3(), albedo = a.vec3();
-    const double metallic = a.scalar(), roughness = a.scalar();
-    return ref::cook_torrance(n, v, l, albedo, metallic, roughness);
+  const auto& functions = ref::probe_functions();
+  auto it = functions.find(probe.function);
+  if (it == functions.end()) {
+    ADD_FAILURE() << "tools/grade/lab_functions.json probes " << probe.function << " (lab " << probe.lab
+                  << "), which instructor/reference/cpu_reference.cpp's probe_functions() does not evaluate";
+    return ref::dvec3(0.0);
   }
   ref::ShadingSettings settings;
   settings.stage = 3;
@@ -96,17 +65,9 @@ ref::dvec3 cpu_value(const FunctionProbe& probe, const std::vector<float>& in, b
     if (u.name == "u_attenuation_model") settings.attenuation_model = static_cast<int>(u.value);
     if (u.name == "u_gamma") settings.gamma = u.value;
   }
-  if (probe.function == "spot_cone_factor") {
-    const ref::ShadingLight light = a.light();
-    return ref::dvec3(ref::spot_cone_factor(light, a.vec3()));
-  }
-  if (probe.function == "light_radiance") {
-    const ref::ShadingLight light = a.light();
-    return ref::light_radiance(light, a.vec3(), settings);
-  }
-  if (probe.function == "tonemap") return ref::tonemap(a.vec3(), settings.gamma);
-  ADD_FAILURE() << "no CPU reference for " << probe.function;
-  return ref::dvec3(0.0);
+  Arguments a{in};
+  const ref::dvec3 value = it->second(a, settings);
+  return ggx_without_pi && probe.function == "distribution_ggx" ? value * 3.14159265358979323846 : value;
 }
 
 // What a map of a lab 6 pass probe returns at (s, t) and level `level` (function_probes.h,
@@ -365,8 +326,11 @@ TEST(FunctionProbes, AGgxWithoutPiIsNamedWithItsFactor) {
   EXPECT_EQ(ggx.status, grade::kProbeDiffers);
   EXPECT_NE(ggx.message.find("distribution_ggx(n_dot_h = "), std::string::npos) << ggx.message;
   EXPECT_NE(ggx.shape.find("(pi)"), std::string::npos) << ggx.message;
-  EXPECT_EQ(probes.at("fresnel_schlick").status, grade::kProbeAgrees) << probes.at("fresnel_schlick").message;
-  EXPECT_EQ(probes.at("geometry_cook_torrance").status, grade::kProbeAgrees);
+  // Every other function agrees, but cook_torrance, which calls it.
+  for (const auto& [id, outcome] : probes)
+    if (id != "distribution_ggx" && id != "cook_torrance") {
+      EXPECT_EQ(outcome.status, grade::kProbeAgrees) << outcome.message;
+    }
 }
 
 TEST(FunctionProbes, SwappedArgumentsAreNamed) {
@@ -380,8 +344,38 @@ TEST(FunctionProbes, SwappedArgumentsAreNamed) {
 TEST(FunctionProbes, ARenamedFunctionLosesOnlyItsOwnProbe) {
   auto probes = probe_lab(2, lab2_with("ggx_renamed", "distribution_ggx(", "my_ggx("));
   EXPECT_EQ(probes.at("distribution_ggx").status, grade::kProbeNotRun) << probes.at("distribution_ggx").message;
-  for (const char* other : {"fresnel_schlick", "geometry_cook_torrance", "cook_torrance"})
-    EXPECT_EQ(probes.at(other).status, grade::kProbeAgrees) << probes.at(other).message;
+  for (const auto& [id, outcome] : probes)
+    if (id != "distribution_ggx") {
+      EXPECT_EQ(outcome.status, grade::kProbeAgrees) << outcome.message;
+    }
+}
+
+// A contract (tools/grade/lab_functions.json) that cannot be read says where and why.
+TEST(FunctionProbes, ABadContractNamesTheElementAndWhy) {
+  const auto error_of = [](const char* text) {
+    try {
+      grade::contract_function_probes(nlohmann::json::parse(text), 2, "lab_functions.json");
+    } catch (const Error& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  const std::string type = error_of(R"({"labs": {"2": {"shader": "probe_brdf.frag", "functions": [
+      {"function": "f", "file": "brdf.glsl", "arguments": [["x", "double"]], "result": "float", "cases": []}]}}})");
+  EXPECT_NE(type.find("lab_functions.json: labs.2.functions[0].arguments[0]: a type is float, vec3 or Light"), std::string::npos)
+      << type;
+  const std::string missing = error_of(R"({"labs": {"2": {"shader": "probe_brdf.frag", "functions": [
+      {"function": "f", "file": "brdf.glsl", "arguments": [["x", "float"], ["y", "float"]], "result": "float",
+       "cases": [{"for": [["x", [1, 2]]]}]}]}}})");
+  EXPECT_NE(missing.find("labs.2.functions[0].cases[0]: no value for the argument y"), std::string::npos) << missing;
+  const std::string set = error_of(R"({"labs": {"2": {"shader": "probe_brdf.frag", "functions": [
+      {"function": "f", "file": "brdf.glsl", "arguments": [["x", "float"]], "result": "float",
+       "cases": [{"for": [["x", "$nowhere"]]}]}]}}})");
+  EXPECT_NE(set.find("'$nowhere' names no value of \"sets\""), std::string::npos) << set;
+  // The kit's own: lab 2's functions, each its place in the probe shader.
+  const std::vector<FunctionProbe> lab2 = grade::contract_function_probes(2);
+  ASSERT_FALSE(lab2.empty());
+  for (size_t i = 0; i < lab2.size(); ++i) EXPECT_EQ(lab2[i].index, static_cast<int>(i)) << lab2[i].function;
 }
 
 TEST(FunctionProbes, AMissingGuardIsReportedAsNotFinite) {

@@ -4,7 +4,6 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +14,7 @@
 
 #include "base/error.h"
 #include "gbuffer_layout.h"
+#include "lab_functions.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 
@@ -38,235 +38,22 @@ constexpr double kSrgbZeroTolerance = 2e-3;
 // A shape fits when every differing value fits it within this (relative).
 constexpr double kShapeTolerance = 1e-2;
 
-// A unit direction `theta` degrees from +z, turned `phi` degrees about z from +x.
-glm::vec3 direction(float theta, float phi) {
-  const float t = glm::radians(theta), p = glm::radians(phi);
-  return glm::vec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t));
-}
-
 void push(std::vector<float>& to, float v) { to.push_back(v); }
 void push(std::vector<float>& to, glm::vec3 v) { to.insert(to.end(), {v.x, v.y, v.z}); }
 
-// A Light as function_probe_inputs.glsl reads it (the order of lights.glsl's struct), its
-// flux derived as the renderer derives it (renderer.h, light_flux).
-void push(std::vector<float>& to, const Light& light) {
-  push(to, static_cast<float>(light.type));
-  push(to, light.position);
-  push(to, light.direction);
-  push(to, light.range);
-  push(to, light.color);
-  push(to, light.intensity);
-  push(to, std::cos(light.inner_cone));
-  push(to, std::cos(light.outer_cone));
-  push(to, light_flux(light));
-  push(to, 0.0f);  // volume_radius: lab 7's, read by no probed function
-}
-
-// A probe of `function` in lab `lab`'s `file`, called by branch `index` of `shader` under
-// the #if KIT_PROBE_<FUNCTION>.
-FunctionProbe probe_of(int lab, const std::string& file, const std::string& shader, const std::string& function,
-                       int index, std::vector<ProbeArgument> arguments, ProbeType result) {
+// A pass probe of lab `lab`'s `file` (labs 1, 4, 5 and 6), drawn alone: its function is
+// "main"; labs 2 and 3's function probes come from their contract (lab_functions.h).
+FunctionProbe pass_probe(int lab, const std::string& file, std::vector<ProbeArgument> arguments, ProbeType result) {
   FunctionProbe p;
-  p.id = function;
+  p.id = file;
   p.lab = lab;
   p.file = file;
-  p.function = function;
-  p.shader = shader;
-  p.index = index;
-  p.define = "KIT_PROBE_";
-  for (char c : function) p.define += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  p.function = "main";
+  p.shader = file;
   p.arguments = std::move(arguments);
   p.result = result;
+  p.pass = true;
   return p;
-}
-
-FunctionProbe lab2_probe(const std::string& function, int index, std::vector<ProbeArgument> arguments, ProbeType result) {
-  return probe_of(2, "brdf.glsl", "probe_brdf.frag", function, index, std::move(arguments), result);
-}
-
-std::vector<FunctionProbe> make_lab2() {
-  std::vector<FunctionProbe> probes;
-  using T = ProbeType;
-  {
-    FunctionProbe p = lab2_probe("fresnel_schlick", 0, {{"v_dot_h", T::Float}, {"f0", T::Vec3}}, T::Vec3);
-    for (glm::vec3 f0 : {glm::vec3(0.04f), glm::vec3(1.0f, 0.71f, 0.29f), glm::vec3(0.56f, 0.57f, 0.58f)})
-      for (float v_dot_h : {0.0f, 0.1f, 0.3f, 0.5f, 0.7f, 0.9f, 1.0f}) {
-        ProbeCase c;
-        push(c.inputs, v_dot_h);
-        push(c.inputs, f0);
-        p.cases.push_back(c);
-      }
-    probes.push_back(p);
-  }
-  {
-    // The same values for both arguments, so that swapped arguments show as such.
-    FunctionProbe p = lab2_probe("distribution_ggx", 1, {{"n_dot_h", T::Float}, {"alpha", T::Float}}, T::Float);
-    const float values[] = {0.0f, 0.1f, 0.3f, 0.5f, 0.8f, 0.95f, 1.0f};
-    for (float alpha : values)
-      for (float n_dot_h : values) {
-        ProbeCase c;
-        push(c.inputs, n_dot_h);
-        push(c.inputs, alpha);
-        c.finite_only = alpha == 0.0f && n_dot_h == 1.0f;  // 0 / 0 but for the guard
-        p.cases.push_back(c);
-      }
-    probes.push_back(p);
-  }
-  {
-    // v.h > 0: cook_torrance floors it before the call (KIT_MIN_V_DOT_H), so G is not asked at 0.
-    FunctionProbe p = lab2_probe("geometry_cook_torrance", 2,
-                                 {{"n_dot_h", T::Float}, {"n_dot_v", T::Float}, {"n_dot_l", T::Float}, {"v_dot_h", T::Float}},
-                                 T::Float);
-    const float values[] = {0.2f, 0.5f, 0.9f, 1.0f};
-    for (float v_dot_h : values)
-      for (float n_dot_l : values)
-        for (float n_dot_v : values)
-          for (float n_dot_h : values) {
-            ProbeCase c;
-            for (float v : {n_dot_h, n_dot_v, n_dot_l, v_dot_h}) push(c.inputs, v);
-            p.cases.push_back(c);
-          }
-    probes.push_back(p);
-  }
-  {
-    FunctionProbe p = lab2_probe("cook_torrance", 3,
-                                 {{"n", T::Vec3}, {"v", T::Vec3}, {"l", T::Vec3}, {"albedo", T::Vec3},
-                                  {"metallic", T::Float}, {"perceptual_roughness", T::Float}},
-                                 T::Vec3);
-    struct Material {
-      glm::vec3 albedo;
-      float metallic, roughness;
-    };
-    // Roughness from 0.2 up: at a lower one the GGX peak of a near-mirror cancels in float
-    // (test_lab_equations.cpp says how), and a correct function written otherwise differs.
-    const Material materials[] = {{{0.8f, 0.2f, 0.1f}, 0.0f, 0.5f},
-                                  {{1.0f, 0.71f, 0.29f}, 1.0f, 0.3f},
-                                  {{0.5f, 0.5f, 0.5f}, 0.5f, 0.7f},
-                                  {{0.9f, 0.9f, 0.9f}, 0.0f, 0.2f}};
-    // Light and view 30 degrees either side of the normal make h = n: the specular peak.
-    const glm::vec3 lights[] = {direction(0, 0), direction(30, 0), direction(60, 90), direction(80, 180)};
-    const glm::vec3 views[] = {direction(0, 0), direction(30, 180), direction(45, 270), direction(70, 45)};
-    const glm::vec3 n(0.0f, 0.0f, 1.0f);
-    auto add = [&](glm::vec3 v, glm::vec3 l, const Material& m, bool finite_only) {
-      ProbeCase c;
-      for (glm::vec3 x : {n, v, l, m.albedo}) push(c.inputs, x);
-      push(c.inputs, m.metallic);
-      push(c.inputs, m.roughness);
-      c.finite_only = finite_only;
-      p.cases.push_back(c);
-    };
-    for (const Material& m : materials)
-      for (glm::vec3 l : lights)
-        for (glm::vec3 v : views) add(v, l, m, false);
-    // Seen or lit edge-on (n.v = 0, n.l = 0): the guards' floors decide.
-    for (const Material& m : materials) {
-      add(glm::vec3(1, 0, 0), direction(30, 0), m, true);
-      add(direction(30, 180), glm::vec3(0, 1, 0), m, true);
-    }
-    probes.push_back(p);
-  }
-  return probes;
-}
-
-FunctionProbe lab3_probe(const std::string& file, const std::string& function, int index,
-                         std::vector<ProbeArgument> arguments, ProbeType result) {
-  return probe_of(3, file, "probe_attenuation.frag", function, index, std::move(arguments), result);
-}
-
-Light spot_light(float inner_degrees, float outer_degrees) {
-  Light light;
-  light.type = KIT_LIGHT_SPOT;
-  light.position = glm::vec3(0.0f, 3.0f, 0.0f);
-  light.direction = glm::vec3(0.0f, -1.0f, 0.0f);
-  light.color = glm::vec3(1.0f, 0.8f, 0.6f);
-  light.intensity = 20.0f;
-  light.inner_cone = glm::radians(inner_degrees);
-  light.outer_cone = glm::radians(outer_degrees);
-  return light;
-}
-
-// A point `distance` from the light, `degrees` off the straight-down direction (toward +x).
-glm::vec3 below(const Light& light, float degrees, float distance) {
-  const float t = glm::radians(degrees);
-  return light.position + distance * glm::vec3(std::sin(t), -std::cos(t), 0.0f);
-}
-
-std::vector<FunctionProbe> make_lab3() {
-  std::vector<FunctionProbe> probes;
-  using T = ProbeType;
-  {
-    FunctionProbe p = lab3_probe("attenuation.glsl", "spot_cone_factor", 0,
-                                 {{"light", T::Light}, {"p", T::Vec3}}, T::Float);
-    struct Cone {
-      float inner, outer;
-    };
-    // Inner == outer (a hard edge) too, with no point on the edge itself: there a guard decides.
-    for (Cone cone : {Cone{20, 30}, Cone{0, 45}, Cone{25, 25}}) {
-      const Light light = spot_light(cone.inner, cone.outer);
-      for (float degrees : {0.0f, 10.0f, 22.0f, 27.0f, 32.0f, 50.0f, 120.0f}) {
-        ProbeCase c;
-        push(c.inputs, light);
-        push(c.inputs, below(light, degrees, 2.0f));
-        p.cases.push_back(c);
-      }
-    }
-    ProbeCase at_light;  // the point at the light: no direction to it
-    push(at_light.inputs, spot_light(20, 30));
-    push(at_light.inputs, spot_light(20, 30).position);
-    at_light.finite_only = true;
-    p.cases.push_back(at_light);
-    probes.push_back(p);
-  }
-  for (int model : {0, 1}) {
-    FunctionProbe p = lab3_probe("attenuation.glsl", "light_radiance", 1, {{"light", T::Light}, {"p", T::Vec3}}, T::Vec3);
-    p.id = model == 0 ? "light_radiance/physical" : "light_radiance/simple";
-    p.setting = "u_attenuation_model = " + std::to_string(model);
-    p.uniforms = {{"u_attenuation_model", true, static_cast<float>(model)}};
-    Light point;
-    point.type = KIT_LIGHT_POINT;
-    point.position = glm::vec3(0.0f, 3.0f, 0.0f);
-    point.color = glm::vec3(1.0f, 0.8f, 0.6f);
-    point.intensity = 10.0f;
-    Light ranged_point = point;
-    ranged_point.range = 5.0f;
-    Light spot = spot_light(20, 30);
-    Light ranged_spot = spot;
-    ranged_spot.range = 4.0f;
-    Light sun;
-    sun.type = KIT_LIGHT_DIRECTIONAL;
-    sun.position = glm::vec3(0.0f, 3.0f, 0.0f);
-    sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f));
-    sun.color = glm::vec3(1.0f, 0.95f, 0.9f);
-    sun.intensity = 3.0f;
-    for (const Light& light : {point, ranged_point, spot, ranged_spot, sun})
-      for (float degrees : {0.0f, 25.0f, 40.0f})
-        for (float distance : {0.5f, 1.0f, 2.0f, 4.5f}) {
-          ProbeCase c;
-          push(c.inputs, light);
-          push(c.inputs, below(light, degrees, distance));
-          p.cases.push_back(c);
-        }
-    ProbeCase at_light;  // r = 0: the distance floor decides
-    push(at_light.inputs, point);
-    push(at_light.inputs, point.position);
-    at_light.finite_only = true;
-    p.cases.push_back(at_light);
-    probes.push_back(p);
-  }
-  for (float gamma : {2.2f, 1.0f}) {
-    FunctionProbe p = lab3_probe("tonemap.glsl", "tonemap", 2, {{"hdr", T::Vec3}}, T::Vec3);
-    p.id = gamma == 1.0f ? "tonemap/gamma-1.0" : "tonemap/gamma-2.2";
-    p.setting = gamma == 1.0f ? "u_gamma = 1.0" : "u_gamma = 2.2";
-    p.uniforms = {{"u_gamma", false, gamma}};
-    for (glm::vec3 hdr : {glm::vec3(0.0f), glm::vec3(0.01f, 0.02f, 0.03f), glm::vec3(0.18f), glm::vec3(0.5f, 1.0f, 2.0f),
-                          glm::vec3(1.0f), glm::vec3(4.0f, 8.0f, 16.0f), glm::vec3(100.0f, 1000.0f, 0.001f)}) {
-      ProbeCase c;
-      push(c.inputs, hdr);
-      p.cases.push_back(c);
-    }
-    probes.push_back(p);
-  }
-  return probes;
 }
 
 // Lab 5's passes, each drawn alone. Every input is exact in half float (the inputs are
@@ -274,12 +61,10 @@ std::vector<FunctionProbe> make_lab3() {
 // where the catalogue's equivalents (a rounded luminance, step() for >) may differ.
 FunctionProbe lab5_pass(const std::string& file, const std::string& id, const std::string& setting,
                         std::vector<ProbeArgument> arguments, std::vector<ProbeUniform> uniforms) {
-  FunctionProbe p = probe_of(5, file, file, "main", 0, std::move(arguments), ProbeType::Vec3);
+  FunctionProbe p = pass_probe(5, file, std::move(arguments), ProbeType::Vec3);
   p.id = id;
   p.setting = setting;
   p.uniforms = std::move(uniforms);
-  p.define.clear();
-  p.pass = true;
   return p;
 }
 
@@ -394,15 +179,13 @@ std::vector<FunctionProbe> make_lab6() {
   };
   std::vector<FunctionProbe> probes;
   for (const Part& part : parts) {
-    FunctionProbe p = probe_of(6, "ibl.frag", "ibl.frag", "main", 0,
+    FunctionProbe p = pass_probe(6, "ibl.frag",
                                {{"u_gbuffer_position", T::Vec3}, {"u_gbuffer_normal", T::Vec3},
                                 {"u_gbuffer_albedo", T::Vec3}, {"u_gbuffer_material", T::Vec3}},
                                T::Vec3);
     p.id = std::string("ibl/") + part.term;
     p.term = part.term;
     p.setting = part.setting;
-    p.define.clear();
-    p.pass = true;
     p.maps = {part.irradiance, part.prefiltered, part.brdf_lut};
     ProbeUniform camera{"u_camera_position"};
     camera.is_vec3 = true;
@@ -527,7 +310,7 @@ std::vector<FunctionProbe> make_geometry(int lab) {
   }
   std::vector<FunctionProbe> probes;
   for (const Part& part : parts) {
-    FunctionProbe p = probe_of(lab, "gbuffer.frag", "gbuffer.frag", "main", 0,
+    FunctionProbe p = pass_probe(lab, "gbuffer.frag",
                                {{"a_normal", T::Vec3}, {"a_tangent", T::Vec4}, {"a_texcoord0", T::Vec2},
                                 {"a_texcoord1", T::Vec2}, {"a_color", T::Vec4}},
                                part.alpha ? T::Float : T::Vec3);
@@ -536,8 +319,6 @@ std::vector<FunctionProbe> make_geometry(int lab) {
     p.srgb_decoded = !part.alpha && (part.attachment == KIT_GBUF_ALBEDO || part.attachment == KIT_GBUF_EMISSION);
     p.term = part.term;
     p.setting = part.setting;
-    p.define.clear();
-    p.pass = true;
     auto setup = std::make_shared<GeometryProbeSetup>();
     setup->attachment = part.attachment;
     setup->alpha = part.alpha;
@@ -590,8 +371,11 @@ std::vector<FunctionProbe> make_geometry(int lab) {
 }
 
 const std::map<int, std::vector<FunctionProbe>>& probe_table() {
-  static const std::map<int, std::vector<FunctionProbe>> table = {{1, make_geometry(1)}, {2, make_lab2()}, {3, make_lab3()},
-                                                                     {4, make_geometry(4)}, {5, make_lab5()}, {6, make_lab6()}};
+  // Labs 2 and 3's functions from their contract (tools/grade/lab_functions.json); the passes'
+  // set-ups (labs 1, 4, 5 and 6) are drawn here.
+  static const std::map<int, std::vector<FunctionProbe>> table = {
+      {1, make_geometry(1)}, {2, contract_function_probes(2)}, {3, contract_function_probes(3)},
+      {4, make_geometry(4)}, {5, make_lab5()},                 {6, make_lab6()}};
   return table;
 }
 

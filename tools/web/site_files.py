@@ -26,6 +26,7 @@ import sys
 def mappings(root, scenes):
     return [(root / "shaders", "/kit/shaders"), (root / "labs", "/kit/labs"), (root / "solutions", "/kit/solutions"),
             (scenes, "/kit/scenes"), (root / "tools/grade/grading.json", "/kit/tools/grade/grading.json"),
+            (root / "tools/grade/lab_functions.json", "/kit/tools/grade/lab_functions.json"),
             (root / "tools/grade/references", "/kit/tools/grade/references")]
 
 
