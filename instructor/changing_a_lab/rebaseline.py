@@ -3,16 +3,21 @@
 solution, equation or checks, in the order each step needs, and reports what changed and what
 needs a decision (instructor/changing_a_lab/README.md explains every line).
 
-  1. references: kit-grade --update-references (the solutions rendered again, the filter
+  1. the labs' contracts (tools/grade/lab_contract.py): tools/grade/lab_functions.json follows the
+     starters (a function they no longer declare leaves it; one declared anew, or with another
+     signature, enters at default inputs to review), and the probe shaders are written from it;
+  2. references: kit-grade --update-references (the solutions rendered again, the filter
      allowances with them); a file whose pixels did not change is kept byte for byte;
-  2. the self-check with signatures (./kit grade --self-check --write-signatures): the catalogue
-     graded against the new solutions; with --labs, those labs and every later one, which are
-     assembled on them (common/render/stages.h);
-  3. the handout figures that follow from grading (instructor/handout_figures.py), written again;
-  4. the handout images (./kit handout-images); an image whose bytes did not change is kept;
-  5. the calls between labs (which lab's solution calls which other lab's functions), the
+  3. the self-check with signatures (./kit grade --self-check --write-signatures): the catalogue
+     graded against the new solutions, every lab's: the changed labs, every later one (they are
+     assembled on them, common/render/stages.h), and the earlier ones too, since the naming
+     figures the instructors' page quotes (naming.*) measure the whole catalogue;
+  4. the handout figures that follow from grading (instructor/handout_figures.py), written again;
+  5. the handout images (./kit handout-images); an image whose bytes did not change is kept;
+  6. the calls between labs (which lab's solution calls which other lab's functions), the
      table in instructor/changing_a_lab/README.md written again;
-  6. the quick tests (./kit test --quick), unless --no-tests.
+  7. the quick tests (./kit test --quick, which builds what they need, the browser site too),
+     unless --no-tests.
 
 Then the report: the files each step changed, the catalogue entries that now need a decision
 with the next step for each, the handout figures that changed, and the tests' verdict.
@@ -118,7 +123,7 @@ def hashes():
 
 
 def step(number, title):
-    print(f"\nrebaseline: step {number}/6: {title}", flush=True)
+    print(f"\nrebaseline: step {number}/7: {title}", flush=True)
 
 
 def run(cmd, **kwargs):
@@ -140,20 +145,34 @@ def main(argv=None):
         print(calls_markdown())
         return 0
     numbers = [n for n, _, _ in stage_table()]
-    labs = numbers
+    changed = numbers
     if args.labs:
         try:
             first = min(int(x) for x in args.labs.split(","))
         except ValueError:
             parser.error(f"--labs takes lab numbers, comma-separated (got '{args.labs}')")
-        # A lab's solution is part of every later stage (stage_library), so those are graded again too.
-        labs = [n for n in numbers if n >= first]
+        if first not in numbers:
+            parser.error(f"--labs: no lab {first} in the stage table ({', '.join(map(str, numbers))})")
+        # A lab's solution is part of every later stage (stage_library): those changed with it.
+        changed = [n for n in numbers if n >= first]
     started, problems = time.monotonic(), []
     env = dict(os.environ, KIT_ROOT=str(ROOT), KIT_SCENE_DIR=str(args.build.resolve() / "scenes"),
                KIT_BUILD_DIR=str(args.build.resolve()))
     before = hashes()
 
-    step(1, "references (kit-grade --update-references)")
+    step(1, "the labs' contracts (tools/grade/lab_contract.py sync, then shaders)")
+    contract = subprocess.run([sys.executable, ROOT / "tools/grade/lab_contract.py", "sync"], cwd=ROOT,
+                              capture_output=True, text=True)
+    print(contract.stdout + contract.stderr, end="")
+    contract_changes = [line.split("lab contract: ", 1)[1] for line in contract.stdout.splitlines() if "lab contract: " in line]
+    shaders = subprocess.run([sys.executable, ROOT / "tools/grade/lab_contract.py", "shaders"], cwd=ROOT,
+                             capture_output=True, text=True)
+    print(shaders.stdout + shaders.stderr, end="")
+    if contract.returncode != 0 or shaders.returncode != 0:
+        problems.append("the labs' contracts: tools/grade/lab_contract.py failed (see above)")
+        return report(before, None, [], problems, started)
+
+    step(2, "references (kit-grade --update-references)")
     print(f"  $ {kit_grade} --update-references", flush=True)
     updated = subprocess.run([str(kit_grade), "--update-references"], cwd=ROOT, env=env, capture_output=True, text=True)
     print(updated.stdout + updated.stderr, end="")
@@ -164,11 +183,12 @@ def main(argv=None):
     probes_left_out = [line.split("says: ", 1)[1] for line in updated.stdout.splitlines()
                        if "function probe left out" in line and "says: " in line]
 
-    step(2, f"self-check with signatures, labs {','.join(map(str, labs))}")
+    # Every lab: the earlier ones' rows are the same as before, but the naming figures (step 3)
+    # are measured over the whole catalogue, and a self-check of some labs leaves them stale.
+    step(3, f"self-check with signatures, every lab (changed: {','.join(map(str, changed))})")
     rows_file = pathlib.Path(tempfile.mkstemp(prefix="kit-rebaseline-", suffix=".json")[1])
-    lab_args = [a for n in labs for a in ("--lab", str(n))] if args.labs else []
     status = run([sys.executable, ROOT / "instructor/grading/self_check.py", "--kit-grade", kit_grade,
-                  "--write-signatures", ROOT / "tools/grade/references/mistakes.json", "--json", rows_file, *lab_args],
+                  "--write-signatures", ROOT / "tools/grade/references/mistakes.json", "--json", rows_file],
                  env=env, stdout=subprocess.DEVNULL)
     try:
         rows = json.loads(rows_file.read_text())["rows"]
@@ -182,7 +202,7 @@ def main(argv=None):
         failed = sum(r["verdict"] not in ("OK", "GAP") for r in rows)
         print(f"  {len(rows)} rows graded, {failed} failed")
 
-    step(3, "handout figures (instructor/handout_figures.py --write)")
+    step(4, "handout figures (instructor/handout_figures.py --write)")
     figures = subprocess.run([sys.executable, ROOT / "instructor/handout_figures.py", "--write",
                               *(["--self-check-json", rows_file] if rows else [])],
                              cwd=ROOT, capture_output=True, text=True)
@@ -192,27 +212,33 @@ def main(argv=None):
     figure_changes = [line.split("written: ", 1)[1] for line in figures.stdout.splitlines() if "written: " in line]
     rows_file.unlink(missing_ok=True)
 
-    step(4, "handout images (./kit handout-images)")
+    step(5, "handout images (./kit handout-images)")
     if run([ROOT / "instructor/handout_images.sh"], env=env, stdout=subprocess.DEVNULL) != 0:
         problems.append("./kit handout-images failed (see above)")
 
-    step(5, "the calls between labs (instructor/changing_a_lab/README.md)")
+    step(6, "the calls between labs (instructor/changing_a_lab/README.md)")
     calls_changed = write_calls_doc()
     print(f"  the calls table {'changed' if calls_changed else 'is unchanged'}")
 
     tests = "not run (--no-tests)"
     if not args.no_tests:
-        step(6, "quick tests (./kit test --quick)")
-        status = run(["ctest", "--test-dir", args.build, "--label-exclude", "slow", "-j", "2"],
-                     stdout=subprocess.DEVNULL)
+        step(7, "quick tests (./kit test --quick)")
+        # Through ./kit, which builds what the quick tests load (the browser site among them);
+        # another build's (--build) tests run in that build.
+        if args.build.resolve() == (ROOT / "build" / "default").resolve():
+            status = run([ROOT / "kit", "test", "--quick"], stdout=subprocess.DEVNULL)
+        else:
+            status = run(["ctest", "--test-dir", args.build, "--label-exclude", "slow", "-j", "2"],
+                         stdout=subprocess.DEVNULL)
         tests = "passed" if status == 0 else "FAILED: run ./kit test --quick to see which"
         if status != 0:
             problems.append("the quick tests failed")
-    return report(before, rows_needing, figure_changes, problems, started, tests, calls_changed, probes_left_out)
+    return report(before, rows_needing, figure_changes, problems, started, tests, calls_changed, probes_left_out,
+                  contract_changes)
 
 
 def report(before, rows_needing, figure_changes, problems, started, tests="not run", calls_changed=False,
-           probes_left_out=()):
+           probes_left_out=(), contract_changes=()):
     after = hashes()
     changed = sorted(p for p in set(before) | set(after) if before.get(p) != after.get(p))
     print("\nrebaseline: report")
@@ -222,14 +248,16 @@ def report(before, rows_needing, figure_changes, problems, started, tests="not r
                 for p in changed if p.startswith(prefix)]
         print(f"  {label} changed: {len(mine)}" + "".join(f"\n    {m}" for m in mine))
     print(f"  handout figures changed: {len(figure_changes)}" + "".join(f"\n    {f}" for f in figure_changes))
+    if contract_changes:
+        print(f"  the labs' contracts changed (tools/grade/lab_functions.json, the probe shaders written again): "
+              f"{len(contract_changes)}" + "".join(f"\n    {c}" for c in contract_changes))
     if calls_changed:
         print("  the calls table in instructor/changing_a_lab/README.md changed: a lab calls other functions now")
     if probes_left_out:
         print(f"  function probes left out: {len(probes_left_out)} (the solutions do not declare the function)"
               + "".join(f"\n    {p}" for p in probes_left_out)
-              + "\n      next step: probe the new function, or leave it unprobed: its inputs in "
-                "tools/grade/function_probes.cpp, its call in the lab's shaders/probe_*.frag, its CPU value in "
-                "instructor/tests/test_function_probes.cpp")
+              + "\n      next step: declare the function in the lab's starter as the solution does (the "
+                "contract follows the starters), or leave it unprobed")
     if rows_needing is not None:
         print(f"  catalogue entries that need a decision: {len(rows_needing)}")
         for r in rows_needing:
@@ -240,7 +268,7 @@ def report(before, rows_needing, figure_changes, problems, started, tests="not r
         print(f"  problem: {p}")
     print(f"rebaseline: {time.monotonic() - started:.0f} s; "
           + ("nothing needs a decision" if not problems and not rows_needing else "see above")
-          + ("; commit the changed files with the change that made them" if changed or figure_changes else
+          + ("; commit the changed files with the change that made them" if changed or figure_changes or contract_changes else
              "; no file changed"))
     return 1 if problems or rows_needing else 0
 
