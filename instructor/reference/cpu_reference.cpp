@@ -185,9 +185,14 @@ double distribution_ggx(double n_dot_h, double alpha, const Guards& guards) {
   return alpha2 / std::max(KIT_PI * d * d, guards.min_ggx_denominator);
 }
 
+namespace {
+
+// Cook-Torrance's geometric term, G = min(1, 2(n.h)(n.v)/(v.h), 2(n.h)(n.l)/(v.h)).
 double geometry_cook_torrance(double n_dot_h, double n_dot_v, double n_dot_l, double v_dot_h) {
   return std::min(1.0, std::min(2.0 * n_dot_h * n_dot_v / v_dot_h, 2.0 * n_dot_h * n_dot_l / v_dot_h));
 }
+
+}  // namespace
 
 dvec3 cook_torrance(dvec3 n, dvec3 v, dvec3 l, dvec3 albedo, double metallic, double perceptual_roughness,
                     const Guards& guards) {

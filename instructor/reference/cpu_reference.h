@@ -9,7 +9,7 @@
 //
 // What mirrors what:
 //   Lab 2  solutions/02-lighting/brdf.glsl      fresnel_schlick, distribution_ggx,
-//                                               geometry_cook_torrance, cook_torrance
+//                                               the geometric term, cook_torrance
 //          solutions/02-lighting/lighting.frag  shade, shade_gbuffer
 //          shaders/attenuation.glsl             light_radiance with stage 2
 //          shaders/tonemap.glsl                 display with stage 2 (clamp)
@@ -168,7 +168,8 @@ std::vector<Light> frame_lights(const Scene& scene, const RenderSettings& settin
 // --- Lab 2: BRDF (solutions/02-lighting/brdf.glsl) ----------------------------------
 dvec3 fresnel_schlick(double v_dot_h, dvec3 f0);
 double distribution_ggx(double n_dot_h, double alpha, const Guards& guards = {});
-double geometry_cook_torrance(double n_dot_h, double n_dot_v, double n_dot_l, double v_dot_h);
+// The geometric term is cpu_reference.cpp's own: cook_torrance and probe_functions() call it,
+// so a course that changes lab 2's G changes that file alone.
 // f(p, wo, wi) for unit n, v, l, with the guards of brdf.glsl.
 dvec3 cook_torrance(dvec3 n, dvec3 v, dvec3 l, dvec3 albedo, double metallic, double perceptual_roughness,
                     const Guards& guards = {});
