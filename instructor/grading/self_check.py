@@ -17,6 +17,11 @@ scene that shows it). It is still graded every time: while it is missed the row
 reads GAP, which is listed but not a failure; once the grader catches it the
 row reads OK and asks for the known_gap to be removed.
 
+An entry may carry "retired": "why" when a change of the lab's equation took its find
+text out of the solution (./kit rebaseline writes it for every STALE entry): it is
+listed and not graded until it is rewritten against the new solution and the
+"retired" removed.
+
 Verdicts: OK; MISSED (a mistake kept full marks); FALSE-FAIL (an equivalent
 lost points); PROBE-MISSED (a mistake made inside a probed function whose probe,
 tools/grade/function_probes.h, reports no difference); PROBE-FALSE (a probe reports a
@@ -96,6 +101,8 @@ def load_catalogue(path):
             raise CatalogueError(f"{where}: a mistake needs a 'family', PART.TERM (the same term of the same formula)")
         if "known_gap" in e and (e["kind"] != "mistake" or not isinstance(e["known_gap"], str) or not e["known_gap"]):
             raise CatalogueError(f"{where}: 'known_gap' is a non-empty reason, and only for mistakes")
+        if "retired" in e and (not isinstance(e["retired"], str) or not e["retired"]):
+            raise CatalogueError(f"{where}: 'retired' is a non-empty reason")
         for j, ed in enumerate(e["edits"]):
             if not isinstance(ed, dict) or not all(isinstance(ed.get(k), str) for k in ("file", "find", "replace")):
                 raise CatalogueError(f"{where}: edit {j + 1} needs string 'file', 'find' and 'replace'")
@@ -613,6 +620,10 @@ def main(argv=None):
     entries = catalogue["entries"]
     if args.write:
         return write_entry(entries, args.write[0], Path(args.write[1]), args.solutions)
+    # An entry ./kit rebaseline retired (its find text left the solution with a change of the
+    # lab's equation) is not graded until it is rewritten and its "retired" removed.
+    retired = [e for e in entries if e.get("retired")]
+    entries = [e for e in entries if not e.get("retired")]
     if args.lab:
         entries = [e for e in entries if e["lab"] in args.lab]
     if args.only:
@@ -688,6 +699,9 @@ def main(argv=None):
                 shutil.rmtree(work, ignore_errors=True)
 
     print_table(rows, args.wide)
+    if retired:
+        print(f"\nretired, not graded ({len(retired)}): " + ", ".join(e["id"] for e in retired)
+              + " (rewrite each against the new solution and remove its \"retired\", or delete it)")
     if args.write_signatures:
         write_signatures(args.write_signatures,
                          [r for r in rows if r.kind in ("mistake", "starter") and r.passed and r.status == "graded"],
