@@ -16,6 +16,7 @@
 #include "gbuffer_layout.h"
 #include "lab_functions.h"
 #include "render/renderer.h"
+#include "render/stages.h"
 #include "scene/scene.h"
 
 namespace kit::grade {
@@ -370,15 +371,6 @@ std::vector<FunctionProbe> make_geometry(int lab) {
   return probes;
 }
 
-const std::map<int, std::vector<FunctionProbe>>& probe_table() {
-  // Labs 2 and 3's functions from their contract (tools/grade/lab_functions.json); the passes'
-  // set-ups (labs 1, 4, 5 and 6) are drawn here.
-  static const std::map<int, std::vector<FunctionProbe>> table = {
-      {1, make_geometry(1)}, {2, contract_function_probes(2)}, {3, contract_function_probes(3)},
-      {4, make_geometry(4)}, {5, make_lab5()},                 {6, make_lab6()}};
-  return table;
-}
-
 int components(ProbeType type) {
   switch (type) {
     case ProbeType::Float: return 1;
@@ -507,15 +499,26 @@ Vertex geometry_probe_vertex(const std::vector<float>& in) {
 }
 
 const std::vector<FunctionProbe>& function_probes(int lab) {
+  // Each lab's made on first use, so that grading one lab reads only what it needs: labs 2
+  // and 3's functions come from their contract (tools/grade/lab_functions.json), whose
+  // error then costs those labs alone; the passes' set-ups (labs 1, 4, 5 and 6) are drawn here.
   static const std::vector<FunctionProbe> none;
-  auto it = probe_table().find(lab);
-  return it == probe_table().end() ? none : it->second;
+  switch (lab) {
+    case 1: { static const std::vector<FunctionProbe> probes = make_geometry(1); return probes; }
+    case 2: { static const std::vector<FunctionProbe> probes = contract_function_probes(2); return probes; }
+    case 3: { static const std::vector<FunctionProbe> probes = contract_function_probes(3); return probes; }
+    case 4: { static const std::vector<FunctionProbe> probes = make_geometry(4); return probes; }
+    case 5: { static const std::vector<FunctionProbe> probes = make_lab5(); return probes; }
+    case 6: { static const std::vector<FunctionProbe> probes = make_lab6(); return probes; }
+    default: return none;
+  }
 }
 
 const std::vector<FunctionProbe>& all_function_probes() {
   static const std::vector<FunctionProbe> all = [] {
     std::vector<FunctionProbe> out;
-    for (const auto& [lab, probes] : probe_table()) out.insert(out.end(), probes.begin(), probes.end());
+    for (const Stage& stage : stages())
+      out.insert(out.end(), function_probes(stage.number).begin(), function_probes(stage.number).end());
     return out;
   }();
   return all;
@@ -643,7 +646,7 @@ ProbeOutcome compare_probe(const FunctionProbe& probe, const ProbeValues& got, c
   ProbeOutcome o;
   // The table's own probe (it outlives the outcome); `probe`'s inputs may be probes.json's.
   o.probe = &probe;
-  for (const FunctionProbe& p : all_function_probes())
+  for (const FunctionProbe& p : function_probes(probe.lab))
     if (p.id == probe.id) o.probe = &p;
   o.total = static_cast<int>(probe.cases.size());
   if (!got.error.empty() || got.values.size() != probe.cases.size() || expected.size() != probe.cases.size()) {

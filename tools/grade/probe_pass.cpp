@@ -280,8 +280,8 @@ std::map<std::string, ProbeValues> run_function_probes(const Stage& stage, const
 
 void report_function_probes(const Stage& stage, const std::filesystem::path& lab_root, const nlohmann::json& reference,
                             nlohmann::json& report) {
-  if (function_probes(stage.number).empty()) return;
   try {
+    if (function_probes(stage.number).empty()) return;
     for (const auto& [id, values] : run_function_probes(stage, lab_root, reference)) report["probes"][id] = probe_values_json(values);
   } catch (const Error& e) {
     report["probes_error"] = e.what();
