@@ -63,7 +63,7 @@ for folder in "${FOLDERS[@]}"; do
   install -m 0755 "$HERE/autograder.py" "$b/autograder.py"
   install -m 0644 "$ROOT/instructor/platforms/platform_results.py" "$b/platform_results.py"
   printf '{\n  "lab": %d,\n  "folder": "%s"\n}\n' "$n" "$folder" >"$b/bundle.json"
-  for needed in kit/kit kit/tools/grade/grading.json kit/tools/grade/references kit/shaders; do
+  for needed in kit/kit kit/tools/grade/grading.json kit/tools/grade/lab_functions.json kit/tools/grade/references kit/shaders; do
     [ -e "$b/$needed" ] || die "lab $n: the bundle has no $needed"
   done
   # The bundle must give the lab's solution full marks with nothing but its own kit/: a
