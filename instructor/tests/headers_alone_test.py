@@ -42,6 +42,10 @@ def target_of(entry):
 def flags_of(entry):
     """The compiler and its flags for that entry, less the input, output and dependency files."""
     words = shlex.split(entry["command"])
+    # The compiler, past a launcher (CMakeLists.txt's ccache, through cmake -E env): the
+    # first word that names a C or C++ compiler.
+    at = next((i for i, w in enumerate(words) if re.search(r"(^|/)(c\+\+|g\+\+|gcc|cc|clang\+\+|clang)(-[0-9.]+)?$", w)), 0)
+    words = words[at:]
     keep, skip = [words[0]], False
     for word in words[1:]:
         if skip:
@@ -119,6 +123,9 @@ def main():
         target = target_of(entry)
         if target in UNITY_TARGETS and target not in per_target:
             per_target[target] = flags_of(entry)
+    # A file the build compiles on its own (a definition of its own takes it out of the unity
+    # file: common/CMakeLists.txt) is already compiled alone there.
+    own_commands = {entry["file"] for entry in commands}
     for target, folders in UNITY_TARGETS.items():
         if target not in per_target:
             failures.append(f"{target}: no compile command in {build}/compile_commands.json")
@@ -130,6 +137,8 @@ def main():
                     continue  # built as their own targets (kit_openimageio, kitwindow), never in the unity file
                 if cpp.name.endswith("_web.cpp"):
                     continue  # the browser build's alone (cmake/web.cmake), which ./kit test builds with emscripten
+                if str(cpp) in own_commands:
+                    continue
                 jobs.append((str(cpp.relative_to(source)), target_flags, target_dir, f'#include "{cpp}"\n'))
     first_in_own = {h for h in headers if first_included(h.with_suffix(".cpp")) == h.name and
                     any(j[0] == str(h.with_suffix(".cpp").relative_to(source)) for j in jobs)}
