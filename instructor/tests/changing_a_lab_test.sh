@@ -27,12 +27,62 @@ rm -rf "$WORK" && mkdir -p "$WORK/kit"
 rm -rf "$WORK/kit/build"
 COPY="$WORK/kit"
 
+PATCH="$ROOT/instructor/changing_a_lab/smith_schlick_ggx.patch"
+# as_shipped DIR: where the patch does not apply to a file of DIR, that file as the kit shipped
+# it, the text the patch was made against (its "index BASE..NEW" line names the blob, which
+# the kit's git history holds), so that the example runs on the kit's lab, whatever a course
+# changed since (this very example adopted, say). Prints what it restored; returns 1 where a
+# blob is not in the history (a copy of the kit without it).
+as_shipped() {
+  local file base missing=0
+  git -C "$1" apply --check "$PATCH" 2>"$WORK/apply.log" && return 0
+  for file in $(sed -n 's/^error: patch failed: \(.*\):[0-9]*$/\1/p' "$WORK/apply.log" | sort -u); do
+    base="$(awk -v f="$file" '/^diff --git/ { at = substr($4, 3) == f } at && /^index / { split($2, h, "\\.\\."); print h[1]; exit }' "$PATCH")"
+    if [ -n "$base" ] && git -C "$ROOT" cat-file blob "$base" >"$1/$file.shipped" 2>/dev/null; then
+      mv "$1/$file.shipped" "$1/$file"
+      echo "$file"
+    else
+      rm -f "$1/$file.shipped"
+      echo "$file (not in this repository's history)"
+      missing=1
+    fi
+  done
+  return "$missing"
+}
+
 # The copy is a repository of its own: git apply run inside another repository's tree (the
 # build folder lies in the kit's) applies a patch relative to that one's root, and leaves
 # out, without a word, every path outside the folder it runs in.
 git init -q "$COPY"
-if git -C "$COPY" apply "$ROOT/instructor/changing_a_lab/smith_schlick_ggx.patch" &&
-   grep -q "float geometry_smith" "$COPY/solutions/02-lighting/brdf.glsl"; then
+
+# Witness of as_shipped: a lab 2 solution a course has changed where the patch edits it.
+mkdir -p "$WORK/course/solutions/02-lighting" && git init -q "$WORK/course"
+(cd "$COPY" && awk '/^diff --git/ { print substr($4, 3) }' "$PATCH" | xargs cp --parents -t "$WORK/course")
+sed -i 's/geometry_cook_torrance(n_dot_h, n_dot_v, n_dot_l, v_dot_h);/geometry_cook_torrance(n_dot_h, n_dot_v, n_dot_l, max(v_dot_h, 0.1));/' \
+  "$WORK/course/solutions/02-lighting/brdf.glsl"
+if ! git -C "$WORK/course" apply --check "$PATCH" 2>/dev/null &&
+   [ "$(as_shipped "$WORK/course")" = "solutions/02-lighting/brdf.glsl" ] && git -C "$WORK/course" apply --check "$PATCH"; then
+  ok "witness: a course's changed lab 2 is taken back to the lab as shipped, and the patch applies"
+else
+  fail "witness: a course's changed lab 2 solution was not taken back to the lab as shipped"
+fi
+
+restored="$(as_shipped "$COPY")"
+status=$?
+if [ -n "$restored" ]; then
+  echo "ok: this course has changed what the worked example edits; the example runs on the kit's lab as shipped:"
+  echo "$restored" | sed 's/^/    /'
+fi
+if [ "$status" -ne 0 ]; then
+  echo "ok: the kit's files as shipped are not in this repository's history: the worked example is not run here"
+  echo "$((passed + 1)) passed, $failures failed"
+  [ "$failures" -eq 0 ]
+  exit
+fi
+# The kit's lab 2 as shipped, the min(1, ...) term, kept to grade after the rebaseline.
+mkdir -p "$WORK/old" && cp -r "$COPY/solutions/02-lighting" "$WORK/old/"
+old_lab2="$WORK/old"
+if git -C "$COPY" apply "$PATCH" && grep -q "float geometry_smith" "$COPY/solutions/02-lighting/brdf.glsl"; then
   ok "the patch applies"
 else
   echo "FAIL: instructor/changing_a_lab/smith_schlick_ggx.patch no longer applies: make it again against the kit's files"
@@ -50,7 +100,6 @@ submission() {  # submission NAME FOLDER: a submission holding FOLDER (a lab fol
   mkdir -p "$WORK/$1" && cp -r "$2" "$WORK/$1/" && echo "$WORK/$1"
 }
 new_lab2="$(submission new "$COPY/solutions/02-lighting")"
-old_lab2="$(submission old "$ROOT/solutions/02-lighting")"
 
 before="$(score "$new_lab2" 2)"
 [ "$before" != "10/10" ] && [ "${before#no-summary}" = "$before" ] && ok "witness: before the rebaseline the new solution scores $before" ||
