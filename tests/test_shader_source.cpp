@@ -289,6 +289,53 @@ TEST_F(ShaderSource, LongLinesAreRefusedWithTheirFileAndLine) {
             std::string::npos) << m;
 }
 
+// A file whose #defines expand exponentially (each macro naming the one before twice) is
+// refused by its file, line and macro before any GL compile; the same macros used a little
+// (the witness that the bound is not the file's size) and function-like ones are sized too.
+TEST_F(ShaderSource, MacrosThatExpandExponentiallyAreRefusedByLine) {
+  ShaderLibrary lib = library({"lab"});
+  std::string bomb = "#define M0 x\n";
+  for (int i = 1; i <= 30; ++i) bomb += "#define M" + std::to_string(i) + " M" + std::to_string(i - 1) + " M" +
+                                         std::to_string(i - 1) + "\n";
+  write("lab", "bomb.glsl", bomb);
+  write("lab", "main.frag", kVersion + "#include \"bomb.glsl\"\nout vec4 o;\nvoid main() {\n    float M30 = 0.0;\n}\n");
+  std::string m = error_of([&] { lib.assemble("main.frag"); });
+  EXPECT_NE(m.find("lab/main.frag:5: M30 expands to more than 65536 tokens on this line"), std::string::npos) << m;
+  // Defined but never used: nothing expands, nothing is refused.
+  write("lab", "unused.frag", kVersion + "#include \"bomb.glsl\"\nout vec4 o;\nvoid main() {}\n");
+  EXPECT_NO_THROW(lib.assemble("unused.frag"));
+  // M15 (32768 tokens) once is under the line's limit; in 40 lines it passes the shader's.
+  write("lab", "some.frag", kVersion + "#include \"bomb.glsl\"\nvoid main() {\n    M15;\n}\n");
+  EXPECT_NO_THROW(lib.assemble("some.frag"));
+  std::string many = kVersion + "#include \"bomb.glsl\"\nvoid main() {\n";
+  for (int i = 0; i < 40; ++i) many += "    M15;\n";
+  write("lab", "many.frag", many + "}\n");
+  m = error_of([&] { lib.assemble("many.frag"); });
+  EXPECT_NE(m.find("lab/many.frag:35: the shader's macros expand to more than 1048576 tokens"), std::string::npos) << m;
+  // Function-like macros double the same way; #undef forgets one.
+  write("lab", "calls.frag", kVersion + "#define F0(a) (a + 1.0)\n#define F1(a) F0(a) * F0(a)\n" +
+                                 [] { std::string t; for (int i = 2; i <= 24; ++i) t += "#define F" + std::to_string(i) + "(a) F" + std::to_string(i - 1) + "(a) * F" + std::to_string(i - 1) + "(a)\n"; return t; }() +
+                                 "#undef F24\nfloat F24(float a) { return a; }\nvoid main() { float y = F23(2.0); }\n");
+  m = error_of([&] { lib.assemble("calls.frag"); });
+  EXPECT_NE(m.find("lab/calls.frag:29: F23 expands to more than 65536 tokens"), std::string::npos) << m;
+}
+
+// The kit's own shaders, as every stage assembles them, are far inside both bounds.
+TEST_F(ShaderSource, TheKitsShadersAreFarUnderTheMacroBounds) {
+  for (const kit::Stage& stage : kit::stages()) {
+    if (!fs::is_directory(kit::kit_root() / "solutions" / stage.folder)) continue;
+    ShaderLibrary lib = kit::stage_library(stage, kit::kit_root() / "solutions");
+    for (const auto& entry : fs::directory_iterator(kit::kit_root() / "solutions" / stage.folder)) {
+      if (entry.path().extension() != ".vert" && entry.path().extension() != ".frag") continue;
+      const kit::AssembledShader shader = lib.assemble(entry.path().filename().string());
+      // Bounds 64 times smaller still pass: the kit's own margin.
+      EXPECT_NO_THROW(kit::check_macro_expansion(shader, kit::kMaxExpandedLineTokens / 64,
+                                                 kit::kMaxExpandedShaderTokens / 64))
+          << stage.folder << "/" << entry.path().filename().string();
+    }
+  }
+}
+
 // The directives are recognised as before the regex was replaced: spaces around
 // the '#' of an include, a // comment after it, CR LF line ends; anything else is code.
 TEST_F(ShaderSource, DirectiveSpellings) {

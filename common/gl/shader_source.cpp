@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "base/error.h"
@@ -277,6 +278,7 @@ AssembledShader ShaderLibrary::assemble(const std::string& name) const {
     out.text.insert(after_version, "#define " + define + "\n");
     out.lines.insert(out.lines.begin() + 1, out.lines.front());
   }
+  check_macro_expansion(out);
   if (target_ == ShaderTarget::GlslEs300) translate_to_glsl_es(out);
   if (assembled_cache_) assembled_cache_->store(key, out);
   return out;
@@ -343,6 +345,95 @@ void ShaderLibrary::append(const std::string& name, AssembledShader& out,
     out.text += line;
     out.text += '\n';
     out.lines.push_back({file_index, number});
+  }
+}
+
+namespace {
+
+// The tokens of one line, comments left out (`in_comment`: inside a /* */ that an earlier
+// line opened): identifiers whole, numbers whole, anything else a character each.
+std::vector<std::string> line_tokens(const std::string& line, bool& in_comment) {
+  std::vector<std::string> out;
+  size_t i = 0;
+  while (i < line.size()) {
+    if (in_comment) {
+      const size_t end = line.find("*/", i);
+      if (end == std::string::npos) break;
+      in_comment = false;
+      i = end + 2;
+    } else if (line.compare(i, 2, "//") == 0) {
+      break;
+    } else if (line.compare(i, 2, "/*") == 0) {
+      in_comment = true;
+      i += 2;
+    } else if (is_space(line[i])) {
+      ++i;
+    } else if (is_word(line[i])) {
+      size_t j = i;
+      while (j < line.size() && is_word(line[j])) ++j;
+      out.push_back(line.substr(i, j - i));
+      i = j;
+    } else {
+      out.push_back(line.substr(i++, 1));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+void check_macro_expansion(const AssembledShader& shader, std::uint64_t line_limit, std::uint64_t shader_limit) {
+  const std::uint64_t limit = line_limit;
+  std::map<std::string, std::uint64_t> size;  // each defined macro's expanded size, capped at limit + 1
+  const auto expanded = [&](const std::vector<std::string>& tokens, size_t from, const std::string& self,
+                            std::string* largest) {
+    std::uint64_t total = 0, most = 0;
+    for (size_t t = from; t < tokens.size(); ++t) {
+      auto it = tokens[t] == self ? size.end() : size.find(tokens[t]);
+      const std::uint64_t n = it == size.end() ? 1 : it->second;
+      if (largest && n > most) {
+        most = n;
+        *largest = tokens[t];
+      }
+      total = std::min(total + n, limit + 1);
+    }
+    return total;
+  };
+  std::istringstream text(shader.text);
+  std::string line;
+  bool in_comment = false;
+  std::uint64_t whole = 0;
+  for (size_t index = 0; std::getline(text, line); ++index) {
+    std::vector<std::string> tokens = line_tokens(line, in_comment);
+    const bool directive = !tokens.empty() && tokens[0] == "#";
+    std::string macro;
+    std::uint64_t n = 0;
+    if (directive && tokens.size() >= 3 && tokens[1] == "define") {
+      // The body after the name and, for a function-like macro, its parameter list.
+      size_t body = 3;
+      if (tokens.size() > 3 && tokens[3] == "(" && line.find(tokens[2] + "(") != std::string::npos)
+        while (body < tokens.size() && tokens[body++] != ")") {
+        }
+      size[tokens[2]] = expanded(tokens, body, tokens[2], nullptr);
+      continue;
+    }
+    if (directive && tokens.size() >= 3 && tokens[1] == "undef") {
+      size.erase(tokens[2]);
+      continue;
+    }
+    // #if and #elif expand their macros too; #include and #version name none.
+    n = expanded(tokens, directive ? 2 : 0, "", &macro);
+    whole += n;
+    if (n > limit || whole > shader_limit) {
+      const SourceLine& at = shader.lines.at(std::min(index, shader.lines.size() - 1));
+      const std::string what =
+          n > limit ? macro + " expands to more than " + std::to_string(limit) + " tokens on this line"
+                    : "the shader's macros expand to more than " + std::to_string(shader_limit) +
+                          " tokens by this line (" + macro + " the largest here)";
+      throw Error(shader.files.at(static_cast<size_t>(at.file)) + ":" + std::to_string(at.line) + ": " + what +
+                  " (a macro that names another twice doubles it): the kit refuses it before compiling, as a GLSL "
+                  "compiler would run out of memory or time on it");
+    }
   }
 }
 

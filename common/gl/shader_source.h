@@ -46,6 +46,14 @@ constexpr std::uintmax_t kMaxShaderFileBytes = 256 * 1024;
 // Longest line accepted, in bytes (its line break not counted): the kit's own
 // shaders stay under 130; a longer line is refused naming its file and line.
 constexpr std::size_t kMaxShaderLineBytes = 4096;
+// Most tokens one line of an assembled shader may become once its macros are expanded. A
+// macro that uses another twice doubles it: 30 such #defines are a billion tokens, which
+// no GLSL compiler survives (Mesa runs out of memory, a browser's tab stops answering), so
+// such a shader is refused by file and line before it reaches GL, on the desktop and in
+// the browser alike. The kit's own shaders stay under 200 tokens a line expanded.
+constexpr std::uint64_t kMaxExpandedLineTokens = 1u << 16;
+// And the whole shader: a 60,000-token macro on every one of a thousand lines is as bad.
+constexpr std::uint64_t kMaxExpandedShaderTokens = 1u << 20;
 // Every top-level shader must start with this line: the kit targets GL 3.3 core.
 constexpr const char* kRequiredVersionLine = "#version 330 core";
 
@@ -141,6 +149,14 @@ class ShaderLibrary {
   AssembledShaderCache* assembled_cache_ = nullptr;
   ShaderTarget target_ = kBuildShaderTarget;
 };
+
+// Throws kit::Error "FILE:LINE: ..." at the first line of `shader` whose macros expand to more
+// than kMaxExpandedLineTokens tokens, naming the macro, or where the shader's expanded tokens
+// pass kMaxExpandedShaderTokens. An upper bound: a macro's size is
+// its body's tokens with each macro it names counted at that macro's size (a function-like
+// macro's parameters as one token each), whatever #if would skip. assemble() calls it.
+void check_macro_expansion(const AssembledShader& shader, std::uint64_t line_limit = kMaxExpandedLineTokens,
+                           std::uint64_t shader_limit = kMaxExpandedShaderTokens);
 
 // Reads a whole file as shader text: size limit, no NUL bytes, valid UTF-8,
 // not empty, no line longer than kMaxShaderLineBytes. A UTF-8 byte-order mark at the start is dropped. Throws kit::Error
