@@ -22,7 +22,10 @@ browser profile:
      zip the page downloads the same verdicts and score;
   9. "Open folder" reads the student's folder, saves edits into it and takes changes made
      there (a folder of the origin's private file system stands in for the picker's);
- 10. without shaders=labs, the first frame is the reference solution where the site has it.
+ 10. without shaders=labs, the first frame is the reference solution where the site has it;
+     a lab file whose macros expand exponentially is refused at its line before compiling, and
+     a load that restored an edit and never drew its first frame makes the next one start
+     without it, naming the file and keeping its text.
 Each step states what it saw; a witness shows where a comparison could pass for nothing.
 Builds nothing: without a site or chromium it fails, saying what to install or build.
 
@@ -425,6 +428,42 @@ def main():
         expect(report.get("shaders") == "/kit/solutions" and page.js("kitPage.ui.solution") is True,
                "without shaders=labs the page draws the reference solution",
                f"shaders {report.get('shaders')}")
+        # 10b. A lab file whose macros double thirty times is refused at its line before any GL
+        # compile (the tab answers, the frame stays), and a load that restored an edit and
+        # never drew its first frame (as if that file had locked the tab) makes the next load
+        # start without it, saying which file it held back and keeping its text.
+        page.load(f"{origin}/index.html?{URL_QUERY}")
+        page.open_tab(BRDF)
+        brdf_starter = page.js(f"kitPage.labs.starter({json.dumps(BRDF)})")
+        bomb = "".join(f"#define M{i} M{i - 1} M{i - 1}\n" for i in range(1, 31))
+        bomb_text = brdf_starter.rstrip("\n") + "\n#define M0 x\n" + bomb + "float bomb() { return M30; }\n"
+        bomb_line = bomb_text.count("\n")
+        before = page.counters()
+        started = time.monotonic()
+        page.replace_text(bomb_text)
+        page.wait(f"kitPage.errors > {before['errors']}", "the macro file refused")
+        answered = time.monotonic() - started
+        message = page.last_message()
+        expect(f"brdf.glsl:{bomb_line}: M30 expands to more than 65536 tokens" in message and answered < 20,
+               "a file whose macros expand exponentially is refused by line before compiling",
+               f"{answered:.1f} s; {message.splitlines()[0] if message else '(none)'}")
+        key = page.js("'kit-web:' + location.pathname.replace(/[^/]*$/, '') + ':'")
+        held_edit = brdf_starter + "\n// the edit the last visit restored before it stopped answering\n"
+        page.js(f"localStorage.setItem({json.dumps(key + BRDF)}, {json.dumps(held_edit)}); "
+                f"localStorage.setItem({json.dumps(key + 'restoring')}, {json.dumps(json.dumps([BRDF]))})")
+        page.load(f"{origin}/index.html?{URL_QUERY}")
+        page.open_tab(BRDF)
+        held_message = page.js("kitPage.messages.find(m => m.includes('held') || m.includes('never drew')) || ''")
+        stored = page.js(f"[localStorage.getItem({json.dumps(key + BRDF)}), localStorage.getItem({json.dumps(key + 'held:' + BRDF)}),"
+                         f" localStorage.getItem({json.dumps(key + 'restoring')})]")
+        page.js("[...document.querySelectorAll('#messages button')].find(b => b.textContent.includes('held-back')).click()")
+        shown = page.js("document.querySelector('#messages pre') ? document.querySelector('#messages pre').textContent : ''")
+        expect("labs/02-lighting/brdf.glsl" in held_message and page.editor_text() == brdf_starter
+               and stored == [None, held_edit, None] and "stopped answering" in shown,
+               "a load that never drew its first frame is followed by one without its edit, which is kept",
+               f"message {held_message[:90]!r}...; editor {'the starter' if page.editor_text() == brdf_starter else 'not the starter'}; "
+               f"kept {'as held back' if stored[1] == held_edit else stored}; shown {'yes' if 'stopped answering' in shown else 'no'}")
+
         # 11. Lab 2 done in the page (the solution's files typed into the editor): the check
         # passes every check, and the zip the page downloads gets from kit-grade the score and
         # the verdicts the page showed. The starter's check of step 8 is the witness (it failed).

@@ -16,6 +16,20 @@ export function restoreEdits(page) {
   page.restoredPaths = page.labs.restore();
 }
 
+// The edits restore() held back, since the last load that restored them never drew its
+// first frame: which files, and their text to look at (never compiled again by itself).
+export function sayHeldBack(page) {
+  const held = page.labs.heldBack;
+  const names = held.map((p) => p.replace(/^\/kit\//, "")).join(", ");
+  const text = `The last visit restored your edits of ${names} and never drew its first frame (a shader that ` +
+               "took the page down?): this visit starts without them, from the starters. Their text is kept.";
+  say(page, text, "error", "", [{
+    label: "Show the held-back text",
+    run: () => say(page, text, "error", held.map((p) => `// ${p.replace(/^\/kit\//, "")}\n${page.labs.heldText(p)}`)
+                                         .join("\n\n")),
+  }]);
+}
+
 export function onEdit(page, path, text) {
   const labs = page.labs;
   if (!labs.has(path)) return;

@@ -8,6 +8,11 @@ import {strToU8, zipSync} from "fflate";
 const LABS = "/kit/labs";
 // One site's edits apart from another's on the same host (a course page with two sites).
 const KEY = "kit-web:" + window.location.pathname.replace(/[^/]*$/, "") + ":";
+// The paths a load restored, kept until it draws its first frame: a load that never got there
+// (a shader that locked the tab) leaves them, and the next load starts without those edits.
+const RESTORING = KEY + "restoring";
+// An edit held back so: its text, kept to look at and fix, no longer restored.
+const HELD = KEY + "held:";
 
 export class LabFiles {
   constructor(FS) {
@@ -41,37 +46,57 @@ export class LabFiles {
   starter(path) { return this.starters.get(path); }
   edited(path) { return this.has(path) && this.texts.get(path) !== this.starters.get(path); }
 
-  // Writes the stored edits into the file system; the paths restored.
+  // Writes the stored edits into the file system; the paths restored. The edits the last load
+  // restored without reaching its first frame are held back instead (this.heldBack).
   restore() {
     const restored = [];
+    this.heldBack = [];
+    const unfinished = this.storage((s) => JSON.parse(s.getItem(RESTORING) || "[]")) || [];
     for (const path of this.paths()) {
-      let stored = null;
-      try {
-        stored = window.localStorage.getItem(KEY + path);
-      } catch (e) {
-        this.storageProblem = String(e.message || e);
+      const stored = this.storage((s) => s.getItem(KEY + path));
+      if (stored === null || stored === this.starters.get(path)) continue;
+      if (unfinished.includes(path)) {
+        this.storage((s) => {
+          s.setItem(HELD + path, stored);
+          s.removeItem(KEY + path);
+        });
+        this.heldBack.push(path);
+        continue;
       }
-      if (stored !== null && stored !== this.starters.get(path)) {
-        this.texts.set(path, stored);
-        this.writeFS(path);
-        restored.push(path);
-      }
+      this.texts.set(path, stored);
+      this.writeFS(path);
+      restored.push(path);
     }
+    this.storage((s) => restored.length ? s.setItem(RESTORING, JSON.stringify(restored)) : s.removeItem(RESTORING));
     return restored;
+  }
+
+  // The first frame was drawn (or refused with a message): the restored edits did not lock the tab.
+  firstFrameReached() { this.storage((s) => s.removeItem(RESTORING)); }
+
+  // The text of an edit held back (restore), as it was kept.
+  heldText(path) { return this.storage((s) => s.getItem(HELD + path)); }
+
+  // f(localStorage), or null where the browser refuses it (storageProblem says why).
+  storage(f) {
+    try {
+      return f(window.localStorage);
+    } catch (e) {
+      this.storageProblem = String(e.message || e);
+      return null;
+    }
   }
 
   // The text now, kept in this browser; false when the browser refused to keep it.
   set(path, text) {
     this.texts.set(path, text);
-    try {
-      if (text === this.starters.get(path)) window.localStorage.removeItem(KEY + path);
-      else window.localStorage.setItem(KEY + path, text);
-      this.storageProblem = "";
+    const kept = this.storage((s) => {
+      if (text === this.starters.get(path)) s.removeItem(KEY + path);
+      else s.setItem(KEY + path, text);
       return true;
-    } catch (e) {
-      this.storageProblem = String(e.message || e);
-      return false;
-    }
+    });
+    if (kept) this.storageProblem = "";
+    return kept === true;
   }
 
   writeFS(path) { this.FS.writeFile(path, this.texts.get(path)); }

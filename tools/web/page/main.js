@@ -27,7 +27,7 @@ import {runCheck} from "./check.js";
 import {syncControls, wireControls} from "./controls.js";
 import {parseDiagnostics} from "./diagnostics.js";
 import {LabEditor} from "./editor.js";
-import {compileEdits, onEdit, resetFile, restoreEdits} from "./edits.js";
+import {compileEdits, onEdit, resetFile, restoreEdits, sayHeldBack} from "./edits.js";
 import {download, openFolder} from "./folder.js";
 import {kitCall} from "./kit.js";
 import {say} from "./messages.js";
@@ -78,6 +78,7 @@ function start(state, report) {
       say(page, `This site has no reference solution of lab ${ui.stage.number}: the frame shows your files.`);
     const restored = page.restoredPaths.map((p) => p.replace(/^\/kit\//, ""));
     if (restored.length) say(page, `Your edits kept in this browser: ${restored.join(", ")}.`);
+    if (page.labs.heldBack.length) sayHeldBack(page);
   } else if (report.error) {
     if (parseDiagnostics(report.error).length) showCompileError(page, report.error);
     else say(page, report.error, "error");
@@ -106,6 +107,7 @@ window.Module = {
     firstFrameArguments(page, args);
   },
   kitDone: (state, json) => {
+    page.labs.firstFrameReached();
     const report = JSON.parse(json);
     report.page_seconds_to_frame = (performance.now() - page.startedAt) / 1000;
     window.kitReport = report;
