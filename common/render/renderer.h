@@ -330,6 +330,7 @@ class Renderer {
   bool render_frame(const FrameCamera& camera, PassTimes* pass_times, bool reuse_lit_frame);
   bool render_passes(const FrameCamera& camera, PassClock& clock, bool reuse_lit_frame);
   void draw_lit_frame(PassClock& clock);
+  void post_passes(PassClock& clock);  // after draw_lit_frame: display, or stage 5's post-processing
   bool lit_frame_current(const FrameCamera& camera) const;
   void upload_lights();
   void set_frame_uniforms(const Program& program) const;

@@ -16,13 +16,13 @@
 //   Lab 3  solutions/03-attenuation/*.glsl      spot_cone_factor, light_radiance, tonemap
 //   Lab 1  solutions/01-gbuffer/gbuffer.*       base_color, vertex_color (and lab 4's copy)
 //   Lab 4  solutions/04-normalmap/gbuffer.*     world_tangent_frame, mapped_normal
-//          renderer.cpp (u_normal_matrix)       normal_matrix
+//          geometry_pass.cpp (u_normal_matrix)  normal_matrix
 //   Lab 5  solutions/05-postprocess/*.frag      bright_pass, blur_pass, bloom, composite
 //                                               (the custom effect is left out: identity when off)
 //   Lab 7  solutions/07-lightvolumes/*          shade() per light: a volume adds lab 2's term of its
 //                                               light (test_light_volumes.cpp; ranged lights cut at
 //                                               their range lose nothing)
-//   renderer.cpp light_flux and light_texture   exact_light_flux, uploaded_light, exact_light
+//   frame_lights.cpp light_flux and light_texture  exact_light_flux, uploaded_light, exact_light
 //
 // Images follow image_io.h: rows top-down, RGBA floats. Values are computed in
 // double and stored as float (a relative change of at most 6e-8).
@@ -151,7 +151,7 @@ struct ShadingLight {
   double cos_outer = 0.0;
   double flux = 0.0;
 };
-// renderer.cpp light_flux in double (a distinct name: kit::light_flux is found by
+// frame_lights.cpp light_flux in double (a distinct name: kit::light_flux is found by
 // argument-dependent lookup on Light): 4 pi I (point), 2 pi (1 - (cos_i + cos_o)/2) I (spot),
 // 0 (directional: no finite flux, and no shader uses it).
 double exact_light_flux(const Light& light);

@@ -324,7 +324,7 @@ TEST(StagesLitFrameReuse, PostSettingsAloneRunThePostPassesAgain) {
 }
 
 // The viewer renders a frame again only when same_image_settings says the settings
-// changed (tools/kit_view.cpp): every field that changes the image must count, and
+// changed (tools/view/viewer_frame.cpp): every field that changes the image must count, and
 // only the size and u_time (which the viewer compares or animates itself) and
 // specialise_shaders (which does not change it) may not.
 TEST(StagesSettings, EveryFieldThatChangesTheImageCounts) {
