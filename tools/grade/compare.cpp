@@ -488,143 +488,162 @@ Image pixel_differences(Metric metric, const Image& image, const Image& referenc
   return out;
 }
 
-Comparison compare_images(Metric metric, const Tolerance& tol, const Image& image, const Image& reference,
-                          const Background* background, const Image* allowance) {
+namespace {
+
+// compare_images' steps, in the order it takes them.
+
+// Images of different sizes: nothing compared, and a note that says why. The framework
+// fixes every size (the grading size, lab 6's maps their own), so sizes that differ mean
+// references made by another version of the kit.
+Comparison size_mismatch(const Image& image, const Image& reference) {
   Comparison r;
-  // The framework fixes every size (the grading size, lab 6's maps their own), so
-  // sizes that differ mean references made by another version of the kit.
-  if (allowance && (allowance->width != reference.width || allowance->height != reference.height))
-    allowance = nullptr;  // made for another size: the references' check (manifest_differences) says so
-  if (image.width != reference.width || image.height != reference.height || image.channels != reference.channels) {
-    auto size = [](const Image& i) {
-      return std::to_string(i.width) + "x" + std::to_string(i.height) + " with " + std::to_string(i.channels) +
-             " channels";
-    };
-    r.note = "the image is " + size(image) + ", the reference " + size(reference) +
-             ": nothing was compared (the renderer's sizes changed since the references were made: "
-             "kit-grade --check-references says which; --update-references renders them again)";
-    r.summary = r.note;
-    r.diff = Image(std::max(image.width, 1), std::max(image.height, 1), 3);  // blank: the report still has one
-    return r;
-  }
-  r.non_finite = count_non_finite(image);
-  Image storage_a, storage_b;
-  const Image& a = compared(metric, image, storage_a, r.non_finite == 0);
-  const Image& b = compared(metric, reference, storage_b);
-  const double pixels = static_cast<double>(image.width) * image.height;
+  auto size = [](const Image& i) {
+    return std::to_string(i.width) + "x" + std::to_string(i.height) + " with " + std::to_string(i.channels) +
+           " channels";
+  };
+  r.note = "the image is " + size(image) + ", the reference " + size(reference) +
+           ": nothing was compared (the renderer's sizes changed since the references were made: "
+           "kit-grade --check-references says which; --update-references renders them again)";
+  r.summary = r.note;
+  r.diff = Image(std::max(image.width, 1), std::max(image.height, 1), 3);  // blank: the report still has one
+  return r;
+}
+
+// Each pixel's error as the comparison counts it.
+struct PixelErrors {
   Image error;         // for the diff image
   Image normal_angle;  // the normals' angles, where they are compared
-  if (metric == Metric::Normal) {
-    NormalStats s = compare_normals(a, b, tol, allowance);
-    r.max_error = s.max_angle;
-    r.max_x = s.max_x;
-    r.max_y = s.max_y;
-    r.mean_error = s.covered ? s.sum_angle / static_cast<double>(s.covered) : 0.0;
-    r.failing_pixels = s.failing;
-    r.edge_pixels = s.edges;
-    r.filter_pixels = s.filtered;
-    r.psnr = channel_stats(a, b, 3, 1.0f).psnr;  // of the xyz values
-    error = std::move(s.error);
-    normal_angle = std::move(s.angle);
-    // A normal can point the right way and still be wrong (not unit length): say so.
-    if (s.not_unit > 0)
-      r.note = format("%.2f%% of the normals differ in length from the reference's by more than %.3g "
-                      "(normalise the normal)", 100.0 * static_cast<double>(s.not_unit) / pixels, tol.length_tolerance);
-  } else {
-    const float threshold = static_cast<float>(tol.fail_threshold);
-    error = Image(a.width, a.height, 1);
-    const ChannelStats cs = channel_stats(a, b, a.channels, threshold, &error);
-    r.mean_error = cs.mean_error;
-    r.psnr = cs.psnr;
-    // The counted error: at the reference's edges, the distance to the nearest blend with a
-    // neighbour (distance_to_neighbourhood). Two renders of the submission itself (Changes,
-    // Same) come from one machine: every pixel counts as it is, edges included.
-    const bool edges_may_move = !compares_own_renders(metric);
-    r.max_error = 0.0;
-    for (int y = 0; y < a.height; ++y)
-      for (int x = 0; x < a.width; ++x) {
-        float& e = error.at(x, y, 0);
-        if (edges_may_move && e > 0.0f && is_edge(b, x, y, a.channels, threshold)) {
-          const float shifted = distance_to_neighbourhood(a, b, x, y, a.channels);
-          if (e > threshold && shifted <= threshold) ++r.edge_pixels;
-          e = shifted;
-        }
-        if (allowance && e > 0.0f) {
-          const float allowed = std::max(0.0f, e - allowance->at(x, y, 0));
-          if (e > threshold && allowed <= threshold) ++r.filter_pixels;
-          e = allowed;
-        }
-        r.failing_pixels += e > threshold;
-        if (e > r.max_error) {
-          r.max_error = e;
-          r.max_x = x;
-          r.max_y = y;
-        }
+};
+
+// Metric::Normal, pixel by pixel (compare_normals): r's largest angle and where, its mean,
+// the failing, edge and filter counts.
+PixelErrors compare_normal_pixels(const Image& a, const Image& b, const Tolerance& tol, const Image* allowance,
+                                  double pixels, Comparison& r) {
+  NormalStats s = compare_normals(a, b, tol, allowance);
+  r.max_error = s.max_angle;
+  r.max_x = s.max_x;
+  r.max_y = s.max_y;
+  r.mean_error = s.covered ? s.sum_angle / static_cast<double>(s.covered) : 0.0;
+  r.failing_pixels = s.failing;
+  r.edge_pixels = s.edges;
+  r.filter_pixels = s.filtered;
+  r.psnr = channel_stats(a, b, 3, 1.0f).psnr;  // of the xyz values
+  PixelErrors out;
+  out.error = std::move(s.error);
+  out.normal_angle = std::move(s.angle);
+  // A normal can point the right way and still be wrong (not unit length): say so.
+  if (s.not_unit > 0)
+    r.note = format("%.2f%% of the normals differ in length from the reference's by more than %.3g "
+                    "(normalise the normal)", 100.0 * static_cast<double>(s.not_unit) / pixels, tol.length_tolerance);
+  return out;
+}
+
+// Every other metric, pixel by pixel: each pixel's largest channel difference, as counted
+// (the diff image's input); r's largest error and where, the means, the failing, edge and
+// filter counts.
+Image compare_channel_pixels(Metric metric, const Image& a, const Image& b, const Tolerance& tol,
+                             const Image* allowance, Comparison& r) {
+  const float threshold = static_cast<float>(tol.fail_threshold);
+  Image error(a.width, a.height, 1);
+  const ChannelStats cs = channel_stats(a, b, a.channels, threshold, &error);
+  r.mean_error = cs.mean_error;
+  r.psnr = cs.psnr;
+  // The counted error: at the reference's edges, the distance to the nearest blend with a
+  // neighbour (distance_to_neighbourhood). Two renders of the submission itself (Changes,
+  // Same) come from one machine: every pixel counts as it is, edges included.
+  const bool edges_may_move = !compares_own_renders(metric);
+  r.max_error = 0.0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x) {
+      float& e = error.at(x, y, 0);
+      if (edges_may_move && e > 0.0f && is_edge(b, x, y, a.channels, threshold)) {
+        const float shifted = distance_to_neighbourhood(a, b, x, y, a.channels);
+        if (e > threshold && shifted <= threshold) ++r.edge_pixels;
+        e = shifted;
       }
-  }
-  // What the mean over covered pixels and the signature average: the angle for normals,
-  // else the counted error (the diff image's input until non-finite pixels mark it below).
-  const Image& pixel_error = metric == Metric::Normal ? normal_angle : error;
-  r.failing_percent = 100.0 * static_cast<double>(r.failing_pixels) / pixels;
-  // The mean of each pixel's error (its largest channel difference; for normals the
-  // angle) over the covered pixels: those where the reference or the submission shows
-  // something other than the reference's background. A faint difference spread over
-  // many pixels raises it while staying under every per-pixel threshold. Each pixel
-  // counts at most fail_threshold: pixels over it are the failing share's business, so
-  // the few it allows (a flipped silhouette pixel) cannot fail this criterion instead.
-  if (metric != Metric::Changes) {
-    const Background found = background ? *background : most_common_pixel(b);
-    const double cap = tol.fail_threshold;
-    double sum = 0.0;
-    for (int y = 0; y < a.height; ++y)
-      for (int x = 0; x < a.width; ++x)
-        if (shows(a, x, y, found) || shows(b, x, y, found)) {
-          ++r.covered_pixels;
-          sum += std::min(static_cast<double>(pixel_error.at(x, y, 0)), cap);
-        }
-    r.covered_mean_error = r.covered_pixels ? sum / static_cast<double>(r.covered_pixels) : 0.0;
-  }
-  if (metric != Metric::Changes && metric != Metric::Same) {
-    r.signature.assign(static_cast<size_t>(kSignatureColumns * kSignatureRows), 0.0f);
-    std::vector<int> counts(r.signature.size(), 0);
-    const float scale = tol.fail_threshold > 0.0 ? static_cast<float>(1.0 / tol.fail_threshold) : 1.0f;
-    std::vector<int> column_tile(static_cast<size_t>(a.width));  // two divisions a pixel were a tenth of this
-    for (int x = 0; x < a.width; ++x) column_tile[static_cast<size_t>(x)] = x * kSignatureColumns / a.width;
-    for (int y = 0; y < a.height; ++y) {
-      const int row_tile = y * kSignatureRows / a.height * kSignatureColumns;
-      for (int x = 0; x < a.width; ++x) {
-        const size_t tile = static_cast<size_t>(row_tile + column_tile[static_cast<size_t>(x)]);
-        r.signature[tile] += std::min(pixel_error.at(x, y, 0) * scale, kSignatureCap);
-        ++counts[tile];
+      if (allowance && e > 0.0f) {
+        const float allowed = std::max(0.0f, e - allowance->at(x, y, 0));
+        if (e > threshold && allowed <= threshold) ++r.filter_pixels;
+        e = allowed;
+      }
+      r.failing_pixels += e > threshold;
+      if (e > r.max_error) {
+        r.max_error = e;
+        r.max_x = x;
+        r.max_y = y;
       }
     }
-    for (size_t i = 0; i < counts.size(); ++i)
-      if (counts[i]) r.signature[i] /= static_cast<float>(counts[i]);
-  }
-  // NaN/Inf pixels show at full scale in the diff (their copies above were zeroed).
-  if (r.non_finite > 0)
-    for (int y = 0; y < image.height; ++y)
-      for (int x = 0; x < image.width; ++x)
-        for (int c = 0; c < image.channels; ++c)
-          if (!std::isfinite(image.at(x, y, c))) error.at(x, y, 0) = 1.0f;
-  r.diff = colour_mapped(error);
+  return error;
+}
 
-  if (metric == Metric::Changes) {
-    r.passed = r.failing_percent >= tol.min_changed_percent;
-    r.summary = format("%.2f%% of the pixels change by more than %.3g", r.failing_percent, tol.fail_threshold) +
-                format(" (at least %.2f%% must); largest change %.3g", tol.min_changed_percent, r.max_error);
-    if (!r.passed) r.note = "turning the effect on leaves the image (almost) as it was";
-    return r;
+// The mean of each pixel's error (its largest channel difference; for normals the
+// angle) over the covered pixels: those where the reference or the submission shows
+// something other than the reference's background. A faint difference spread over
+// many pixels raises it while staying under every per-pixel threshold. Each pixel
+// counts at most fail_threshold: pixels over it are the failing share's business, so
+// the few it allows (a flipped silhouette pixel) cannot fail this criterion instead.
+void add_covered_mean_error(const Image& a, const Image& b, const Image& pixel_error, const Tolerance& tol,
+                            const Background* background, Comparison& r) {
+  const Background found = background ? *background : most_common_pixel(b);
+  const double cap = tol.fail_threshold;
+  double sum = 0.0;
+  for (int y = 0; y < a.height; ++y)
+    for (int x = 0; x < a.width; ++x)
+      if (shows(a, x, y, found) || shows(b, x, y, found)) {
+        ++r.covered_pixels;
+        sum += std::min(static_cast<double>(pixel_error.at(x, y, 0)), cap);
+      }
+  r.covered_mean_error = r.covered_pixels ? sum / static_cast<double>(r.covered_pixels) : 0.0;
+}
+
+// Where the error lies, coarsely (Comparison::signature): each tile's mean of the pixels'
+// errors over fail_threshold, each capped at kSignatureCap.
+std::vector<float> error_signature(const Image& pixel_error, const Tolerance& tol) {
+  std::vector<float> signature(static_cast<size_t>(kSignatureColumns * kSignatureRows), 0.0f);
+  std::vector<int> counts(signature.size(), 0);
+  const int width = pixel_error.width, height = pixel_error.height;
+  const float scale = tol.fail_threshold > 0.0 ? static_cast<float>(1.0 / tol.fail_threshold) : 1.0f;
+  std::vector<int> column_tile(static_cast<size_t>(width));  // two divisions a pixel were a tenth of this
+  for (int x = 0; x < width; ++x) column_tile[static_cast<size_t>(x)] = x * kSignatureColumns / width;
+  for (int y = 0; y < height; ++y) {
+    const int row_tile = y * kSignatureRows / height * kSignatureColumns;
+    for (int x = 0; x < width; ++x) {
+      const size_t tile = static_cast<size_t>(row_tile + column_tile[static_cast<size_t>(x)]);
+      signature[tile] += std::min(pixel_error.at(x, y, 0) * scale, kSignatureCap);
+      ++counts[tile];
+    }
   }
+  for (size_t i = 0; i < counts.size(); ++i)
+    if (counts[i]) signature[i] /= static_cast<float>(counts[i]);
+  return signature;
+}
+
+// NaN/Inf pixels show at full scale in the diff (their compared copies were zeroed).
+void mark_non_finite(const Image& image, Image& error) {
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x)
+      for (int c = 0; c < image.channels; ++c)
+        if (!std::isfinite(image.at(x, y, c))) error.at(x, y, 0) = 1.0f;
+}
+
+// Metric::Changes: enough pixels must change.
+void judge_changes(const Tolerance& tol, Comparison& r) {
+  r.passed = r.failing_percent >= tol.min_changed_percent;
+  r.summary = format("%.2f%% of the pixels change by more than %.3g", r.failing_percent, tol.fail_threshold) +
+              format(" (at least %.2f%% must); largest change %.3g", tol.min_changed_percent, r.max_error);
+  if (!r.passed) r.note = "turning the effect on leaves the image (almost) as it was";
+}
+
+// Which of a comparison's criteria it meets.
+struct Criteria {
+  bool share_ok, hard_ok, mean_ok;
+};
+
+// The words of a verdict: every criterion with its number and its limit, pixel counts as
+// integers, so the words never show a passing share beside a failing limit; those over
+// their limit first.
+std::string verdict_summary(Metric metric, const Tolerance& tol, const Comparison& r, size_t total, Criteria met) {
   const std::string unit = metric == Metric::Normal ? " degrees" : metric == Metric::Position ? " m" : "";
-  const size_t total = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
-  r.allowed_failing_pixels = allowed_failing_pixels(tol, total);
-  const bool share_ok = r.failing_pixels <= r.allowed_failing_pixels;
-  const bool hard_ok = r.max_error <= tol.hard_fail;
-  const bool mean_ok = r.covered_mean_error <= tol.max_mean_error;
-  r.passed = r.non_finite == 0 && share_ok && hard_ok && mean_ok;
-  // Every criterion with its number and its limit, pixel counts as integers, so the
-  // words never show a passing share beside a failing limit.
   const std::string share = std::to_string(r.failing_pixels) + " of " + std::to_string(total) +
                             format(" pixels (%.3f%%) differ by more than ", r.failing_percent) +
                             format("%.3g", tol.fail_threshold) + unit +
@@ -636,11 +655,11 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
                               format(" at (%.0f, %.0f)", r.max_x, r.max_y);
   const bool hard_applies = tol.hard_fail < largest_possible_difference(metric);
   std::vector<std::string> over;
-  if (!share_ok) over.push_back(share + ", more than the " + allowed + " allowed");
-  if (!mean_ok)
+  if (!met.share_ok) over.push_back(share + ", more than the " + allowed + " allowed");
+  if (!met.mean_ok)
     over.push_back(mean + format(", over the limit of %.3g", tol.max_mean_error) + unit +
-                   (share_ok ? " (a faint difference spread over many pixels)" : ""));
-  if (!hard_ok)
+                   (met.share_ok ? " (a faint difference spread over many pixels)" : ""));
+  if (!met.hard_ok)
     over.push_back(largest + format(", over the limit of %.3g", tol.hard_fail) + unit +
                    (metric == Metric::Hdr ? " (compressed values lie in (-1, 1): only a pixel whose sign differs from "
                                             "the reference's gets there; negative radiance?)"
@@ -657,13 +676,23 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
                         (r.filter_pixels ? "; " + std::to_string(r.filter_pixels) +
                                                " pixels are within the reference's own spread under GPU-like texture filtering"
                                          : std::string());
-  if (over.empty()) {
-    r.summary = numbers;
-  } else {
-    r.summary = "Over the limit: ";
-    for (size_t i = 0; i < over.size(); ++i) r.summary += (i ? "; " : "") + over[i];
-    r.summary += ". All numbers: " + numbers;
-  }
+  if (over.empty()) return numbers;
+  std::string summary = "Over the limit: ";
+  for (size_t i = 0; i < over.size(); ++i) summary += (i ? "; " : "") + over[i];
+  summary += ". All numbers: " + numbers;
+  return summary;
+}
+
+// Every metric but Changes: the verdict against the tolerance's three limits and NaN/Inf,
+// its words, and for a failure its worst pixel and what to look at.
+void judge_against_tolerance(Metric metric, const Tolerance& tol, const Image& image, const Image& reference,
+                             double pixels, Comparison& r) {
+  const size_t total = static_cast<size_t>(image.width) * static_cast<size_t>(image.height);
+  r.allowed_failing_pixels = allowed_failing_pixels(tol, total);
+  const Criteria met{r.failing_pixels <= r.allowed_failing_pixels, r.max_error <= tol.hard_fail,
+                     r.covered_mean_error <= tol.max_mean_error};
+  r.passed = r.non_finite == 0 && met.share_ok && met.hard_ok && met.mean_ok;
+  r.summary = verdict_summary(metric, tol, r, total, met);
   r.width = image.width;
   r.height = image.height;
   if (!r.passed && r.max_x >= 0 && r.max_x < image.width && r.max_y >= 0 && r.max_y < image.height)
@@ -674,6 +703,39 @@ Comparison compare_images(Metric metric, const Tolerance& tol, const Image& imag
   } else if (!r.passed && is_uniform(image) && !is_uniform(reference)) {
     r.note = "every pixel is " + pixel_text(image) + ": does the shader write its output?";
   }
+}
+
+}  // namespace
+
+Comparison compare_images(Metric metric, const Tolerance& tol, const Image& image, const Image& reference,
+                          const Background* background, const Image* allowance) {
+  if (allowance && (allowance->width != reference.width || allowance->height != reference.height))
+    allowance = nullptr;  // made for another size: the references' check (manifest_differences) says so
+  if (image.width != reference.width || image.height != reference.height || image.channels != reference.channels)
+    return size_mismatch(image, reference);
+  Comparison r;
+  r.non_finite = count_non_finite(image);
+  Image storage_a, storage_b;
+  const Image& a = compared(metric, image, storage_a, r.non_finite == 0);
+  const Image& b = compared(metric, reference, storage_b);
+  const double pixels = static_cast<double>(image.width) * image.height;
+  PixelErrors errors;
+  if (metric == Metric::Normal)
+    errors = compare_normal_pixels(a, b, tol, allowance, pixels, r);
+  else
+    errors.error = compare_channel_pixels(metric, a, b, tol, allowance, r);
+  // What the mean over covered pixels and the signature average: the angle for normals,
+  // else the counted error (the diff image's input until non-finite pixels mark it below).
+  const Image& pixel_error = metric == Metric::Normal ? errors.normal_angle : errors.error;
+  r.failing_percent = 100.0 * static_cast<double>(r.failing_pixels) / pixels;
+  if (metric != Metric::Changes) add_covered_mean_error(a, b, pixel_error, tol, background, r);
+  if (metric != Metric::Changes && metric != Metric::Same) r.signature = error_signature(pixel_error, tol);
+  if (r.non_finite > 0) mark_non_finite(image, errors.error);
+  r.diff = colour_mapped(errors.error);
+  if (metric == Metric::Changes)
+    judge_changes(tol, r);
+  else
+    judge_against_tolerance(metric, tol, image, reference, pixels, r);
   return r;
 }
 
