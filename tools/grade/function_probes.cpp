@@ -220,57 +220,20 @@ ImageRgba8 probe_texture(bool distinct, glm::u8vec4 texel = glm::u8vec4(0)) {
   return image;
 }
 
-// Labs 1 and 4's geometry pass (gbuffer.vert and gbuffer.frag) drawn alone, one probe per
-// attachment and material, each set up so that one part of the pass shows:
-//   position, normal      a rotated, unevenly scaled model seen by a turned camera;
-//   back face             a double-sided material seen from behind;
-//   base colour           a factor, a uniform texture and the vertex colours (not the alpha);
-//   alpha                 a MASK material whose cases lie on both sides of the cutoff;
-//   metallic-roughness    factors and a uniform texture of distinct R, G and B;
-//   emission              a factor, a uniform texture, and a base colour to leave out of it;
-//   texture coordinates   every texture 4 x 4 texels of distinct colours, each read at its
-//                         own UV slot and offset, factors 1 and white vertex colours, the
-//                         model and camera untransformed: only where each texture is
-//                         sampled shows (one probe per attachment);
-//   normal map (lab 4)    a uniform tilted texel, its scale 0.8, the model and camera untransformed;
-//   tangent frame (lab 4) the same under the rotated, unevenly scaled model and a turned
-//                         camera, and half the tangents mirrored (w = -1): only there do the
-//                         frame's transforms and handedness show.
-// Every UV lies at a texel's centre, offsets are whole texels, and the textures are sampled
-// nearest: a texel's value is exact, whatever the filtering.
-std::vector<FunctionProbe> make_geometry(int lab) {
-  using T = ProbeType;
-  struct Attributes {
-    glm::vec3 normal;
-    glm::vec4 tangent, color;
-    glm::vec2 uv0, uv1;
-  };
-  const Attributes cases[] = {
-      {{0.2f, 0.3f, 1.2f}, {1.0f, 0.0f, 0.1f, 1.0f}, {1.0f, 0.8f, 0.6f, 1.0f}, {0.125f, 0.375f}, {0.375f, 0.125f}},
-      {{-0.5f, 0.1f, 0.9f}, {0.9f, 0.3f, 0.0f, -1.0f}, {0.5f, 1.0f, 0.75f, 0.8f}, {0.625f, 0.125f}, {0.875f, 0.375f}},
-      {{0.4f, -0.6f, 0.8f}, {1.0f, 0.2f, -0.3f, 1.0f}, {0.9f, 0.4f, 1.0f, 0.95f}, {0.875f, 0.625f}, {0.125f, 0.625f}},
-      {{0.0f, 0.0f, 1.5f}, {0.8f, -0.5f, 0.2f, -1.0f}, {0.3f, 0.6f, 0.9f, 0.5f}, {0.375f, 0.875f}, {0.625f, 0.875f}},
-      {{-0.3f, -0.4f, 0.6f}, {0.6f, 0.7f, 0.1f, 1.0f}, {1.0f, 1.0f, 1.0f, 1.0f}, {0.125f, 0.875f}, {0.375f, 0.625f}},
-      {{0.7f, 0.2f, 0.5f}, {1.0f, -0.1f, 0.4f, -1.0f}, {0.7f, 0.9f, 0.2f, 0.7f}, {0.625f, 0.625f}, {0.875f, 0.875f}},
-  };
-  const glm::mat4 turned_model =
-      glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, -0.25f, 0.3f)) *
-      glm::rotate(glm::mat4(1.0f), 0.6f, glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f))) *
-      glm::scale(glm::mat4(1.0f), glm::vec3(1.5f, 0.5f, 1.0f));
-  const glm::mat4 turned_view = glm::lookAt(glm::vec3(0.4f, 0.3f, 2.0f), glm::vec3(0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
-  // The plain materials' one-texel textures, and the texture-coordinate probes' offsets.
-  const glm::u8vec4 base_texel(200, 150, 100, 153), mr_texel(60, 100, 200, 255), emissive_texel(180, 120, 60, 255),
-      normal_texel(180, 100, 230, 255);
-  struct Part {
-    const char* id;
-    const char* term;
-    const char* setting;
-    int attachment;
-    bool alpha = false, back_faces = false, white = false, uv = false, turned = true;
-    int alpha_mode = KIT_ALPHA_OPAQUE;
-    bool normal_map = false;
-  };
-  std::vector<Part> parts = {
+// One probe of the geometry pass: the attachment it reads and how it is set up.
+struct GeometryPart {
+  const char* id;
+  const char* term;
+  const char* setting;
+  int attachment;
+  bool alpha = false, back_faces = false, white = false, uv = false, turned = true;
+  int alpha_mode = KIT_ALPHA_OPAQUE;
+  bool normal_map = false;
+};
+
+// The probes of lab `lab`'s geometry pass, in order (lab 4 adds its normal map's).
+std::vector<GeometryPart> geometry_parts(int lab) {
+  std::vector<GeometryPart> parts = {
       {"gbuffer/position", "position", "out_position.xyz; a rotated, unevenly scaled model seen by a turned camera", KIT_GBUF_POSITION},
       {"gbuffer/normal", "normal", "out_normal.xyz; a rotated, unevenly scaled model seen by a turned camera", KIT_GBUF_NORMAL},
       {"gbuffer/back-face", "back face", "out_normal.xyz; a double-sided material seen from behind", KIT_GBUF_NORMAL, false, true},
@@ -309,8 +272,108 @@ std::vector<FunctionProbe> make_geometry(int lab) {
                      KIT_GBUF_NORMAL, false, false, true, true, false});
     parts.back().normal_map = true;
   }
+  return parts;
+}
+
+// What `part`'s probe draws with: its transforms, textures and material.
+std::shared_ptr<GeometryProbeSetup> geometry_setup(const GeometryPart& part) {
+  const glm::mat4 turned_model =
+      glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, -0.25f, 0.3f)) *
+      glm::rotate(glm::mat4(1.0f), 0.6f, glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f))) *
+      glm::scale(glm::mat4(1.0f), glm::vec3(1.5f, 0.5f, 1.0f));
+  const glm::mat4 turned_view = glm::lookAt(glm::vec3(0.4f, 0.3f, 2.0f), glm::vec3(0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+  // The plain materials' one-texel textures, and the texture-coordinate probes' offsets.
+  const glm::u8vec4 base_texel(200, 150, 100, 153), mr_texel(60, 100, 200, 255), emissive_texel(180, 120, 60, 255),
+      normal_texel(180, 100, 230, 255);
+  auto setup = std::make_shared<GeometryProbeSetup>();
+  setup->attachment = part.attachment;
+  setup->alpha = part.alpha;
+  setup->back_faces = part.back_faces;
+  if (part.turned) {
+    setup->model = turned_model;
+    setup->view = turned_view;
+  }
+  Material& m = setup->material;
+  m.alpha_mode = part.alpha_mode;
+  m.double_sided = part.back_faces;
+  if (part.uv) {
+    for (int unit = 0; unit < kMaterialTextureCount; ++unit) setup->images.push_back(probe_texture(true));
+    const glm::vec2 offsets[] = {{0.25f, 0.0f}, {0.5f, 0.25f}, {0.0f, 0.5f}, {0.75f, 0.25f}};  // by unit
+    for (int unit = 0; unit < kMaterialTextureCount; ++unit) {
+      m.texture(unit).uv.slot = unit == KIT_UNIT_NORMAL_MAP || unit == KIT_UNIT_EMISSIVE ? 1 : 0;
+      m.texture(unit).uv.transform = texture_transform_matrix(offsets[unit], 0.0f, glm::vec2(1.0f));
+    }
+    m.emissive = glm::vec3(1.0f);
+  } else {
+    setup->images = {probe_texture(false, base_texel), probe_texture(false, mr_texel), probe_texture(false, normal_texel),
+                     probe_texture(false, emissive_texel)};
+    m.base_color_factor = glm::vec4(0.8f, 0.6f, 0.4f, 0.9f);
+    m.metallic_factor = 0.7f;
+    m.roughness_factor = 0.9f;
+    m.emissive = glm::vec3(2.0f, 1.5f, 0.5f);
+    m.normal_scale = 0.8f;
+  }
+  for (int unit = 0; unit < kMaterialTextureCount; ++unit) {
+    m.texture(unit).image = unit;
+    m.texture(unit).sampler = 0;
+  }
+  if (!part.normal_map) m.texture(KIT_UNIT_NORMAL_MAP).image = -1;
+  return setup;
+}
+
+// `part`'s cases: each a vertex's attributes.
+std::vector<ProbeCase> geometry_cases(const GeometryPart& part) {
+  struct Attributes {
+    glm::vec3 normal;
+    glm::vec4 tangent, color;
+    glm::vec2 uv0, uv1;
+  };
+  const Attributes cases[] = {
+      {{0.2f, 0.3f, 1.2f}, {1.0f, 0.0f, 0.1f, 1.0f}, {1.0f, 0.8f, 0.6f, 1.0f}, {0.125f, 0.375f}, {0.375f, 0.125f}},
+      {{-0.5f, 0.1f, 0.9f}, {0.9f, 0.3f, 0.0f, -1.0f}, {0.5f, 1.0f, 0.75f, 0.8f}, {0.625f, 0.125f}, {0.875f, 0.375f}},
+      {{0.4f, -0.6f, 0.8f}, {1.0f, 0.2f, -0.3f, 1.0f}, {0.9f, 0.4f, 1.0f, 0.95f}, {0.875f, 0.625f}, {0.125f, 0.625f}},
+      {{0.0f, 0.0f, 1.5f}, {0.8f, -0.5f, 0.2f, -1.0f}, {0.3f, 0.6f, 0.9f, 0.5f}, {0.375f, 0.875f}, {0.625f, 0.875f}},
+      {{-0.3f, -0.4f, 0.6f}, {0.6f, 0.7f, 0.1f, 1.0f}, {1.0f, 1.0f, 1.0f, 1.0f}, {0.125f, 0.875f}, {0.375f, 0.625f}},
+      {{0.7f, 0.2f, 0.5f}, {1.0f, -0.1f, 0.4f, -1.0f}, {0.7f, 0.9f, 0.2f, 0.7f}, {0.625f, 0.625f}, {0.875f, 0.875f}},
+  };
+  std::vector<ProbeCase> out;
+  for (const Attributes& a : cases) {
+    ProbeCase c;
+    push(c.inputs, a.normal);
+    // Mirrored tangents only where the frame is under test: elsewhere the handedness
+    // would show as a decode mistake would.
+    const float w = part.turned ? a.tangent.w : 1.0f;
+    for (float v : {a.tangent.x, a.tangent.y, a.tangent.z, w}) push(c.inputs, v);
+    for (float v : {a.uv0.x, a.uv0.y, a.uv1.x, a.uv1.y}) push(c.inputs, v);
+    const glm::vec4 color = part.white ? glm::vec4(1.0f) : a.color;
+    for (float v : {color.x, color.y, color.z, color.w}) push(c.inputs, v);
+    out.push_back(c);
+  }
+  return out;
+}
+
+// Labs 1 and 4's geometry pass (gbuffer.vert and gbuffer.frag) drawn alone, one probe per
+// attachment and material, each set up so that one part of the pass shows:
+//   position, normal      a rotated, unevenly scaled model seen by a turned camera;
+//   back face             a double-sided material seen from behind;
+//   base colour           a factor, a uniform texture and the vertex colours (not the alpha);
+//   alpha                 a MASK material whose cases lie on both sides of the cutoff;
+//   metallic-roughness    factors and a uniform texture of distinct R, G and B;
+//   emission              a factor, a uniform texture, and a base colour to leave out of it;
+//   texture coordinates   every texture 4 x 4 texels of distinct colours, each read at its
+//                         own UV slot and offset, factors 1 and white vertex colours, the
+//                         model and camera untransformed: only where each texture is
+//                         sampled shows (one probe per attachment);
+//   normal map (lab 4)    a uniform tilted texel, its scale 0.8, the model and camera untransformed;
+//   tangent frame (lab 4) the same under the rotated, unevenly scaled model and a turned
+//                         camera, and half the tangents mirrored (w = -1): only there do the
+//                         frame's transforms and handedness show.
+// Every UV lies at a texel's centre, offsets are whole texels, and the textures are sampled
+// nearest: a texel's value is exact, whatever the filtering.
+std::vector<FunctionProbe> make_geometry(int lab) {
+  using T = ProbeType;
   std::vector<FunctionProbe> probes;
-  for (const Part& part : parts) {
+  for (const GeometryPart& part : geometry_parts(lab)) {
     FunctionProbe p = pass_probe(lab, "gbuffer.frag",
                                {{"a_normal", T::Vec3}, {"a_tangent", T::Vec4}, {"a_texcoord0", T::Vec2},
                                 {"a_texcoord1", T::Vec2}, {"a_color", T::Vec4}},
@@ -320,52 +383,8 @@ std::vector<FunctionProbe> make_geometry(int lab) {
     p.srgb_decoded = !part.alpha && (part.attachment == KIT_GBUF_ALBEDO || part.attachment == KIT_GBUF_EMISSION);
     p.term = part.term;
     p.setting = part.setting;
-    auto setup = std::make_shared<GeometryProbeSetup>();
-    setup->attachment = part.attachment;
-    setup->alpha = part.alpha;
-    setup->back_faces = part.back_faces;
-    if (part.turned) {
-      setup->model = turned_model;
-      setup->view = turned_view;
-    }
-    Material& m = setup->material;
-    m.alpha_mode = part.alpha_mode;
-    m.double_sided = part.back_faces;
-    if (part.uv) {
-      for (int unit = 0; unit < kMaterialTextureCount; ++unit) setup->images.push_back(probe_texture(true));
-      const glm::vec2 offsets[] = {{0.25f, 0.0f}, {0.5f, 0.25f}, {0.0f, 0.5f}, {0.75f, 0.25f}};  // by unit
-      for (int unit = 0; unit < kMaterialTextureCount; ++unit) {
-        m.texture(unit).uv.slot = unit == KIT_UNIT_NORMAL_MAP || unit == KIT_UNIT_EMISSIVE ? 1 : 0;
-        m.texture(unit).uv.transform = texture_transform_matrix(offsets[unit], 0.0f, glm::vec2(1.0f));
-      }
-      m.emissive = glm::vec3(1.0f);
-    } else {
-      setup->images = {probe_texture(false, base_texel), probe_texture(false, mr_texel), probe_texture(false, normal_texel),
-                       probe_texture(false, emissive_texel)};
-      m.base_color_factor = glm::vec4(0.8f, 0.6f, 0.4f, 0.9f);
-      m.metallic_factor = 0.7f;
-      m.roughness_factor = 0.9f;
-      m.emissive = glm::vec3(2.0f, 1.5f, 0.5f);
-      m.normal_scale = 0.8f;
-    }
-    for (int unit = 0; unit < kMaterialTextureCount; ++unit) {
-      m.texture(unit).image = unit;
-      m.texture(unit).sampler = 0;
-    }
-    if (!part.normal_map) m.texture(KIT_UNIT_NORMAL_MAP).image = -1;
-    p.geometry = setup;
-    for (const Attributes& a : cases) {
-      ProbeCase c;
-      push(c.inputs, a.normal);
-      // Mirrored tangents only where the frame is under test: elsewhere the handedness
-      // would show as a decode mistake would.
-      const float w = part.turned ? a.tangent.w : 1.0f;
-      for (float v : {a.tangent.x, a.tangent.y, a.tangent.z, w}) push(c.inputs, v);
-      for (float v : {a.uv0.x, a.uv0.y, a.uv1.x, a.uv1.y}) push(c.inputs, v);
-      const glm::vec4 color = part.white ? glm::vec4(1.0f) : a.color;
-      for (float v : {color.x, color.y, color.z, color.w}) push(c.inputs, v);
-      p.cases.push_back(c);
-    }
+    p.geometry = geometry_setup(part);
+    p.cases = geometry_cases(part);
     probes.push_back(p);
   }
   return probes;
@@ -464,6 +483,108 @@ std::string factor_text(double k) {
 }
 
 bool near(double a, double b) { return std::abs(a - b) <= kShapeTolerance * std::max(std::abs(a), std::abs(b)) + 1e-12; }
+
+// A probe's differing cases (compare_probe), for the shape of the difference.
+struct Differences {
+  const FunctionProbe& probe;
+  const ProbeValues& got;
+  const std::vector<glm::vec4>& expected;
+  const std::vector<size_t>& cases;  // the differing cases
+  const std::vector<bool>& differs;  // by case
+  int non_finite;                    // differing cases whose value is not finite
+  int components;                    // of the result
+  double zero;                       // an expected value within this of 0 counts as 0
+};
+
+// The same factor, offset, square or square root in every differing value compared.
+std::string value_shape(const Differences& d) {
+  const FunctionProbe& probe = d.probe;
+  std::vector<std::pair<double, double>> pairs;  // (got, expected) per component
+  for (size_t i : d.cases)
+    if (!probe.cases[i].finite_only && finite(probe, d.got.values[i]))
+      for (int k = 0; k < d.components; ++k)
+        if (std::abs(d.expected[i][k]) > d.zero) pairs.emplace_back(d.got.values[i][k], d.expected[i][k]);
+  auto all_pairs = [&](auto fits) {
+    if (pairs.empty()) return false;
+    for (const auto& [s, e] : pairs)
+      if (!fits(s, e)) return false;
+    return true;
+  };
+  if (static_cast<size_t>(d.non_finite) == d.cases.size()) {
+    return "each not a number or infinite (a denominator reaching 0 without a guard?)";
+  } else if (const double k = pairs.empty() ? 1.0 : pairs.front().first / pairs.front().second;
+             !pairs.empty() && std::abs(k - 1.0) > kShapeTolerance && all_pairs([&](double s, double e) { return near(s / e, k); })) {
+    return factor_text(k);
+  } else if (const double offset = pairs.empty() ? 0.0 : pairs.front().first - pairs.front().second;
+             !pairs.empty() && all_pairs([&](double s, double e) { return near(s - e, offset); })) {
+    return std::string("each ") + (offset > 0 ? "higher" : "lower") + " by " + number(std::abs(offset));
+  } else if (all_pairs([](double s, double e) { return near(s, e * e); })) {
+    return "each the square of the expected value";
+  } else if (all_pairs([](double s, double e) { return e > 0 && near(s, std::sqrt(e)); })) {
+    return "each the square root of the expected value";
+  }
+  return "";
+}
+
+// Two scalar arguments swapped: each differing value is the expected one at the case with
+// those two arguments exchanged.
+std::string swapped_arguments_shape(const Differences& d) {
+  const FunctionProbe& probe = d.probe;
+  std::vector<int> offsets;
+  int at = 0;
+  for (const ProbeArgument& a : probe.arguments) {
+    offsets.push_back(a.type == ProbeType::Float ? at : -1);
+    at += components(a.type);
+  }
+  for (size_t a = 0; a < offsets.size(); ++a)
+    for (size_t b = a + 1; b < offsets.size(); ++b) {
+      if (offsets[a] < 0 || offsets[b] < 0) continue;
+      bool fits = true;
+      for (size_t i : d.cases) {
+        std::vector<float> swapped = probe.cases[i].inputs;
+        std::swap(swapped[offsets[a]], swapped[offsets[b]]);
+        auto j = std::find_if(probe.cases.begin(), probe.cases.end(), [&](const ProbeCase& c) { return c.inputs == swapped; });
+        if (j == probe.cases.end() || probe.cases[i].finite_only || !finite(probe, d.got.values[i])) {
+          fits = false;
+          break;
+        }
+        const glm::vec4& e = d.expected[static_cast<size_t>(j - probe.cases.begin())];
+        for (int k = 0; k < d.components; ++k) fits = fits && near(d.got.values[i][k], e[k]);
+      }
+      if (fits) return probe.arguments[a].name + " and " + probe.arguments[b].name + " swapped";
+    }
+  return "";
+}
+
+// Only where a scalar argument is 0 or 1 (an edge of its range): every case with no
+// argument at an edge agrees, and there are such cases.
+std::string edge_shape(const Differences& d) {
+  const FunctionProbe& probe = d.probe;
+  auto at_edge = [&](const ProbeCase& c) {
+    int at = 0;
+    bool edge = false;
+    for (const ProbeArgument& a : probe.arguments) {
+      if (a.type == ProbeType::Float) edge = edge || c.inputs[at] == 0.0f || c.inputs[at] == 1.0f;
+      at += components(a.type);
+    }
+    return edge;
+  };
+  bool inner_cases = false, inner_agree = true;
+  for (size_t i = 0; i < probe.cases.size(); ++i)
+    if (!at_edge(probe.cases[i])) {
+      inner_cases = true;
+      inner_agree = inner_agree && !d.differs[i];
+    }
+  return !probe.pass && inner_cases && inner_agree ? "only where an argument is 0 or 1" : "";
+}
+
+// The shape of the difference over the differing values, in words; "" where none fits.
+std::string difference_shape(const Differences& d) {
+  std::string shape = value_shape(d);
+  if (shape.empty()) shape = swapped_arguments_shape(d);
+  if (shape.empty()) shape = edge_shape(d);
+  return shape;
+}
 
 }  // namespace
 
@@ -694,78 +815,7 @@ ProbeOutcome compare_probe(const FunctionProbe& probe, const ProbeValues& got, c
   o.first = call_text(probe, first) + (probe.pass ? " writes " : " = ") + value_text(probe, got.values[first]) +
             (probe.cases[first].finite_only ? ", expected a finite value" : ", expected " + value_text(probe, expected[first]));
 
-  // The shape of the difference, over the differing values compared.
-  std::vector<std::pair<double, double>> pairs;  // (got, expected) per component
-  for (size_t i : differing)
-    if (!probe.cases[i].finite_only && finite(probe, got.values[i]))
-      for (int k = 0; k < n; ++k)
-        if (std::abs(expected[i][k]) > zero) pairs.emplace_back(got.values[i][k], expected[i][k]);
-  auto all_pairs = [&](auto fits) {
-    if (pairs.empty()) return false;
-    for (const auto& [s, e] : pairs)
-      if (!fits(s, e)) return false;
-    return true;
-  };
-  if (non_finite == o.differing) {
-    o.shape = "each not a number or infinite (a denominator reaching 0 without a guard?)";
-  } else if (const double k = pairs.empty() ? 1.0 : pairs.front().first / pairs.front().second;
-             !pairs.empty() && std::abs(k - 1.0) > kShapeTolerance && all_pairs([&](double s, double e) { return near(s / e, k); })) {
-    o.shape = factor_text(k);
-  } else if (const double d = pairs.empty() ? 0.0 : pairs.front().first - pairs.front().second;
-             !pairs.empty() && all_pairs([&](double s, double e) { return near(s - e, d); })) {
-    o.shape = std::string("each ") + (d > 0 ? "higher" : "lower") + " by " + number(std::abs(d));
-  } else if (all_pairs([](double s, double e) { return near(s, e * e); })) {
-    o.shape = "each the square of the expected value";
-  } else if (all_pairs([](double s, double e) { return e > 0 && near(s, std::sqrt(e)); })) {
-    o.shape = "each the square root of the expected value";
-  }
-  // Two scalar arguments swapped: each differing value is the expected one at the case
-  // with those two arguments exchanged.
-  if (o.shape.empty()) {
-    std::vector<int> offsets;
-    int at = 0;
-    for (const ProbeArgument& a : probe.arguments) {
-      offsets.push_back(a.type == ProbeType::Float ? at : -1);
-      at += components(a.type);
-    }
-    for (size_t a = 0; a < offsets.size() && o.shape.empty(); ++a)
-      for (size_t b = a + 1; b < offsets.size() && o.shape.empty(); ++b) {
-        if (offsets[a] < 0 || offsets[b] < 0) continue;
-        bool fits = true;
-        for (size_t i : differing) {
-          std::vector<float> swapped = probe.cases[i].inputs;
-          std::swap(swapped[offsets[a]], swapped[offsets[b]]);
-          auto j = std::find_if(probe.cases.begin(), probe.cases.end(), [&](const ProbeCase& c) { return c.inputs == swapped; });
-          if (j == probe.cases.end() || probe.cases[i].finite_only || !finite(probe, got.values[i])) {
-            fits = false;
-            break;
-          }
-          const glm::vec4& e = expected[static_cast<size_t>(j - probe.cases.begin())];
-          for (int k = 0; k < n; ++k) fits = fits && near(got.values[i][k], e[k]);
-        }
-        if (fits) o.shape = probe.arguments[a].name + " and " + probe.arguments[b].name + " swapped";
-      }
-  }
-  // Only where a scalar argument is 0 or 1 (an edge of its range): every case with no
-  // argument at an edge agrees, and there are such cases.
-  if (o.shape.empty()) {
-    auto at_edge = [&](const ProbeCase& c) {
-      int at = 0;
-      bool edge = false;
-      for (const ProbeArgument& a : probe.arguments) {
-        if (a.type == ProbeType::Float) edge = edge || c.inputs[at] == 0.0f || c.inputs[at] == 1.0f;
-        at += components(a.type);
-      }
-      return edge;
-    };
-    bool inner_cases = false, inner_agree = true;
-    for (size_t i = 0; i < probe.cases.size(); ++i)
-      if (!at_edge(probe.cases[i])) {
-        inner_cases = true;
-        inner_agree = inner_agree && !differs[i];
-      }
-    if (!probe.pass && inner_cases && inner_agree) o.shape = "only where an argument is 0 or 1";
-  }
+  o.shape = difference_shape({probe, got, expected, differing, differs, non_finite, n, zero});
   o.message = o.first + "; " + std::to_string(o.differing) + " of " + std::to_string(o.total) + (probe.pass ? " texels differ" : " inputs differ") +
               (o.shape.empty() ? "" : ", " + o.shape);
   if (!probe.setting.empty()) o.message += " (" + probe.setting + ")";
