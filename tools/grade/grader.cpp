@@ -704,22 +704,6 @@ bool writable_folder(const fs::path& dir, std::string* why) {
   return ok;
 }
 
-Thousandths SubmissionOutcome::total() const {
-  Thousandths sum = 0;
-  for (const auto& [n, lab] : labs) sum += lab.score();
-  return sum;
-}
-
-Thousandths SubmissionOutcome::max_total() const {
-  Thousandths sum = 0;
-  for (const auto& [n, lab] : labs) sum += lab.max_score();
-  return sum;
-}
-
-bool SubmissionOutcome::grader_error() const {
-  return std::any_of(labs.begin(), labs.end(), [](const auto& l) { return l.second.status == kGraderError; });
-}
-
 int grade_submission(const fs::path& submission, const Options& options) {
   std::error_code ec;
   if (!fs::exists(fs::symlink_status(submission, ec))) throw Error(submission.string() + ": no such folder or file");

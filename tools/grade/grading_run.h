@@ -18,6 +18,7 @@
 #include "function_probes.h"
 #include "grader.h"
 #include "images/image_io.h"
+#include "outcome.h"
 #include "references.h"
 #include "scene/scene.h"
 #include "submission.h"

@@ -252,20 +252,4 @@ void name_likely_mistakes(const MistakeSignatures& mistakes, LabOutcome& lab) {
   lab.diagnosed = true;
 }
 
-int LabOutcome::passed_checks() const {
-  return static_cast<int>(std::count_if(checks.begin(), checks.end(), [](const CheckOutcome& c) { return c.passed; }));
-}
-
-Thousandths LabOutcome::score() const {
-  Thousandths sum = 0;
-  for (const CheckOutcome& c : checks) sum += c.score;
-  return sum;
-}
-
-Thousandths LabOutcome::max_score() const {
-  Thousandths sum = 0;
-  for (const CheckOutcome& c : checks) sum += c.max_score;
-  return sum;
-}
-
 }  // namespace kit::grade

@@ -12,7 +12,7 @@
 #include "compare.h"
 #include "config.h"
 #include "diagnosis.h"
-#include "grader.h"
+#include "outcome.h"
 #include "images/image_io.h"
 #include "light_shares.h"
 #include "scene/scene.h"

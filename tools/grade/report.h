@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "grader.h"
+#include "outcome.h"
 
 namespace kit::grade {
 
