@@ -22,6 +22,7 @@
 #include "checks.h"
 #include "compare.h"
 #include "config.h"
+#include "files.h"
 #include "gbuffer_layout.h"  // KIT_LIGHT_*
 #include "grader.h"
 #include "grading_run.h"
@@ -29,7 +30,6 @@
 #include "lab_verdict.h"
 #include "kit_test.h"
 #include "references.h"
-#include "render_child.h"
 #include "report.h"
 #include "render/stages.h"
 

@@ -15,6 +15,7 @@
 #include <memory>
 
 #include "base/error.h"
+#include "files.h"
 #include "grading_run.h"
 #include "lab_verdict.h"
 #include "gl/pass_clock.h"
@@ -464,11 +465,6 @@ void print_submission(const SubmissionOutcome& s) {
 
 }  // namespace
 
-std::string trimmed(std::string text) {
-  while (!text.empty() && (text.back() == '\n' || text.back() == ' ')) text.pop_back();
-  return text;
-}
-
 // A run that renders only the kit's own files has its children write the seed
 // (Mesa creates only the last folder of its cache's path). A multi-file cache an
 // older kit-grade left there is removed: no child reads it, and every submission
@@ -687,21 +683,6 @@ void remove_run_temp(const Run& run) {
   }
   std::error_code ec;
   fs::remove_all(run.temp, ec);
-}
-
-bool writable_folder(const fs::path& dir, std::string* why) {
-  std::error_code ec;
-  fs::create_directories(dir, ec);
-  if (ec || !fs::is_directory(dir)) {
-    *why = dir.string() + ": cannot create the output folder" + (ec ? " (" + ec.message() + ")" : "");
-    return false;
-  }
-  fs::path probe = dir / (".kit-grade-probe-" + std::to_string(getpid()));
-  std::ofstream(probe) << "";
-  bool ok = fs::exists(probe);
-  fs::remove(probe, ec);
-  if (!ok) *why = dir.string() + ": cannot write in the output folder";
-  return ok;
 }
 
 int grade_submission(const fs::path& submission, const Options& options) {

@@ -107,9 +107,4 @@ bool render_again_alone(const Outcome& ended, int labs_before);
 // Removes the run's temporary folder (--keep-temp: says where it is instead).
 void remove_run_temp(const Run& run);
 
-// Creates `dir` and checks that files can be written in it; else false, with why.
-bool writable_folder(const std::filesystem::path& dir, std::string* why);
-// `text` without the newlines and spaces it ends with.
-std::string trimmed(std::string text);
-
 }  // namespace kit::grade

@@ -10,8 +10,7 @@
 #include <set>
 
 #include "base/error.h"
-#include "render_child.h"
-#include "report.h"
+#include "files.h"
 #include "render/stages.h"
 #include "submission.h"
 

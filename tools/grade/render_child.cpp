@@ -8,7 +8,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <memory>
 
 #include "checks.h"
@@ -19,9 +18,9 @@
 #include "gl/gl.h"
 #include "gl/pass_clock.h"
 #include "render/renderer.h"
-#include "sandbox.h"
-#include "report.h"
+#include "files.h"
 #include "render/stages.h"
+#include "sandbox.h"
 
 namespace fs = std::filesystem;
 
@@ -29,47 +28,7 @@ namespace kit::grade {
 
 namespace {
 
-constexpr char kRawMagic[8] = {'K', 'I', 'T', 'R', 'A', 'W', '1', '\0'};
-// Larger than any render the grader makes: a corrupt header cannot make the parent allocate gigabytes.
-constexpr int kMaxRawDimension = 8192;
-
 using Clock = std::chrono::steady_clock;
-
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary);
-  out << text;
-}
-
-}  // namespace
-
-fs::path raw_image_path(const fs::path& dir, const std::string& render_id) { return dir / (render_id + ".raw"); }
-
-void write_raw_image(const fs::path& path, const Image& image) {
-  std::ofstream out(path, std::ios::binary);
-  int32_t header[3] = {image.width, image.height, image.channels};
-  out.write(kRawMagic, sizeof kRawMagic);
-  out.write(reinterpret_cast<const char*>(header), sizeof header);
-  out.write(reinterpret_cast<const char*>(image.pixels.data()), static_cast<std::streamsize>(image.pixels.size() * sizeof(float)));
-  if (!out) throw Error(path.string() + ": cannot write");
-}
-
-Image read_raw_image(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw Error(path.filename().string() + ": the renderer wrote no image");
-  char magic[sizeof kRawMagic];
-  int32_t header[3] = {0, 0, 0};
-  in.read(magic, sizeof magic);
-  in.read(reinterpret_cast<char*>(header), sizeof header);
-  if (!in || std::memcmp(magic, kRawMagic, sizeof magic) != 0 || header[0] < 1 || header[1] < 1 || header[2] < 1 ||
-      header[0] > kMaxRawDimension || header[1] > kMaxRawDimension || header[2] > 4)
-    throw Error(path.filename().string() + ": not a raw image from the renderer");
-  Image image(header[0], header[1], header[2]);
-  in.read(reinterpret_cast<char*>(image.pixels.data()), static_cast<std::streamsize>(image.pixels.size() * sizeof(float)));
-  if (!in) throw Error(path.filename().string() + ": the image is incomplete");
-  return image;
-}
-
-namespace {
 
 struct RenderJob {
   int lab = 0;

@@ -53,10 +53,4 @@ std::filesystem::path lab_folder(const std::filesystem::path& temp, int lab);
 // the lab's status. Goes on only after a lab that rendered; returns the exit status.
 int serve_labs(const LabWorker& worker, TaskChannel& channel);
 
-// Raw float images between child and parent (not an image file format): the
-// 8 bytes "KITRAW1\0", width, height and channels as int32, then the floats.
-void write_raw_image(const std::filesystem::path& path, const Image& image);
-Image read_raw_image(const std::filesystem::path& path);  // throws kit::Error
-std::filesystem::path raw_image_path(const std::filesystem::path& dir, const std::string& render_id);
-
 }  // namespace kit::grade

@@ -1,7 +1,5 @@
 #include "report.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -13,6 +11,7 @@
 #include <vector>
 
 #include "base/error.h"
+#include "files.h"
 #include "render/stages.h"
 
 namespace fs = std::filesystem;
@@ -427,24 +426,6 @@ std::string report_html(const SubmissionOutcome& s) {
            html_escape(c->image) + "\" alt=\"custom effect\" style=\"width:512px\">\n";
   h += "</body></html>\n";
   return h;
-}
-
-void write_file_atomic(const fs::path& path, const std::string& text) {
-  fs::path temp = path;
-  temp += ".tmp-" + std::to_string(getpid());
-  {
-    std::ofstream out(temp, std::ios::binary);
-    out << text;
-    out.flush();
-    if (!out) throw Error(path.string() + ": cannot write");
-  }
-  fs::rename(temp, path);
-}
-
-std::string json_text(const nlohmann::json& doc) {
-  // File names and logs from a submission need not be UTF-8: invalid bytes become
-  // U+FFFD instead of making dump() throw, so the file is always valid JSON.
-  return doc.dump(1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
 }
 
 void write_results(const fs::path& dir, const SubmissionOutcome& outcome) {

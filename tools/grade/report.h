@@ -21,9 +21,6 @@ std::string report_html(const SubmissionOutcome& outcome);
 // results.json, summary.json and report.html into `dir`, each written to a
 // temporary file first and renamed, so a reader never sees half a file.
 void write_results(const std::filesystem::path& dir, const SubmissionOutcome& outcome);
-void write_file_atomic(const std::filesystem::path& path, const std::string& text);
-// A JSON document as text; bytes that are not UTF-8 become U+FFFD (never throws on them).
-std::string json_text(const nlohmann::json& doc);
 
 // "lab 3 attenuation: 6.667/10  (4 of 6 checks passed)" or "... 0/10  (compile error: first line)".
 std::string lab_line(const LabOutcome& lab);

@@ -176,9 +176,6 @@ class InterruptGuard {
 // Sleeps briefly between polls of running children (a few milliseconds).
 void poll_pause();
 
-// The last `max_bytes` of a (log) file, or "" when unreadable.
-std::string read_tail(const std::filesystem::path& path, size_t max_bytes);
-
 // This process's peak address space (VmPeak, what RLIMIT_AS limits) in KiB, 0
 // when unknown. Async-signal-safe: a fatal-signal handler calls it.
 long peak_address_space_kib();
