@@ -14,6 +14,7 @@
 #include <set>
 
 #include "base/error.h"
+#include "class_summary.h"
 #include "files.h"
 #include "grading_run.h"
 #include "gl/pass_clock.h"
