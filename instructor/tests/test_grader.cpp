@@ -31,6 +31,7 @@
 #include "kit_test.h"
 #include "references.h"
 #include "report.h"
+#include "scheduler.h"
 #include "render/stages.h"
 
 namespace fs = std::filesystem;

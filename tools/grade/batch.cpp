@@ -19,6 +19,7 @@
 #include "grading_run.h"
 #include "gl/pass_clock.h"
 #include "report.h"
+#include "scheduler.h"
 #include "submission.h"
 
 namespace fs = std::filesystem;

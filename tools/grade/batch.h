@@ -5,7 +5,7 @@
 // writes an output folder (its lock).
 #include <filesystem>
 
-#include "grader.h"
+#include "options.h"
 
 namespace kit::grade {
 

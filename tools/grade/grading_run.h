@@ -1,11 +1,11 @@
 #pragma once
-// The grading run as kit-grade's commands share it, and its scheduler (grader.cpp),
-// which renders and compares each entry's labs. Private to tools/grade:
+// The grading run as kit-grade's commands share it: its settings, what its submissions
+// share, its temporary folder and shader caches, and its entries. Private to tools/grade:
 // grade_submission (grader.cpp), grade_batch (batch.cpp) and the reference commands
-// (reference_maintenance.cpp) each make a run.
+// (reference_maintenance.cpp) each make a run, and its scheduler (scheduler.h) renders and
+// compares each entry's labs.
 #include <chrono>
 #include <filesystem>
-#include <functional>
 #include <map>
 #include <optional>
 #include <string>
@@ -16,10 +16,11 @@
 
 #include "compare.h"
 #include "function_probes.h"
-#include "grader.h"
 #include "images/image_io.h"
+#include "options.h"
 #include "outcome.h"
 #include "references.h"
+#include "sandbox.h"
 #include "scene/scene.h"
 #include "submission.h"
 
@@ -85,9 +86,6 @@ struct Entry {
   Clock::time_point started;
 };
 
-// Called as each entry has all its labs graded.
-using Finished = std::function<void(Entry&)>;
-
 // The run of `options`: its config and scenes, its temporary folder, and (with
 // `need_references`) its references, which must be current (else kit::Error). Without, a
 // run that makes references: the scenes of the renders that only describe a pixel
@@ -96,14 +94,11 @@ Run make_run(const Options& options, bool need_references);
 // Has the run's children write the Mesa shader cache seed that graded submissions
 // start from (runs that render only the kit's own files).
 void write_cache_seed(Run& run);
-// Runs every lab of every entry in render workers (render_child.h), at most options.jobs
-// at a time, each rendering labs of one submission one after another; `finished` is
-// called as each entry completes. Returns false when interrupted.
-bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished);
-// Whether a lab whose worker ended while rendering it, after `labs_before` other labs,
-// is rendered again as the first lab of a fresh worker, so that its verdict is the one a
-// process of its own gives.
-bool render_again_alone(const Outcome& ended, int labs_before);
+// Makes the entry's temporary folder and its private shader cache, and prepares its
+// submission (submission.h): when the scheduler first comes to one of its labs.
+void prepare_entry(const Run& run, Entry& e);
+// How a render worker of entry `e` starts: in `dir`, with the submission's own shader cache.
+ChildSetup render_setup(const Run& run, const Entry& e, const std::filesystem::path& dir);
 // Removes the run's temporary folder (--keep-temp: says where it is instead).
 void remove_run_temp(const Run& run);
 

@@ -14,6 +14,7 @@
 #include "light_shares.h"
 #include "references.h"
 #include "report.h"
+#include "scheduler.h"
 #include "render/stages.h"
 
 namespace fs = std::filesystem;

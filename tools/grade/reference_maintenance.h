@@ -2,7 +2,7 @@
 // Keeping the reference renders current: `kit-grade --update-references` renders
 // solutions/ into them (references.h writes the files and their manifest);
 // `--check-references` re-renders the solutions and fails when the references are stale.
-#include "grader.h"
+#include "options.h"
 
 namespace kit::grade {
 
