@@ -59,7 +59,7 @@ struct RenderSettings {
   // lights' lack of range and the attenuation model as constants in the lighting shaders
   // (light_specialisation.glsl), and a geometry program per feature set of the scene's
   // materials (material_variants.h). Faster frames on llvmpipe, at one compilation for
-  // each combination a scene brings. The grader turns it off: its render children draw a
+  // each combination a scene brings. The grader turns it off: its render workers draw a
   // few small frames with each program, where a compilation (tens of ms, more on a cold
   // shader cache) costs more than it saves. The image is the same either way.
   bool specialise_shaders = true;

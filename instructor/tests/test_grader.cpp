@@ -690,7 +690,7 @@ TEST(Grader, BadArgumentsFailWithAMessage) {
 
 
 // A render worker renders a submission's labs one after another in one process
-// (render_child.h). A lab that ends its worker abnormally after another lab is rendered
+// (render_worker.h). A lab that ends its worker abnormally after another lab is rendered
 // again alone, since RLIMIT_AS and whatever state a crash follows from span the worker's
 // life; as the first lab of a worker, or stopped by a limit that counts from its own
 // start, its verdict stands.

@@ -165,7 +165,7 @@ void add_lab5_renders(std::vector<RenderSpec>& r) {
 }
 
 void add_lab6_renders(std::vector<RenderSpec>& r) {
-  // Lab 6: the maps are precomputed once per environment (render_child's Renderers
+  // Lab 6: the maps are precomputed once per environment (the render worker's Renderers
   // share them through an IblCache), so the maps are read from the highlight
   // scene's renderer under "sun", which its HDR render needs anyway.
   auto sun = [](RenderSpec& s) { s.environment = "sun"; };

@@ -26,7 +26,7 @@ constexpr int kGradeHeight = 192;
 // table texel, a quarter of the viewer's (ibl.h IblSettings). The references are made the
 // same way, so a check compares like with like; what a mistake changes in a map (a missing
 // weight, a wrong lobe, a swapped table) does not need 256 samples to show: the self-check
-// catches every lab 6 mistake with these as with the viewer's. Lab 6's render child, two
+// catches every lab 6 mistake with these as with the viewer's. Lab 6's render worker, two
 // environments' maps and four frames, took 0.99 s of CPU with the viewer's, 0.63 s with these.
 constexpr int kGradePrefilterSamples = 64;
 constexpr int kGradeBrdfLutSamples = 128;

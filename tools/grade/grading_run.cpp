@@ -39,7 +39,7 @@ std::map<std::string, Scene> load_scenes(const std::vector<int>& labs, bool desc
 }
 
 // kit-grade's caches: $XDG_CACHE_HOME (else ~/.cache) /kit-grade. "" when there is
-// no home to put them in. Only this process writes there, never a render child.
+// no home to put them in. Only this process writes there, never a render worker.
 fs::path grader_cache_dir() {
   const char* xdg = std::getenv("XDG_CACHE_HOME");
   const char* home = std::getenv("HOME");
@@ -67,7 +67,7 @@ fs::path reference_cache_dir(const fs::path& run_temp) {
   return run_temp / "references";
 }
 
-// The render children's cache is Mesa's single-file one (a Fossilize database, its
+// The render workers' cache is Mesa's single-file one (a Fossilize database, its
 // index and Mesa's size index: 6 files and folders) rather than its default of one file
 // per program in a folder per key byte (120 for the seed): every submission's private
 // cache starts as a copy of the seed, and on ext4 creating a file cost more than copying
@@ -75,7 +75,7 @@ fs::path reference_cache_dir(const fs::path& run_temp) {
 // was a fifth of the grading process's CPU profile). Mesa 21.1 and later read it.
 constexpr const char* kSingleFileCacheVariable = "MESA_DISK_CACHE_SINGLE_FILE";
 // llvmpipe's option that skips LLVM's IR optimisation passes (GALLIVM_PERF=nopt, in Mesa
-// 22.3 and 25.0 alike): a render child compiles each program once and draws a few frames of
+// 22.3 and 25.0 alike): a render worker compiles each program once and draws a few frames of
 // 256x192 with it, so the passes cost more than they save. With a cold shader cache a
 // submission takes 2.86 s instead of 3.72 s on 2 cores; with the seed it is as fast (the
 // seed is compiled the same way: the flags are part of Mesa's cache key). The solutions'
@@ -139,7 +139,7 @@ void prepare_entry(const Run& run, Entry& e) {
 
 // A render worker works in each lab's task folder, and Mesa's shader cache (which it
 // writes) is the submission's own, in its temporary folder: nothing a student's
-// shaders compile to is shared with another student's children or left in
+// shaders compile to is shared with another student's workers or left in
 // ~/.cache, and the labs of one submission (and the second scene of a lab) still
 // find their compiled shaders. Only runs that render the kit's own files alone
 // write the seed.
@@ -161,9 +161,9 @@ ChildSetup render_setup(const Run& run, const Entry& e, const fs::path& dir) {
   return setup;
 }
 
-// A run that renders only the kit's own files has its children write the seed
+// A run that renders only the kit's own files has its workers write the seed
 // (Mesa creates only the last folder of its cache's path). A multi-file cache an
-// older kit-grade left there is removed: no child reads it, and every submission
+// older kit-grade left there is removed: no worker reads it, and every submission
 // would copy it.
 void write_cache_seed(Run& run) {
   fs::path seed = shader_cache_seed();

@@ -44,7 +44,7 @@ struct Run {
   std::map<std::string, Image>* collect = nullptr;  // --update-references: keep the raw renders instead
   std::filesystem::path temp;
   // --check-references and --update-references render only the kit's own files:
-  // their children write the shader cache seed that graded submissions start from.
+  // their workers write the shader cache seed that graded submissions start from.
   bool writes_cache_seed = false;
   // Where the decoded references and what is made from them are kept
   // (reference_cache_dir(): between runs, else in this run's temporary folder).
@@ -52,13 +52,13 @@ struct Run {
   std::filesystem::path prepared_references;  // prepared_references_dir(): the build's, only read
   std::string references_renderer;  // what rendered the references (their manifest's "renderer")
   // <references>/mistakes.json (none when it is not there), read before the first
-  // comparison (load_mistakes_once) rather than while the first children wait to start.
+  // comparison (load_mistakes_once) rather than while the first workers wait to start.
   MistakeSignatures mistakes;
   bool mistakes_loaded = false;
   // The reference G-buffer attachments and light shares a failed check's worst pixel is
   // described from (lab_verdict.h, add_reference_pixel_inputs), read when a check first needs them.
   mutable std::map<std::string, Image> pixel_input_references;
-  // Variables set in every render child after the run's own (--update-references: the
+  // Variables set in every render worker after the run's own (--update-references: the
   // filter renderings' GALLIVM_PERF).
   std::vector<std::pair<std::string, std::string>> child_environment;
   // <references>/probes.json (function_probes.h): the reference solutions' values of the
@@ -69,7 +69,7 @@ struct Run {
   // With collect: the renders that only describe a worst pixel too (checks.h). The filter
   // renderings make allowances for the checks' references alone, and go without them.
   bool collect_describing = true;
-  // Whether the children render, and the run reads back, the describing renders too.
+  // Whether the workers render, and the run reads back, the describing renders too.
   bool renders_describing() const { return collect != nullptr && collect_describing; }
 };
 
@@ -91,7 +91,7 @@ struct Entry {
 // run that makes references: the scenes of the renders that only describe a pixel
 // (checks.h) are loaded too.
 Run make_run(const Options& options, bool need_references);
-// Has the run's children write the Mesa shader cache seed that graded submissions
+// Has the run's workers write the Mesa shader cache seed that graded submissions
 // start from (runs that render only the kit's own files).
 void write_cache_seed(Run& run);
 // Makes the entry's temporary folder and its private shader cache, and prepares its

@@ -1,6 +1,6 @@
 #pragma once
 // One lab's renders (checks.h, lab_renders) drawn in list order, as the grader's render
-// worker (render_child.cpp) and the browser's in-page check (tools/web/page_check.cpp) both
+// worker (render_worker.cpp) and the browser's in-page check (tools/web/page_check.cpp) both
 // draw them: one Renderer per (scene, isolated custom effect), so each shader is compiled once
 // and only uniforms change between settings, and one IblCache, so stage 6's maps are
 // precomputed once per environment. A render that differs from the last frame of its

@@ -16,7 +16,7 @@
 #include "lab_frames.h"
 #include "lab_verdict.h"
 #include "render/stages.h"
-#include "render_child.h"
+#include "render_worker.h"
 
 namespace fs = std::filesystem;
 
@@ -24,14 +24,14 @@ namespace kit::grade {
 
 namespace {
 
-// How much of a child's error file and log the messages quote.
+// How much of a worker's error file and log the messages quote.
 constexpr size_t kErrorBytes = 64 * 1024;
 constexpr size_t kLogTailBytes = 2 * 1024;
 // Report images live in this folder of a result folder.
 constexpr const char* kImageFolder = "img";
 
 // Said in the notes when lab 5's custom effect was rendered on the submission's own bloom
-// (render_child.cpp, isolated_custom_library): a kit without lab 5's solution.
+// (lab_frames.cpp, isolated_custom_library): a kit without lab 5's solution.
 constexpr const char* kOwnBloomNote =
     "this kit has no reference solution of this lab (a student copy), so the custom effect was graded on your own "
     "bloom; the official grader isolates it on the reference bloom, so a bloom mistake costs points here that it "
@@ -39,14 +39,14 @@ constexpr const char* kOwnBloomNote =
 
 std::string read_text(const fs::path& path) { return read_tail(path, kErrorBytes); }
 
-// Sets status and message from how the child ended; true when it rendered everything.
-bool classify_child(const Outcome& o, const fs::path& dir, LabOutcome& lab) {
+// Sets status and message from how the worker ended the lab; true when it rendered everything.
+bool classify_worker_end(const Outcome& o, const fs::path& dir, LabOutcome& lab) {
   std::string log = trimmed(read_tail(dir / "child.log", kLogTailBytes));
   std::string log_part = log.empty() ? "" : "\n\nlast output of the renderer:\n" + log;
   char buf[320];
   switch (o.kind) {
     case Outcome::Kind::TimedOut:
-      // The backstop: the CPU limit ends a shader that loops; this one a child that
+      // The backstop: the CPU limit ends a shader that loops; this one a worker that
       // makes no progress at all, or a machine far too busy to render in time.
       std::snprintf(buf, sizeof buf,
                     "rendering did not finish within %.0f s of wall-clock time (--timeout; it had used %.1f s of CPU "
@@ -73,20 +73,20 @@ bool classify_child(const Outcome& o, const fs::path& dir, LabOutcome& lab) {
     case Outcome::Kind::Exited: break;
   }
   switch (o.code) {
-    case kChildOk: return true;
-    case kChildShaderError:
+    case kWorkerOk: return true;
+    case kWorkerShaderError:
       lab.status = kCompileError;
       lab.message = trimmed(read_text(dir / "error.txt"));
       return false;
-    case kChildEnvironmentError:
+    case kWorkerEnvironmentError:
       lab.status = kGraderError;
       lab.message = "the grader could not render: " + trimmed(read_text(dir / "error.txt"));
       return false;
-    case kChildMapError:
+    case kWorkerMapError:
       lab.status = kNonFiniteMap;
       lab.message = trimmed(read_text(dir / "error.txt"));
       return false;
-    case kChildRenderError:
+    case kWorkerRenderError:
       lab.status = kCrash;
       lab.message = "the frame could not be rendered: " + trimmed(read_text(dir / "error.txt"));
       return false;
@@ -166,8 +166,8 @@ void write_report_images(const Run& run, const fs::path& result_dir, const Check
     write_report_png(result_dir / c.image, display_image(shown, image, reference));
 }
 
-// Loads a lab's references the first time one of its children has rendered: the
-// run's first children start at once, and a lab whose shaders do not compile needs none.
+// Loads a lab's references the first time one of its workers has rendered: the
+// run's first workers start at once, and a lab whose shaders do not compile needs none.
 // Returns "" or why they could not be read (the same for every submission of the run).
 std::string load_references_of(Run& run, int lab) {
   if (run.references_dir.empty()) return "";
@@ -188,7 +188,7 @@ std::string load_references_of(Run& run, int lab) {
 }
 
 // The catalogue's signatures, read when the first lab is compared rather than while the
-// first children wait to start (7 ms of parsing). A file that is not one stops the run,
+// first workers wait to start (7 ms of parsing). A file that is not one stops the run,
 // as it did when it was read first.
 void load_mistakes_once(Run& run) {
   if (run.mistakes_loaded || run.references_dir.empty()) return;
@@ -207,7 +207,7 @@ void add_worst_pixel_inputs(const Run& run, CheckOutcome& c) {
   });
 }
 
-// Compares every check of a lab whose child rendered it.
+// Compares every check of a lab whose worker rendered it.
 void compare_lab(const Run& run, const fs::path& dir, const fs::path& result_dir, LabOutcome& lab) {
   auto t0 = Clock::now();
   nlohmann::json child;
@@ -296,7 +296,7 @@ LabOutcome grade_rendered_lab(Run& run, Entry& e, int lab_number, const Outcome&
   lab.child_seconds = o.wall_seconds;
   lab.child_cpu_seconds = o.cpu_seconds;
   lab.child_max_rss_kib = o.max_rss_kib;
-  if (classify_child(o, dir, lab)) {
+  if (classify_worker_end(o, dir, lab)) {
     load_mistakes_once(run);
     const std::string problem = load_references_of(run, lab.lab);
     if (problem.empty()) {

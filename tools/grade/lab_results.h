@@ -17,7 +17,7 @@ namespace kit::grade {
 // Lab `lab` with its checks and their points (the run's config), nothing compared yet.
 LabOutcome empty_lab(const Run& run, int lab);
 // Lab `lab` of entry `e`, which its render worker ended as `ended`: graded from what the
-// worker left in its folder (render_child.h, lab_folder), its report images written into
+// worker left in its folder (render_worker.h, lab_folder), its report images written into
 // e.result_dir; e's outcome gets the renderer and a note where the lab says one.
 LabOutcome grade_rendered_lab(Run& run, Entry& e, int lab, const Outcome& ended);
 

@@ -40,7 +40,7 @@ struct LabOutcome {
   std::string folder;         // where its files were taken from, relative to the submission ("" when not found)
   std::vector<CheckOutcome> checks;
   double render_ms = 0.0;     // GPU work of the lab's frames (child.json)
-  // The lab's share of its render worker (render_child.h): wall time from the lab's start
+  // The lab's share of its render worker (render_worker.h): wall time from the lab's start
   // to its report, and the worker's CPU time (all threads) over that time.
   double child_seconds = 0.0, child_cpu_seconds = 0.0, compare_seconds = 0.0;
   long child_max_rss_kib = 0;   // the worker's peak resident set up to the lab's end
@@ -66,7 +66,7 @@ struct SubmissionOutcome {
   std::vector<std::string> notes;
   std::string content_hash;         // content_hash() of the submission when it was graded
   std::map<int, LabOutcome> labs;
-  std::string renderer;             // GL_RENDERER of the children
+  std::string renderer;             // GL_RENDERER of the render workers
   std::string references_renderer;  // what rendered the references they were compared with
   std::string measured_on;          // the implementations the tolerances were measured on (Config)
   bool within_measured = true;      // `renderer` is one of them: else the report says so

@@ -34,7 +34,7 @@ std::string labs_list(const std::vector<int>& labs) {
 std::string not_graded(int n, const LabOutcome& lab) { return lab_title(n) + ": " + lab.status + ": " + lab.message; }
 
 // Renders the solutions of the run's labs into `collected` (render id -> image), with the
-// run's children as they are set now; `finished` sees their outcome. False when stopped.
+// run's workers as they are set now; `finished` sees their outcome. False when stopped.
 bool render_solutions(Run& run, std::map<std::string, Image>& collected, const Finished& finished) {
   run.collect = &collected;
   std::vector<Entry> entries(1);
@@ -114,7 +114,7 @@ int update_references(const Options& options) {
 
   const std::string reference_renderer = renderer;
   // The filter renderings (references.h), where llvmpipe made the references: only it
-  // reads GALLIVM_PERF. Their children write no shader cache (the seed's programs were
+  // reads GALLIVM_PERF. Their workers write no shader cache (the seed's programs were
   // compiled without it) and read none.
   std::vector<std::map<std::string, Image>> variants;
   const bool llvmpipe = renderer.find("llvmpipe") != std::string::npos;

@@ -75,8 +75,8 @@ struct LoadedReference {
 };
 
 // Loads the references one lab's checks compare with (require_current_references
-// first). A run loads a lab's when its first render child has finished, so the
-// children start without waiting for them. Each is decoded once and kept in `cache`
+// first). A run loads a lab's when its first render worker has finished, so the
+// workers start without waiting for them. Each is decoded once and kept in `cache`
 // (an existing folder) as a raw image under its stem: decoding the 42 EXR and PNG
 // files took 0.15 s of every run's CPU, reading them raw about a tenth of that. A cache
 // file that cannot be read or written is passed over (the file is decoded again). A

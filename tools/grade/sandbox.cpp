@@ -174,7 +174,7 @@ double cpu_seconds_of(const rusage& usage) { return seconds_of(usage.ru_utime) +
 // What a worker sends when a task ends: one SOCK_SEQPACKET message.
 struct TaskReport {
   int32_t task = 0;
-  int32_t status = 0;        // the body's status for the task (render_child.h)
+  int32_t status = 0;        // the body's status for the task (render_worker.h)
   double cpu_seconds = 0.0;  // the process's CPU time so far, all threads (getrusage)
   int64_t max_rss_kib = 0;   // its peak resident set so far
 };

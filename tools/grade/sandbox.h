@@ -42,7 +42,7 @@ struct Limits {
   rlim_t cpu_seconds = kDefaultCpuSeconds;    // --cpu-limit: RLIMIT_CPU, all threads together (SIGXCPU)
   rlim_t address_space_mib = 4096;  // --memory-limit: RLIMIT_AS (llvmpipe reserves ~1 GiB of address space)
   rlim_t file_size_mib = 64;   // RLIMIT_FSIZE: a lab's raw images are ~8 MiB
-  rlim_t open_files = 256;     // RLIMIT_NOFILE: a render child opens a few (logs, raw images, Mesa's cache)
+  rlim_t open_files = 256;     // RLIMIT_NOFILE: a render worker opens a few (logs, raw images, Mesa's cache)
   // RLIMIT_NPROC is counted per user, over all of the user's processes and
   // threads: a child may start this many more than the user runs when it is
   // forked (llvmpipe starts up to 32 threads). The kernel does not apply it to
@@ -56,7 +56,7 @@ struct ChildSetup {
   std::vector<std::pair<std::string, std::string>> environment;  // variables set (or replaced) in the child
 };
 
-// A render child's exit status when it ran out of memory (std::bad_alloc, or a
+// A render worker's exit status when it ran out of memory (std::bad_alloc, or a
 // fatal signal or failure with its peak address space at RLIMIT_AS).
 constexpr int kOutOfMemoryExit = 86;
 

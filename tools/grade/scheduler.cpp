@@ -12,7 +12,7 @@
 #include "files.h"
 #include "gl/pass_clock.h"
 #include "lab_results.h"
-#include "render_child.h"
+#include "render_worker.h"
 
 namespace fs = std::filesystem;
 
@@ -26,7 +26,7 @@ struct Task {
   bool alone = false;  // to be the first lab of a fresh worker (LabScheduler::lab_ended says when)
 };
 
-// A render worker (render_child.h) of one submission and the lab it renders now.
+// A render worker (render_worker.h) of one submission and the lab it renders now.
 struct Worker {
   size_t entry = 0;
   std::unique_ptr<Child> child;
@@ -125,12 +125,12 @@ void LabScheduler::give_lab(Worker& w) {
 void LabScheduler::start_workers() {
   for (skip_unready(); workers_.size() < slots_ && !queue_.empty(); skip_unready()) {
     Entry& e = entries_[queue_.front().entry];
-    const LabWorker spec{e.prepared->lab_root, e.temp, run_.options.backend, run_.options.device, &run_.scenes,
-                         &run_.probes_reference, run_.renders_describing()};
+    const RenderWorker spec{e.prepared->lab_root, e.temp, run_.options.backend, run_.options.device, &run_.scenes,
+                            &run_.probes_reference, run_.renders_describing()};
     Worker w;
     w.entry = queue_.front().entry;
     w.child = std::make_unique<Child>(Child::fork_worker(
-        [spec](TaskChannel& channel) { return serve_labs(spec, channel); }, run_.options.limits,
+        [spec](TaskChannel& channel) { return spec.serve(channel); }, run_.options.limits,
         static_cast<int>(run_.options.labs.size()), e.temp / "worker.log", render_setup(run_, e, e.temp)));
     give_lab(w);
     workers_.push_back(std::move(w));
@@ -159,7 +159,7 @@ void LabScheduler::poll_workers() {
       ++w.labs_done;
       // The next lab renders while this one is compared; after a lab that did not
       // render, the worker ends and the next lab gets a fresh one.
-      if (!ended && o.kind == Outcome::Kind::Exited && o.code == kChildOk) give_lab(w);
+      if (!ended && o.kind == Outcome::Kind::Exited && o.code == kWorkerOk) give_lab(w);
     }
     if (!ended) {
       ++i;

@@ -1,6 +1,6 @@
 #pragma once
 // The grading run's scheduler: every lab of every entry rendered in render workers
-// (render_child.h), up to --jobs at a time across labs and submissions, each lab compared
+// (render_worker.h), up to --jobs at a time across labs and submissions, each lab compared
 // as its worker reports it (lab_results.h), and each entry handed on as it completes.
 #include <functional>
 #include <vector>
@@ -13,7 +13,7 @@ namespace kit::grade {
 // Called as each entry has all its labs graded.
 using Finished = std::function<void(Entry&)>;
 
-// Runs every lab of every entry in render workers (render_child.h), at most options.jobs
+// Runs every lab of every entry in render workers (render_worker.h), at most options.jobs
 // at a time, each rendering labs of one submission one after another; `finished` is
 // called as each entry completes. Returns false when interrupted.
 bool run_entries(Run& run, std::vector<Entry>& entries, const Finished& finished);

@@ -75,7 +75,7 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
   for (const RenderSpec* spec : lab_renders(lab_number))
     if (!scenes.count(spec->scene)) scenes.emplace(spec->scene, load_scene(resolve_scene(spec->scene)));
 
-  // The renders, as a render worker makes them (render_child.cpp), with its report's
+  // The renders, as a render worker makes them (render_worker.cpp), with its report's
   // "work" and "hdr_non_finite".
   std::map<std::string, Image> renders;
   Json child = Json::object();

@@ -1,4 +1,4 @@
-#include "render_child.h"
+#include "render_worker.h"
 
 #include <nlohmann/json.hpp>
 
@@ -32,7 +32,7 @@ using Clock = std::chrono::steady_clock;
 
 struct RenderJob {
   int lab = 0;
-  const LabWorker* worker = nullptr;
+  const RenderWorker* worker = nullptr;
   fs::path out_dir;  // where the lab writes its files
 };
 
@@ -46,7 +46,7 @@ int render_lab(const RenderJob& job, std::unique_ptr<GlContext>& context) {
     if (!context) context = create_headless_context(job.worker->backend, job.worker->device);
   } catch (const Error& e) {
     write_text(error_file, e.what());
-    return kChildEnvironmentError;
+    return kWorkerEnvironmentError;
   }
   report["renderer"] = context->describe();
   report["seconds"]["context"] = seconds_since(t0);
@@ -67,10 +67,10 @@ int render_lab(const RenderJob& job, std::unique_ptr<GlContext>& context) {
       }
     } catch (const NonFiniteMapError& e) {
       write_text(error_file, e.what());
-      return kChildMapError;
+      return kWorkerMapError;
     } catch (const Error& e) {
       write_text(error_file, e.what());
-      return job.worker->scenes->count(spec->scene) ? kChildShaderError : kChildEnvironmentError;
+      return job.worker->scenes->count(spec->scene) ? kWorkerShaderError : kWorkerEnvironmentError;
     }
     try {
       if (spec->light_shares) {  // describing only: no check reads it, nothing counted
@@ -92,10 +92,10 @@ int render_lab(const RenderJob& job, std::unique_ptr<GlContext>& context) {
       readback += seconds_since(t);
     } catch (const NonFiniteMapError& e) {  // the maps of another environment, made for this render
       write_text(error_file, e.what());
-      return kChildMapError;
+      return kWorkerMapError;
     } catch (const Error& e) {
       write_text(error_file, std::string("while rendering ") + spec->scene + ": " + e.what());
-      return kChildRenderError;
+      return kWorkerRenderError;
     }
   }
   // The lab's function probes (probe_pass.h), with the context the renders used.
@@ -112,25 +112,25 @@ int render_lab(const RenderJob& job, std::unique_ptr<GlContext>& context) {
   report["seconds"]["total"] = seconds_since(t0);
   report["vm_peak_kib"] = peak_address_space_kib();  // what RLIMIT_AS limits
   write_text(job.out_dir / "child.json", json_text(report));
-  return kChildOk;
+  return kWorkerOk;
 }
 
 }  // namespace
 
 fs::path lab_folder(const fs::path& temp, int lab) { return temp / ("lab" + std::to_string(lab)); }
 
-int serve_labs(const LabWorker& worker, TaskChannel& channel) {
+int RenderWorker::serve(TaskChannel& channel) const {
   keep_freed_memory_between_scenes();  // a lab's scenes, then the next lab's, reuse the pages
   std::unique_ptr<GlContext> context;
-  int status = kChildOk;
-  while (status == kChildOk) {
+  int status = kWorkerOk;
+  while (status == kWorkerOk) {
     const int lab = channel.next_task();
     if (lab == 0) break;
-    RenderJob job{lab, &worker, lab_folder(worker.temp, lab)};
+    RenderJob job{lab, this, lab_folder(temp, lab)};
     TaskChannel::log_to(job.out_dir / "child.log");
     if (chdir(job.out_dir.c_str()) != 0) {
       std::fprintf(stderr, "kit-grade: child: cannot enter %s: %s\n", job.out_dir.c_str(), std::strerror(errno));
-      status = kChildEnvironmentError;
+      status = kWorkerEnvironmentError;
     } else {
       status = render_lab(job, context);
     }

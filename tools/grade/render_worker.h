@@ -15,27 +15,23 @@
 #include <nlohmann/json.hpp>
 
 #include "gl/context.h"
-#include "lab_frames.h"  // custom_effect_isolated, for the grader
-#include "images/image_io.h"
-#include "render/light_volumes.h"
-#include "render/stages.h"
 #include "sandbox.h"
 #include "scene/scene.h"
 
 namespace kit::grade {
 
 // A lab's status in a worker's report, and the worker's exit status after it.
-constexpr int kChildOk = 0;
-constexpr int kChildShaderError = 2;       // a shader did not assemble, compile or link
-constexpr int kChildEnvironmentError = 3;  // no GL context or scene: the grader's problem
-constexpr int kChildRenderError = 4;       // a GL error while drawing
-constexpr int kChildMapError = 5;          // a lab 6 precompute shader wrote NaN or Inf into a map (ibl.h)
+constexpr int kWorkerOk = 0;
+constexpr int kWorkerShaderError = 2;       // a shader did not assemble, compile or link
+constexpr int kWorkerEnvironmentError = 3;  // no GL context or scene: the grader's problem
+constexpr int kWorkerRenderError = 4;       // a GL error while drawing
+constexpr int kWorkerMapError = 5;          // a lab 6 precompute shader wrote NaN or Inf into a map (ibl.h)
 
 // A render worker: the labs of one submission, one after another as the grader sends
 // them (sandbox.h, TaskChannel), in one process with one GL context. A child for each lab
 // paid again for its fork, its context and llvmpipe's triangle-setup code, which Mesa does
 // not cache (a tenth of a warm run's CPU; docs/performance.md, Grading).
-struct LabWorker {
+struct RenderWorker {
   std::filesystem::path lab_root;  // the sanitized copy of the submission's lab files
   std::filesystem::path temp;      // lab N writes its files in lab_folder(temp, N)
   Backend backend = default_headless_backend();
@@ -43,14 +39,14 @@ struct LabWorker {
   const std::map<std::string, Scene>* scenes = nullptr;  // loaded by the parent before forking
   const nlohmann::json* probes_reference = nullptr;        // probes.json (function_probes.h), or null
   bool describing_renders = false;  // --update-references: RenderSpec::describes_pixels_only too
+
+  // Runs in the worker: renders each lab the channel names into its folder, with that
+  // folder as its working directory and its child.log as stdout and stderr, and reports
+  // the lab's status. Goes on only after a lab that rendered; returns the exit status.
+  int serve(TaskChannel& channel) const;
 };
 
 // Where lab `lab` of a worker writes its files (the grader makes the folder first).
 std::filesystem::path lab_folder(const std::filesystem::path& temp, int lab);
-
-// Runs in the worker: renders each lab the channel names into its folder, with that
-// folder as its working directory and its child.log as stdout and stderr, and reports
-// the lab's status. Goes on only after a lab that rendered; returns the exit status.
-int serve_labs(const LabWorker& worker, TaskChannel& channel);
 
 }  // namespace kit::grade
