@@ -19,20 +19,20 @@
 #include <utility>
 #include <vector>
 
-#include "checks.h"
-#include "compare.h"
-#include "config.h"
-#include "files.h"
+#include "files/files.h"
+#include "frames/checks.h"
 #include "gbuffer_layout.h"  // KIT_LIGHT_*
-#include "grader.h"
-#include "grading_run.h"
 #include "images/image_io.h"
-#include "lab_verdict.h"
 #include "kit_test.h"
-#include "references.h"
-#include "report.h"
-#include "scheduler.h"
+#include "reference_store/references.h"
 #include "render/stages.h"
+#include "report/report.h"
+#include "run/grader.h"
+#include "run/grading_run.h"
+#include "run/scheduler.h"
+#include "verdict/compare.h"
+#include "verdict/config.h"
+#include "verdict/lab_verdict.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;

@@ -12,13 +12,13 @@
 #include <string>
 #include <vector>
 
-#include "checks.h"
 #include "cpu_reference.h"
+#include "frames/checks.h"
+#include "frames/light_shares.h"
 #include "gbuffer_layout.h"
 #include "kit_test.h"
-#include "lab_verdict.h"
-#include "light_shares.h"
 #include "render/stages.h"
+#include "verdict/lab_verdict.h"
 
 namespace {
 

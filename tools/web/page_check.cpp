@@ -7,17 +7,17 @@
 #include <vector>
 
 #include "base/error.h"
-#include "checks.h"
-#include "compare.h"
-#include "config.h"
-#include "diagnosis.h"
-#include "function_probes.h"
+#include "frames/checks.h"
+#include "frames/function_probes.h"
+#include "frames/lab_frames.h"
+#include "frames/probe_pass.h"
 #include "gl/pass_clock.h"
-#include "lab_frames.h"
-#include "lab_verdict.h"
-#include "probe_pass.h"
 #include "render/renderer.h"
 #include "render/stages.h"
+#include "verdict/compare.h"
+#include "verdict/config.h"
+#include "verdict/diagnosis.h"
+#include "verdict/lab_verdict.h"
 
 namespace fs = std::filesystem;
 
