@@ -1,4 +1,4 @@
-// The grader's function probes (tools/grade/function_probes.h):
+// The grader's function probes (tools/grade/frames/function_probes.h):
 //   * the expected values in tools/grade/references/probes.json, made on the GPU path from
 //     the reference solutions, agree with the CPU reference in double precision
 //     (instructor/reference/cpu_reference.h), at every input; witness: a CPU GGX without

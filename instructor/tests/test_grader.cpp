@@ -341,7 +341,7 @@ TEST(Grader, UnmatchedVaryingNamesAreALinkError) {
 }
 
 // A failed lab names the catalogued mistake its checks' signatures resemble
-// (tools/grade/diagnosis.h): here a catalogued one, so its own signatures are in
+// (tools/grade/verdict/diagnosis.h): here a catalogued one, so its own signatures are in
 // mistakes.json. Witness: against the same references without mistakes.json nothing is
 // named; the solution, which fails nothing, names nothing either.
 TEST(Grader, FailedLabNamesTheLikelyMistake) {

@@ -1,4 +1,4 @@
-// Each light's share of a reference frame (tools/grade/light_shares.h): what a failed lit
+// Each light's share of a reference frame (tools/grade/frames/light_shares.h): what a failed lit
 // check's worst pixel says of the lights there.
 //   - hand-made frames with obvious answers: the encoding, the order, the rounding;
 //   - the stored shares of lab 3's default scene against the CPU reference in double, light by

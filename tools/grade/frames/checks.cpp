@@ -354,7 +354,7 @@ const std::vector<Check>& checks() {
 const RenderSpec& find_render(const std::string& id) {
   for (const RenderSpec& r : renders())
     if (r.id == id) return r;
-  throw Error("kit-grade: no render named '" + id + "' (tools/grade/checks.cpp)");
+  throw Error("kit-grade: no render named '" + id + "' (tools/grade/frames/checks.cpp)");
 }
 
 std::vector<const Check*> lab_checks(int lab) {

@@ -82,7 +82,7 @@ struct Outcome {
 // the limits a single child would: its own CPU limit from when it starts, and the wall
 // clock restarted when the parent sends it. Only RLIMIT_AS is the process's whole life:
 // the parent runs a task again in a fresh child when it ended this one abnormally after
-// another task (grader.cpp says when).
+// another task (run/scheduler.cpp, render_again_alone, says when).
 //
 // The child's side of a task channel.
 class TaskChannel {

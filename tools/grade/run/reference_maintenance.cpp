@@ -150,7 +150,7 @@ int update_references(const Options& options) {
               llvmpipe ? "" : " (only llvmpipe renders the filter renderings)", changed.size());
   for (const std::string& file : changed) std::printf("  changed: %s\n", file.c_str());
   for (const std::string& probe : left_out)
-    std::printf("  function probe left out, the solutions do not declare it as tools/grade/function_probes.cpp "
+    std::printf("  function probe left out, the solutions do not declare it as tools/grade/frames/function_probes.cpp "
                 "says: %s\n", probe.c_str());
   return 0;
 }

@@ -163,7 +163,7 @@ Config load_config(const fs::path& path) {
     for (const auto& [check_key, value] : lab["checks"].items()) {
       auto known = lab_checks(lab_number);
       bool exists = std::any_of(known.begin(), known.end(), [&key = check_key](const Check* c) { return c->key == key; });
-      if (!exists) throw Error(where + ".checks: unknown check \"" + check_key + "\" (tools/grade/checks.cpp lists the checks)");
+      if (!exists) throw Error(where + ".checks: unknown check \"" + check_key + "\" (tools/grade/frames/checks.cpp lists the checks)");
       if (!value.is_number() || value.get<double>() < 0.0)
         throw Error(where + ".checks." + check_key + ": points must be a number >= 0");
       config.points[lab_number][check_key] = value.get<double>();

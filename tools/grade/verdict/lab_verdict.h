@@ -1,6 +1,6 @@
 #pragma once
 // A lab's verdict from its renders: every check compared by kit-grade's rules, the score,
-// and the catalogued mistakes the failures resemble. kit-grade (grader.cpp, compare_lab)
+// and the catalogued mistakes the failures resemble. kit-grade (run/lab_results.cpp, compare_lab)
 // and the browser's in-page check (tools/web/page_check.cpp) both come here, so the page's
 // preview is the grader's own comparison compiled for WebAssembly.
 #include <functional>

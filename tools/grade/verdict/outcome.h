@@ -1,6 +1,6 @@
 #pragma once
 // What grading a submission comes to: each check's comparison and points, each lab's status
-// and checks, the submission's labs and notes. The grader fills them (grader.cpp) and the
+// and checks, the submission's labs and notes. The grader fills them (run/lab_results.cpp) and the
 // browser's in-page check fills a lab's (lab_verdict.h); report.h writes them.
 #include <filesystem>
 #include <map>
