@@ -1,41 +1,50 @@
 #!/usr/bin/env python3
-"""Checks that common/'s groups include only downwards.
+"""Checks that the kit's grouped folders include only downwards: common/ and tools/grade/.
 
-common/ is grouped by purpose, lowest first (KIT_COMMON_GROUPS in common/CMakeLists.txt):
-a file may include a header of its own group or of a group before it, written as
-"group/file.h", never one of a later group. Prints every include that breaks that
-and exits 1; run by ctest as common_include_order.
+Each folder is grouped by purpose, lowest first, as its CMake file lists the groups
+(set(KIT_COMMON_GROUPS ...) in common/CMakeLists.txt, set(KIT_GRADE_GROUPS ...) in
+tools/grade.cmake): a file may include a header of its own group or of a group before it,
+written as "group/file.h", never one of a later group. A file at the top of the folder
+(tools/grade/main.cpp) stands above every group. Prints every include that breaks that and
+exits 1; run by ctest as include_order.
 
-usage: include_order.py [COMMON_DIR]   (default: the folder of this script)
+usage: include_order.py [FOLDER ...]   (default: the kit's common/ and tools/grade/)
 """
 import pathlib
 import re
 import sys
 
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.MULTILINE)
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+DEFAULT_FOLDERS = [ROOT / "common", ROOT / "tools" / "grade"]
 
 
-def groups(common):
-    """The groups in order, as common/CMakeLists.txt lists them."""
-    text = (common / "CMakeLists.txt").read_text(encoding="utf-8")
-    found = re.search(r"set\(KIT_COMMON_GROUPS ([a-z_ ]+)\)", text)
+def groups(folder):
+    """The folder's groups in order, as its CMakeLists.txt (or, where it has none, the .cmake
+    file of its name beside it: tools/grade.cmake) lists them."""
+    cmake = folder / "CMakeLists.txt"
+    if not cmake.exists():
+        cmake = folder.parent / (folder.name + ".cmake")
+    found = re.search(r"set\(KIT_[A-Z]+_GROUPS ([a-z_ ]+)\)", cmake.read_text(encoding="utf-8")) if cmake.exists() else None
     if not found:
-        sys.exit("include_order: no set(KIT_COMMON_GROUPS ...) in common/CMakeLists.txt")
+        sys.exit(f"include_order: no set(KIT_..._GROUPS ...) in {cmake}")
     return found.group(1).split()
 
 
-def problems(common):
-    order = groups(common)
+def problems(folder):
+    order = groups(folder)
     rank = {name: i for i, name in enumerate(order)}
+    top = len(order)  # a file at the top of the folder: above every group
     found = []
-    for path in sorted(common.rglob("*")):
+    for path in sorted(folder.rglob("*")):
         if path.suffix not in (".h", ".cpp") or not path.is_file():
             continue
-        rel = path.relative_to(common)
-        group = rel.parts[0]
-        if group not in rank:
+        rel = path.relative_to(folder)
+        group = rel.parts[0] if len(rel.parts) > 1 else None
+        if group is not None and group not in rank:
             found.append(f"{rel}: not in a group ({', '.join(order)})")
             continue
+        own = rank[group] if group is not None else top
         text = path.read_text(encoding="utf-8")
         for number, line in enumerate(text.splitlines(), 1):
             match = INCLUDE.match(line)
@@ -44,24 +53,32 @@ def problems(common):
             target = match.group(1)
             head = target.split("/")[0]
             if "/" not in target:
-                if (common / group / target).exists() or any((common / g / target).exists() for g in order):
+                if any((folder / g / target).exists() for g in order):
                     found.append(f"{rel}:{number}: includes \"{target}\": write it as \"group/{target}\"")
                 continue
-            if head in rank and rank[head] > rank[group]:
+            if head in rank and rank[head] > own:
                 found.append(f"{rel}:{number}: {group}/ includes {target}, of the later group {head}/")
     return found
 
 
+def shown(folder):
+    """The folder as messages name it: from the kit's root where it lies inside it."""
+    return str(folder.relative_to(ROOT)) if folder.is_relative_to(ROOT) else folder.name
+
+
 def main():
-    common = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else pathlib.Path(__file__).parent).resolve()
-    found = problems(common)
-    for line in found:
-        print(line)
-    if found:
-        print(f"include_order: {len(found)} include(s) run from a lower group to a higher one")
-        return 1
-    print(f"include_order: {' < '.join(groups(common))}: every include runs downwards")
-    return 0
+    folders = [pathlib.Path(a).resolve() for a in sys.argv[1:]] or DEFAULT_FOLDERS
+    failed = 0
+    for folder in folders:
+        found = problems(folder)
+        for line in found:
+            print(f"{shown(folder)}/{line}")
+        if found:
+            failed += 1
+            print(f"include_order: {shown(folder)}/: {len(found)} include(s) run from a lower group to a higher one")
+        else:
+            print(f"include_order: {shown(folder)}/: {' < '.join(groups(folder))}: every include runs downwards")
+    return 1 if failed else 0
 
 
 if __name__ == "__main__":

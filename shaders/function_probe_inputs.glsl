@@ -1,4 +1,4 @@
-// The inputs of the grader's function probes (tools/grade/function_probes.h): case x of a
+// The inputs of the grader's function probes (tools/grade/frames/function_probes.h): case x of a
 // probe is column x of u_probe_inputs, its arguments' floats one after another down the
 // column, four to a texel. The probe shaders read each argument in order with the
 // functions below and write the function's value: they call a lab's functions and hold

@@ -32,11 +32,11 @@
 #include <thread>
 #include <vector>
 
+#include "intake/sandbox.h"
+#include "intake/submission.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
-#include "sandbox.h"
 #include "render/stages.h"
-#include "submission.h"
 
 namespace fs = std::filesystem;
 using kit::grade::Child;

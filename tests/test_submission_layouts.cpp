@@ -18,10 +18,10 @@
 #include <string>
 #include <vector>
 
+#include "intake/submission.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
 #include "render/stages.h"
-#include "submission.h"
 
 namespace fs = std::filesystem;
 using kit::grade::PreparedSubmission;

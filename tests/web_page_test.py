@@ -353,7 +353,7 @@ def main():
                "Check my lab shows lab 2's checks with their images",
                f"{check.get('status')}, {check.get('passed')} of {check.get('total')} pass, {shown} shown with "
                f"{images} images, mistakes {[m['id'] for m in check.get('likely_mistakes', [])][:2]}")
-        # The starter's functions differ from the solution's (tools/grade/function_probes.h): each
+        # The starter's functions differ from the solution's (tools/grade/frames/function_probes.h): each
         # is named with its first inputs, as kit-grade's report names them.
         functions = page.js("[...document.querySelectorAll('#check-body li')].map(li => li.textContent)"
                             ".filter(t => t.startsWith('Your function'))")
@@ -376,7 +376,7 @@ def main():
         expect(ring is not None and list(ring[2:6]) == [0, 255, 0, 255] and list(ring[6:10]) != [0, 255, 0, 255],
                "Check my lab rings a failed check's worst pixel on its difference image",
                f"worst pixel, the ring's colour beside it and the pixel's own: {ring}")
-        # And says what each light gives there in the reference (tools/grade/light_shares.h), as
+        # And says what each light gives there in the reference (tools/grade/frames/light_shares.h), as
         # kit-grade's report does.
         worst = page.js("(kitPage.lastCheck.checks || []).map(c => c.worst_pixel || '').filter(t => t)")
         expect(bool(worst) and all("in the reference" in w for w in worst) and any("% of it" in w for w in worst),

@@ -3,10 +3,14 @@
 # OpenImageIO (common/images/openimageio_formats.h says why).
 find_package(nlohmann_json 3 REQUIRED)
 find_package(OpenSSL REQUIRED)
-# How a submission is found, sanitized and fingerprinted (submission.cpp, with the
+# tools/grade/'s parts, lowest first, as common/'s groups are (README.md has what each
+# holds): a file includes only its own part and those before it, as "part/file.h"
+# (common/include_order.py, ctest include_order). main.cpp, above them all, is the command line.
+set(KIT_GRADE_GROUPS files frames verdict intake worker reference_store report run batch)
+# How a submission is found, sanitized and fingerprinted (intake/submission.cpp, with the
 # sandbox it runs unzip in): tests/test_submission_layouts calls the very functions
 # kit-grade does, through the target kit_grade_submission.
-set(kit_grade_submission_sources ${CMAKE_CURRENT_LIST_DIR}/grade/submission.cpp ${CMAKE_CURRENT_LIST_DIR}/grade/sandbox.cpp)
+file(GLOB kit_grade_submission_sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/grade/intake/*.cpp)
 if(KIT_FUZZ)
   # The fuzz build fuzzes the submission code alone (instructor/fuzz/fuzz_zip_listing.cpp), not kit-grade.
   add_library(kit_grade_submission STATIC ${kit_grade_submission_sources})
@@ -18,8 +22,11 @@ endif()
 # so instructor/tests/test_grader calls the very code kit-grade runs. One library, the
 # submission code in it, so that a unity build (KIT_UNITY_BUILD) compiles the headers
 # they share once; kit_grade_submission names the same library.
-file(GLOB kit_grade_sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/grade/*.cpp)
-list(REMOVE_ITEM kit_grade_sources ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
+set(kit_grade_sources)
+foreach(group ${KIT_GRADE_GROUPS})
+  file(GLOB group_sources CONFIGURE_DEPENDS ${CMAKE_CURRENT_LIST_DIR}/grade/${group}/*.cpp)
+  list(APPEND kit_grade_sources ${group_sources})
+endforeach()
 add_library(kit_grade_core STATIC ${kit_grade_sources})
 set_target_properties(kit_grade_core PROPERTIES UNITY_BUILD ${KIT_UNITY_BUILD} UNITY_BUILD_BATCH_SIZE 0)
 target_include_directories(kit_grade_core PUBLIC ${CMAKE_CURRENT_LIST_DIR}/grade)
@@ -29,11 +36,11 @@ add_executable(kit-grade ${CMAKE_CURRENT_LIST_DIR}/grade/main.cpp)
 target_link_libraries(kit-grade PRIVATE kit_grade_core)
 # The references decoded, with their backgrounds and report PNGs, once when kit-grade is
 # built, not in each machine's first grading run (about 0.4 s of its CPU; a run reads them
-# here, references.h). Made afresh when kit-grade or a reference changes: a file there is
+# here, reference_store/references.h). Made afresh when kit-grade or a reference changes: a file there is
 # named by its reference's SHA-1 alone, and would outlive a change in how it is made.
 set(KIT_PREPARED_REFERENCES_DIR ${CMAKE_BINARY_DIR}/grade-references)
 # On the one file that reads it (a build's own folder: common/CMakeLists.txt says why).
-set_property(SOURCE ${PROJECT_SOURCE_DIR}/tools/grade/references.cpp APPEND PROPERTY COMPILE_DEFINITIONS
+set_property(SOURCE ${PROJECT_SOURCE_DIR}/tools/grade/reference_store/references.cpp APPEND PROPERTY COMPILE_DEFINITIONS
   KIT_PREPARED_REFERENCES_DIR="${KIT_PREPARED_REFERENCES_DIR}")
 file(GLOB kit_grade_reference_files CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/tools/grade/references/*)
 add_custom_command(

@@ -7,7 +7,7 @@
 // on stderr and ends the process with kTimedOutStatus. It ends it with _exit:
 // the stuck call holds the GL driver's locks, so no destructor may run.
 // kit-render and kit-view use it (--timeout); the grader's sandbox stops its
-// render children from outside: after the same number of seconds of CPU time
+// render workers from outside: after the same number of seconds of CPU time
 // (RLIMIT_CPU), with a longer wall-clock backstop.
 #include <chrono>
 #include <condition_variable>

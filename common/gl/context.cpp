@@ -171,7 +171,7 @@ namespace {
 #if KIT_HAS_OSMESA
 // OSMesa's entry points, from the library opened at run time rather than linked. Linked,
 // libOSMesa and the LLVM it brings cost a program 20-30 ms of loading before main (3,300
-// page faults; Mesa 22.3), all of it before kit-grade could fork its first render child;
+// page faults; Mesa 22.3), all of it before kit-grade could fork its first render worker;
 // opened, it loads on a thread beside kit-grade's own setup (preload_headless_library).
 // KIT_OSMESA_LIBRARY is its soname, from CMake.
 struct OSMesaLibrary {
@@ -185,7 +185,7 @@ struct OSMesaLibrary {
 
 OSMesaLibrary open_osmesa() {
   OSMesaLibrary lib;
-  // RTLD_NOW: every symbol bound once here, not again in each forked render child.
+  // RTLD_NOW: every symbol bound once here, not again in each forked render worker.
   lib.handle = dlopen(KIT_OSMESA_LIBRARY, RTLD_NOW | RTLD_LOCAL);
   if (!lib.handle) {
     const char* why = dlerror();

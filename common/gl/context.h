@@ -59,7 +59,7 @@ std::unique_ptr<GlContext> create_headless_context(Backend backend, Device devic
 // created, before the program ends with that signal as it would have: a crash inside
 // the OpenGL implementation (GALLIUM_DRIVER=zink without a Vulkan driver, say) then
 // says where it happened instead of a bare "Segmentation fault". For the programs a
-// person runs (kit-render, kit-view); the grader's render children report crashes
+// person runs (kit-render, kit-view); the grader's render workers report crashes
 // themselves.
 void name_gl_crashes(const char* tool);
 // What a crash message names as the GL in use: set by the backends as a context is

@@ -52,7 +52,7 @@ void delete_program(GLuint id);
 void delete_sampler(GLuint id);
 
 // Linked GL programs by the vertex and fragment texts they were built from, for a
-// process that builds the same programs for many scenes: the grader's render child has a
+// process that builds the same programs for many scenes: the grader's render worker has a
 // Renderer per scene, and half of its program building was repeats, each of which also
 // drew its first frame with llvmpipe code made afresh (docs/performance.md, Grading).
 // Programs built through it (ShaderLibrary::share_programs_through) share one GL program,

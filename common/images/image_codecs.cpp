@@ -241,7 +241,7 @@ void write_png(const std::string& path, const Image& image, PngEffort effort) {
 
 Image read_exr(const std::string& path, int max_width, int max_height) {
   try {
-    // No worker threads: kit-grade forks its render children while it reads (and the
+    // No worker threads: kit-grade forks its render workers while it reads (and the
     // grader's images are small).
     Imf::InputFile file(path.c_str(), 0);
     const auto& window = file.header().dataWindow();

@@ -61,7 +61,7 @@ std::string describe(const LightVolumeState& state);  // "cull(front) depth(grea
 // Where a frame's volumes go wrong, measured light by light (each light's volume drawn alone
 // inside occlusion queries; up to kEvidenceLights of them, evenly spread over the list, so a
 // frame of 128 lights costs 16 lights' queries): evidence for naming lab 7's mistakes
-// (tools/grade/diagnosis.h) and for telling a student which light to look at. Pixels, summed
+// (tools/grade/verdict/diagnosis.h) and for telling a student which light to look at. Pixels, summed
 // over the lights measured. Zeros where the counts are not exact (WebGL2, gl_flavour.h).
 constexpr int kEvidenceLights = 16;
 struct VolumeEvidence {

@@ -292,7 +292,7 @@ bool Renderer::render_passes(const FrameCamera& camera, PassClock& clock, bool r
   if (reused) {
     // The programs the skipped passes drew with lead the list, as they did, and the units
     // they leave bound for the passes after are bound again (another Renderer's frame, in
-    // the grader's render child, may have bound its own there since).
+    // the grader's render worker, may have bound its own there since).
     used_.insert(used_.begin(), lit_frame_->drawn.begin(), lit_frame_->drawn.end());
     gbuffer_.bind_textures();
     lights_.bind();

@@ -38,7 +38,7 @@ struct RenderSettings {
   // them before a stage's reordering; i past the last: none). The others are uploaded with
   // intensity 0, so the frame keeps its programs, light order and volumes, and the difference
   // from the frame with none is exactly that light's share of it: the grader's per-light
-  // references (tools/grade/light_shares.h).
+  // references (tools/grade/frames/light_shares.h).
   int only_light = -1;
   bool frustum_culling = false;     // skip draws wholly outside the view (mesh_optimize.h); off by default
   // Whether textures of at least kLargeTextureTexels are uploaded as S3TC blocks
@@ -59,7 +59,7 @@ struct RenderSettings {
   // lights' lack of range and the attenuation model as constants in the lighting shaders
   // (light_specialisation.glsl), and a geometry program per feature set of the scene's
   // materials (material_variants.h). Faster frames on llvmpipe, at one compilation for
-  // each combination a scene brings. The grader turns it off: its render children draw a
+  // each combination a scene brings. The grader turns it off: its render workers draw a
   // few small frames with each program, where a compilation (tens of ms, more on a cold
   // shader cache) costs more than it saves. The image is the same either way.
   bool specialise_shaders = true;

@@ -198,7 +198,7 @@ def main(argv=None):
     if updated.returncode != 0:
         problems.append("kit-grade --update-references failed: the solutions do not render (see above)")
         return report(before, None, [], problems, started)
-    # A probed function the new solutions do not declare (tools/grade/function_probes.h).
+    # A probed function the new solutions do not declare (tools/grade/frames/function_probes.h).
     probes_left_out = [line.split("says: ", 1)[1] for line in updated.stdout.splitlines()
                        if "function probe left out" in line and "says: " in line]
 

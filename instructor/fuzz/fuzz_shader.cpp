@@ -139,7 +139,7 @@ extern "C" int LLVMFuzzerInitialize(int*, char***) {
         kit::AssembledShader shader = library.assemble(name);
         if (std::find(shader.paths.begin(), shader.paths.end(), real) != shader.paths.end()) f.users.push_back(name);
       } catch (const kit::Error& e) {
-        // A function probe's shader (tools/grade/probe_pass.h) includes the file of the lab it
+        // A function probe's shader (tools/grade/frames/probe_pass.h) includes the file of the lab it
         // probes, which the stages before that lab do not have: the grader builds it for that
         // lab alone.
         if (name.rfind("probe_", 0) == 0) continue;

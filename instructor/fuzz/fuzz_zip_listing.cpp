@@ -17,8 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "intake/submission.h"
 #include "render/stages.h"
-#include "submission.h"
 
 namespace {
 

@@ -24,7 +24,7 @@ listed and not graded until it is rewritten against the new solution and the
 
 Verdicts: OK; MISSED (a mistake kept full marks); FALSE-FAIL (an equivalent
 lost points); PROBE-MISSED (a mistake made inside a probed function whose probe,
-tools/grade/function_probes.h, reports no difference); PROBE-FALSE (a probe reports a
+tools/grade/frames/function_probes.h, reports no difference); PROBE-FALSE (a probe reports a
 difference for an equivalent or the unchanged solution); GAP (a mistake with a known_gap kept full marks); STALE (a `find`
 text does not occur exactly once in the solution: the entry must be updated);
 BROKEN (the edit does not compile, or grading ended in a status other than
@@ -152,10 +152,10 @@ class Row:
         self.status = ""
         self.verdict = ""
         self.details = []  # lines printed under the table (failed rows, known gaps)
-        self.signatures = {}  # check key -> signature, from summary.json (tools/grade/diagnosis.h)
+        self.signatures = {}  # check key -> signature, from summary.json (tools/grade/verdict/diagnosis.h)
         self.failed_checks = set()  # the keys of the checks it failed
         self.named = []       # the ids kit-grade named for this lab, closest first
-        self.functions = []   # summary.json's probed functions (tools/grade/function_probes.h)
+        self.functions = []   # summary.json's probed functions (tools/grade/frames/function_probes.h)
         self.edited_functions = set()  # the functions of probed files its edits lie in
 
     @property
@@ -265,7 +265,7 @@ def judge(row, out, status, tail, args, submission):
         row.details.append(f"kept: {submission} -> {out}")
 
 
-# --- Function probes (tools/grade/function_probes.h) -------------------------------------------
+# --- Function probes (tools/grade/frames/function_probes.h) -------------------------------------------
 DEFINITION = re.compile(r"^[ \t]*(?:void|vec[234]|float|int|bool|mat[234]|Light)[ \t]+(\w+)[ \t]*\([^)]*\)[ \t]*\{", re.M)
 
 
@@ -393,7 +393,7 @@ def write_entry(entries, entry_id, dest, solutions):
     return 0
 
 
-# --- Naming the mistake (tools/grade/diagnosis.h) -------------------------------------------
+# --- Naming the mistake (tools/grade/verdict/diagnosis.h) -------------------------------------------
 SIGNATURE_CAP = 4.0  # compare.h kSignatureCap
 STEPS = 255          # the file's integers (diagnosis.h)
 FAILED_WEIGHT = 0.5  # diagnosis.h kFailedWeight
@@ -457,17 +457,17 @@ def write_signatures(path, rows, labs=None):
 NEXT_STEPS = {
     "MISSED": "the mistake keeps full marks now. If the lab's new equation makes it correct, make the entry an "
               "\"equivalent\" (or remove it); if it should still lose points, find a scene that shows it "
-              "(tools/scenes/scene_catalogue.cpp, a check in tools/grade/checks.cpp), or, where it only just passes, "
+              "(tools/scenes/scene_catalogue.cpp, a check in tools/grade/frames/checks.cpp), or, where it only just passes, "
               "tighten that check's tolerance in tools/grade/grading.json; else give it a \"known_gap\" saying why",
     "FALSE-FAIL": "this equivalent loses points now: under the new equation it is no longer the same; make it a "
                   "\"mistake\" with a family, or change its replace text to what is equivalent now",
     "STALE": "its find text is no longer in the solution: rewrite the entry's edits against the new solution, "
              "or remove the entry where the mistake cannot be made any more",
-    "PROBE-MISSED": "the mistake lies in a probed function, but its probe (tools/grade/function_probes.cpp) reports "
+    "PROBE-MISSED": "the mistake lies in a probed function, but its probe (tools/grade/frames/function_probes.cpp) reports "
                     "no difference: add inputs to the probe's table that show it, then ./kit rebaseline",
     "PROBE-FALSE": "a probe reports a difference for a correct lab: the probe's inputs reach a case where correct "
                    "functions may differ (a guard's floor, an ill-conditioned value); mark such cases finite_only or "
-                   "leave them out of tools/grade/function_probes.cpp, then ./kit rebaseline",
+                   "leave them out of tools/grade/frames/function_probes.cpp, then ./kit rebaseline",
     "BROKEN": "the edited solution does not compile or render: rewrite the entry's replace text against the "
               "new solution",
     "ERROR": "kit-grade did not run: see the lines above (is the build current? ./kit setup)",
@@ -492,7 +492,7 @@ def write_json(path, rows, started, naming):
 
 
 def differing_functions(row):
-    """The probed parts (tools/grade/function_probes.h, FunctionProbe::part: a function, a pass's file, or
+    """The probed parts (tools/grade/frames/function_probes.h, FunctionProbe::part: a function, a pass's file, or
     "FILE, TERM" for a part of a pass) that differ for the row."""
     return {f.get("part", f.get("function")) for f in row.functions if f.get("status") == "differs"}
 

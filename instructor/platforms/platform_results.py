@@ -48,7 +48,7 @@ from pathlib import Path
 # PrairieLearn's limit on results.json is 1 MB; a margin for what PrairieLearn adds.
 PRAIRIELEARN_LIMIT = 1_000_000
 PRAIRIELEARN_MARGIN = 20_000
-# Statuses (tools/grade/grader.h) that say the submission is not one PrairieLearn can grade:
+# Statuses (tools/grade/verdict/outcome.h) that say the submission is not one PrairieLearn can grade:
 # no attempt is counted against the student.
 NOT_A_SUBMISSION = {"missing_files", "invalid_files"}
 STATUS_TEXT = {
@@ -212,9 +212,9 @@ def prairielearn(out, lab, config=None, limit=PRAIRIELEARN_LIMIT):
                               (f"\nAt {c['worst_pixel']}." if c.get("worst_pixel") else ""))
             if not c.get("passed"):
                 failed.append((test, c))
-                if entry.get("likely_text"):  # kit-grade's guess at the mistake (tools/grade/diagnosis.h)
+                if entry.get("likely_text"):  # kit-grade's guess at the mistake (tools/grade/verdict/diagnosis.h)
                     test["output"] = entry["likely_text"] + "\n" + test["output"]
-                # The probed functions that differ, with their inputs (tools/grade/function_probes.h),
+                # The probed functions that differ, with their inputs (tools/grade/frames/function_probes.h),
                 # under the lab's first failed check.
                 if len(failed) == 1:
                     for line in entry.get("functions_text", []):

@@ -133,8 +133,8 @@ def student_readme(lab, labs, held):
 
 def keep_released(path, key, lab):
     """Of the grader's file `path`, the entries under `key` of labs 1..lab only: a later lab's mistake
-    signatures (tools/grade/diagnosis.h, mistakes.json), described in words, would say what that lab's
-    answer is, and its function probes' expected values (tools/grade/function_probes.h, probes.json) what
+    signatures (tools/grade/verdict/diagnosis.h, mistakes.json), described in words, would say what that lab's
+    answer is, and its function probes' expected values (tools/grade/frames/function_probes.h, probes.json) what
     its functions return."""
     if not path.is_file():
         return

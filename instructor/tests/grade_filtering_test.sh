@@ -3,7 +3,7 @@
 # llvmpipe's GPU-like texture filtering (GALLIVM_PERF=brilinear,rho_approx,no_quad_lod: the
 # mip levels blended only near a level's midpoint, an approximate level of detail, one for
 # each pixel) must keep full marks with the shipped references and their filter allowances
-# (tools/grade/references.h). Witness: the same render against a copy of the references
+# (tools/grade/reference_store/references.h). Witness: the same render against a copy of the references
 # without their allowances loses points, so the allowance holds the verdict, and the
 # variable really changed llvmpipe's filtering.
 set -euo pipefail

@@ -1,4 +1,4 @@
-// The grader's function probes (tools/grade/function_probes.h):
+// The grader's function probes (tools/grade/frames/function_probes.h):
 //   * the expected values in tools/grade/references/probes.json, made on the GPU path from
 //     the reference solutions, agree with the CPU reference in double precision
 //     (instructor/reference/cpu_reference.h), at every input; witness: a CPU GGX without
@@ -18,14 +18,14 @@
 
 #include "base/error.h"
 #include "cpu_reference.h"
+#include "frames/function_probes.h"
+#include "frames/lab_functions.h"
+#include "frames/probe_pass.h"
+#include "gbuffer_layout.h"
 #include "ibl_reference.h"
 #include "images/texture_prepare.h"  // srgb_to_linear
-#include "function_probes.h"
-#include "gbuffer_layout.h"
 #include "kit_test.h"
-#include "lab_functions.h"
-#include "probe_pass.h"
-#include "references.h"
+#include "reference_store/references.h"
 #include "render/stages.h"
 
 namespace kit::test {

@@ -19,19 +19,20 @@
 #include <utility>
 #include <vector>
 
-#include "checks.h"
-#include "compare.h"
-#include "config.h"
+#include "files/files.h"
+#include "frames/checks.h"
 #include "gbuffer_layout.h"  // KIT_LIGHT_*
-#include "grader.h"
-#include "grading_run.h"
 #include "images/image_io.h"
-#include "lab_verdict.h"
 #include "kit_test.h"
-#include "references.h"
-#include "render_child.h"
-#include "report.h"
+#include "reference_store/references.h"
 #include "render/stages.h"
+#include "report/report.h"
+#include "run/grader.h"
+#include "run/grading_run.h"
+#include "run/scheduler.h"
+#include "verdict/compare.h"
+#include "verdict/config.h"
+#include "verdict/lab_verdict.h"
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -340,7 +341,7 @@ TEST(Grader, UnmatchedVaryingNamesAreALinkError) {
 }
 
 // A failed lab names the catalogued mistake its checks' signatures resemble
-// (tools/grade/diagnosis.h): here a catalogued one, so its own signatures are in
+// (tools/grade/verdict/diagnosis.h): here a catalogued one, so its own signatures are in
 // mistakes.json. Witness: against the same references without mistakes.json nothing is
 // named; the solution, which fails nothing, names nothing either.
 TEST(Grader, FailedLabNamesTheLikelyMistake) {
@@ -689,7 +690,7 @@ TEST(Grader, BadArgumentsFailWithAMessage) {
 
 
 // A render worker renders a submission's labs one after another in one process
-// (render_child.h). A lab that ends its worker abnormally after another lab is rendered
+// (render_worker.h). A lab that ends its worker abnormally after another lab is rendered
 // again alone, since RLIMIT_AS and whatever state a crash follows from span the worker's
 // life; as the first lab of a worker, or stopped by a limit that counts from its own
 // start, its verdict stands.

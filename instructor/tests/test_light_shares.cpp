@@ -1,4 +1,4 @@
-// Each light's share of a reference frame (tools/grade/light_shares.h): what a failed lit
+// Each light's share of a reference frame (tools/grade/frames/light_shares.h): what a failed lit
 // check's worst pixel says of the lights there.
 //   - hand-made frames with obvious answers: the encoding, the order, the rounding;
 //   - the stored shares of lab 3's default scene against the CPU reference in double, light by
@@ -12,13 +12,13 @@
 #include <string>
 #include <vector>
 
-#include "checks.h"
 #include "cpu_reference.h"
+#include "frames/checks.h"
+#include "frames/light_shares.h"
 #include "gbuffer_layout.h"
 #include "kit_test.h"
-#include "lab_verdict.h"
-#include "light_shares.h"
 #include "render/stages.h"
+#include "verdict/lab_verdict.h"
 
 namespace {
 

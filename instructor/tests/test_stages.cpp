@@ -146,7 +146,7 @@ TEST(StagesDeterminism, TwoRendersAreBitwiseIdentical) {
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
-// ---- programs shared between Renderers (the grader's render child) ----
+// ---- programs shared between Renderers (the grader's render worker) ----
 
 // Renderers that build their programs through one LinkedProgramCache share the GL programs,
 // uniform values included. The witness: a value set through one Program is what the other

@@ -14,14 +14,14 @@
 #include <cstring>
 #include <thread>
 
-#include "batch.h"
 #include "base/error.h"
 #include "base/hugepage_malloc.h"
+#include "batch/batch.h"
 #include "gl/context.h"
-#include "grader.h"
-#include "reference_maintenance.h"
-#include "submission.h"
+#include "intake/submission.h"
 #include "render/stages.h"
+#include "run/grader.h"
+#include "run/reference_maintenance.h"
 
 namespace fs = std::filesystem;
 

@@ -213,7 +213,7 @@ def lab_page(pdf, lab, entry, results, grade_dir, timing):
             pdf.text(x + 5.0, y, f"{format_score(c['score'])} / {format_score(c['max_score'])}", size=9)
             y = pdf.wrapped(x, y, 3.35, c.get("title", key), size=9) + 0.22 - pdf.line_height(9)
         return
-    # The grader's guess at the mistake behind the failed checks (tools/grade/diagnosis.h),
+    # The grader's guess at the mistake behind the failed checks (tools/grade/verdict/diagnosis.h),
     # first in each failed check's text.
     guess = (entry["likely_text"] + " ") if entry.get("likely_text") else ""
     img_w, text_w, heads, head_h, rows = check_layout(pdf, checks, y)

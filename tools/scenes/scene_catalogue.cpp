@@ -256,7 +256,7 @@ GltfSceneWriter build_normal_map_scene(const Textures& tex) {
 // magnification filter, which GL fixes up to precision. Where the map is minified (the
 // normalmap scene), the mip levels' blend and the level of detail are the
 // implementation's to approximate, and GPUs move the right answer there by 0.4 degrees
-// on average (tools/grade/references.h, the filter allowance): a mistake smaller than
+// on average (tools/grade/reference_store/references.h, the filter allowance): a mistake smaller than
 // that, like a texel decoded as (255 t - 128) / 127, shows only here. The camera looks
 // across the seam between the plain and the mirrored quad, turned 18 degrees off the
 // quads' normal and rolled 20 degrees: it turns about all three axes, so a tangent frame

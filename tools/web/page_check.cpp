@@ -7,17 +7,17 @@
 #include <vector>
 
 #include "base/error.h"
-#include "checks.h"
-#include "compare.h"
-#include "config.h"
-#include "diagnosis.h"
-#include "function_probes.h"
+#include "frames/checks.h"
+#include "frames/function_probes.h"
+#include "frames/lab_frames.h"
+#include "frames/probe_pass.h"
 #include "gl/pass_clock.h"
-#include "lab_frames.h"
-#include "lab_verdict.h"
-#include "probe_pass.h"
 #include "render/renderer.h"
 #include "render/stages.h"
+#include "verdict/compare.h"
+#include "verdict/config.h"
+#include "verdict/diagnosis.h"
+#include "verdict/lab_verdict.h"
 
 namespace fs = std::filesystem;
 
@@ -75,7 +75,7 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
   for (const RenderSpec* spec : lab_renders(lab_number))
     if (!scenes.count(spec->scene)) scenes.emplace(spec->scene, load_scene(resolve_scene(spec->scene)));
 
-  // The renders, as a render worker makes them (render_child.cpp), with its report's
+  // The renders, as a render worker makes them (render_worker.cpp), with its report's
   // "work" and "hdr_non_finite".
   std::map<std::string, Image> renders;
   Json child = Json::object();

@@ -1,7 +1,7 @@
 #pragma once
 // The page's "Check my lab": the lab's grading renders drawn on the student's GPU at the
-// grader's sizes and settings (tools/grade/lab_frames.h) and compared with the shipped
-// references by kit-grade's own rules (tools/grade/lab_verdict.h), compiled to WebAssembly
+// grader's sizes and settings (tools/grade/frames/lab_frames.h) and compared with the shipped
+// references by kit-grade's own rules (tools/grade/verdict/lab_verdict.h), compiled to WebAssembly
 // with the rest of kit-web. A preview: the grade is ./kit grade's or the platform's.
 #include <filesystem>
 

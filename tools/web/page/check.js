@@ -64,7 +64,7 @@ function showCheck(container, FS, lab, answer) {
   if (answer.seconds && answer.seconds.total !== undefined)
     container.append(element("p", {className: "hint"}, `Rendered and compared in ${answer.seconds.total.toFixed(1)} s.`));
 
-  // The probed functions that differ, with their first inputs (tools/grade/function_probes.h):
+  // The probed functions that differ, with their first inputs (tools/grade/frames/function_probes.h):
   // first, as they point at the line to fix.
   const functions = answer.functions_text || [];
   if (functions.length) {

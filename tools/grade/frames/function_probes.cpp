@@ -1,0 +1,905 @@
+#include "frames/function_probes.h"
+
+#include <glm/gtc/constants.hpp>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <iterator>
+#include <map>
+#include <utility>
+
+#include "base/error.h"
+#include "frames/lab_functions.h"
+#include "gbuffer_layout.h"
+#include "render/renderer.h"
+#include "render/stages.h"
+#include "scene/scene.h"
+
+namespace kit::grade {
+
+namespace {
+
+constexpr double kPi = glm::pi<double>();
+// How far a value may be from the reference solution's and still agree: relative, with a
+// floor for values at 0 (relative to the probe's largest expected value). Every input is
+// chosen well conditioned (no GGX peak of a near-mirror, no point on a cone's edge), so a
+// correct function written another way stays within 1e-5; the smallest catalogued
+// mistake a probe must see, a tone map lifted by 0.004, is 0.4 % of its largest value.
+constexpr double kRelativeTolerance = 2e-3;
+constexpr double kZeroTolerance = 1e-6;
+// The same for a probe whose values went through an sRGB decode (FunctionProbe::srgb_decoded).
+// The catalogued mistakes there (a texel decoded twice, a factor or a vertex colour left
+// out) are 20 % and more.
+constexpr double kSrgbRelativeTolerance = 1e-2;
+constexpr double kSrgbZeroTolerance = 2e-3;
+// A shape fits when every differing value fits it within this (relative).
+constexpr double kShapeTolerance = 1e-2;
+
+void push(std::vector<float>& to, float v) { to.push_back(v); }
+void push(std::vector<float>& to, glm::vec3 v) { to.insert(to.end(), {v.x, v.y, v.z}); }
+
+// A pass probe of lab `lab`'s `file` (labs 1, 4, 5 and 6), drawn alone: its function is
+// "main"; labs 2 and 3's function probes come from their contract (lab_functions.h).
+FunctionProbe pass_probe(int lab, const std::string& file, std::vector<ProbeArgument> arguments, ProbeType result) {
+  FunctionProbe p;
+  p.id = file;
+  p.lab = lab;
+  p.file = file;
+  p.function = "main";
+  p.shader = file;
+  p.arguments = std::move(arguments);
+  p.result = result;
+  p.pass = true;
+  return p;
+}
+
+// Lab 5's passes, each drawn alone. Every input is exact in half float (the inputs are
+// RGBA16F textures, as the passes' own are), and no luminance lies within 10 % of a threshold,
+// where the catalogue's equivalents (a rounded luminance, step() for >) may differ.
+FunctionProbe lab5_pass(const std::string& file, const std::string& id, const std::string& setting,
+                        std::vector<ProbeArgument> arguments, std::vector<ProbeUniform> uniforms) {
+  FunctionProbe p = pass_probe(5, file, std::move(arguments), ProbeType::Vec3);
+  p.id = id;
+  p.setting = setting;
+  p.uniforms = std::move(uniforms);
+  return p;
+}
+
+std::vector<FunctionProbe> make_lab5() {
+  std::vector<FunctionProbe> probes;
+  using T = ProbeType;
+  for (float threshold : {1.0f, 0.5f}) {
+    FunctionProbe p = lab5_pass("bright.frag", threshold == 1.0f ? "bright/threshold-1" : "bright/threshold-0.5",
+                                threshold == 1.0f ? "u_bloom_threshold = 1" : "u_bloom_threshold = 0.5",
+                                {{"u_hdr", T::Vec3}}, {{"u_bloom_threshold", false, threshold}});
+    // Luminances (Rec. 709): 0, 0.25, 0.75, 0.45 (a mean of 1.17), 0.28 (a mean of 0.58),
+    // 1.25, 3.1, 0.8 (its mean 0.33), 64.
+    for (glm::vec3 hdr : {glm::vec3(0.0f), glm::vec3(0.25f), glm::vec3(0.75f), glm::vec3(0.25f, 0.25f, 3.0f),
+                          glm::vec3(1.0f, 0.0625f, 0.5f), glm::vec3(1.25f), glm::vec3(2.0f, 3.5f, 3.0f),
+                          glm::vec3(0.125f, 1.0625f, 0.0f), glm::vec3(64.0f)}) {
+      ProbeCase c;
+      push(c.inputs, hdr);
+      p.cases.push_back(c);
+    }
+    probes.push_back(p);
+  }
+  // An impulse in the middle of 17 texels: the output is the kernel, along a row for the
+  // horizontal pass and down a column for the vertical one.
+  for (bool horizontal : {true, false}) {
+    FunctionProbe p = lab5_pass("blur.frag", horizontal ? "blur/horizontal" : "blur/vertical",
+                                horizontal ? "u_horizontal = true, along a row" : "u_horizontal = false, down a column",
+                                {{"u_bloom", T::Vec3}}, {{"u_horizontal", true, horizontal ? 1.0f : 0.0f}});
+    p.column = !horizontal;
+    for (int i = 0; i < 17; ++i) {
+      ProbeCase c;
+      push(c.inputs, i == 8 ? glm::vec3(1.0f, 0.5f, 0.25f) : glm::vec3(0.0f));
+      p.cases.push_back(c);
+    }
+    probes.push_back(p);
+  }
+  struct Composite {
+    const char* id;
+    const char* setting;
+    float gamma;
+    bool postprocess;
+  };
+  for (Composite k : {Composite{"composite/bloom-on", "u_gamma = 2.2, u_postprocess_enabled = true", 2.2f, true},
+                      Composite{"composite/gamma-1.0", "u_gamma = 1.0, u_postprocess_enabled = true", 1.0f, true},
+                      Composite{"composite/bloom-off", "u_gamma = 2.2, u_postprocess_enabled = false", 2.2f, false}}) {
+    FunctionProbe p = lab5_pass("composite.frag", k.id, k.setting, {{"u_hdr", T::Vec3}, {"u_bloom", T::Vec3}},
+                                {{"u_gamma", false, k.gamma}, {"u_postprocess_enabled", true, k.postprocess ? 1.0f : 0.0f}});
+    for (const auto& [hdr, bloom] : {std::pair{glm::vec3(0.0f), glm::vec3(0.0f)},
+                                     std::pair{glm::vec3(0.25f, 0.5f, 1.0f), glm::vec3(0.0f)},
+                                     std::pair{glm::vec3(0.5f, 0.25f, 0.125f), glm::vec3(0.25f)},
+                                     std::pair{glm::vec3(1.0f), glm::vec3(0.5f, 1.0f, 2.0f)},
+                                     std::pair{glm::vec3(4.0f, 2.0f, 1.0f), glm::vec3(1.0f, 0.5f, 0.25f)},
+                                     std::pair{glm::vec3(0.0f), glm::vec3(2.0f)},
+                                     std::pair{glm::vec3(16.0f, 8.0f, 4.0f), glm::vec3(0.125f, 0.0f, 8.0f)}}) {
+      ProbeCase c;
+      push(c.inputs, hdr);
+      push(c.inputs, bloom);
+      p.cases.push_back(c);
+    }
+    probes.push_back(p);
+  }
+  return probes;
+}
+
+// Lab 6's ibl.frag, drawn alone on eight G-buffer texels seen from a camera at the origin,
+// five times: each time its maps are filled so that one part of the pass shows and the
+// others cannot (function_probes.h, ProbeMap). What differs where tells the part apart:
+//   diffuse     the prefiltered map black, the others uniform: the diffuse term's weights;
+//   specular    the irradiance map black, the others uniform: the specular term's weights;
+//   levels      the same, the prefiltered map's value growing with its level: also the
+//               roughness it is looked up at;
+//   directions  both maps their own coordinates: where each is looked up;
+//   table       the BRDF table its own coordinates: at which (n.v, roughness) it is read.
+// Every roughness is a whole prefiltered level (a multiple of 1 / (KIT_PREFILTER_LEVELS - 1)),
+// so trilinear filtering and a GPU's faster blend of levels agree, and the normals and
+// reflection vectors look up coordinates away from the maps' wrap and poles (u and t within
+// [0.25, 0.75]), where bilinear filtering returns a texel's coordinates exactly.
+std::vector<FunctionProbe> make_lab6() {
+  using T = ProbeType;
+  using F = ProbeMap::Fill;
+  static_assert(KIT_PREFILTER_LEVELS == 6, "the roughnesses below are whole levels of 6");
+  struct Texel {
+    glm::vec3 position, normal, albedo;
+    float metallic, roughness;
+  };
+  const Texel texels[] = {
+      {{0.5f, 0.25f, 3.0f}, {0.25f, 0.125f, -1.0f}, {0.75f, 0.5f, 0.25f}, 0.0f, 0.2f},
+      {{-1.0f, 0.5f, 2.0f}, {-0.5f, 0.25f, -1.0f}, {0.25f, 0.5f, 1.0f}, 0.5f, 0.4f},
+      {{2.0f, -0.5f, 4.0f}, {0.0f, 0.0f, -1.0f}, {1.0f, 0.75f, 0.5f}, 1.0f, 0.6f},
+      {{0.25f, -1.0f, 2.5f}, {0.5f, -0.25f, -1.0f}, {0.5f, 0.5f, 0.5f}, 0.0f, 0.8f},
+      {{-2.0f, -0.25f, 3.5f}, {-0.25f, -0.5f, -1.0f}, {0.9f, 0.2f, 0.1f}, 0.5f, 1.0f},
+      {{1.0f, 0.25f, 2.0f}, {0.125f, 0.375f, -1.0f}, {0.1f, 0.9f, 0.3f}, 0.0f, 0.4f},
+      {{-0.5f, -0.5f, 1.5f}, {-0.375f, -0.125f, -1.0f}, {0.95f, 0.65f, 0.55f}, 1.0f, 0.6f},
+      {{1.5f, 0.0f, 5.0f}, {0.375f, 0.25f, -1.0f}, {0.6f, 0.6f, 0.9f}, 0.5f, 0.2f},
+  };
+  const glm::vec3 black(0.0f), sky(0.75f, 0.5f, 0.25f), table(0.5f, 0.25f, 0.875f);
+  struct Part {
+    const char* term;
+    const char* setting;
+    ProbeMap irradiance, prefiltered, brdf_lut;
+  };
+  const Part parts[] = {
+      {"diffuse", "camera at the origin; u_prefiltered black, u_irradiance (0.75, 0.5, 0.25) and u_brdf_lut (0.5, 0.25, 0.875) everywhere",
+       {"u_irradiance", F::Uniform, sky}, {"u_prefiltered", F::Uniform, black}, {"u_brdf_lut", F::Uniform, table}},
+      {"specular", "camera at the origin; u_irradiance black, u_prefiltered (0.75, 0.5, 0.25) and u_brdf_lut (0.5, 0.25, 0.875) everywhere",
+       {"u_irradiance", F::Uniform, black}, {"u_prefiltered", F::Uniform, sky}, {"u_brdf_lut", F::Uniform, table}},
+      {"levels", "camera at the origin; u_irradiance black, u_prefiltered (0.75, 0.5, 0.25) times 1 + its level, u_brdf_lut (0.5, 0.25, 0.875) everywhere",
+       {"u_irradiance", F::Uniform, black}, {"u_prefiltered", F::Levels, sky}, {"u_brdf_lut", F::Uniform, table}},
+      {"directions", "camera at the origin; u_irradiance and u_prefiltered hold their texture coordinates (s, t, 0.5), u_brdf_lut (0.5, 0.25, 0.875) everywhere",
+       {"u_irradiance", F::Coordinates, glm::vec3(0.5f)}, {"u_prefiltered", F::Coordinates, glm::vec3(0.5f)}, {"u_brdf_lut", F::Uniform, table}},
+      {"table", "camera at the origin; u_brdf_lut holds its texture coordinates (s, t, 0.875), u_irradiance and u_prefiltered (0.75, 0.5, 0.25) everywhere",
+       {"u_irradiance", F::Uniform, sky}, {"u_prefiltered", F::Uniform, sky}, {"u_brdf_lut", F::Coordinates, table}},
+  };
+  std::vector<FunctionProbe> probes;
+  for (const Part& part : parts) {
+    FunctionProbe p = pass_probe(6, "ibl.frag",
+                               {{"u_gbuffer_position", T::Vec3}, {"u_gbuffer_normal", T::Vec3},
+                                {"u_gbuffer_albedo", T::Vec3}, {"u_gbuffer_material", T::Vec3}},
+                               T::Vec3);
+    p.id = std::string("ibl/") + part.term;
+    p.term = part.term;
+    p.setting = part.setting;
+    p.maps = {part.irradiance, part.prefiltered, part.brdf_lut};
+    ProbeUniform camera{"u_camera_position"};
+    camera.is_vec3 = true;
+    p.uniforms = {camera};
+    for (const Texel& t : texels) {
+      ProbeCase c;
+      push(c.inputs, t.position);
+      push(c.inputs, t.normal);
+      push(c.inputs, t.albedo);
+      push(c.inputs, glm::vec3(t.metallic, t.roughness, 0.0f));
+      p.cases.push_back(c);
+    }
+    probes.push_back(p);
+  }
+  return probes;
+}
+
+// --- Labs 1 and 4: the geometry pass, one attachment at a time -------------------------------
+
+// A texture for the geometry probes: 4 x 4 texels, each its own colour (RGB from its place,
+// alpha 255), or every one `texel`. One size for all: on llvmpipe a texture of another shape
+// compiles the fragment shader again (tens of milliseconds for lab 4's).
+ImageRgba8 probe_texture(bool distinct, glm::u8vec4 texel = glm::u8vec4(0)) {
+  constexpr int side = 4;
+  ImageRgba8 image{side, side, std::vector<unsigned char>(static_cast<size_t>(side) * side * 4)};
+  for (int y = 0; y < side; ++y)
+    for (int x = 0; x < side; ++x) {
+      const glm::u8vec4 v = distinct ? glm::u8vec4(40 + 50 * x, 30 + 55 * y, 20 + 13 * (4 * x + y), 255) : texel;
+      for (int c = 0; c < 4; ++c) image.pixels[(static_cast<size_t>(y) * side + x) * 4 + c] = v[c];
+    }
+  return image;
+}
+
+// One probe of the geometry pass: the attachment it reads and how it is set up.
+struct GeometryPart {
+  const char* id;
+  const char* term;
+  const char* setting;
+  int attachment;
+  bool alpha = false, back_faces = false, white = false, uv = false, turned = true;
+  int alpha_mode = KIT_ALPHA_OPAQUE;
+  bool normal_map = false;
+};
+
+// The probes of lab `lab`'s geometry pass, in order (lab 4 adds its normal map's).
+std::vector<GeometryPart> geometry_parts(int lab) {
+  std::vector<GeometryPart> parts = {
+      {"gbuffer/position", "position", "out_position.xyz; a rotated, unevenly scaled model seen by a turned camera", KIT_GBUF_POSITION},
+      {"gbuffer/normal", "normal", "out_normal.xyz; a rotated, unevenly scaled model seen by a turned camera", KIT_GBUF_NORMAL},
+      {"gbuffer/back-face", "back face", "out_normal.xyz; a double-sided material seen from behind", KIT_GBUF_NORMAL, false, true},
+      {"gbuffer/base-colour", "base colour",
+       "out_albedo.rgb; u_base_color_factor (0.8, 0.6, 0.4, 0.9), a base colour texture uniformly (200, 150, 100, 153)",
+       KIT_GBUF_ALBEDO},
+      {"gbuffer/alpha", "alpha",
+       "out_albedo.a; MASK at 0.5, u_base_color_factor (0.8, 0.6, 0.4, 0.9), a base colour texture uniformly (200, 150, 100, 153); 0 where no surface is written",
+       KIT_GBUF_ALBEDO, true, false, false, false, true, KIT_ALPHA_MASK},
+      {"gbuffer/metallic-roughness", "metallic-roughness",
+       "out_material.rgb; u_metallic_factor 0.7, u_roughness_factor 0.9, a metallic-roughness texture uniformly (60, 100, 200)",
+       KIT_GBUF_MATERIAL},
+      {"gbuffer/emission", "emission",
+       "out_emission.rgb; u_emissive_factor (2, 1.5, 0.5), an emissive texture uniformly (180, 120, 60)", KIT_GBUF_EMISSION},
+      {"gbuffer/uv-albedo", "texture coordinates",
+       "out_albedo.rgb; textures of 4 x 4 distinct texels, each at its own UV slot and offset; factors 1, vertex colours white; the model and camera untransformed",
+       KIT_GBUF_ALBEDO, false, false, true, true, false},
+      {"gbuffer/uv-material", "texture coordinates",
+       "out_material.rgb; textures of 4 x 4 distinct texels, each at its own UV slot and offset; factors 1, vertex colours white; the model and camera untransformed",
+       KIT_GBUF_MATERIAL, false, false, true, true, false},
+      {"gbuffer/uv-emission", "texture coordinates",
+       "out_emission.rgb; textures of 4 x 4 distinct texels, each at its own UV slot and offset; factors 1, vertex colours white; the model and camera untransformed",
+       KIT_GBUF_EMISSION, false, false, true, true, false},
+  };
+  if (lab == 4) {
+    parts.push_back({"gbuffer/normal-map", "normal map",
+                     "out_normal.xyz; a normal map uniformly (180, 100, 230), scale 0.8; the model and camera untransformed",
+                     KIT_GBUF_NORMAL, false, false, false, false, false});
+    parts.back().normal_map = true;
+    parts.push_back({"gbuffer/tangent-frame", "tangent frame",
+                     "out_normal.xyz; a normal map uniformly (180, 100, 230), scale 0.8; a rotated, unevenly scaled model seen by a turned camera",
+                     KIT_GBUF_NORMAL});
+    parts.back().normal_map = true;
+    parts.push_back({"gbuffer/uv-normal", "texture coordinates",
+                     "out_normal.xyz; textures of 4 x 4 distinct texels, each at its own UV slot and offset; factors 1, vertex colours white; the model and camera untransformed",
+                     KIT_GBUF_NORMAL, false, false, true, true, false});
+    parts.back().normal_map = true;
+  }
+  return parts;
+}
+
+// What `part`'s probe draws with: its transforms, textures and material.
+std::shared_ptr<GeometryProbeSetup> geometry_setup(const GeometryPart& part) {
+  const glm::mat4 turned_model =
+      glm::translate(glm::mat4(1.0f), glm::vec3(0.5f, -0.25f, 0.3f)) *
+      glm::rotate(glm::mat4(1.0f), 0.6f, glm::normalize(glm::vec3(0.3f, 1.0f, 0.2f))) *
+      glm::scale(glm::mat4(1.0f), glm::vec3(1.5f, 0.5f, 1.0f));
+  const glm::mat4 turned_view = glm::lookAt(glm::vec3(0.4f, 0.3f, 2.0f), glm::vec3(0.0f), glm::vec3(0.0f, 1.0f, 0.0f));
+  // The plain materials' one-texel textures, and the texture-coordinate probes' offsets.
+  const glm::u8vec4 base_texel(200, 150, 100, 153), mr_texel(60, 100, 200, 255), emissive_texel(180, 120, 60, 255),
+      normal_texel(180, 100, 230, 255);
+  auto setup = std::make_shared<GeometryProbeSetup>();
+  setup->attachment = part.attachment;
+  setup->alpha = part.alpha;
+  setup->back_faces = part.back_faces;
+  if (part.turned) {
+    setup->model = turned_model;
+    setup->view = turned_view;
+  }
+  Material& m = setup->material;
+  m.alpha_mode = part.alpha_mode;
+  m.double_sided = part.back_faces;
+  if (part.uv) {
+    for (int unit = 0; unit < kMaterialTextureCount; ++unit) setup->images.push_back(probe_texture(true));
+    const glm::vec2 offsets[] = {{0.25f, 0.0f}, {0.5f, 0.25f}, {0.0f, 0.5f}, {0.75f, 0.25f}};  // by unit
+    for (int unit = 0; unit < kMaterialTextureCount; ++unit) {
+      m.texture(unit).uv.slot = unit == KIT_UNIT_NORMAL_MAP || unit == KIT_UNIT_EMISSIVE ? 1 : 0;
+      m.texture(unit).uv.transform = texture_transform_matrix(offsets[unit], 0.0f, glm::vec2(1.0f));
+    }
+    m.emissive = glm::vec3(1.0f);
+  } else {
+    setup->images = {probe_texture(false, base_texel), probe_texture(false, mr_texel), probe_texture(false, normal_texel),
+                     probe_texture(false, emissive_texel)};
+    m.base_color_factor = glm::vec4(0.8f, 0.6f, 0.4f, 0.9f);
+    m.metallic_factor = 0.7f;
+    m.roughness_factor = 0.9f;
+    m.emissive = glm::vec3(2.0f, 1.5f, 0.5f);
+    m.normal_scale = 0.8f;
+  }
+  for (int unit = 0; unit < kMaterialTextureCount; ++unit) {
+    m.texture(unit).image = unit;
+    m.texture(unit).sampler = 0;
+  }
+  if (!part.normal_map) m.texture(KIT_UNIT_NORMAL_MAP).image = -1;
+  return setup;
+}
+
+// `part`'s cases: each a vertex's attributes.
+std::vector<ProbeCase> geometry_cases(const GeometryPart& part) {
+  struct Attributes {
+    glm::vec3 normal;
+    glm::vec4 tangent, color;
+    glm::vec2 uv0, uv1;
+  };
+  const Attributes cases[] = {
+      {{0.2f, 0.3f, 1.2f}, {1.0f, 0.0f, 0.1f, 1.0f}, {1.0f, 0.8f, 0.6f, 1.0f}, {0.125f, 0.375f}, {0.375f, 0.125f}},
+      {{-0.5f, 0.1f, 0.9f}, {0.9f, 0.3f, 0.0f, -1.0f}, {0.5f, 1.0f, 0.75f, 0.8f}, {0.625f, 0.125f}, {0.875f, 0.375f}},
+      {{0.4f, -0.6f, 0.8f}, {1.0f, 0.2f, -0.3f, 1.0f}, {0.9f, 0.4f, 1.0f, 0.95f}, {0.875f, 0.625f}, {0.125f, 0.625f}},
+      {{0.0f, 0.0f, 1.5f}, {0.8f, -0.5f, 0.2f, -1.0f}, {0.3f, 0.6f, 0.9f, 0.5f}, {0.375f, 0.875f}, {0.625f, 0.875f}},
+      {{-0.3f, -0.4f, 0.6f}, {0.6f, 0.7f, 0.1f, 1.0f}, {1.0f, 1.0f, 1.0f, 1.0f}, {0.125f, 0.875f}, {0.375f, 0.625f}},
+      {{0.7f, 0.2f, 0.5f}, {1.0f, -0.1f, 0.4f, -1.0f}, {0.7f, 0.9f, 0.2f, 0.7f}, {0.625f, 0.625f}, {0.875f, 0.875f}},
+  };
+  std::vector<ProbeCase> out;
+  for (const Attributes& a : cases) {
+    ProbeCase c;
+    push(c.inputs, a.normal);
+    // Mirrored tangents only where the frame is under test: elsewhere the handedness
+    // would show as a decode mistake would.
+    const float w = part.turned ? a.tangent.w : 1.0f;
+    for (float v : {a.tangent.x, a.tangent.y, a.tangent.z, w}) push(c.inputs, v);
+    for (float v : {a.uv0.x, a.uv0.y, a.uv1.x, a.uv1.y}) push(c.inputs, v);
+    const glm::vec4 color = part.white ? glm::vec4(1.0f) : a.color;
+    for (float v : {color.x, color.y, color.z, color.w}) push(c.inputs, v);
+    out.push_back(c);
+  }
+  return out;
+}
+
+// Labs 1 and 4's geometry pass (gbuffer.vert and gbuffer.frag) drawn alone, one probe per
+// attachment and material, each set up so that one part of the pass shows:
+//   position, normal      a rotated, unevenly scaled model seen by a turned camera;
+//   back face             a double-sided material seen from behind;
+//   base colour           a factor, a uniform texture and the vertex colours (not the alpha);
+//   alpha                 a MASK material whose cases lie on both sides of the cutoff;
+//   metallic-roughness    factors and a uniform texture of distinct R, G and B;
+//   emission              a factor, a uniform texture, and a base colour to leave out of it;
+//   texture coordinates   every texture 4 x 4 texels of distinct colours, each read at its
+//                         own UV slot and offset, factors 1 and white vertex colours, the
+//                         model and camera untransformed: only where each texture is
+//                         sampled shows (one probe per attachment);
+//   normal map (lab 4)    a uniform tilted texel, its scale 0.8, the model and camera untransformed;
+//   tangent frame (lab 4) the same under the rotated, unevenly scaled model and a turned
+//                         camera, and half the tangents mirrored (w = -1): only there do the
+//                         frame's transforms and handedness show.
+// Every UV lies at a texel's centre, offsets are whole texels, and the textures are sampled
+// nearest: a texel's value is exact, whatever the filtering.
+std::vector<FunctionProbe> make_geometry(int lab) {
+  using T = ProbeType;
+  std::vector<FunctionProbe> probes;
+  for (const GeometryPart& part : geometry_parts(lab)) {
+    FunctionProbe p = pass_probe(lab, "gbuffer.frag",
+                               {{"a_normal", T::Vec3}, {"a_tangent", T::Vec4}, {"a_texcoord0", T::Vec2},
+                                {"a_texcoord1", T::Vec2}, {"a_color", T::Vec4}},
+                               part.alpha ? T::Float : T::Vec3);
+    // Unique over the kit: lab 4's are "normalmap/...".
+    p.id = lab == 4 ? "normalmap/" + std::string(part.id).substr(std::string("gbuffer/").size()) : part.id;
+    p.srgb_decoded = !part.alpha && (part.attachment == KIT_GBUF_ALBEDO || part.attachment == KIT_GBUF_EMISSION);
+    p.term = part.term;
+    p.setting = part.setting;
+    p.geometry = geometry_setup(part);
+    p.cases = geometry_cases(part);
+    probes.push_back(p);
+  }
+  return probes;
+}
+
+int components(ProbeType type) {
+  switch (type) {
+    case ProbeType::Float: return 1;
+    case ProbeType::Vec2: return 2;
+    case ProbeType::Vec3: return 3;
+    case ProbeType::Vec4: return 4;
+    default: return 16;
+  }
+}
+
+// A float as the shortest decimal that reads back as the same float: probes.json stays
+// readable ("0.1", not "0.10000000149011612") and exact.
+// (Fewest digits first, up to 9, which always reads back: float std::to_chars is missing from
+// the browser build's libc++.)
+double short_decimal(float v) {
+  if (!std::isfinite(v)) return v;
+  char text[32];
+  for (int digits = 1; digits <= 9; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, static_cast<double>(v));
+    if (std::strtof(text, nullptr) == v) break;
+  }
+  return std::strtod(text, nullptr);
+}
+
+std::string number(double v) {
+  if (std::isnan(v)) return "NaN";
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char text[32];
+  std::snprintf(text, sizeof text, "%.4g", v);
+  return text;
+}
+
+std::string vec3_text(const float* v) { return "(" + number(v[0]) + ", " + number(v[1]) + ", " + number(v[2]) + ")"; }
+
+// An input as a student would write it: a direction's 0 made from sin(180 degrees) is
+// -4.4e-08 in float, shown as 0.
+double input(float v) { return std::abs(v) < 1e-6f ? 0.0 : v; }
+std::string input_vector_text(const float* v, int n) {
+  std::string text = "(";
+  for (int i = 0; i < n; ++i) text += (i ? ", " : "") + number(input(v[i]));
+  return text + ")";
+}
+std::string input_vec3_text(const float* v) { return input_vector_text(v, 3); }
+
+std::string light_text(const float* v) {
+  const int type = static_cast<int>(v[0] + 0.5f);
+  std::string text = type == KIT_LIGHT_SPOT ? "spot light" : type == KIT_LIGHT_DIRECTIONAL ? "directional light" : "point light";
+  text += type == KIT_LIGHT_DIRECTIONAL ? " (" : " at " + input_vec3_text(v + 1) + " (";
+  if (type != KIT_LIGHT_POINT) text += "direction " + input_vec3_text(v + 4) + ", ";
+  text += "intensity " + number(v[11]);
+  if (v[7] > 0.0f) text += ", range " + number(v[7]);
+  if (type == KIT_LIGHT_SPOT) text += ", cos_inner " + number(v[12]) + ", cos_outer " + number(v[13]);
+  return text + ")";
+}
+
+std::string call_text(const FunctionProbe& probe, size_t index) {
+  const ProbeCase& c = probe.cases[index];
+  // A pass: where it writes, with what its samplers hold there ("bright.frag at texel 3 (u_hdr = ...)").
+  std::string text = probe.pass ? probe.file + " at texel " + std::to_string(index) + " (" : probe.function + "(";
+  const float* at = c.inputs.data();
+  for (size_t i = 0; i < probe.arguments.size(); ++i) {
+    const ProbeArgument& a = probe.arguments[i];
+    text += (i ? ", " : "") + a.name + " = ";
+    text += a.type == ProbeType::Float ? number(input(*at)) : a.type == ProbeType::Light ? light_text(at) : input_vector_text(at, components(a.type));
+    at += components(a.type);
+  }
+  return text + ")";
+}
+
+std::string value_text(const FunctionProbe& probe, const glm::vec4& v) {
+  return probe.result == ProbeType::Float ? number(v.x) : vec3_text(&v.x);
+}
+
+bool finite(const FunctionProbe& probe, const glm::vec4& v) {
+  for (int i = 0; i < components(probe.result); ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
+}
+
+// A constant factor, by its name where it is a usual one.
+std::string factor_text(double k) {
+  if (std::abs(k + 1.0) <= kShapeTolerance) return "each of the opposite sign";
+  if (std::abs(k) <= kShapeTolerance) return "0 at each of them";
+  const std::pair<double, const char*> named[] = {
+      {kPi, "pi"},          {1.0 / kPi, "1/pi"},          {0.5, "1/2"},       {0.25, "1/4"},
+      {4.0 * kPi, "4 pi"}, {1.0 / (4.0 * kPi), "1/(4 pi)"}, {2.0 * kPi, "2 pi"}, {1.0 / (2.0 * kPi), "1/(2 pi)"}};
+  std::string text = "each by a factor of " + number(k);
+  for (const auto& [value, name] : named)
+    if (std::abs(k - value) <= kShapeTolerance * value) return text + " (" + name + ")";
+  return text;
+}
+
+bool near(double a, double b) { return std::abs(a - b) <= kShapeTolerance * std::max(std::abs(a), std::abs(b)) + 1e-12; }
+
+// A probe's differing cases (compare_probe), for the shape of the difference.
+struct Differences {
+  const FunctionProbe& probe;
+  const ProbeValues& got;
+  const std::vector<glm::vec4>& expected;
+  const std::vector<size_t>& cases;  // the differing cases
+  const std::vector<bool>& differs;  // by case
+  int non_finite;                    // differing cases whose value is not finite
+  int components;                    // of the result
+  double zero;                       // an expected value within this of 0 counts as 0
+};
+
+// The same factor, offset, square or square root in every differing value compared.
+std::string value_shape(const Differences& d) {
+  const FunctionProbe& probe = d.probe;
+  std::vector<std::pair<double, double>> pairs;  // (got, expected) per component
+  for (size_t i : d.cases)
+    if (!probe.cases[i].finite_only && finite(probe, d.got.values[i]))
+      for (int k = 0; k < d.components; ++k)
+        if (std::abs(d.expected[i][k]) > d.zero) pairs.emplace_back(d.got.values[i][k], d.expected[i][k]);
+  auto all_pairs = [&](auto fits) {
+    if (pairs.empty()) return false;
+    for (const auto& [s, e] : pairs)
+      if (!fits(s, e)) return false;
+    return true;
+  };
+  if (static_cast<size_t>(d.non_finite) == d.cases.size()) {
+    return "each not a number or infinite (a denominator reaching 0 without a guard?)";
+  } else if (const double k = pairs.empty() ? 1.0 : pairs.front().first / pairs.front().second;
+             !pairs.empty() && std::abs(k - 1.0) > kShapeTolerance && all_pairs([&](double s, double e) { return near(s / e, k); })) {
+    return factor_text(k);
+  } else if (const double offset = pairs.empty() ? 0.0 : pairs.front().first - pairs.front().second;
+             !pairs.empty() && all_pairs([&](double s, double e) { return near(s - e, offset); })) {
+    return std::string("each ") + (offset > 0 ? "higher" : "lower") + " by " + number(std::abs(offset));
+  } else if (all_pairs([](double s, double e) { return near(s, e * e); })) {
+    return "each the square of the expected value";
+  } else if (all_pairs([](double s, double e) { return e > 0 && near(s, std::sqrt(e)); })) {
+    return "each the square root of the expected value";
+  }
+  return "";
+}
+
+// Two scalar arguments swapped: each differing value is the expected one at the case with
+// those two arguments exchanged.
+std::string swapped_arguments_shape(const Differences& d) {
+  const FunctionProbe& probe = d.probe;
+  std::vector<int> offsets;
+  int at = 0;
+  for (const ProbeArgument& a : probe.arguments) {
+    offsets.push_back(a.type == ProbeType::Float ? at : -1);
+    at += components(a.type);
+  }
+  for (size_t a = 0; a < offsets.size(); ++a)
+    for (size_t b = a + 1; b < offsets.size(); ++b) {
+      if (offsets[a] < 0 || offsets[b] < 0) continue;
+      bool fits = true;
+      for (size_t i : d.cases) {
+        std::vector<float> swapped = probe.cases[i].inputs;
+        std::swap(swapped[offsets[a]], swapped[offsets[b]]);
+        auto j = std::find_if(probe.cases.begin(), probe.cases.end(), [&](const ProbeCase& c) { return c.inputs == swapped; });
+        if (j == probe.cases.end() || probe.cases[i].finite_only || !finite(probe, d.got.values[i])) {
+          fits = false;
+          break;
+        }
+        const glm::vec4& e = d.expected[static_cast<size_t>(j - probe.cases.begin())];
+        for (int k = 0; k < d.components; ++k) fits = fits && near(d.got.values[i][k], e[k]);
+      }
+      if (fits) return probe.arguments[a].name + " and " + probe.arguments[b].name + " swapped";
+    }
+  return "";
+}
+
+// Only where a scalar argument is 0 or 1 (an edge of its range): every case with no
+// argument at an edge agrees, and there are such cases.
+std::string edge_shape(const Differences& d) {
+  const FunctionProbe& probe = d.probe;
+  auto at_edge = [&](const ProbeCase& c) {
+    int at = 0;
+    bool edge = false;
+    for (const ProbeArgument& a : probe.arguments) {
+      if (a.type == ProbeType::Float) edge = edge || c.inputs[at] == 0.0f || c.inputs[at] == 1.0f;
+      at += components(a.type);
+    }
+    return edge;
+  };
+  bool inner_cases = false, inner_agree = true;
+  for (size_t i = 0; i < probe.cases.size(); ++i)
+    if (!at_edge(probe.cases[i])) {
+      inner_cases = true;
+      inner_agree = inner_agree && !d.differs[i];
+    }
+  return !probe.pass && inner_cases && inner_agree ? "only where an argument is 0 or 1" : "";
+}
+
+// The shape of the difference over the differing values, in words; "" where none fits.
+std::string difference_shape(const Differences& d) {
+  std::string shape = value_shape(d);
+  if (shape.empty()) shape = swapped_arguments_shape(d);
+  if (shape.empty()) shape = edge_shape(d);
+  return shape;
+}
+
+}  // namespace
+
+std::string FunctionProbe::title() const {
+  const std::string& name = pass ? file : function;
+  return setting.empty() ? name : name + " (" + setting + ")";
+}
+
+std::string FunctionProbe::part() const { return !pass ? function : term.empty() ? file : file + ", " + term; }
+
+FrameCamera geometry_probe_camera(const glm::mat4& view) {
+  FrameCamera camera;
+  camera.view = view;
+  camera.znear = 0.0f;
+  camera.zfar = 2.0f;
+  camera.projection = glm::ortho(-1.0f, 1.0f, -1.0f, 1.0f, camera.znear, camera.zfar);
+  camera.position = glm::vec3(glm::inverse(view)[3]);
+  return camera;
+}
+
+glm::vec3 geometry_probe_view_point(int index, int count) {
+  return glm::vec3(-1.0f + (2.0f * static_cast<float>(index) + 1.0f) / static_cast<float>(count), 0.0f, -1.0f);
+}
+
+Vertex geometry_probe_vertex(const std::vector<float>& in) {
+  Vertex v{};
+  v.normal = glm::vec3(in.at(0), in.at(1), in.at(2));
+  v.tangent = glm::vec4(in.at(3), in.at(4), in.at(5), in.at(6));
+  v.texcoord = glm::vec2(in.at(7), in.at(8));
+  v.texcoord1 = glm::vec2(in.at(9), in.at(10));
+  for (int c = 0; c < 4; ++c) v.color[c] = vertex_color_component(in.at(11 + static_cast<size_t>(c)));
+  return v;
+}
+
+const std::vector<FunctionProbe>& function_probes(int lab) {
+  // Each lab's made on first use, so that grading one lab reads only what it needs: labs 2
+  // and 3's functions come from their contract (tools/grade/lab_functions.json), whose
+  // error then costs those labs alone; the passes' set-ups (labs 1, 4, 5 and 6) are drawn here.
+  static const std::vector<FunctionProbe> none;
+  switch (lab) {
+    case 1: { static const std::vector<FunctionProbe> probes = make_geometry(1); return probes; }
+    case 2: { static const std::vector<FunctionProbe> probes = contract_function_probes(2); return probes; }
+    case 3: { static const std::vector<FunctionProbe> probes = contract_function_probes(3); return probes; }
+    case 4: { static const std::vector<FunctionProbe> probes = make_geometry(4); return probes; }
+    case 5: { static const std::vector<FunctionProbe> probes = make_lab5(); return probes; }
+    case 6: { static const std::vector<FunctionProbe> probes = make_lab6(); return probes; }
+    default: return none;
+  }
+}
+
+const std::vector<FunctionProbe>& all_function_probes() {
+  static const std::vector<FunctionProbe> all = [] {
+    std::vector<FunctionProbe> out;
+    for (const Stage& stage : stages())
+      out.insert(out.end(), function_probes(stage.number).begin(), function_probes(stage.number).end());
+    return out;
+  }();
+  return all;
+}
+
+nlohmann::json probe_values_json(const ProbeValues& values) {
+  nlohmann::json out = nlohmann::json::object();
+  if (!values.error.empty()) out["error"] = values.error;
+  nlohmann::json list = nlohmann::json::array();
+  for (const glm::vec4& v : values.values) list.push_back({v.x, v.y, v.z, v.w});
+  out["values"] = list;
+  return out;
+}
+
+namespace {
+
+// JSON has no NaN or infinity: nlohmann writes null, read back as NaN.
+float json_float(const nlohmann::json& v) { return v.is_number() ? v.get<float>() : std::nanf(""); }
+
+}  // namespace
+
+ProbeValues probe_values_from_json(const nlohmann::json& json) {
+  ProbeValues out;
+  if (!json.is_object()) return out;
+  out.error = json.value("error", std::string());
+  if (json.contains("values") && json["values"].is_array())
+    for (const auto& v : json["values"])
+      if (v.is_array() && v.size() == 4)
+        out.values.emplace_back(json_float(v[0]), json_float(v[1]), json_float(v[2]), json_float(v[3]));
+  return out;
+}
+
+nlohmann::json probes_reference_json(const std::vector<std::pair<const FunctionProbe*, ProbeValues>>& expected) {
+  nlohmann::json probes = nlohmann::json::object();
+  for (const auto& [probe, values] : expected) {
+    nlohmann::json cases = nlohmann::json::array();
+    for (size_t i = 0; i < probe->cases.size(); ++i) {
+      nlohmann::json in = nlohmann::json::array(), out = nlohmann::json::array();
+      for (float v : probe->cases[i].inputs) in.push_back(short_decimal(v));
+      for (int k = 0; k < components(probe->result); ++k) out.push_back(short_decimal(values.values.at(i)[k]));
+      nlohmann::json c = {{"in", in}, {"expected", out}};
+      if (probe->cases[i].finite_only) c["finite_only"] = true;
+      cases.push_back(c);
+    }
+    nlohmann::json arguments = nlohmann::json::array();
+    for (const ProbeArgument& a : probe->arguments) arguments.push_back(a.name);
+    probes[probe->id] = {{"lab", probe->lab}, {"file", probe->file}, {"function", probe->function},
+                         {"arguments", arguments}, {"cases", cases}};
+    if (!probe->setting.empty()) probes[probe->id]["setting"] = probe->setting;
+  }
+  return {{"about", "The reference solutions' values of the probed lab functions at fixed inputs "
+                    "(tools/grade/function_probes.h); kit-grade --update-references writes them."},
+          {"probes", probes}};
+}
+
+namespace {
+
+// The stored cases of `probe`, when they are as many as the table's and each has as many
+// inputs and expected values; else null.
+const nlohmann::json* stored_cases(const nlohmann::json& reference, const FunctionProbe& probe) {
+  if (!reference.is_object() || !reference.contains("probes") || !reference["probes"].is_object() ||
+      !reference["probes"].contains(probe.id))
+    return nullptr;
+  const nlohmann::json& stored = reference["probes"][probe.id];
+  if (!stored.is_object() || !stored.contains("cases") || !stored["cases"].is_array()) return nullptr;
+  const nlohmann::json& cases = stored["cases"];
+  if (cases.size() != probe.cases.size()) return nullptr;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const nlohmann::json& c = cases[i];
+    if (!c.is_object() || !c.contains("in") || !c.contains("expected") || !c["in"].is_array() ||
+        !c["expected"].is_array() || c["in"].size() != probe.cases[i].inputs.size() ||
+        c["expected"].size() != static_cast<size_t>(components(probe.result)))
+      return nullptr;
+  }
+  return &cases;
+}
+
+// Inputs equal but for float rounding (sin and cos differ in their last bit between libms).
+bool same_input(float a, float b) { return std::abs(a - b) <= 1e-5f * std::max(1.0f, std::max(std::abs(a), std::abs(b))); }
+
+}  // namespace
+
+std::vector<FunctionProbe> probes_to_run(int lab, const nlohmann::json& reference) {
+  std::vector<FunctionProbe> out = function_probes(lab);
+  for (FunctionProbe& probe : out)
+    if (const nlohmann::json* cases = stored_cases(reference, probe))
+      for (size_t i = 0; i < cases->size(); ++i)
+        for (size_t k = 0; k < probe.cases[i].inputs.size(); ++k)
+          probe.cases[i].inputs[k] = json_float((*cases)[i]["in"][k]);
+  return out;
+}
+
+std::vector<glm::vec4> expected_probe_values(const nlohmann::json& reference, const FunctionProbe& probe) {
+  std::vector<glm::vec4> out;
+  const nlohmann::json* stored = stored_cases(reference, probe);
+  if (!stored) return out;
+  const nlohmann::json& cases = *stored;
+  for (size_t i = 0; i < cases.size(); ++i) {
+    const nlohmann::json& in = cases[i]["in"];
+    const nlohmann::json& expected = cases[i]["expected"];
+    for (size_t k = 0; k < in.size(); ++k)
+      if (!same_input(json_float(in[k]), probe.cases[i].inputs[k])) return {};
+    glm::vec4 v(0.0f);
+    for (size_t k = 0; k < expected.size(); ++k) v[static_cast<int>(k)] = json_float(expected[k]);
+    out.push_back(v);
+  }
+  return out;
+}
+
+std::vector<std::string> probes_reference_differences(const nlohmann::json& reference) {
+  std::vector<std::string> out;
+  for (const FunctionProbe& probe : all_function_probes())
+    if (expected_probe_values(reference, probe).empty())
+      out.push_back("probes.json: " + probe.id + " is missing or has other inputs than the probe table");
+  if (reference.is_object() && reference.contains("probes"))
+    for (const auto& [id, value] : reference["probes"].items()) {
+      bool known = false;
+      for (const FunctionProbe& probe : all_function_probes()) known = known || probe.id == id;
+      if (!known) out.push_back("probes.json: " + id + " is no longer probed");
+    }
+  return out;
+}
+
+ProbeOutcome compare_probe(const FunctionProbe& probe, const ProbeValues& got, const std::vector<glm::vec4>& expected) {
+  ProbeOutcome o;
+  // The table's own probe (it outlives the outcome); `probe`'s inputs may be probes.json's.
+  o.probe = &probe;
+  for (const FunctionProbe& p : function_probes(probe.lab))
+    if (p.id == probe.id) o.probe = &p;
+  o.total = static_cast<int>(probe.cases.size());
+  if (!got.error.empty() || got.values.size() != probe.cases.size() || expected.size() != probe.cases.size()) {
+    o.status = kProbeNotRun;
+    o.message = probe.title() + ": not probed (" +
+                (!got.error.empty() ? got.error
+                 : expected.size() != probe.cases.size() ? std::string("no expected values in the references")
+                                                          : std::string("no values")) +
+                ")";
+    return o;
+  }
+  const int n = components(probe.result);
+  double scale = 0.0;
+  for (const glm::vec4& e : expected)
+    for (int k = 0; k < n; ++k)
+      if (std::isfinite(e[k])) scale = std::max(scale, static_cast<double>(std::abs(e[k])));
+  const double relative = probe.srgb_decoded ? kSrgbRelativeTolerance : kRelativeTolerance;
+  const double zero = (probe.srgb_decoded ? kSrgbZeroTolerance : kZeroTolerance) * std::max(1.0, scale);
+  std::vector<size_t> differing;
+  std::vector<bool> differs(probe.cases.size(), false);
+  int non_finite = 0;
+  for (size_t i = 0; i < probe.cases.size(); ++i) {
+    const glm::vec4& s = got.values[i];
+    const glm::vec4& e = expected[i];
+    bool bad = !finite(probe, s);
+    if (!bad && !probe.cases[i].finite_only)
+      for (int k = 0; k < n; ++k) {
+        const double tolerance = relative * std::max(std::abs(s[k]), std::abs(e[k])) + zero;
+        bad = bad || std::abs(static_cast<double>(s[k]) - e[k]) > tolerance;
+      }
+    if (bad) {
+      differing.push_back(i);
+      differs[i] = true;
+      if (!finite(probe, s)) ++non_finite;
+    }
+  }
+  o.differing = static_cast<int>(differing.size());
+  if (differing.empty()) {
+    o.status = kProbeAgrees;
+    o.message = probe.title() + ": agrees at all " + std::to_string(o.total) + (probe.pass ? " texels" : " inputs");
+    return o;
+  }
+  o.status = kProbeDiffers;
+  const size_t first = differing.front();
+  o.first = call_text(probe, first) + (probe.pass ? " writes " : " = ") + value_text(probe, got.values[first]) +
+            (probe.cases[first].finite_only ? ", expected a finite value" : ", expected " + value_text(probe, expected[first]));
+
+  o.shape = difference_shape({probe, got, expected, differing, differs, non_finite, n, zero});
+  o.message = o.first + "; " + std::to_string(o.differing) + " of " + std::to_string(o.total) + (probe.pass ? " texels differ" : " inputs differ") +
+              (o.shape.empty() ? "" : ", " + o.shape);
+  if (!probe.setting.empty()) o.message += " (" + probe.setting + ")";
+  return o;
+}
+
+nlohmann::json probe_outcome_json(const ProbeOutcome& o) {
+  nlohmann::json out = {{"id", o.probe->id},     {"function", o.probe->function}, {"file", o.probe->file},
+                        {"part", o.probe->part()},
+                        {"status", o.status},    {"differing", o.differing},      {"total", o.total},
+                        {"message", o.message}};
+  if (!o.probe->setting.empty()) out["setting"] = o.probe->setting;
+  if (!o.first.empty()) out["first"] = o.first;
+  if (!o.shape.empty()) out["shape"] = o.shape;
+  return out;
+}
+
+nlohmann::json read_probes_reference(const std::filesystem::path& dir) {
+  std::ifstream in(dir / "probes.json");
+  if (!in) return nullptr;
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::exception&) {
+    return nullptr;  // the probes say so ("no expected values"); the images do not depend on it
+  }
+}
+
+std::vector<std::string> write_probes_reference(const std::filesystem::path& dir, const nlohmann::json& probes) {
+  // One line per case, so that a change to one function's values is a diff of its lines.
+  std::string text = "{\n  \"about\": " + probes.value("about", nlohmann::json("")).dump() + ",\n  \"probes\": {";
+  bool first = true;
+  const nlohmann::json listed = probes.value("probes", nlohmann::json::object());
+  for (const auto& [id, probe] : listed.items()) {
+    text += std::string(first ? "" : ",") + "\n    " + nlohmann::json(id).dump() + ": {";
+    first = false;
+    for (const auto& [key, value] : probe.items())
+      if (key != "cases") text += nlohmann::json(key).dump() + ": " + value.dump() + ", ";
+    text += "\"cases\": [";
+    const nlohmann::json cases = probe.value("cases", nlohmann::json::array());
+    for (size_t i = 0; i < cases.size(); ++i) text += std::string(i ? "," : "") + "\n      " + cases[i].dump();
+    text += "\n    ]}";
+  }
+  text += "\n  }\n}\n";
+  const std::filesystem::path path = dir / "probes.json";
+  std::ifstream old(path, std::ios::binary);
+  if (old && std::string(std::istreambuf_iterator<char>(old), {}) == text) return {};
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+  if (!out) throw Error(path.string() + ": cannot write");
+  return {"probes.json"};
+}
+
+std::vector<ProbeOutcome> probe_outcomes(int lab, const nlohmann::json& child, const nlohmann::json& reference) {
+  std::vector<ProbeOutcome> out;
+  const nlohmann::json got = child.is_object() ? child.value("probes", nlohmann::json::object()) : nlohmann::json::object();
+  const std::string error = child.is_object() ? child.value("probes_error", std::string()) : std::string();
+  for (const FunctionProbe& probe : probes_to_run(lab, reference)) {
+    ProbeValues values = probe_values_from_json(got.value(probe.id, nlohmann::json()));
+    if (!error.empty()) values.error = error;
+    else if (!got.contains(probe.id)) values.error = "the renderer did not probe it";
+    out.push_back(compare_probe(probe, values, expected_probe_values(reference, probe)));
+  }
+  return out;
+}
+
+std::vector<std::string> probe_feedback(const std::vector<ProbeOutcome>& probes, bool a_check_failed) {
+  std::vector<std::string> out;
+  int agree = 0;
+  for (const ProbeOutcome& p : probes) {
+    if (p.status == kProbeDiffers) out.push_back((p.probe->pass ? "Your pass " : "Your function ") + p.message);
+    agree += p.status == kProbeAgrees;
+  }
+  if (out.empty() && a_check_failed && agree > 0 && agree == static_cast<int>(probes.size())) {
+    std::string files;
+    for (const ProbeOutcome& p : probes)
+      if (files.find(p.probe->file) == std::string::npos) files += (files.empty() ? "" : " and ") + p.probe->file;
+    if (probes.front().probe->pass)
+      out.push_back("Each of " + files + ", drawn alone, writes what the reference solution's does at every "
+                    "probed texel: look for the mistake elsewhere (custom_effect.frag, or a setting the probes do not draw).");
+    else
+      out.push_back("Every probed function of " + files + " agrees with the reference solution's at all its inputs: "
+                    "look for the mistake where they are called.");
+  }
+  return out;
+}
+
+}  // namespace kit::grade

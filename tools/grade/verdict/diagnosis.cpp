@@ -1,0 +1,131 @@
+#include "verdict/diagnosis.h"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <set>
+
+#include "base/error.h"
+#include "frames/function_probes.h"
+#include "verdict/compare.h"
+
+namespace kit::grade {
+
+namespace {
+
+constexpr float kSteps = 255.0f;  // the file's integers: 0 .. kSteps
+
+}  // namespace
+
+std::vector<float> check_features(const std::vector<float>& signature, bool failed) {
+  std::vector<float> out;
+  out.reserve(signature.size() + 1);
+  for (float v : signature) out.push_back(std::sqrt(std::clamp(v, 0.0f, kSignatureCap) / kSignatureCap));
+  out.push_back(failed ? kFailedWeight : 0.0f);
+  return out;
+}
+
+MistakeSignatures load_mistake_signatures(const std::filesystem::path& file) {
+  MistakeSignatures out;
+  std::ifstream in(file);
+  if (!in) return out;
+  try {
+    const nlohmann::json doc = nlohmann::json::parse(in);
+    for (const auto& m : doc.at("mistakes")) {
+      MistakeSignature s;
+      s.id = m.at("id").get<std::string>();
+      s.description = m.at("description").get<std::string>();
+      s.family = m.value("family", s.id);
+      std::set<std::string> failed;
+      for (const auto& key : m.value("failed", nlohmann::json::array())) failed.insert(key.get<std::string>());
+      for (const auto& [key, values] : m.at("signatures").items()) {
+        std::vector<float>& v = s.checks[key];
+        for (const auto& q : values) v.push_back(std::clamp(static_cast<float>(q.get<int>()), 0.0f, kSteps) / kSteps);
+        v.push_back(failed.count(key) ? kFailedWeight : 0.0f);
+      }
+      if (m.contains("functions") && m["functions"].is_array()) {
+        s.probed = true;
+        for (const auto& f : m["functions"]) s.functions.insert(f.get<std::string>());
+      }
+      out.labs[m.at("lab").get<int>()].push_back(std::move(s));
+    }
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(file.string() + ": not a mistake signature file (" + e.what() + ")");
+  }
+  return out;
+}
+
+double signature_similarity(const std::map<std::string, std::vector<float>>& a,
+                            const std::map<std::string, std::vector<float>>& b) {
+  double dot = 0.0, aa = 0.0, bb = 0.0;
+  const auto pair = [&](double x, double y) {
+    dot += x * y;
+    aa += x * x;
+    bb += y * y;
+  };
+  for (const auto& [key, va] : a) {
+    auto it = b.find(key);
+    if (it == b.end() || va.empty() || it->second.empty()) {
+      for (float x : va) aa += static_cast<double>(x) * x;
+      if (it != b.end())
+        for (float y : it->second) bb += static_cast<double>(y) * y;
+      continue;
+    }
+    // Over the signature both have, then the failed flags (each vector's last value): every
+    // value where the lengths agree; where one side has more (lab 7's volume evidence, which
+    // a browser cannot count), those are left out.
+    const std::vector<float>& vb = it->second;
+    const size_t n = std::min(va.size(), vb.size());
+    for (size_t i = 0; i + 1 < n; ++i) pair(va[i], vb[i]);
+    pair(va.back(), vb.back());
+  }
+  for (const auto& [key, vb] : b)
+    if (!a.count(key))
+      for (float y : vb) bb += static_cast<double>(y) * y;
+  return aa > 0.0 && bb > 0.0 ? dot / std::sqrt(aa * bb) : 0.0;
+}
+
+namespace {
+
+// How alike a mistake's differing functions and the submission's are: the Jaccard index of
+// the two sets (1 when both are empty: every function agrees for both), 0 without probes.
+double probe_agreement(const MistakeSignature& s, const std::set<std::string>* differing) {
+  if (!differing || !s.probed) return 0.0;
+  if (s.functions.empty() && differing->empty()) return 1.0;
+  size_t common = 0;
+  for (const std::string& f : s.functions) common += differing->count(f);
+  return static_cast<double>(common) / static_cast<double>(s.functions.size() + differing->size() - common);
+}
+
+}  // namespace
+
+std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, int lab,
+                                           const std::map<std::string, std::vector<float>>& submission,
+                                           const std::set<std::string>* differing) {
+  std::vector<LikelyMistake> named;
+  auto it = signatures.labs.find(lab);
+  if (it == signatures.labs.end()) return named;
+  struct Ranked {
+    LikelyMistake mistake;
+    const std::string* family;
+    double rank;
+  };
+  std::vector<Ranked> all;
+  const std::vector<FunctionProbe>& probes = function_probes(lab);
+  const double weight = !probes.empty() && probes.front().pass ? kPassProbeWeight : kProbeWeight;
+  for (const MistakeSignature& s : it->second) {
+    const double similarity = signature_similarity(s.checks, submission);
+    all.push_back({{s.id, s.description, similarity}, &s.family, similarity + weight * probe_agreement(s, differing)});
+  }
+  std::stable_sort(all.begin(), all.end(), [](const Ranked& x, const Ranked& y) { return x.rank > y.rank; });
+  std::set<std::string> families;
+  for (const auto& [m, family, rank] : all) {
+    if (named.size() == kMostNamed) break;
+    if (m.similarity >= kMinNamedSimilarity && families.insert(*family).second) named.push_back(m);
+  }
+  return named;
+}
+
+}  // namespace kit::grade
