@@ -406,8 +406,6 @@ void check_macro_expansion(const AssembledShader& shader, std::uint64_t line_lim
   for (size_t index = 0; std::getline(text, line); ++index) {
     std::vector<std::string> tokens = line_tokens(line, in_comment);
     const bool directive = !tokens.empty() && tokens[0] == "#";
-    std::string macro;
-    std::uint64_t n = 0;
     if (directive && tokens.size() >= 3 && tokens[1] == "define") {
       // The body after the name and, for a function-like macro, its parameter list.
       size_t body = 3;
@@ -422,7 +420,8 @@ void check_macro_expansion(const AssembledShader& shader, std::uint64_t line_lim
       continue;
     }
     // #if and #elif expand their macros too; #include and #version name none.
-    n = expanded(tokens, directive ? 2 : 0, "", &macro);
+    std::string macro;
+    const std::uint64_t n = expanded(tokens, directive ? 2 : 0, "", &macro);
     whole += n;
     if (n > limit || whole > shader_limit) {
       const SourceLine& at = shader.lines.at(std::min(index, shader.lines.size() - 1));

@@ -208,14 +208,13 @@ def main(argv=None):
     rows_file = pathlib.Path(tempfile.mkstemp(prefix="kit-rebaseline-", suffix=".json")[1])
     signatures = ROOT / "tools/grade/references/mistakes.json"
     signed = signatures.read_bytes() if signatures.is_file() else b""
-    status = run([sys.executable, ROOT / "instructor/grading/self_check.py", "--kit-grade", kit_grade,
-                  "--write-signatures", signatures, "--json", rows_file], env=env, stdout=subprocess.DEVNULL)
+    self_check = [sys.executable, ROOT / "instructor/grading/self_check.py", "--kit-grade", kit_grade, "--json", rows_file]
+    status = run([*self_check, "--write-signatures", signatures], env=env, stdout=subprocess.DEVNULL)
     if signatures.is_file() and signatures.read_bytes() != signed:
         # kit-grade named each row's mistakes from the signatures as they were: the naming
         # figures (named_right) need the rows graded once more with the new ones.
         print("  the mistakes' signatures changed: the self-check again, for the naming figures", flush=True)
-        status = run([sys.executable, ROOT / "instructor/grading/self_check.py", "--kit-grade", kit_grade,
-                      "--json", rows_file], env=env, stdout=subprocess.DEVNULL)
+        status = run(self_check, env=env, stdout=subprocess.DEVNULL)
     try:
         rows = json.loads(rows_file.read_text())["rows"]
     except (OSError, ValueError, KeyError):
