@@ -81,9 +81,8 @@ install -m 0644 "$ROOT/instructor/platforms/platform_results.py" "$SFC/platform_
 (cd "$ROOT" && git ls-files -z --cached --others --exclude-standard -- solutions shaders labs tools/grade/grading.json tools/grade/lab_functions.json \
    tools/grade/references 2>/dev/null || find solutions shaders labs tools/grade/grading.json tools/grade/lab_functions.json tools/grade/references -type f -print0) |
   while IFS= read -r -d '' f; do
-    [ -f "$ROOT/$f" ] && [ ! -L "$ROOT/$f" ] || continue
-    mkdir -p "$SFC/kit/$(dirname "$f")" && cp -p "$ROOT/$f" "$SFC/kit/$f"
-  done
+    [ -f "$ROOT/$f" ] && [ ! -L "$ROOT/$f" ] && printf '%s\0' "$f"
+  done | (cd "$ROOT" && xargs -0 -r cp -p --parents -t "$SFC/kit")
 [ -f "$SFC/kit/tools/grade/grading.json" ] && [ -f "$SFC/kit/tools/grade/lab_functions.json" ] || die "the grading data was not copied"
 
 # 3. One question per lab, its solution graded through the entrypoint to measure it.
