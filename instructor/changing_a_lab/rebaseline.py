@@ -113,23 +113,40 @@ def write_calls_doc():
     return new != text
 
 
-def retire_stale(stale_rows, changed):
-    """Marks each STALE row's catalogue entry "retired" (instructor/grading/catalogue.json, written
-    only where one is); returns [(id, lab)]."""
-    if not stale_rows:
+def mark_entries(rows, field, reason):
+    """Gives each row's catalogue entry FIELD = REASON (instructor/grading/catalogue.json, written
+    only where one is), unless it has one; returns [(id, lab)] of the entries marked."""
+    if not rows:
         return []
     path = ROOT / "instructor/grading/catalogue.json"
     catalogue = json.loads(path.read_text(encoding="utf-8"))
-    ids = {r["id"] for r in stale_rows}
-    labs = ",".join(map(str, changed))
+    ids = {r["id"] for r in rows}
     out = []
     for entry in catalogue["entries"]:
-        if entry["id"] in ids and not entry.get("retired"):
-            entry["retired"] = (f"./kit rebaseline (labs {labs}): its find text is no longer in the solution; "
-                                "rewrite its edits against the new solution and remove this, or delete the entry")
+        if entry["id"] in ids and not entry.get(field):
+            entry[field] = reason
             out.append((entry["id"], entry["lab"]))
     path.write_text(json.dumps(catalogue, indent=2, ensure_ascii=False) + "\n", encoding="utf-8")
     return out
+
+
+def retire_stale(stale_rows, changed):
+    """Marks each STALE row's entry "retired": its find text left the solution with the change."""
+    labs = ",".join(map(str, changed))
+    return mark_entries(stale_rows, "retired",
+                        f"./kit rebaseline (labs {labs}): its find text is no longer in the solution; "
+                        "rewrite its edits against the new solution and remove this, or delete the entry")
+
+
+def gap_missed(missed_rows, changed):
+    """Marks each MISSED mistake's entry with a "known_gap": no check shows it under the changed labs'
+    solutions. The entry is still graded (GAP; OK with "caught now" where a later change shows it), and
+    the report lists it to review: make it an equivalent, find a scene that shows it, or keep the gap
+    with a reason of the course's own."""
+    labs = ",".join(map(str, changed))
+    return mark_entries(missed_rows, "known_gap",
+                        f"./kit rebaseline (labs {labs}): keeps full marks under the changed solution; no check of "
+                        "the lab shows it (review: an equivalent now, a scene that shows it, or this gap reworded)")
 
 
 def hashes():
@@ -141,7 +158,15 @@ def hashes():
     return out
 
 
+STEP_STARTED = []  # (number, monotonic start) of each step begun, for the report's step times
+
+
 def step(number, title):
+    """Starts step NUMBER: says what it does and how long the one before took."""
+    ended = time.monotonic()
+    if STEP_STARTED:
+        print(f"  (step {STEP_STARTED[-1][0]}: {ended - STEP_STARTED[-1][1]:.0f} s)", flush=True)
+    STEP_STARTED.append((number, ended))
     print(f"\nrebaseline: step {number}/7: {title}", flush=True)
 
 
@@ -207,14 +232,15 @@ def main(argv=None):
     step(3, f"self-check with signatures, every lab (changed: {','.join(map(str, changed))})")
     rows_file = pathlib.Path(tempfile.mkstemp(prefix="kit-rebaseline-", suffix=".json")[1])
     signatures = ROOT / "tools/grade/references/mistakes.json"
-    signed = signatures.read_bytes() if signatures.is_file() else b""
+    # With --write-signatures, the self-check grades again the caught mistakes of a lab whose
+    # signatures changed, for the names kit-grade gives with the new ones (named_right).
     self_check = [sys.executable, ROOT / "instructor/grading/self_check.py", "--kit-grade", kit_grade, "--json", rows_file]
-    status = run([*self_check, "--write-signatures", signatures], env=env, stdout=subprocess.DEVNULL)
-    if signatures.is_file() and signatures.read_bytes() != signed:
-        # kit-grade named each row's mistakes from the signatures as they were: the naming
-        # figures (named_right) need the rows graded once more with the new ones.
-        print("  the mistakes' signatures changed: the self-check again, for the naming figures", flush=True)
-        status = run(self_check, env=env, stdout=subprocess.DEVNULL)
+    print("  $ " + " ".join(str(c) for c in [*self_check, "--write-signatures", signatures]), flush=True)
+    checked = subprocess.run([str(c) for c in [*self_check, "--write-signatures", signatures]], cwd=ROOT, env=env,
+                             stdout=subprocess.PIPE, text=True)
+    status = checked.returncode
+    # Its table is in the rows; what it did with the signatures is worth a line here.
+    print("".join(f"  {line}\n" for line in checked.stdout.splitlines() if line.startswith("self-check: ")), end="")
     try:
         rows = json.loads(rows_file.read_text())["rows"]
     except (OSError, ValueError, KeyError):
@@ -223,9 +249,11 @@ def main(argv=None):
     # A STALE entry's find text left the solution with the change: retired in the catalogue
     # (self_check.py), named in the report, so that the suite passes and nothing is lost.
     retired = retire_stale([r for r in rows if r.get("verdict") == "STALE"], changed)
-    rows = [r for r in rows if r.get("verdict") != "STALE"]
+    # A MISSED mistake keeps full marks under the new solution: given a known gap, listed to review.
+    gaps = gap_missed([r for r in rows if r.get("verdict") == "MISSED" and r.get("kind") == "mistake"], changed)
+    rows = [r for r in rows if r.get("verdict") != "STALE" and (r["id"], r["lab"]) not in gaps]
     rows_needing = [r for r in rows if r.get("next_step")]
-    if status != 0 and rows and not rows_needing and not retired:
+    if status != 0 and rows and not rows_needing and not retired and not gaps:
         problems.append(f"the self-check exited {status}: run ./kit grade --self-check to see why")
     if rows:
         failed = sum(r["verdict"] not in ("OK", "GAP") for r in rows)
@@ -263,13 +291,15 @@ def main(argv=None):
         if status != 0:
             problems.append("the quick tests failed")
     return report(before, rows_needing, figure_changes, problems, started, tests, calls_changed, probes_left_out,
-                  contract_changes, retired)
+                  contract_changes, retired, gaps)
 
 
 def report(before, rows_needing, figure_changes, problems, started, tests="not run", calls_changed=False,
-           probes_left_out=(), contract_changes=(), retired=()):
+           probes_left_out=(), contract_changes=(), retired=(), gaps=()):
     after = hashes()
     changed = sorted(p for p in set(before) | set(after) if before.get(p) != after.get(p))
+    if STEP_STARTED:
+        print(f"  (step {STEP_STARTED[-1][0]}: {time.monotonic() - STEP_STARTED[-1][1]:.0f} s)", flush=True)
     print("\nrebaseline: report")
     for label, folder in WATCHED.items():
         prefix = str(folder.relative_to(ROOT)) + "/"
@@ -291,6 +321,10 @@ def report(before, rows_needing, figure_changes, problems, started, tests="not r
         print(f"  catalogue entries retired (their find text left the solution; instructor/grading/catalogue.json): "
               f"{len(retired)}" + "".join(f"\n    {i} (lab {lab})" for i, lab in retired)
               + "\n      next step: rewrite each against the new solution and remove its \"retired\", or delete it")
+    if gaps:
+        print(f"  catalogue entries given a known_gap (they keep full marks now; instructor/grading/catalogue.json): "
+              f"{len(gaps)}" + "".join(f"\n    {i} (lab {lab})" for i, lab in gaps)
+              + "\n      next step: review each: an equivalent now, a scene that shows it, or the gap in your words")
     if rows_needing is not None:
         print(f"  catalogue entries that need a decision: {len(rows_needing)}")
         for r in rows_needing:
@@ -301,7 +335,7 @@ def report(before, rows_needing, figure_changes, problems, started, tests="not r
         print(f"  problem: {p}")
     print(f"rebaseline: {time.monotonic() - started:.0f} s; "
           + ("nothing needs a decision" if not problems and not rows_needing else "see above")
-          + ("; commit the changed files with the change that made them" if changed or figure_changes or contract_changes or retired else
+          + ("; commit the changed files with the change that made them" if changed or figure_changes or contract_changes or retired or gaps else
              "; no file changed"))
     return 1 if problems or rows_needing else 0
 

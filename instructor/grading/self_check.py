@@ -190,7 +190,7 @@ def run_kit_grade(cmd, timeout):
     return proc.returncode, [f"kit-grade exited {proc.returncode}: {' '.join(cmd)}"] + tail
 
 
-def grade_lab_batch(lab, jobs, args, work):
+def grade_lab_batch(lab, jobs, args, work, judge_row):
     """All of one lab's rows in one `kit-grade --batch` run (saves a process start per row)."""
     batch, out = work / f"lab{lab}" / "submissions", work / f"lab{lab}" / "results"
     for row, files, lab_name in jobs:
@@ -200,10 +200,10 @@ def grade_lab_batch(lab, jobs, args, work):
            "--jobs", str(args.jobs)] + cpu_limit_args(args)
     status, tail = run_kit_grade(cmd, args.timeout + 10 * len(jobs))
     for row, _, _ in jobs:
-        judge(row, out / row.id, status, tail, args, batch / row.id)
+        judge_row(row, out / row.id, status, tail, args, batch / row.id)
 
 
-def grade_one(row, files, lab_name, args, work):
+def grade_one(row, files, lab_name, args, work, judge_row):
     """One row, one `kit-grade SUBMISSION` run (--no-batch)."""
     folder = work / f"lab{row.lab}-{row.id}"
     write_submission(folder / "submission", lab_name, files)
@@ -212,7 +212,45 @@ def grade_one(row, files, lab_name, args, work):
     cmd = [str(args.kit_grade), str(folder / "submission"), "--labs", str(row.lab), "--out", str(out), "--jobs", "1"]
     cmd += cpu_limit_args(args)
     status, tail = run_kit_grade(cmd, args.timeout)
-    judge(row, out, status, tail, args, folder / "submission")
+    judge_row(row, out, status, tail, args, folder / "submission")
+
+
+def grade_jobs(jobs, args, judge_row=None):
+    """Grades every job, one kit-grade --batch run per lab (or one run per row with --no-batch), in a
+    temporary folder of their own; judge_row (default judge) reads each row's result."""
+    judge_row = judge_row or judge
+    work = Path(tempfile.mkdtemp(prefix="kit-self-check-"))
+    try:
+        by_lab = {}
+        for job in jobs:
+            by_lab.setdefault(job[0].lab, []).append(job)
+        for lab, lab_jobs in sorted(by_lab.items()):
+            if sys.stderr.isatty():
+                print(f"self-check: lab {lab}: grading {len(lab_jobs)} submissions", file=sys.stderr, flush=True)
+            if args.no_batch:
+                with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
+                    list(pool.map(lambda j: grade_one(*j, args, work, judge_row), lab_jobs))
+            else:
+                grade_lab_batch(lab, lab_jobs, args, work, judge_row)
+    except Exception as e:  # a bug or a full disk must still end in a table that says so
+        for row, _, _ in jobs:
+            if not row.verdict:
+                row.verdict = "ERROR"
+                row.details = [f"self-check stopped: {type(e).__name__}: {e}"]
+    finally:
+        if args.keep:
+            print(f"self-check: submissions and results kept in {work}")
+        else:
+            shutil.rmtree(work, ignore_errors=True)
+
+
+def judge_names(row, out, status, tail, args, submission):
+    """Takes only the mistakes kit-grade named from a row graded again (the rest is as judged before)."""
+    try:
+        lab = json.loads((out / "summary.json").read_text())["labs"][str(row.lab)] if status == 0 else None
+        row.named = [m.get("id") for m in lab.get("likely_mistakes", [])]
+    except (OSError, ValueError, KeyError, TypeError, AttributeError) as e:
+        row.details.append(f"graded again for its names, kit-grade gave none ({type(e).__name__}: {e}): {out}")
 
 
 def judge(row, out, status, tail, args, submission):
@@ -429,7 +467,8 @@ def similarity(a, b):
 
 def write_signatures(path, rows, labs=None):
     """Writes the rows' signatures to PATH; with LABS (self-check --lab), those of the other labs are kept from the
-    file as it was. The file is left as it is, byte for byte, when its text would not change."""
+    file as it was. The file is left as it is, byte for byte, when its text would not change. Returns the labs
+    whose entries changed."""
     mistakes = [dict({"id": r.id, "lab": r.lab, "description": r.description, "family": r.family,
                       "signatures": encoded(r.signatures), "failed": sorted(r.failed_checks)},
                      **({"functions": sorted(differing_functions(r))} if probed_lab(r) else {}))
@@ -445,11 +484,17 @@ def write_signatures(path, rows, labs=None):
                     "`kit grade --self-check --write-signatures`; kit-grade names the closest for a failed lab.",
            "mistakes": mistakes}
     text = json.dumps(doc, separators=(",", ":")) + "\n"
+    try:
+        before = json.loads(path.read_text()).get("mistakes", []) if path.is_file() else []
+    except ValueError:
+        before = []
     if path.is_file() and path.read_text() == text:
         print(f"self-check: {len(mistakes)} mistakes' signatures unchanged in {path}")
-        return
+        return set()
     path.write_text(text)
     print(f"self-check: {len(mistakes)} mistakes' signatures written to {path}")
+    by_lab = lambda ms, lab: [m for m in ms if m.get("lab") == lab]
+    return {lab for lab in {m.get("lab") for m in mistakes + before} if by_lab(mistakes, lab) != by_lab(before, lab)}
 
 
 # What to do about a row that needs attention, for an instructor who has just changed a lab
@@ -674,39 +719,26 @@ def main(argv=None):
             print(f"self-check: kit-grade not found at {args.kit_grade} (build it with ./kit setup, "
                   "or pass --kit-grade PATH)", file=sys.stderr)
             return 2
-        work = Path(tempfile.mkdtemp(prefix="kit-self-check-"))
-        try:
-            by_lab = {}
-            for job in jobs:
-                by_lab.setdefault(job[0].lab, []).append(job)
-            for lab, lab_jobs in sorted(by_lab.items()):
-                if sys.stderr.isatty():
-                    print(f"self-check: lab {lab}: grading {len(lab_jobs)} submissions", file=sys.stderr, flush=True)
-                if args.no_batch:
-                    with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-                        list(pool.map(lambda j: grade_one(*j, args, work), lab_jobs))
-                else:
-                    grade_lab_batch(lab, lab_jobs, args, work)
-        except Exception as e:  # a bug or a full disk must still end in a table that says so
-            for row, _, _ in jobs:
-                if not row.verdict:
-                    row.verdict = "ERROR"
-                    row.details = [f"self-check stopped: {type(e).__name__}: {e}"]
-        finally:
-            if args.keep:
-                print(f"self-check: submissions and results kept in {work}")
-            else:
-                shutil.rmtree(work, ignore_errors=True)
+        grade_jobs(jobs, args)
 
     print_table(rows, args.wide)
     if retired:
         print(f"\nretired, not graded ({len(retired)}): " + ", ".join(e["id"] for e in retired)
               + " (rewrite each against the new solution and remove its \"retired\", or delete it)")
-    if args.write_signatures:
-        write_signatures(args.write_signatures,
-                         [r for r in rows if r.kind in ("mistake", "starter") and r.passed and r.status == "graded"],
-                         args.lab)
     caught = [r for r in rows if r.kind == "mistake" and r.passed and r.status == "graded"]
+    if args.write_signatures:
+        changed = write_signatures(args.write_signatures,
+                                   [r for r in rows if r.kind in ("mistake", "starter") and r.passed
+                                    and r.status == "graded"], args.lab)
+        # kit-grade named each mistake from the signatures as they were: the naming figures
+        # (named_right) want the names it gives with the new ones. A lab's names come from its
+        # own entries only (diagnosis.cpp), so only its caught mistakes are graded again.
+        again = [job for job in jobs if job[0] in caught and job[0].lab in changed]
+        if again:
+            print(f"self-check: the signatures of lab{'s' if len(changed) > 1 else ''} "
+                  f"{', '.join(map(str, sorted(changed)))} changed: their {len(again)} caught mistakes graded "
+                  "again for the names kit-grade gives now")
+            grade_jobs(again, args, judge_names)
     naming = naming_counts(caught) if caught else None
     if naming:
         print()

@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # The worked example of instructor/changing_a_lab/README.md, end to end: lab 2's geometric
 # term replaced by Smith's with Schlick-GGX (smith_schlick_ggx.patch: the solution, the
-# starter, the handout's formula, the CPU reference, lab 6's call and the catalogue entries),
+# starter, the handout's formula, the CPU reference and lab 6's call: five files by hand),
 # then the one command, ./kit rebaseline, on a copy of this kit with this build's programs.
 #   1. the patch applies to the kit as it is (a change to lab 2 or 6 that breaks it fails here:
 #      make the patch again against the new files);
 #   2. witness: before the rebaseline, the new solution loses points against the old references;
 #   3. rebaseline --labs 2 --no-tests exits 0: references and signatures made again, the
-#      self-check of labs 2-7 passes, nothing needs a decision;
+#      self-check of labs 2-7 passes, nothing needs a decision; the mistake the new term hides
+#      (lighting-position-from-depth) is given a known gap, listed to review;
 #   4. then the new solutions of labs 2 and 6 get full marks, and the kit's own lab 2 (the
 #      min(1, ...) term) loses points.
 # Run: changing_a_lab_test.sh BUILD_DIR WORK_DIR
@@ -124,6 +125,14 @@ else
 fi
 grep -q "catalogue entries that need a decision: 0" "$WORK/rebaseline.log" && ok "no catalogue entry needs a decision" ||
   fail "the report names catalogue entries to decide on"
+gap="$(python3 -c 'import json, sys
+entries = json.load(open(sys.argv[1]))["entries"]
+print(next((e.get("known_gap", "") for e in entries if e["id"] == "lighting-position-from-depth"), ""))' \
+  "$COPY/instructor/grading/catalogue.json")"
+# A course that adopted the change has its own gap there already: the rebaseline keeps it.
+[ -n "$gap" ] && { grep -q "lighting-position-from-depth (lab 2)" "$WORK/rebaseline.log" || [ "${gap#./kit rebaseline}" = "$gap" ]; } &&
+  ok "the mistake Smith's G hides is given a known gap and listed to review: ${gap:0:60}..." ||
+  fail "lighting-position-from-depth has no known gap, or the report does not list it"
 if [ -n "$restored" ]; then
   ok "the report lists $(sed -n 's/^  references changed: //p' "$WORK/rebaseline.log") changed references (this course's are its own lab's already)"
 else
