@@ -36,6 +36,10 @@ function fail(message) {
 }
 
 const md = new MarkdownIt({html: true, linkify: false, typographer: false});
+// The documents hold no HTML blocks, only comments (the checked figures' <!--figure NAME-->
+// and the instructors' markers): a line that starts with one stays in its paragraph, so that
+// the Markdown after the comment on that line is read as Markdown.
+md.disable("html_block");
 // A .mjs file imports a CommonJS module as node does: its exports, whose default is the plug-in.
 md.use(katexPlugin.default || katexPlugin, {throwOnError: false});  // errors come out as .katex-error, reported below
 md.use(anchor, {slugify: (text) => slug(text), tabIndex: -1});
