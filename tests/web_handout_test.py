@@ -69,7 +69,8 @@ def instructors_fragments():
         for md in sorted((KIT_ROOT / folder).glob("*.md")):
             text = md.read_text(encoding="utf-8")
             sections = student_copy._WHOLE_LINES.findall(text) + student_copy._INLINE.findall(text)
-            runs = [" ".join(r.split()) for s in sections for r in re.findall(r"[A-Za-z0-9 ,.;:'()/_-]{%d,}" % MIN_FRAGMENT, s)]
+            plain = r"[A-Za-z0-9 ,.;:'()/_-]{%d,}" % MIN_FRAGMENT
+            runs = [" ".join(r.split()) for s in sections for r in re.findall(plain, s)]
             if runs:
                 out[f"{folder}/{md.name}"] = [r for r in runs if len(r) >= MIN_FRAGMENT]
     return out
@@ -110,12 +111,13 @@ class Test:
         return self.page.wait(f"document.body.dataset.handout === {json.dumps(expected)}", f"handout {expected}")
 
     def resources(self, part):
-        return self.js(f"performance.getEntriesByType('resource').map(e => e.name).filter(n => n.includes({json.dumps(part)}))")
+        return self.js("performance.getEntriesByType('resource').map(e => e.name)"
+                       f".filter(n => n.includes({json.dumps(part)}))")
 
 
 def first_visit_and_formulas(t):
     t.page.load(f"{t.origin}/own/index.html?{QUERY}")
-    before = t.resources("/doc/")
+    before = t.resources("/doc/") + t.resources("kit-doc.css")
     t.expect(before == [] and t.js("document.getElementById('handout-panel').hidden"),
              "a first visit loads no document and no KaTeX (the pane closed)", before)
     # Opened from the keyboard: the button focused, Enter.
@@ -124,9 +126,10 @@ def first_visit_and_formulas(t):
         t.page.chromium.call("Input.dispatchKeyEvent", type=kind, key="Enter", code="Enter", windowsVirtualKeyCode=13,
                              text="\r" if kind == "keyDown" else "")
     t.wait_handout(f"{LAB2}#")
-    after = t.resources("/doc/")
-    t.expect(any(n.endswith("katex.min.css") for n in after) and any(n.endswith("02-lighting.html") for n in after),
-             "witness: the opened pane loads KaTeX's style sheet and the handout", [n.split("/doc/")[1] for n in after])
+    after = t.resources("/doc/") + t.resources("kit-doc.css")
+    t.expect(all(any(n.endswith(end) for n in after) for end in ("katex.min.css", "kit-doc.css", "02-lighting.html")),
+             "witness: the opened pane loads KaTeX's style sheet, the documents' and the handout",
+             [n.split("/")[-1] for n in after])
     t.expect(t.js("document.getElementById('handout-toggle').getAttribute('aria-expanded')") == "true",
              "the handout's button says it is expanded", "aria-expanded")
     math = t.js("""(() => {
@@ -167,7 +170,8 @@ def links(t):
                       s.dispatchEvent(new Event('change')); }})()""")
     t.wait_handout(f"{LAB2}#")
     before = t.js("[kitPage.ui.stage.name, kitPage.ui.solution]")
-    href = t.js("(() => { const a = document.querySelector('#handout-body a[data-view]'); a.click(); return a.dataset.view; })()")
+    href = t.js("(() => { const a = document.querySelector('#handout-body a[data-view]'); a.click();"
+                " return a.dataset.view; })()")
     t.page.wait("kitPage.ui.stage.name === 'lighting' && location.search.includes('stage=lighting')", "lab 2 chosen")
     after = t.js("[kitPage.ui.stage.name, kitPage.ui.solution, location.search]")
     t.expect(before == ["gbuffer", True] and after[:2] == ["lighting", False] and "shaders=labs" in after[2],
@@ -185,8 +189,8 @@ def likely_mistake(t):
     where = t.js("""(() => {
       const body = document.getElementById('handout-body'), heading = document.getElementById('doc:common-mistakes');
       const b = body.getBoundingClientRect(), h = heading.getBoundingClientRect();
-      return {scrollTop: body.scrollTop, offset: h.top - b.top, height: b.height, focused: document.activeElement === heading,
-              text: heading.textContent};
+      return {scrollTop: body.scrollTop, offset: h.top - b.top, height: b.height,
+              focused: document.activeElement === heading, text: heading.textContent};
     })()""")
     t.expect(closed and where["scrollTop"] > 500 and 0 <= where["offset"] < where["height"] / 2 and where["focused"],
              "a likely mistake's 'See handouts/02-lighting.md#common-mistakes' opens the closed pane at that section, "
@@ -216,14 +220,16 @@ def layouts(t):
     t.expect(tablet["frame"]["shown"] and tablet["handout"]["shown"], "768x1024: the frame and the handout shown",
              f"frame {tablet['frame']['width']:.0f} px, handout {tablet['handout']['width']:.0f} px wide")
     # Witness: the measure sees a page wider than its window.
-    t.js("document.body.append(Object.assign(document.createElement('div'), {id: 'too-wide', style: 'width: 2000px; height: 1px'}))")
+    t.js("document.body.append(Object.assign(document.createElement('div'),"
+         " {id: 'too-wide', style: 'width: 2000px; height: 1px'}))")
     witness = t.js(LAYOUT)
     t.js("document.getElementById('too-wide').remove()")
     t.expect(witness["scrollWidth"] > witness["innerWidth"], "witness: an element 2000 px wide is seen as overflow",
              f"scrollWidth {witness['scrollWidth']}, window {witness['innerWidth']}")
     t.viewport(1280, 720)
     unlabelled = t.js("""[...document.querySelectorAll('header button, #handout-panel button, #handout-panel select')]
-      .filter(e => !((e.labels && e.labels.length) || e.getAttribute('aria-label') || e.textContent.trim())).map(e => e.id)""")
+      .filter(e => !((e.labels && e.labels.length) || e.getAttribute('aria-label') || e.textContent.trim()))
+      .map(e => e.id)""")
     t.expect(unlabelled == [], "the handout's controls have labels", unlabelled)
 
 
@@ -236,11 +242,11 @@ def student_site(t, root, site):
         return
     own_index = json.loads((site / "doc/index.json").read_text())["documents"]
     class_index = json.loads((root / "lab2/doc/index.json").read_text())["documents"]
-    copy_docs = sorted(f"{p.parent.name}/{p.name}" for folder in ("handouts", "docs") for p in (KIT_ROOT / folder).glob("*.md")
+    copy_docs = sorted(f"{folder}/{p.name}" for folder in ("handouts", "docs") for p in (KIT_ROOT / folder).glob("*.md")
                        if f"{folder}/{p.name}" not in student_copy.INSTRUCTOR_FILES)
     class_docs = sorted(d["path"] for d in class_index)
     t.expect(class_docs == copy_docs and "handouts/instructors.md" in [d["path"] for d in own_index],
-             "the class's site holds its student copy's documents; the kit's own also handouts/instructors.md (witness)",
+             "the class's site holds its student copy's documents; the kit's own also instructors.md (witness)",
              f"{len(class_docs)} documents, the kit's {len(own_index)}")
     seen_own, seen_class = [], []
     for doc, runs in instructors_fragments().items():
@@ -272,7 +278,8 @@ def student_site(t, root, site):
     leak = subprocess.run([sys.executable, str(KIT_ROOT / "instructor/student_copy/leak_check.py"), str(planted), "2",
                            "--kit", str(KIT_ROOT)], capture_output=True, text=True)
     t.expect(leak.returncode == 1 and "doc/page.html" in leak.stdout and html.escape(line) != line,
-             "witness: the leak check finds a solution line written as HTML", f"{html.escape(line)}: exit {leak.returncode}")
+             "witness: the leak check finds a solution line written as HTML",
+             f"{html.escape(line)}: exit {leak.returncode}")
 
 
 def main():

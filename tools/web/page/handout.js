@@ -26,10 +26,10 @@ function setOpen(page, open) {
 
 async function loadIndex(page) {
   if (page.handout.index) return page.handout.index;
-  const link = document.createElement("link");  // KaTeX's style sheet, and through it its fonts
-  link.rel = "stylesheet";
-  link.href = "doc/katex/katex.min.css";
-  document.head.append(link);
+  // KaTeX's style sheet, and through it its fonts, and the documents' own.
+  for (const href of ["doc/katex/katex.min.css", "kit-doc.css"]) {
+    document.head.append(Object.assign(document.createElement("link"), {rel: "stylesheet", href}));
+  }
   const response = await fetch("doc/index.json");
   if (!response.ok) throw new Error(`doc/index.json: ${response.status} ${response.statusText}`);
   const index = (await response.json()).documents;

@@ -128,7 +128,7 @@ function page(doc, title, body) {
   const depth = doc.split("/").length;
   return `<!doctype html>\n<html lang="en"><head><meta charset="utf-8"><base href="${"../".repeat(depth)}">\n` +
          `<title>${md.utils.escapeHtml(title)}</title>\n<link rel="stylesheet" href="doc/katex/katex.min.css">\n` +
-         `<link rel="stylesheet" href="kit-page.css"></head>\n<body><article class="doc" data-doc="${doc}">\n${body}` +
+         `<link rel="stylesheet" href="kit-page.css"><link rel="stylesheet" href="kit-doc.css"></head>\n<body><article class="doc" data-doc="${doc}">\n${body}` +
          `</article></body></html>\n`;
 }
 
