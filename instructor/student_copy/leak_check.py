@@ -15,8 +15,9 @@ collapsed, or only punctuation and keywords (a brace, `return x;`, `#endif`).
 the copy is searched for each solution line, compared line by line after the
 same whitespace collapsing, and long lines also as substrings (a line quoted
 inside a Markdown paragraph). An HTML file (a web site's page and rendered
-documents) is read as its text: without its tags, its entities decoded (a code
-block's `a < b && c` is written `a &lt; b &amp;&amp; c` there). Besides lines, the copy must hold no instructor/
+documents) is searched as it is and again as its text: without its tags, its
+entities decoded (a code block's `a < b && c` is written `a &lt; b &amp;&amp; c`
+there). Besides lines, the copy must hold no instructor/
 folder and no solutions/NN-name of the labs N and later.
 
 Exit status 0 when nothing leaks; 1 with one line per leak (file:line, the
@@ -107,9 +108,9 @@ def copy_files(copy):
             text = path.read_text(encoding="utf-8")
         except (UnicodeDecodeError, OSError):
             continue  # not text: images and the like cannot quote a line
-        if path.suffix.lower() in (".html", ".htm"):
-            text = html.unescape(re.sub(r"<[^>]*>", "", text))
         yield path, text.splitlines()
+        if path.suffix.lower() in (".html", ".htm"):
+            yield path, html.unescape(re.sub(r"<[^>]*>", "", text)).splitlines()
 
 
 def main():
