@@ -4,8 +4,9 @@
 The kit's site (kit-web's build folder) and a class's site built by ./kit web
 --student-copy 2 are served side by side. As a student would:
   * a first visit loads no document and no KaTeX (witness: the pane, once opened, does);
-  * the pane, opened from the keyboard, shows lab 2's handout with its formulas typeset
-    (KaTeX's markup, KaTeX's font loaded) and follows a change of lab;
+  * the pane, opened from the keyboard (and open again on the next visit), shows lab 2's
+    handout with its formulas typeset (KaTeX's markup, KaTeX's font loaded) and follows a
+    change of lab;
   * a link to another document opens it at its section; a handout's "In the browser"
     address sets the controls to that view;
   * "Check my lab" on lab 2's starter names a likely mistake, and its "See
@@ -259,10 +260,12 @@ def student_site(t, root, site):
     t.expect(len(seen_own) >= 10 and seen_class == [],
              "no instructors' section in the class's rendered documents; the kit's own show them (witness)",
              f"{len(seen_own)} passages in the kit's, {len(seen_class)} in the class's: {seen_class[:3]}")
-    # In the browser: lab 2's handout on the class's site, without the instructors' test it names.
+    # In the browser: lab 2's handout on the class's site, without the instructors' test it
+    # names. The pane was left open (on the same origin): the page opens it again by itself.
     t.page.load(f"{t.origin}/lab2/index.html?stage=lighting&size=320x240")
-    t.js("document.getElementById('handout-toggle').click()")
     t.wait_handout(f"{LAB2}#")
+    t.expect(not t.js("document.getElementById('handout-panel').hidden"),
+             "the pane left open is open again after a reload (a first visit's was closed)", "shown")
     shown = t.js("document.getElementById('handout-body').textContent")
     options = t.js("[...document.getElementById('handout-doc').options].map(o => o.value)")
     own_lab2 = text_of((site / "doc/handouts/02-lighting.html").read_text(encoding="utf-8"))
