@@ -22,6 +22,7 @@
 import "core-js/actual/array/at";
 import katexPlugin from "@vscode/markdown-it-katex";
 import {slug} from "github-slugger";
+import katex from "katex";
 import MarkdownIt from "markdown-it";
 import anchor from "markdown-it-anchor";
 import fs from "fs";
@@ -41,7 +42,7 @@ const md = new MarkdownIt({html: true, linkify: false, typographer: false});
 // the Markdown after the comment on that line is read as Markdown.
 md.disable("html_block");
 // A .mjs file imports a CommonJS module as node does: its exports, whose default is the plug-in.
-md.use(katexPlugin.default || katexPlugin, {throwOnError: false});  // errors come out as .katex-error, reported below
+md.use(katexPlugin.default || katexPlugin);  // a formula it cannot typeset: checkFormulas()
 md.use(anchor, {slugify: (text) => slug(text), tabIndex: -1});
 
 // A quoted page address becomes the link to that view.
@@ -54,12 +55,26 @@ md.renderer.rules.code_inline = (tokens, idx, options, env, self) => {
   return `<a href="index.html?${query}" data-view="${query}">${code}</a>`;
 };
 
-// Inline tokens with the source line of the block that holds them.
-function* inlineTokens(tokens) {
+// Every token, the inline ones too, with the source line of the block that holds it.
+function* allTokens(tokens) {
   let line = 0;
   for (const token of tokens) {
     if (token.map) line = token.map[0] + 1;
+    yield [token, line];
     if (token.children) for (const child of token.children) yield [child, line];
+  }
+}
+
+// The plug-in prints a formula KaTeX cannot typeset as an error in the page: here it stops
+// the build instead, at the formula's line.
+function checkFormulas(doc, tokens) {
+  for (const [token, line] of allTokens(tokens)) {
+    if (!token.type.startsWith("math_")) continue;
+    try {
+      katex.renderToString(token.content, {displayMode: token.type !== "math_inline", throwOnError: true});
+    } catch (e) {
+      fail(`${doc}:${line}: a formula KaTeX cannot typeset: ${e.message}`);
+    }
   }
 }
 
@@ -69,7 +84,7 @@ const isExternal = (href) => /^[a-z][a-z0-9+.-]*:/i.test(href);
 // check once every document has its ids.
 function rewrite(doc, tokens, root, documents, out, sectionLinks) {
   const dir = path.posix.dirname(doc);
-  for (const [token, line] of inlineTokens(tokens)) {
+  for (const [token, line] of allTokens(tokens)) {
     const where = `${doc}:${line}`;
     if (token.type === "image") {
       const src = token.attrGet("src");
@@ -163,13 +178,12 @@ function main(argv) {
   for (const doc of documents) {
     const env = {};
     const tokens = md.parse(fs.readFileSync(path.join(root, doc), "utf8"), env);
+    checkFormulas(doc, tokens);
     rewrite(doc, tokens, root, documents, out, sectionLinks);
     ids.set(doc, new Set(Object.keys(env.markdownItAnchor ? env.markdownItAnchor.slugs : {})));
     const heading = tokens.findIndex((t) => t.type === "heading_open" && t.tag === "h1");
     const title = heading >= 0 ? tokens[heading + 1].content : path.basename(doc, ".md");
     const body = md.renderer.render(tokens, md.options, env);
-    const error = /class="katex-error[^"]*" title="([^"]*)"/.exec(body);
-    if (error) fail(`${doc}: a formula KaTeX cannot typeset: ${error[1]}`);
     const file = path.join(out, doc.replace(/\.md$/, ".html"));
     fs.mkdirSync(path.dirname(file), {recursive: true});
     fs.writeFileSync(file, page(doc, title, body));
