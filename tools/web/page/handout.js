@@ -70,7 +70,7 @@ export async function openDoc(page, doc, anchor = "") {
       $("handout-doc").value = doc;
     }
     showSection(anchor);
-    document.body.dataset.handout = `${doc}#${anchor}`;
+    document.body.dataset.handout = `${doc}#${anchor}`;  // what is shown, for the page's test
   } catch (e) {
     body.replaceChildren(Object.assign(document.createElement("p"), {
       className: "error", textContent: `The handout could not be shown: ${e.message || e}`}));
