@@ -1,7 +1,7 @@
 # The browser build in Debian's headless chromium (tests/web_test.py): the site's frames of
 # every stage against kit-render's, within the tolerance the script states, a witness, a
-# refused OBJ scene, and the page's check of every lab against kit-grade's; and the students'
-# page (tests/web_page_test.py). They build nothing: the site is kit-web's build folder, which
+# refused OBJ scene, and the page's check of every lab against kit-grade's; the students'
+# page (tests/web_page_test.py); the handout in it and its layout (tests/web_handout_test.py). They build nothing: the site is kit-web's build folder, which
 # ./kit test builds in the kit with instructor/ (its own suite; KIT_WEB_SITE to test another,
 # such as out/web). A student copy's ./kit test neither builds the site nor has these tests:
 # a student runs ./kit web when they want it.
@@ -22,4 +22,12 @@ if(TARGET kit-render AND KIT_HAS_INSTRUCTOR)
                    $<TARGET_FILE:kit-grade> ${CMAKE_BINARY_DIR}/test-tmp/web-page)
   set_tests_properties(web_page PROPERTIES LABELS web TIMEOUT 300
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes")
+  # The handout in the page (tests/web_handout_test.py): formulas typeset, a likely mistake's
+  # link opening its section, views from a handout's links, the layout at 1280x720, 1920x1080
+  # and a tablet's width, and a class's site (./kit web --student-copy 2) without an
+  # instructors' section. Screenshots in its work folder.
+  add_test(NAME web_handout
+           COMMAND ${KIT_WEB_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/web_handout_test.py ${KIT_WEB_SITE}
+                   ${CMAKE_BINARY_DIR}/test-tmp/web-handout)
+  set_tests_properties(web_handout PROPERTIES LABELS web TIMEOUT 400)
 endif()

@@ -14,13 +14,17 @@ collapsed, or only punctuation and keywords (a brace, `return x;`, `#endif`).
 1's geometry pass: student_copy.py holds such starters back, so those do not count.) Every text file of
 the copy is searched for each solution line, compared line by line after the
 same whitespace collapsing, and long lines also as substrings (a line quoted
-inside a Markdown paragraph). Besides lines, the copy must hold no instructor/
+inside a Markdown paragraph). An HTML file (a web site's page and rendered
+documents) is searched as it is and again as its text: without its tags, its
+entities decoded (a code block's `a < b && c` is written `a &lt; b &amp;&amp; c`
+there). Besides lines, the copy must hold no instructor/
 folder and no solutions/NN-name of the labs N and later.
 
 Exit status 0 when nothing leaks; 1 with one line per leak (file:line, the
 solution file and the line); 2 on bad arguments.
 """
 import argparse
+import html
 import re
 import sys
 from pathlib import Path
@@ -101,9 +105,12 @@ def copy_files(copy):
         if path.suffix.lower() in BINARY_SUFFIXES:
             continue
         try:
-            yield path, path.read_text(encoding="utf-8").splitlines()
+            text = path.read_text(encoding="utf-8")
         except (UnicodeDecodeError, OSError):
             continue  # not text: images and the like cannot quote a line
+        yield path, text.splitlines()
+        if path.suffix.lower() in (".html", ".htm"):
+            yield path, html.unescape(re.sub(r"<[^>]*>", "", text)).splitlines()
 
 
 def main():

@@ -3,6 +3,7 @@
 // each with the student's render, the reference and the difference image, the score and the
 // likely mistakes.
 import {parseDiagnostics} from "./diagnostics.js";
+import {docLink, docLinks} from "./doc_links.js";
 import {compileEdits} from "./edits.js";
 import {kitCall} from "./kit.js";
 import {$} from "./state.js";
@@ -47,7 +48,8 @@ function image(FS, info, caption, worst) {
 
 const points = (n) => (Math.round(n * 100) / 100).toString();
 
-function showCheck(container, FS, lab, answer) {
+function showCheck(page, container, lab, answer) {
+  const FS = page.FS;
   container.replaceChildren();
   const status = answer.status;
   const head = element("p");
@@ -60,7 +62,8 @@ function showCheck(container, FS, lab, answer) {
     head.append(element("strong", {className: "error"}, `Lab ${lab}: not graded: ${why}.`));
   }
   container.append(head);
-  if (answer.message) container.append(element("pre", {className: status === "graded" ? "" : "error"}, answer.message));
+  if (answer.message)
+    container.append(element("pre", {className: status === "graded" ? "" : "error"}, docLinks(page, answer.message)));
   if (answer.seconds && answer.seconds.total !== undefined)
     container.append(element("p", {className: "hint"}, `Rendered and compared in ${answer.seconds.total.toFixed(1)} s.`));
 
@@ -78,8 +81,8 @@ function showCheck(container, FS, lab, answer) {
     const box = element("article", {className: "check " + (check.passed ? "passed" : "failed")});
     box.append(element("h3", {}, `${check.passed ? "Passed" : "Failed"}: ${check.title} `,
                        element("span", {className: "hint"}, `(${check.key}, ${points(check.points)} points)`)));
-    if (check.summary) box.append(element("p", {}, check.summary));
-    if (check.note) box.append(element("p", {className: "hint"}, check.note));
+    if (check.summary) box.append(element("p", {}, docLinks(page, check.summary)));
+    if (check.note) box.append(element("p", {className: "hint"}, docLinks(page, check.note)));
     if (check.worst_pixel) box.append(element("p", {}, "At " + check.worst_pixel + "."));
     if (check.image) box.append(image(FS, check.image, "your render"));
     if (check.reference) box.append(image(FS, check.reference, "reference"));
@@ -92,9 +95,13 @@ function showCheck(container, FS, lab, answer) {
     container.append(element("h3", {}, "Likely mistakes"));
     const list = element("ul");
     for (const m of mistakes)
-      list.append(element("li", {}, `${m.description} `,
+      list.append(element("li", {}, docLinks(page, `${m.description} `),
                           element("span", {className: "hint"}, `(${m.id}, similarity ${Math.round(100 * m.similarity)}%)`)));
     container.append(list);
+    // As kit-grade's report says it (tools/grade/report/report.cpp), a link that opens the pane there.
+    const doc = `handouts/${page.ui.stage.folder}.md`;
+    container.append(element("p", {className: "see-handout"}, "See ",
+                             docLink(doc, "common-mistakes", `${doc}#common-mistakes`), "."));
   } else if (status === "graded" && answer.passed < answer.total) {
     container.append(element("p", {className: "hint"}, "No known mistake matches these renders."));
   }
@@ -120,7 +127,7 @@ export function runCheck(page) {
         className: "error", textContent: `The check could not run: ${answer.error}`}));
       if (parseDiagnostics(answer.error).length) showCompileError(page, answer.error);
     } else {
-      showCheck($("check-body"), page.FS, lab, answer);
+      showCheck(page, $("check-body"), lab, answer);
       if (answer.status === "compile_error" && answer.message) showCompileError(page, answer.message);
       fitCanvas(page);
     }

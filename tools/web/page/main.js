@@ -22,6 +22,8 @@
 //   labs.js         the lab files and their copy in this browser
 //   folder.js       Open folder, Download my labs
 //   check.js        Check my lab
+//   handout.js      the handout pane, and links to documents and views
+//   doc_links.js    a document named in a message, as a link to it
 import {wireCamera} from "./camera.js";
 import {runCheck} from "./check.js";
 import {syncControls, wireControls} from "./controls.js";
@@ -29,6 +31,7 @@ import {parseDiagnostics} from "./diagnostics.js";
 import {LabEditor} from "./editor.js";
 import {compileEdits, onEdit, resetFile, restoreEdits, sayHeldBack} from "./edits.js";
 import {download, openFolder} from "./folder.js";
+import {wireHandout} from "./handout.js";
 import {kitCall} from "./kit.js";
 import {say} from "./messages.js";
 import {wireModels} from "./models.js";
@@ -56,6 +59,7 @@ function start(state, report) {
   wireCamera(page);
   wireModels(page);
   wireContextLoss(page);
+  wireHandout(page);
   $("reset-file").addEventListener("click", () => resetFile(page));
   $("download").addEventListener("click", () => download(page));
   $("download").disabled = false;

@@ -50,6 +50,8 @@ export function createPage() {
     folder: null, folderTimer: 0, polling: false,
     // Dropped models (models.js): [{path, label}].
     droppedCount: 0, droppedScenes: [],
+    // The handout pane (handout.js): the document shown, the site's documents (doc/index.json).
+    handout: {open: false, doc: "", index: null, known: null},
     // Camera moves not sent yet (camera.js).
     camera: {rotate: [0, 0], pan: [0, 0], zoom: 0, scheduled: false},
     // For the page's test (tests/web_page_test.py) and the curious: counters and state.
