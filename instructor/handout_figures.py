@@ -125,6 +125,11 @@ def run(files, sources, write):
     for path in files:
         text, out, at = path.read_text(encoding="utf-8"), [], 0
         for line, key, written, m in figures(path):
+            if m.start() == 0 or text[m.start() - 1] == "\n":
+                # CommonMark reads a line that starts with "<!--" as an HTML block: GitHub would show
+                # the rest of the line, links and all, as raw text.
+                errors.append(f"{shown(path)}:{line}: {key}: a figure starts the line (an HTML block in "
+                              "Markdown: the rest of the line is not rendered); put a word before it")
             try:
                 now = sources.value(key, written)
             except KeyError as e:

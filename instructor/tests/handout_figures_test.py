@@ -39,9 +39,14 @@ def main():
     code, out = run(copy)
     if code != 1 or "lab2.pints: no such figure" not in out:
         failures.append(f"an unknown key should be an error, got exit {code}:\n{out}")
+    # Witness: a figure moved to the start of its line, where Markdown would read an HTML block.
+    copy.write_text(text.replace("· <!--figure lab2.points-->", "·\n<!--figure lab2.points-->"), encoding="utf-8")
+    code, out = run(copy)
+    if code != 1 or "lab2.points: a figure starts the line" not in out:
+        failures.append(f"a figure at the start of a line should be an error, got exit {code}:\n{out}")
     for f in failures:
         print("FAIL:", f)
-    print(f"{4 - len(failures)} passed, {len(failures)} failed")
+    print(f"{5 - len(failures)} passed, {len(failures)} failed")
     return 1 if failures else 0
 
 
