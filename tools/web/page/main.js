@@ -22,6 +22,8 @@
 //   labs.js         the lab files and their copy in this browser
 //   folder.js       Open folder, Download my labs
 //   check.js        Check my lab
+//   notes.js        the student's progress notes, kept
+//   report.js       Progress report
 import {wireCamera} from "./camera.js";
 import {runCheck} from "./check.js";
 import {syncControls, wireControls} from "./controls.js";
@@ -32,6 +34,8 @@ import {download, openFolder} from "./folder.js";
 import {kitCall} from "./kit.js";
 import {say} from "./messages.js";
 import {wireModels} from "./models.js";
+import {wireNotes} from "./notes.js";
+import {wireReport} from "./report.js";
 import {$, createPage} from "./state.js";
 import {openStageFiles, showCompileError} from "./tabs.js";
 import {firstFrameArguments, initialState, kitArguments, updateURL} from "./url.js";
@@ -65,6 +69,8 @@ function start(state, report) {
     requestDraw(page);
   });
   $("check").addEventListener("click", () => runCheck(page));
+  wireNotes(page);
+  wireReport(page);
   if ("showDirectoryPicker" in window) {
     $("open-folder").hidden = false;
     $("open-folder").disabled = false;
