@@ -60,7 +60,7 @@ def timing_fields(timing):
 
 def lab_fields(lab, entry, results, grade_dir, timing, problem):
     """One lab's fields: its line on the title page and its own section."""
-    fields = {"number": lab, "stage": STAGES[lab], **timing_fields(timing)}
+    fields = {"number": lab, "stage": STAGES[lab], "graded": False, **timing_fields(timing)}
     if not entry:
         fields.update({"score": "not graded", "score_class": "muted", "result": "", "line": "not graded",
                        "not_graded": problem, "has_checks": False})
@@ -78,7 +78,7 @@ def lab_fields(lab, entry, results, grade_dir, timing, problem):
     # first in each failed check's text.
     guess = (entry["likely_text"] + " ") if entry.get("likely_text") else ""
     checks = [check_fields(key, c, guess, grade_dir, graded) for key, c in ordered_checks(lab, entry, results)]
-    fields.update({"score": score, "score_class": score_class(entry["score"], entry["max_score"]), "result": result,
+    fields.update({"graded": graded, "score": score, "score_class": score_class(entry["score"], entry["max_score"]), "result": result,
                    "line": f"{score}   ({result})", "checks": checks, "has_checks": bool(checks),
                    "message": None if graded else (entry.get("message") or "(no message)")})
     return fields

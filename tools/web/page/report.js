@@ -61,7 +61,7 @@ function likelyText(answer) {
 // One lab's fields of the layout, from kit-web's check answer (as layout.py's lab_fields does
 // from kit-grade's).
 function labFields(FS, stage, answer, timing) {
-  const fields = {number: stage.number, stage: stage.name, ...timing};
+  const fields = {number: stage.number, stage: stage.name, graded: false, ...timing};
   if (answer.error) {
     return {...fields, score: "not graded", score_class: "muted", result: "", line: "not graded",
             not_graded: answer.error, has_checks: false};
@@ -77,7 +77,7 @@ function labFields(FS, stage, answer, timing) {
     image: pngURL(FS, c.image), reference: pngURL(FS, c.reference), diff: pngURL(FS, c.diff),
     reference_caption: c.key === "custom-on" ? "yours, effect off" : null,
   }));
-  return {...fields, score, score_class: answer.score >= answer.max_score - 1e-9 ? "full" : "short", result,
+  return {...fields, graded, score, score_class: answer.score >= answer.max_score - 1e-9 ? "full" : "short", result,
           line: `${score}   (${result})`, checks, has_checks: checks.length > 0,
           message: graded ? null : (answer.message || "(no message)")};
 }
@@ -150,7 +150,8 @@ export async function makeReport(page) {
   const fields = reportFields(page, labs, seconds);
   const html = Mustache.render(TEMPLATE, fields);
   const url = show(page, html);
-  page.kitPage.lastReport = {html, url, seconds, labs: labs.map((l) => ({number: l.number, score: l.score}))};
+  page.kitPage.lastReport = {html, url, seconds, fields,
+                             labs: labs.map((l) => ({number: l.number, stage: l.stage, score: l.score}))};
   status.textContent = `Made in ${seconds.toFixed(0)} s: ${labs.length} labs, total ${fields.total}. Print it or ` +
                        "save it as PDF below (your browser's print dialog: Save as PDF).";
 }
