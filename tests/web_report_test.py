@@ -14,20 +14,17 @@ usage: web_report_test.py SITE_DIR KIT_GRADE WORK_DIR
 Prints how long the page took to check and time every lab.
 """
 import base64
-import functools
-import http.server
 import json
 import pathlib
 import re
 import shutil
 import subprocess
 import sys
-import threading
 import time
 import zipfile
 
 from web_page_test import Page
-from web_test import KIT_ROOT, Chromium, site_problem
+from web_test import KIT_ROOT, Chromium, serve, site_problem
 
 sys.path.insert(0, str(KIT_ROOT / "tools"))
 from progress.layout import format_score, render_html  # noqa: E402
@@ -89,19 +86,12 @@ def main():
         shutil.copy(f, labs_dir / "01-gbuffer" / f.name)
     expected = grader_scores(kit_grade, labs_dir, work / "kit-grade")
 
-    class Quiet(http.server.SimpleHTTPRequestHandler):
-        def log_message(self, *args):
-            pass
-
-    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(Quiet, directory=str(site)))
-    threading.Thread(target=server.serve_forever, daemon=True).start()
-    origin = f"http://127.0.0.1:{server.server_address[1]}"
+    server, origin = serve(site)
     failures = []
 
     def expect(ok, what, saw):
-        print(f"{'ok' if ok else 'FAILED'}: {what}: {saw}")
-        if not ok:
-            failures.append(what)
+        print(("ok: " if ok else "FAILED: ") + f"{what}: {saw}")
+        failures.extend([] if ok else [what])
 
     chromium = Chromium(str(work))
     page = Page(chromium)
