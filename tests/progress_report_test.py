@@ -4,8 +4,9 @@
 Uses only what a student copy has: the starters in labs/ of the labs this kit
 can assemble (labs 1 and 2 in the instructor's kit; a student copy's own lab),
 and for 6. the solutions/ it holds.
-  1. those labs with a notes file: the PDF has a title, a page per lab and notes,
-     page 2 shows images, the notes and the grades are in its text;
+  1. those labs with a notes file: the PDF has a title page, each lab's section from
+     a new page, and the notes last; page 2 shows images, the notes and the grades
+     are in its text;
   2. a lab that does not compile: still a page, with the grader's message;
   3. no references (as in a student copy) and no notes file: a template is
      written and the PDF still comes out, with the student's render;
@@ -13,9 +14,9 @@ and for 6. the solutions/ it holds.
   5. no kit-grade: a clear error.
   6. No words drawn over words (pdftotext -bbox-layout's boxes): on every page of
      the PDFs above (the starters' checks fail) and of a report of every lab this
-     kit can grade, with the solutions it has (passing checks, every lab's titles);
-     and the checker itself finds the column headers of the old layout, which ran
-     into each other.
+     kit can grade, with the solutions it has (passing checks, every lab's titles,
+     each lab's score in its section); and the checker itself finds words that
+     WeasyPrint is told to draw over each other.
 Run: progress_report_test.py KIT_GRADE KIT_RENDER WORK_DIR
 """
 import html
