@@ -3,7 +3,7 @@
 # text), a lab that does not compile, no references and no notes (a student
 # copy), an unwritable output, and no words over words on any page (also in a
 # report of every lab with its solution, each lab's score). Uses poppler-utils (pdfinfo,
-# pdftoppm, pdftotext) and Debian's python3 with WeasyPrint, pystache, Python-Markdown and
+# pdftoppm, pdftotext) and Debian's python3 with WeasyPrint, pystache, markdown-it-py and
 # matplotlib (it reads page images). Included from tests/CMakeLists.txt.
 if(TARGET kit-grade AND TARGET kit-render)
   find_program(KIT_REPORT_PYTHON NAMES python3 PATHS /usr/bin NO_DEFAULT_PATH)

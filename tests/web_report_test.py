@@ -7,7 +7,8 @@ browser's Save as PDF prints it). pdftotext of the PDF holds the name, the notes
 Markdown rendered), and each lab's section with its score: lab 1's and lab 2's as kit-grade
 gives them for the same files (lab 1 full, the starter of lab 2 less: the witness that the
 score is the files' own). The page's HTML is the one layout ./kit progress-report fills:
-the same fields filled by tools/progress/layout.py give the same document. The notes are
+the same fields filled by tools/progress/layout.py give the same document, and the notes
+are rendered as layout.py renders them. The notes are
 kept in this browser (a reload shows them) and are in Download my labs as progress-notes.md.
 
 usage: web_report_test.py SITE_DIR KIT_GRADE WORK_DIR
@@ -27,7 +28,7 @@ from web_page_test import Page
 from web_test import KIT_ROOT, Chromium, serve, site_problem
 
 sys.path.insert(0, str(KIT_ROOT / "tools"))
-from progress.layout import format_score, render_html  # noqa: E402
+from progress.layout import format_score, notes_html, render_html  # noqa: E402
 
 NAME = "Ada Student"
 # Typed into the notes' text area; the PDF must hold their words, the Markdown rendered.
@@ -124,6 +125,10 @@ def main():
         fields = page.js("kitPage.lastReport.fields")
         expect(render_html(fields) == report["html"], "the page's report is report.mustache filled as layout.py fills it",
                f"{len(report['html'])} characters")
+        expect(fields["notes_html"] == notes_html(NOTES), "the page renders the notes as ./kit progress-report does",
+               json.dumps(fields["notes_html"][:60]))
+        shown = page.js("document.getElementById('report-frame').contentDocument.querySelectorAll('section.lab').length")
+        expect(shown == len(report["labs"]), "the page shows the report in its frame, to print", f"{shown} lab sections")
 
         pdf = work / "report.pdf"
         print_to_pdf(chromium, report["url"], pdf)

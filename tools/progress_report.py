@@ -8,7 +8,7 @@ the student's notes (a Markdown file) and, first, a title page.
 
 The layout is HTML (progress/report.mustache, the one the page's "Progress
 report" fills too), printed to PDF by WeasyPrint; the notes' Markdown is rendered
-by Python-Markdown (Debian's weasyprint, python3-markdown and python3-pystache,
+by markdown-it-py (Debian's weasyprint, python3-markdown-it and python3-pystache,
 for /usr/bin/python3). This file reads the command line; the modules of
 progress/ beside it collect the results and fill the layout (progress/__init__.py).
 """

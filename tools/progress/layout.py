@@ -1,8 +1,9 @@
 """The report as the command line writes it: the fields of the one layout (report.mustache,
 also filled by the page's "Progress report", tools/web/page/report.js) from kit-grade's
 results and kit-render's frame times, filled by pystache, the notes' Markdown rendered by
-Python-Markdown, and the HTML printed to PDF by WeasyPrint (Debian's python3-pystache,
-python3-markdown and weasyprint)."""
+markdown-it-py (the Python port of the page's markdown-it, set up alike: the notes look the
+same in both), and the HTML printed to PDF by WeasyPrint (Debian's python3-pystache,
+python3-markdown-it and weasyprint)."""
 import os
 import pathlib
 
@@ -105,9 +106,15 @@ def how_made(info, summary, timings, problem):
     return grading, timing
 
 
+def notes_html(text):
+    """The notes' Markdown as the page renders it (report.js): CommonMark and tables, the raw
+    HTML in them shown as text."""
+    from markdown_it import MarkdownIt
+    return MarkdownIt("commonmark", {"html": False}).enable("table").render(text)
+
+
 def report_fields(info, labs, summary, results, grade_dir, timings, problem, notes_text, notes_path):
     """Every field of report.mustache, as the page's report.js fills them too."""
-    import markdown
     entries = {lab: (summary["labs"].get(str(lab)) if summary else None) for lab in labs}
     graded = [e for e in entries.values() if e]
     total = sum(e["score"] for e in graded)
@@ -120,8 +127,7 @@ def report_fields(info, labs, summary, results, grade_dir, timings, problem, not
             "grading": grading, "timing": timing, "grader_note": note or None,
             "labs": [lab_fields(lab, entries[lab], results, grade_dir, timings[lab],
                                 problem or "the grader returned nothing for this lab") for lab in labs],
-            # The student's own Markdown: fenced code and tables as the page's markdown-it shows them.
-            "notes_html": markdown.markdown(notes_text, extensions=["fenced_code", "tables", "sane_lists"]),
+            "notes_html": notes_html(notes_text),
             "notes_source": notes_path}
 
 

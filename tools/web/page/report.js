@@ -3,7 +3,8 @@
 // (kit-web's "time", as kit-render --frames), then the report's one layout,
 // tools/progress/report.mustache (the one ./kit progress-report fills: layout.py), is filled
 // with the same fields and shown in a frame the browser prints to PDF. The notes' Markdown is
-// rendered by markdown-it, its raw HTML off: the notes are text.
+// rendered by markdown-it as layout.py's markdown-it-py renders it (CommonMark and tables, raw
+// HTML off: the notes are text).
 import MarkdownIt from "markdown-it";
 import Mustache from "mustache";
 import TEMPLATE from "../../progress/report.mustache";
@@ -107,7 +108,7 @@ function reportFields(page, labs, seconds) {
             "else runs: compare them with times taken on the same computer.",
     grader_note: null,
     labs,
-    notes_html: new MarkdownIt({html: false, linkify: true}).render(notesText() || "*(no notes written)*"),
+    notes_html: new MarkdownIt("commonmark", {html: false}).enable("table").render(notesText() || "*(no notes written)*"),
     notes_source: "the notes written in the page",
   };
 }
