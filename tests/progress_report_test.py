@@ -292,13 +292,13 @@ def main():
                  "--out", os.path.join(work, "x.pdf"))
     check(run.returncode == 1 and "kit-grade is not built" in run.stderr, "no kit-grade: exit 1 naming it")
 
-    # The checker sees text over text: the old layout's column headers, and nothing on the page
-    # that fits them to their columns.
+    # The checker sees text over text: headers placed at fixed points that run into each other,
+    # and nothing on the page where a table lays them out.
     witness = os.path.join(work, "overlap-witness.pdf")
     overlap_witness(witness)
     overlaps = word_overlaps(witness)
     check(bool(overlaps) and all(page == 2 for page, _, _ in overlaps) and (2, "render", "reference") in overlaps,
-          f"witness: the old headers overlap on page 2 ('render' over 'reference'), page 1 has none: {overlaps}")
+          f"witness: the headers placed at fixed points overlap on page 2 ('render' over 'reference'), page 1 has none: {overlaps}")
 
     if failures:
         print(f"{len(failures)} check(s) failed")

@@ -22,7 +22,7 @@ import tempfile
 # The progress/ package beside this file, also when the file is loaded by its path
 # (tests/progress_report_test.py).
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from progress.layout import format_score, render_html, report_fields, write_pdf  # noqa: E402
+from progress.layout import check_modules, format_score, render_html, report_fields, write_pdf  # noqa: E402
 from progress.results import (ROOT, LAB_FOLDER, STAGES, TIMING_FRAMES, TIMING_SIZE, ReportError,  # noqa: E402
                               kit_version, measure_frame_time, run_grader, say, student_name)
 
@@ -121,6 +121,7 @@ def main(argv):
     parser.add_argument("--references", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
 
+    check_modules()
     build_tools = os.path.join(ROOT, "build", "default", "tools")
     kit_grade = args.kit_grade or os.path.join(build_tools, "kit-grade")
     kit_render = args.kit_render or os.path.join(build_tools, "kit-render")

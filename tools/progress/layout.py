@@ -4,12 +4,25 @@ results and kit-render's frame times, filled by pystache, the notes' Markdown re
 markdown-it-py (the Python port of the page's markdown-it, set up alike: the notes look the
 same in both), and the HTML printed to PDF by WeasyPrint (Debian's python3-pystache,
 python3-markdown-it and weasyprint)."""
+import importlib.util
 import os
 import pathlib
 
-from .results import STAGES, TIMING_FRAMES, TIMING_SIZE
+from .results import STAGES, TIMING_FRAMES, TIMING_SIZE, ReportError
 
 TEMPLATE = os.path.join(os.path.dirname(os.path.abspath(__file__)), "report.mustache")
+
+
+# The Python modules the layout needs, by the Debian package that has them.
+MODULES = {"weasyprint": "weasyprint", "pystache": "python3-pystache", "markdown_it": "python3-markdown-it"}
+
+
+def check_modules():
+    """Before any grading: the packages the PDF needs are installed, or a clear error naming them."""
+    missing = [package for module, package in MODULES.items() if importlib.util.find_spec(module) is None]
+    if missing:
+        raise ReportError(f"{', '.join(missing)} not installed (the PDF's layout and printing): "
+                          "./kit setup installs them")
 
 
 def format_score(value):
