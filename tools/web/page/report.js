@@ -83,10 +83,23 @@ function labFields(FS, stage, answer, timing) {
           message: graded ? null : (answer.message || "(no message)")};
 }
 
+// The GPU and driver, where the browser tells them (WEBGL_debug_renderer_info); else GL_RENDERER,
+// which browsers mask ("WebKit WebGL").
+function rendererName(page) {
+  try {
+    const gl = page.canvas.getContext("webgl2");
+    const info = gl && gl.getExtension("WEBGL_debug_renderer_info");
+    if (info) return gl.getParameter(info.UNMASKED_RENDERER_WEBGL);
+  } catch (e) {
+    // no answer: the masked name below
+  }
+  return (window.kitReport && window.kitReport.gl && window.kitReport.gl.renderer) || "this browser's WebGL2";
+}
+
 function reportFields(page, labs, seconds) {
   const graded = labs.filter((l) => l.score_class !== "muted");
   const sum = (key) => graded.reduce((t, l) => t + l[key], 0);
-  const gl = (window.kitReport && window.kitReport.gl && window.kitReport.gl.renderer) || "this browser's WebGL2";
+  const gl = rendererName(page);
   const now = new Date();
   const pad = (n) => String(n).padStart(2, "0");
   return {
