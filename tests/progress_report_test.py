@@ -4,8 +4,9 @@
 Uses only what a student copy has: the starters in labs/ of the labs this kit
 can assemble (labs 1 and 2 in the instructor's kit; a student copy's own lab),
 and for 6. the solutions/ it holds.
-  1. those labs with a notes file: the PDF has a title, a page per lab and notes,
-     page 2 shows images, the notes and the grades are in its text;
+  1. those labs with a notes file: the PDF has a title page, each lab's section from
+     a new page, and the notes last; page 2 shows images, the notes and the grades
+     are in its text;
   2. a lab that does not compile: still a page, with the grader's message;
   3. no references (as in a student copy) and no notes file: a template is
      written and the PDF still comes out, with the student's render;
@@ -13,9 +14,9 @@ and for 6. the solutions/ it holds.
   5. no kit-grade: a clear error.
   6. No words drawn over words (pdftotext -bbox-layout's boxes): on every page of
      the PDFs above (the starters' checks fail) and of a report of every lab this
-     kit can grade, with the solutions it has (passing checks, every lab's titles);
-     and the checker itself finds the column headers of the old layout, which ran
-     into each other.
+     kit can grade, with the solutions it has (passing checks, every lab's titles,
+     each lab's score in its section); and the checker itself finds words that
+     WeasyPrint is told to draw over each other.
 Run: progress_report_test.py KIT_GRADE KIT_RENDER WORK_DIR
 """
 import html
@@ -127,25 +128,44 @@ def page_png(path, page, out_prefix):
 
 
 def overlap_witness(path):
-    """A PDF of two pages drawn with the report's own Pdf class: page 1 the lab page's column
-    headers fitted to 0.56 in columns (lab 1's) and a word drawn twice in one place; page 2 the
-    headers as the old layout drew them, 8 pt on one line each, running into each other."""
-    import importlib.util
-    spec = importlib.util.spec_from_file_location("progress_report", SCRIPT)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    pdf = module.Pdf(path)
-    heads = ("your render", "reference", "difference x16")
-    pdf.new_page()
-    size = min(pdf.fitted(h, 0.56, 8, "bold")[1] for h in heads)
-    for i, head in enumerate(heads):
-        pdf.wrapped(5.0 + i * 0.66, 2.0, 0.56, head, size=size, style="bold", line=1.25)
-    pdf.text(1.0, 3.0, "twice", size=9)
-    pdf.text(1.0, 3.0, "twice", size=9)
-    pdf.new_page()
-    for i, head in enumerate(heads):
-        pdf.text(5.0 + i * 0.66, 2.0, head, size=8, style="bold")
-    pdf.close()
+    """A PDF of two pages printed as the report is (its write_pdf): page 1 the lab pages' column
+    headers in their table and a word drawn twice in one place; page 2 the same headers placed
+    at fixed points, running into each other."""
+    sys.path.insert(0, os.path.dirname(SCRIPT))
+    from progress.layout import write_pdf
+    heads = "".join(f"<th>{h}</th>" for h in ("your render", "reference", "difference x16"))
+    fixed = "".join(f'<span style="position:absolute; left:{120 + i * 30}pt; top:100pt; font: bold 8pt sans-serif">{h}</span>'
+                    for i, h in enumerate(("your render", "reference", "difference x16")))
+    write_pdf(f"""<table style="width: 100%; margin-top: 100pt"><tr><th></th>{heads}</tr></table>
+      <span style="position:absolute; left:72pt; top:200pt">twice</span><span style="position:absolute; left:72pt; top:200pt">twice</span>
+      <div style="break-before: page; position: relative">{fixed}</div>""", path)
+
+
+def section_pages(path, labs):
+    """{lab: the page its section starts on} and the notes' page: a section starts a page
+    with its heading (Lab N: name), the notes start the last page."""
+    texts = [pdf_text(path, p) for p in range(1, pdf_pages(path) + 1)]
+    starts = {}
+    for number, text in enumerate(texts, 1):
+        first = text.strip().splitlines()[0] if text.strip() else ""
+        m = re.match(r"\s*Lab (\d+): (\w+)", first)
+        if m and "(continued)" not in first:
+            starts[int(m.group(1))] = number
+    return starts, texts
+
+
+def check_sections(path, labs, what):
+    """Title page first, each lab's section on pages of its own in order, the notes last."""
+    if not os.path.exists(path):
+        check(False, f"{what}: no PDF")
+        return []
+    starts, texts = section_pages(path, labs)
+    expected = [n for n, _ in labs]
+    check(sorted(starts) == expected and list(starts.values()) == sorted(starts.values()) and
+          min(starts.values(), default=0) == 2,
+          f"{what}: the title on page 1, then each lab's section from a new page, in order: {starts}")
+    check("Progress notes" in texts[-1] or "Week 3 progress" in texts[-1], f"{what}: the notes on the last page")
+    return texts
 
 
 def image_area_stats(pixels):
@@ -180,8 +200,7 @@ def main():
         check(run.stdout.strip() == out, f"labs {names}: prints the PDF's path")
         with open(out, "rb") as f:
             check(f.read(5) == b"%PDF-", f"labs {names}: the file starts with %PDF")
-        pages = 2 + len(labs)
-        check(pdf_pages(out) == pages, f"labs {names}: {pages} pages (title, a page per lab, notes): {pdf_pages(out)}")
+        texts = check_sections(out, labs, f"labs {names}")
         colours, non_white = image_area_stats(page_png(out, 2, os.path.join(work, "page2")))
         check(colours > 500, f"page 2 (lab {first}): the image columns hold more than 500 colours: {colours}")
         check(non_white > 0.3, f"page 2 (lab {first}): more than 30 % of the image columns is not white: {non_white:.0%}")
@@ -198,7 +217,7 @@ def main():
             expected_lab += ["0 / 10", f"0 of {lab1_checks} checks passed", "default scene, normal", "failed"]
         for words in expected_lab:
             check(words in lab_page, f"lab {first} page: '{words}'")
-        text = pdf_text(out, pages)
+        text = texts[-1]
         for words in ["Week 3 progress", "the normal matrix is next", "gbuffer.vert", "Still to do: the material channel"]:
             check(words in text, f"notes page: '{words}'")
         check("\u2022" in text, "notes page: the bullet is drawn as a bullet")
@@ -212,7 +231,7 @@ def main():
         out = os.path.join(work, "broken.pdf")
         run = report(kit_grade, kit_render, "--labs-dir", broken, "--labs", str(first), "--notes", notes, "--out", out)
         check(run.returncode == 0, "compile error: exit status 0")
-        check(os.path.exists(out) and pdf_pages(out) == 3, f"compile error: 3 pages (title, lab {first}, notes)")
+        check_sections(out, labs[:1], "compile error")
         lab_page = pdf_text(out, 2) if os.path.exists(out) else ""
         check("compile error" in lab_page and broken_file in lab_page and "syntax error" in lab_page,
               "compile error: the lab page holds the grader's message")
@@ -231,8 +250,17 @@ def main():
         out = os.path.join(work, "every-lab.pdf")
         run = report(kit_grade, kit_render, "--labs-dir", every, "--notes", notes, "--out", out)
         check(run.returncode == 0, "every lab: exit status 0")
-        pages = 2 + len(gradable_labs())
-        check(os.path.exists(out) and pdf_pages(out) == pages, f"every lab: {pages} pages (title, a page per lab, notes)")
+        texts = check_sections(out, gradable_labs(), "every lab")
+        # Each lab's score in its section's heading, as the grader gives it (every check passes
+        # with a solution; the starter of a lab without one scores less than its weight).
+        for n, folder in gradable_labs():
+            weight = ("%.3f" % GRADING["labs"][str(n)]["weight"]).rstrip("0").rstrip(".")
+            solved = os.path.isdir(os.path.join(ROOT, "solutions", folder))
+            heading = next((t for t in texts if re.match(rf"\s*Lab {n}: ", t)), "")
+            found = re.search(r"([\d.]+) / ([\d.]+)", heading)
+            check(found is not None and found.group(2) == weight and (found.group(1) == weight) == solved,
+                  f"every lab: lab {n}'s score in its section, {'full' if solved else 'short of'} {weight}: "
+                  f"{found.group(0) if found else 'none'}")
         overlaps = word_overlaps(out) if os.path.exists(out) else ["none"]
         check(not overlaps, f"every lab: no words over words: {overlaps[:5]}")
     else:
@@ -247,7 +275,7 @@ def main():
     check(run.returncode == 0, "no references: exit status 0")
     check(os.path.exists(template), "no notes: the template was written")
     check("template" in run.stderr, "no notes: the command says so")
-    check(os.path.exists(out) and pdf_pages(out) == 3, "no references: 3 pages")
+    check_sections(out, labs[:1], "no references")
     text = pdf_text(out) if os.path.exists(out) else ""
     check("Not graded here" in text and "references" in text, "no references: the lab page says why it is not graded")
     check("Progress notes" in text, "no notes: the PDF holds the template")
@@ -264,13 +292,13 @@ def main():
                  "--out", os.path.join(work, "x.pdf"))
     check(run.returncode == 1 and "kit-grade is not built" in run.stderr, "no kit-grade: exit 1 naming it")
 
-    # The checker sees text over text: the old layout's column headers, and nothing on the page
-    # that fits them to their columns.
+    # The checker sees text over text: headers placed at fixed points that run into each other,
+    # and nothing on the page where a table lays them out.
     witness = os.path.join(work, "overlap-witness.pdf")
     overlap_witness(witness)
     overlaps = word_overlaps(witness)
     check(bool(overlaps) and all(page == 2 for page, _, _ in overlaps) and (2, "render", "reference") in overlaps,
-          f"witness: the old headers overlap on page 2 ('render' over 'reference'), page 1 has none: {overlaps}")
+          f"witness: the headers placed at fixed points overlap on page 2 ('render' over 'reference'), page 1 has none: {overlaps}")
 
     if failures:
         print(f"{len(failures)} check(s) failed")

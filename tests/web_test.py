@@ -175,6 +175,18 @@ def site_problem(site, needed):
     return None
 
 
+class QuietHandler(http.server.SimpleHTTPRequestHandler):
+    def log_message(self, *args):
+        pass
+
+
+def serve(directory):
+    """A static server of directory on 127.0.0.1 (a free port) in a thread: (server, origin)."""
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), functools.partial(QuietHandler, directory=str(directory)))
+    threading.Thread(target=server.serve_forever, daemon=True).start()
+    return server, f"http://127.0.0.1:{server.server_address[1]}"
+
+
 def kit_call(chromium, command):
     """The page's kit_call(command) (tools/web/kit_web.cpp), its answer as a dict."""
     text = json.dumps(json.dumps(command))

@@ -6,10 +6,11 @@ each with the student's render, the reference and their difference, the
 verdicts and scores, and the stage's frame time (kit-render --frames). Then
 the student's notes (a Markdown file) and, first, a title page.
 
-Written with matplotlib's PDF backend (Debian's python3-matplotlib, which
-belongs to /usr/bin/python3) and numpy; nothing else outside the standard
-library. This file reads the command line; the modules of progress/ beside it
-collect the results and lay out the pages (progress/__init__.py).
+The layout is HTML (progress/report.mustache, the one the page's "Progress
+report" fills too), printed to PDF by WeasyPrint; the notes' Markdown is rendered
+by markdown-it-py (Debian's weasyprint, python3-markdown-it and python3-pystache,
+for /usr/bin/python3). This file reads the command line; the modules of
+progress/ beside it collect the results and fill the layout (progress/__init__.py).
 """
 import argparse
 import datetime
@@ -17,14 +18,11 @@ import os
 import re
 import sys
 import tempfile
-import warnings
 
 # The progress/ package beside this file, also when the file is loaded by its path
 # (tests/progress_report_test.py).
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from progress.notes import notes_pages  # noqa: E402
-from progress.pages import format_score, lab_page, title_page, ungraded_lab_page  # noqa: E402
-from progress.pdf import Pdf  # noqa: E402
+from progress.layout import check_modules, format_score, render_html, report_fields, write_pdf  # noqa: E402
 from progress.results import (ROOT, LAB_FOLDER, STAGES, TIMING_FRAMES, TIMING_SIZE, ReportError,  # noqa: E402
                               kit_version, measure_frame_time, run_grader, say, student_name)
 
@@ -32,8 +30,8 @@ NOTES_TEMPLATE = """\
 # Progress notes
 
 Write here what you did in each lab, what went wrong and how you fixed it.
-`./kit progress-report` puts this file at the end of the PDF; headings, paragraphs,
-bullet lists, `inline code`, **bold** and *italic* are shown.
+`./kit progress-report` puts this file at the end of the PDF, as Markdown: headings,
+paragraphs, lists, `inline code`, **bold**, *italic*, code blocks and tables.
 
 ## What I did
 
@@ -123,6 +121,7 @@ def main(argv):
     parser.add_argument("--references", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
 
+    check_modules()
     build_tools = os.path.join(ROOT, "build", "default", "tools")
     kit_grade = args.kit_grade or os.path.join(build_tools, "kit-grade")
     kit_render = args.kit_render or os.path.join(build_tools, "kit-render")
@@ -177,20 +176,10 @@ def main(argv):
                 if labs_dir.startswith(ROOT + os.sep) else labs_dir,
                 "date": datetime.datetime.now().strftime("%Y-%m-%d %H:%M")}
         partial = os.path.join(os.path.dirname(out), "." + os.path.basename(out) + f".{os.getpid()}.tmp")
+        fields = report_fields(info, labs, summary, results, grade_dir, timings, problem, notes_text,
+                               os.path.relpath(notes_path, ROOT) if notes_path.startswith(ROOT + os.sep) else notes_path)
         try:
-            with warnings.catch_warnings():
-                warnings.simplefilter("ignore")  # e.g. a glyph DejaVu lacks in the notes
-                pdf = Pdf(partial)
-                title_page(pdf, info, labs, summary, timings, problem)
-                for lab in labs:
-                    entry = summary["labs"].get(str(lab)) if summary else None
-                    if entry:
-                        lab_page(pdf, lab, entry, results, grade_dir, timings[lab])
-                    else:
-                        ungraded_lab_page(pdf, lab, timings[lab], problem or "the grader returned nothing for this lab")
-                notes_pages(pdf, notes_text, notes_path)
-                pages = pdf.count
-                pdf.close()
+            pages = write_pdf(render_html(fields), partial)
             os.replace(partial, out)
         except OSError as e:
             raise ReportError(f"cannot write {out}: {e.strerror or e}")

@@ -1,3 +1,3 @@
 """The parts of ./kit progress-report (tools/progress_report.py): results.py collects each
-lab's results, pdf.py draws pages, pages.py lays out the title and lab pages, notes.py the
-student's Markdown notes."""
+lab's results, layout.py fills the report's HTML layout (report.mustache, which the page's
+"Progress report" fills too) and prints it to PDF."""

@@ -134,7 +134,7 @@ Json run_check(int lab_number, const fs::path& lab_root, const fs::path& out_dir
       const Image& reference = own ? renders.at(check.reference) : reference_image;
       const fs::path stem = out_dir / check.key;
       Json row = {{"key", check.key},       {"title", check.title},           {"passed", c.passed},
-                  {"points", c.max_score / 1000.0}, {"summary", c.comparison.summary}, {"note", c.comparison.note},
+                  {"points", c.max_score / 1000.0}, {"score", c.score / 1000.0}, {"summary", c.comparison.summary}, {"note", c.comparison.note},
                   {"metric", metric_name(check.metric)}};
       if (!c.comparison.worst_pixel.empty()) {
         row["worst_pixel"] = c.comparison.worst_pixel;

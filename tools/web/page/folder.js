@@ -5,13 +5,15 @@
 import {compileEdits, saveToFolder} from "./edits.js";
 import {kitCall} from "./kit.js";
 import {say} from "./messages.js";
+import {NOTES_FILE, notesFiles} from "./notes.js";
 import {$} from "./state.js";
 import {markTabs} from "./tabs.js";
 import {drawn} from "./view.js";
 
 export function download(page) {
   compileEdits(page);
-  const bytes = page.labs.zip();
+  const notes = notesFiles();
+  const bytes = page.labs.zip(notes);
   page.kitPage.lastDownload = {name: "labs.zip", bytes};
   const url = URL.createObjectURL(new Blob([bytes], {type: "application/zip"}));
   const a = document.createElement("a");
@@ -22,7 +24,7 @@ export function download(page) {
   a.remove();
   setTimeout(() => URL.revokeObjectURL(url), 60000);
   say(page, `labs.zip: ${page.labs.paths().length} files as labs/NN-name/FILE, the layout ./kit grade and the ` +
-      "course platform take.");
+      "course platform take" + (notes[NOTES_FILE] ? `, and your notes as ${NOTES_FILE}.` : "."));
 }
 
 export async function openFolder(page) {

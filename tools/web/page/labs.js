@@ -7,7 +7,7 @@ import {strToU8, zipSync} from "fflate";
 
 const LABS = "/kit/labs";
 // One site's edits apart from another's on the same host (a course page with two sites).
-const KEY = "kit-web:" + window.location.pathname.replace(/[^/]*$/, "") + ":";
+export const KEY = "kit-web:" + window.location.pathname.replace(/[^/]*$/, "") + ":";
 // The paths a load restored, kept until it draws its first frame: a load that never got there
 // (a shader that locked the tab) leaves them, and the next load starts without those edits.
 const RESTORING = KEY + "restoring";
@@ -101,9 +101,11 @@ export class LabFiles {
 
   writeFS(path) { this.FS.writeFile(path, this.texts.get(path)); }
 
-  // Every lab file, edited or not, as labs/NN-name/FILE: the layout ./kit grade takes.
-  zip() {
+  // Every lab file, edited or not, as labs/NN-name/FILE: the layout ./kit grade takes; and
+  // `extra` ({name: text}), files beside labs/ (the progress notes, notes.js).
+  zip(extra = {}) {
     const entries = {};
+    for (const [name, text] of Object.entries(extra)) entries[name] = strToU8(text);
     for (const path of this.paths()) entries[path.replace(/^\/kit\//, "")] = strToU8(this.texts.get(path));
     return zipSync(entries, {level: 6});
   }

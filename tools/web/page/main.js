@@ -24,6 +24,8 @@
 //   check.js        Check my lab
 //   handout.js      the handout pane, and links to documents and views
 //   doc_links.js    a document named in a message, as a link to it
+//   notes.js        the student's progress notes, kept
+//   report.js       Progress report
 import {wireCamera} from "./camera.js";
 import {runCheck} from "./check.js";
 import {syncControls, wireControls} from "./controls.js";
@@ -35,6 +37,8 @@ import {wireHandout} from "./handout.js";
 import {kitCall} from "./kit.js";
 import {say} from "./messages.js";
 import {wireModels} from "./models.js";
+import {wireNotes} from "./notes.js";
+import {wireReport} from "./report.js";
 import {$, createPage} from "./state.js";
 import {openStageFiles, showCompileError} from "./tabs.js";
 import {firstFrameArguments, initialState, kitArguments, updateURL} from "./url.js";
@@ -69,6 +73,8 @@ function start(state, report) {
     requestDraw(page);
   });
   $("check").addEventListener("click", () => runCheck(page));
+  wireNotes(page);
+  wireReport(page);
   if ("showDirectoryPicker" in window) {
     $("open-folder").hidden = false;
     $("open-folder").disabled = false;

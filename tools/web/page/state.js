@@ -14,6 +14,10 @@ export const VIEW_LABELS = {
 // Lab 6's maps: small sizes of their own, shown magnified.
 export const MAP_VIEWS = ["irradiance", "prefiltered", "brdf-lut"];
 
+// kit-view's and kit-render's settings as they start (the progress report times each lab with them).
+export const DEFAULT_SETTINGS = {gamma: 2.2, attenuation_model: 0, postprocess: true, custom_effect: false,
+                                 bloom_threshold: 1.0, extra_lights: 0};
+
 export function createPage() {
   return {
     startedAt: performance.now(),
@@ -27,8 +31,7 @@ export function createPage() {
       scene: "default",        // a kit scene's name, or a dropped model's path in the file system
       view: "final",
       width: 640, height: 480,
-      settings: {gamma: 2.2, attenuation_model: 0, postprocess: true, custom_effect: false, bloom_threshold: 1.0,
-                 extra_lights: 0},
+      settings: {...DEFAULT_SETTINGS},
     },
     FS: null,                  // kit-web's file system
     labs: null,                // the student's lab files (labs.js)
@@ -56,6 +59,6 @@ export function createPage() {
     camera: {rotate: [0, 0], pan: [0, 0], zoom: 0, scheduled: false},
     // For the page's test (tests/web_page_test.py) and the curious: counters and state.
     kitPage: window.kitPage = {ready: false, frames: 0, errors: 0, lastError: "", lastDownload: null,
-                               messages: [], lastCheck: null},
+                               messages: [], lastCheck: null, lastReport: null},
   };
 }
