@@ -29,6 +29,7 @@
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using kit::test::expect_scene_error;
 
 namespace {
 
@@ -36,12 +37,6 @@ namespace {
 const char* const kScene = "default";
 
 std::string shell_quoted(const fs::path& p) { return "'" + p.string() + "'"; }
-
-void expect_error(const fs::path& path, const std::string& phrase) {
-  const std::string message = kit::test::scene_load_error(path);
-  EXPECT_NE(message.find(path.string()), std::string::npos) << "message does not name the file: " << message;
-  EXPECT_NE(message.find(phrase), std::string::npos) << "expected \"" << phrase << "\" in: " << message;
-}
 
 // A Draco copy of kScene in this test's own folder, its JSON at hand to be broken.
 struct DracoCopy {
@@ -181,7 +176,7 @@ TEST(Draco, DracoDataIsReadBeforeTheFallbackAccessors) {
     for (json& prim : mesh["primitives"]) prim.erase("extensions");
   const fs::path fallback_only = copy.gltf.parent_path() / "fallback_only.gltf";
   kit::test::write_file(fallback_only, without_draco.dump(2));
-  expect_error(fallback_only, "POSITION 0 is not finite");  // witness: the fallback data is bad
+  expect_scene_error(fallback_only, "POSITION 0 is not finite");  // witness: the fallback data is bad
 
   copy.save_json();
   expect_identical_primitives(kit::load_scene(kit::resolve_scene(kScene)), kit::load_scene(copy.gltf.string()));
@@ -239,7 +234,7 @@ TEST(Draco, CorruptCompressedBufferIsRefusedNamingFileAndPrimitive) {
     for (size_t i = start; i < start + 5; ++i) bin[i] = static_cast<char>(~bin[i]);
     kit::test::write_file(copy.bin, bin);
     ASSERT_FALSE(draco_decodes(copy.draco_bytes())) << "witness: libdraco decodes the flipped bytes";
-    expect_error(copy.gltf, primitive + " KHR_draco_mesh_compression: Draco cannot decode its mesh: ");
+    expect_scene_error(copy.gltf, primitive + " KHR_draco_mesh_compression: Draco cannot decode its mesh: ");
   }
   {
     DracoCopy copy("truncated", 0);
@@ -248,7 +243,7 @@ TEST(Draco, CorruptCompressedBufferIsRefusedNamingFileAndPrimitive) {
     view["byteLength"] = view["byteLength"].get<size_t>() / 2;
     copy.save_json();
     ASSERT_FALSE(draco_decodes(copy.draco_bytes())) << "witness: libdraco decodes the first half";
-    expect_error(copy.gltf, primitive + " KHR_draco_mesh_compression: Draco cannot decode its mesh: ");
+    expect_scene_error(copy.gltf, primitive + " KHR_draco_mesh_compression: Draco cannot decode its mesh: ");
   }
 }
 
@@ -262,7 +257,7 @@ TEST(Draco, AccessorsThatDisagreeWithTheDecodedMeshAreRefused) {
     DracoCopy copy("position_count", 0);
     copy.doc["accessors"][position]["count"] = points - 1;
     copy.save_json();
-    expect_error(copy.gltf, "POSITION: accessor " + std::to_string(position) + " has count " + std::to_string(points - 1) +
+    expect_scene_error(copy.gltf, "POSITION: accessor " + std::to_string(position) + " has count " + std::to_string(points - 1) +
                                 ", but the Draco mesh decoded " + std::to_string(points) + " points");
   }
   {
@@ -271,7 +266,7 @@ TEST(Draco, AccessorsThatDisagreeWithTheDecodedMeshAreRefused) {
     const size_t count = copy.doc["accessors"][indices]["count"].get<size_t>();
     copy.doc["accessors"][indices]["count"] = count + 3;
     copy.save_json();
-    expect_error(copy.gltf, "indices: index accessor " + std::to_string(indices) + " has count " +
+    expect_scene_error(copy.gltf, "indices: index accessor " + std::to_string(indices) + " has count " +
                                 std::to_string(count + 3) + ", but the Draco mesh decoded " + std::to_string(count / 3) +
                                 " triangles");
   }
@@ -282,14 +277,14 @@ TEST(Draco, AccessorsThatDisagreeWithTheDecodedMeshAreRefused) {
     copy.doc["accessors"][texcoord]["componentType"] = 5123;
     copy.doc["accessors"][texcoord]["normalized"] = true;
     copy.save_json();
-    expect_error(copy.gltf, "TEXCOORD_0: accessor " + std::to_string(texcoord) +
+    expect_scene_error(copy.gltf, "TEXCOORD_0: accessor " + std::to_string(texcoord) +
                                 " has component type normalized UNSIGNED_SHORT, but Draco decoded FLOAT");
   }
   {
     DracoCopy copy("unique_id", 0);
     copy.doc["meshes"][0]["primitives"][0]["extensions"]["KHR_draco_mesh_compression"]["attributes"]["NORMAL"] = 99;
     copy.save_json();
-    expect_error(copy.gltf, "NORMAL: the Draco mesh has no attribute with unique id 99");
+    expect_scene_error(copy.gltf, "NORMAL: the Draco mesh has no attribute with unique id 99");
   }
 }
 

@@ -19,6 +19,12 @@ std::string scene_load_error(const std::filesystem::path& path) {
   return "";
 }
 
+void expect_scene_error(const std::filesystem::path& path, const std::string& phrase) {
+  const std::string message = scene_load_error(path);
+  EXPECT_NE(message.find(path.string()), std::string::npos) << "message does not name the file: " << message;
+  EXPECT_NE(message.find(phrase), std::string::npos) << "expected \"" << phrase << "\" in: " << message;
+}
+
 RenderSettings small_settings(int width, int height) {
   RenderSettings s;
   s.width = width;

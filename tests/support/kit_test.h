@@ -23,6 +23,10 @@ KIT_NO_DANGLING const Scene& scene(const std::string& name_or_path);  // cached:
 // The kit::Error message loading the scene file `path` throws; fails the test when it loads.
 std::string scene_load_error(const std::filesystem::path& path);
 
+// Expects loading the scene file `path` to throw a kit::Error whose message names the
+// file and holds `phrase`.
+void expect_scene_error(const std::filesystem::path& path, const std::string& phrase);
+
 // The frame size most GPU tests render at: big enough for thousands of samples per
 // frame, small enough to keep each test program at a few seconds.
 constexpr int kSmallWidth = 160, kSmallHeight = 120;
