@@ -287,7 +287,7 @@ def main():
 
     references = {}
     for query, args in CASES:
-        out = work / (query.replace("&", "_").replace("=", "-") + ".png")
+        out = work / (query.replace("&", "_").replace("=", "-").replace("/", "-") + ".png")
         size = f"{SIZE[0]}x{SIZE[1]}"
         subprocess.run([kit_render, *args, "--solution", "--size", size, "--out", str(out)], check=True,
                        stdout=subprocess.DEVNULL)
