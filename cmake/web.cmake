@@ -7,18 +7,20 @@ endif()
 set(KIT_BUILD_VIEWER OFF)
 set(KIT_BUILD_TESTS OFF)
 set(KIT_HAS_OSMESA OFF)
-set(KIT_HAS_OBJ OFF)
+set(KIT_HAS_OBJ ON)
 set(KIT_HAS_DRACO OFF)
 
-# The header-only packages (libglm-dev, nlohmann-json3-dev, libstb-dev, libtinygltf-dev),
-# each through a link of its own in the build: /usr/include as a whole would put the
-# host's C library headers ahead of emscripten's.
+# The header-only packages (libglm-dev, nlohmann-json3-dev, libstb-dev, libtinygltf-dev,
+# and libtinyobjloader-dev's header, whose library the desktop links), each through a link
+# of its own in the build: /usr/include as a whole would put the host's C library headers
+# ahead of emscripten's. tinygltf's and tinyobjloader's implementations are compiled in
+# common/scene/*_web.cpp.
 set(KIT_WEB_INCLUDE ${CMAKE_BINARY_DIR}/web-include)
 file(MAKE_DIRECTORY ${KIT_WEB_INCLUDE})
-foreach(entry glm nlohmann stb tiny_gltf.h)
+foreach(entry glm nlohmann stb tiny_gltf.h tiny_obj_loader.h)
   if(NOT EXISTS /usr/include/${entry})
     message(FATAL_ERROR "the browser build needs /usr/include/${entry}: install libglm-dev nlohmann-json3-dev "
-                        "libstb-dev libtinygltf-dev (./kit setup does)")
+                        "libstb-dev libtinygltf-dev libtinyobjloader-dev (./kit setup does)")
   endif()
   file(CREATE_LINK /usr/include/${entry} ${KIT_WEB_INCLUDE}/${entry} SYMBOLIC)
 endforeach()
@@ -55,4 +57,4 @@ endif()
 add_subdirectory(common)
 add_subdirectory(tools/web)
 message(STATUS "kit: browser build (emscripten ${EMSCRIPTEN_VERSION}); scenes from ${KIT_WEB_SCENES}; "
-               "left out: OBJ, Draco, meshoptimizer, OpenEXR, OpenImageIO, libpng (stb_image decodes PNG, JPEG, .hdr)")
+               "left out: Draco, meshoptimizer, OpenEXR, OpenImageIO, libpng (stb_image decodes PNG, JPEG, .hdr)")

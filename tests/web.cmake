@@ -1,10 +1,11 @@
 # The browser build in Debian's headless chromium (tests/web_test.py): the site's frames of
-# every stage against kit-render's, within the tolerance the script states, a witness, a
-# refused OBJ scene, and the page's check of every lab against kit-grade's; the students'
-# page (tests/web_page_test.py); the handout in it and its layout (tests/web_handout_test.py). They build nothing: the site is kit-web's build folder, which
-# ./kit test builds in the kit with instructor/ (its own suite; KIT_WEB_SITE to test another,
-# such as out/web). A student copy's ./kit test neither builds the site nor has these tests:
-# a student runs ./kit web when they want it.
+# every stage against kit-render's, within the tolerance the script states, a witness, the
+# kit's OBJ scene, and the page's check of every lab against kit-grade's; the students' page
+# (tests/web_page_test.py); the handout in it and its layout (tests/web_handout_test.py); a
+# student's OBJ scene dropped on it (tests/web_obj_test.py). They build nothing: the site is
+# kit-web's build folder, which ./kit test builds in the kit with instructor/ (its own suite;
+# KIT_WEB_SITE to test another, such as out/web). A student copy's ./kit test neither builds
+# the site nor has these tests: a student runs ./kit web when they want it.
 # Label `web`. Included from tests/CMakeLists.txt.
 set(KIT_WEB_SITE ${PROJECT_SOURCE_DIR}/build/web/tools/web CACHE PATH "The browser build's site that ctest's web test loads")
 if(TARGET kit-render AND KIT_HAS_INSTRUCTOR)
@@ -39,5 +40,14 @@ if(TARGET kit-render AND KIT_HAS_INSTRUCTOR)
            COMMAND ${KIT_WEB_REPORT_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/web_report_test.py ${KIT_WEB_SITE}
                    $<TARGET_FILE:kit-grade> ${CMAKE_BINARY_DIR}/test-tmp/web-report)
   set_tests_properties(web_report PROPERTIES LABELS "web;slow" TIMEOUT 900
+    ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes")
+  # A student's OBJ scene (tests/web_obj_test.py): an .obj, its .mtl and a hand-made texture
+  # dropped on the page (as files, a .zip and a folder) draw kit-render's frame of it, with the
+  # texture's quarters where its layout puts them; without the texture or the .mtl they do not;
+  # a malformed .obj and a Draco-compressed glTF are refused by name.
+  add_test(NAME web_obj
+           COMMAND ${KIT_WEB_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/web_obj_test.py ${KIT_WEB_SITE} $<TARGET_FILE:kit-render>
+                   ${CMAKE_BINARY_DIR}/test-tmp/web-obj)
+  set_tests_properties(web_obj PROPERTIES LABELS web TIMEOUT 300
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes")
 endif()

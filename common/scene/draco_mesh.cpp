@@ -12,6 +12,17 @@
 
 namespace kit {
 
+std::string draco_missing_hint() {
+#if KIT_WEB
+  return "Draco-compressed glTF is refused in the browser build (Debian has no WebAssembly build of libdraco): "
+         "export the model again without mesh compression (Blender's glTF export: Compression off), or render it "
+         "with ./kit render or ./kit view";
+#else
+  return "this build has no Draco decoder: install libdraco-dev and rebuild, or save the model uncompressed, e.g. "
+         "with a glTF tool's --no-compression option";
+#endif
+}
+
 #if !KIT_HAS_DRACO
 
 bool draco_supported() { return false; }
@@ -19,12 +30,7 @@ bool draco_supported() { return false; }
 struct DracoMesh::Decoded {};
 
 DracoMesh::DracoMesh(const unsigned char*, size_t, const std::string& what) {
-#if KIT_WEB
-  throw Error(what + ": Draco-compressed glTF is refused in the browser build (Debian has no WebAssembly build "
-              "of libdraco); render it with kit-render or kit-view");
-#else
-  throw Error(what + ": this build has no Draco support: install libdraco-dev and rebuild");
-#endif
+  throw Error(what + ": " + draco_missing_hint());
 }
 DracoMesh::~DracoMesh() = default;
 DracoMesh::DracoMesh(DracoMesh&&) noexcept = default;

@@ -14,6 +14,10 @@ namespace kit {
 // Whether this build decodes Draco (libdraco-dev was found when it was configured).
 bool draco_supported();
 
+// What a build without Draco (the browser's, or one without libdraco-dev) says of a file that
+// needs it: why it cannot decode it, and what to do instead.
+std::string draco_missing_hint();
+
 // One decoded attribute: a value per point of the mesh, each `components` values of
 // glTF's `component_type` (5126 FLOAT, 5123 UNSIGNED_SHORT, ...), tightly packed in
 // `bytes` as an uncompressed accessor's bufferView would hold them.

@@ -238,9 +238,7 @@ void check_required_extensions(const tinygltf::Model& model, const std::string& 
     if (std::find(supported_names.begin(), supported_names.end(), name) != supported_names.end()) continue;
     std::string supported;
     for (const std::string& known : supported_names) supported += (supported.empty() ? "" : ", ") + known;
-    std::string hint = name == "KHR_draco_mesh_compression"
-                           ? " (this build has no Draco decoder: install libdraco-dev and rebuild, or save the model "
-                             "uncompressed, e.g. with a glTF tool's --no-compression option)"
+    std::string hint = name == "KHR_draco_mesh_compression" ? " (" + draco_missing_hint() + ")"
                        : name == "EXT_meshopt_compression"
                            ? " (its meshes are compressed: save the model uncompressed, e.g. with a glTF tool's --no-compression option)"
                            : "";

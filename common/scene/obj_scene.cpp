@@ -30,12 +30,7 @@ bool is_obj_path(const std::string& path) { return has_extension(path, ".obj"); 
 bool obj_scenes_supported() { return false; }
 
 Scene load_obj_scene(const std::string& path) {
-#if KIT_WEB
-  throw Error(path + ": OBJ scenes are refused in the browser build (Debian has no WebAssembly build of "
-              "tinyobjloader); render it with kit-render or kit-view");
-#else
   throw Error(path + ": this build has no OBJ support: install libtinyobjloader-dev and rebuild");
-#endif
 }
 
 #else

@@ -230,10 +230,14 @@ Json dispatch(const Json& in) {
     read_settings(p, in);
     if (in.contains("camera")) p.camera = in["camera"].get<int>();
     const kit::Renderer* before = p.renderer.get();
+    const bool new_scene = !p.loaded_scene || p.loaded_scene_name != p.scene;
     const double seconds = draw(p);
     Json out = describe(p);
     out["seconds"] = seconds;
     out["rebuilt"] = p.renderer.get() != before;  // its shaders compiled anew from the files
+    // What the loader left out of a scene it read now (a missing .mtl or texture), as the
+    // desktop's tools print it: the page shows it with the student's model.
+    if (new_scene) out["scene_warnings"] = p.loaded_scene->warnings;
     return out;
   }
   if (cmd == "frame") return {{"seconds", draw(p)}};

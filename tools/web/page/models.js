@@ -1,62 +1,145 @@
 // The student's own model, dropped on the page or picked with "Your model": its files go into
-// kit-web's file system and it becomes a scene of the Scene list. kit-web reads glTF only;
-// a model it cannot draw leaves the scene as it was.
+// kit-web's file system and it becomes a scene of the Scene list. kit-web reads what the
+// desktop's loader reads, with the same code: glTF (.gltf with its .bin and images, or .glb)
+// and Wavefront OBJ with its MTL and textures (common/scene/obj_scene.h). The files may come
+// one by one, as a dropped folder, or in a .zip; a model it cannot draw leaves the scene as
+// it was.
+import {unzipSync} from "fflate";
+
 import {fillScenes} from "./controls.js";
 import {configureCommand, fsExists, kitCall} from "./kit.js";
 import {say} from "./messages.js";
 import {$} from "./state.js";
 import {canDraw, configure, fitCanvas} from "./view.js";
 
-async function loadModel(page, files) {
-  if (!files.length) return;
+// What a dropped zip may inflate to, all its files together: the loader's own limit for one
+// file (1 GiB) would not fit in the tab's memory beside the kit.
+const MAX_ZIP_BYTES = 512 * 1024 * 1024;
+const MODEL = /\.(glb|gltf|obj)$/i;
+
+// A path inside the drop, as the loader will see it under the drop's folder: forward slashes,
+// no empty, "." or ".." parts (a name the loader then refuses could not reach outside anyway).
+function cleanPath(path) {
+  const parts = path.replace(/\\/g, "/").split("/").filter((p) => p && p !== ".");
+  if (parts.includes("..")) throw new Error(`${path}: a name in the drop climbs out of it ("..")`);
+  return parts.join("/");
+}
+
+// A dropped zip's files, each [path, bytes], under the zip's own folder-less names.
+function unzipped(name, bytes) {
+  let total = 0;
+  const entries = unzipSync(bytes, {
+    filter: (f) => {
+      if (f.name.endsWith("/") || f.name.startsWith("__MACOSX/")) return false;
+      total += f.originalSize;
+      if (total > MAX_ZIP_BYTES)
+        throw new Error(`${name} holds more than ${MAX_ZIP_BYTES >> 20} MiB of files: drop the model's files instead`);
+      return true;
+    },
+  });
+  return Object.entries(entries).map(([path, data]) => [cleanPath(path), data]).filter(([path]) => path);
+}
+
+// The files of a dropped folder, each [path, File] with the folder's name in front.
+async function folderFiles(entry) {
+  if (entry.isFile) return [[entry.fullPath, await new Promise((ok, fail) => entry.file(ok, fail))]];
+  const reader = entry.createReader();
+  const out = [];
+  for (;;) {
+    const batch = await new Promise((ok, fail) => reader.readEntries(ok, fail));
+    if (!batch.length) return out;
+    for (const child of batch) out.push(...await folderFiles(child));
+  }
+}
+
+// Every file of the drop or the pick as [path, bytes]: zips unpacked, folders walked.
+async function readAll(sources) {
+  const out = [];
+  for (const source of sources) {
+    const listed = source.isDirectory ? await folderFiles(source) : [[source.name, source]];
+    for (const [path, file] of listed) {
+      const bytes = new Uint8Array(await file.arrayBuffer());
+      if (/\.zip$/i.test(path)) out.push(...unzipped(file.name, bytes));
+      else if (cleanPath(path)) out.push([cleanPath(path), bytes]);
+    }
+  }
+  return out;
+}
+
+// The model among the files: a glTF before an OBJ, then the shortest path (the folder's top).
+function mainModel(paths) {
+  const rank = (p) => [/\.obj$/i.test(p) ? 1 : 0, p.split("/").length, p];
+  return paths.filter((p) => MODEL.test(p)).sort((a, b) => {
+    const [x, y] = [rank(a), rank(b)];
+    return x[0] - y[0] || x[1] - y[1] || (x[2] < y[2] ? -1 : 1);
+  })[0];
+}
+
+// A .gltf's buffers and images that the drop does not hold.
+function missingGltfFiles(page, dir, path, bytes) {
+  const gltf = JSON.parse(new TextDecoder().decode(bytes));
+  const folder = path.includes("/") ? path.slice(0, path.lastIndexOf("/") + 1) : "";
+  return [...(gltf.buffers || []), ...(gltf.images || [])].map((x) => x.uri)
+    .filter((u) => u && !u.startsWith("data:")).map((u) => decodeURIComponent(u))
+    .filter((u) => !fsExists(page, `${dir}/${folder}${u}`));
+}
+
+async function loadModel(page, sources) {
+  if (!sources.length) return;
   const ui = page.ui;
-  const names = files.map((f) => f.name);
-  if (names.some((n) => /\.obj$/i.test(n)) && !names.some((n) => /\.(glb|gltf)$/i.test(n))) {
-    say(page, "OBJ scenes are refused in the browser build (it has no OBJ reader): export the model as glTF (.glb) " +
-        "(Blender: File > Export > glTF 2.0), or draw it with ./kit render or ./kit view.", "error");
+  let files;
+  try {
+    files = await readAll(sources);
+  } catch (e) {
+    say(page, `Your model could not be read: ${e.message || e}`, "error");
     return;
   }
-  const main = files.find((f) => /\.glb$/i.test(f.name)) || files.find((f) => /\.gltf$/i.test(f.name));
+  const main = mainModel(files.map(([path]) => path));
   if (!main) {
-    say(page, `Not a model: ${names.join(", ")}. Drop a .glb, or a .gltf together with its .bin and images.`, "error");
+    say(page, `Not a model: ${files.map(([p]) => p).join(", ") || "no files"}. Drop a .glb, a .gltf with its .bin ` +
+        "and images, or an .obj with its .mtl and textures (the files, their folder or a .zip of them).", "error");
     return;
   }
+  const name = main.split("/").pop();
   page.droppedCount += 1;
   const dir = `/work/dropped/${page.droppedCount}`;
-  page.FS.mkdirTree(dir);
-  for (const file of files) page.FS.writeFile(`${dir}/${file.name}`, new Uint8Array(await file.arrayBuffer()));
-  if (/\.gltf$/i.test(main.name)) {
+  for (const [path, bytes] of files) {
+    page.FS.mkdirTree(`${dir}/${path}`.replace(/\/[^/]*$/, ""));
+    page.FS.writeFile(`${dir}/${path}`, bytes);
+  }
+  if (/\.gltf$/i.test(main)) {
     try {
-      const gltf = JSON.parse(await main.text());
-      const uris = [...(gltf.buffers || []), ...(gltf.images || [])].map((x) => x.uri)
-        .filter((u) => u && !u.startsWith("data:")).map((u) => decodeURIComponent(u));
-      const missing = uris.filter((u) => !fsExists(page, `${dir}/${u}`));
+      const missing = missingGltfFiles(page, dir, main, files.find(([p]) => p === main)[1]);
       if (missing.length) {
-        say(page, `${main.name} needs ${missing.join(", ")}: drop or pick them together with it.`, "error");
+        say(page, `${name} needs ${missing.join(", ")}: drop or pick them together with it.`, "error");
         return;
       }
     } catch (e) {
-      say(page, `${main.name} is not glTF's JSON: ${e.message || e}`, "error");
+      say(page, `${name} is not glTF's JSON: ${e.message || e}`, "error");
       return;
     }
   }
   const previous = ui.scene;
-  ui.scene = `${dir}/${main.name}`;
+  ui.scene = `${dir}/${main}`;
   if (!canDraw(page)) {
     ui.scene = previous;
     return;
   }
-  if (configure(page, main.name)) {
-    page.droppedScenes.push({path: ui.scene, label: main.name});
+  if (configure(page, name)) {
+    page.droppedScenes.push({path: ui.scene, label: name});
     fillScenes(page);
-    say(page, `Drawing your model ${main.name}.`, "ok");
+    // What the loader left out, as the desktop's tools print it (a missing .mtl or texture).
+    const warnings = (page.lastAnswer && page.lastAnswer.scene_warnings) || [];
+    if (warnings.length)
+      say(page, `Drawing your model ${name}, without what its loader left out:`, "", warnings.join("\n"));
+    else say(page, `Drawing your model ${name}.`, "ok");
   } else {
     // kit-web keeps the scene it was given: back to the one before, the message kept.
     ui.scene = previous;
     fillScenes(page);
     const why = page.kitPage.lastError;
     if (!kitCall(configureCommand(page)).error) fitCanvas(page);
-    say(page, `${main.name} could not be drawn: ${why}`, "error");
+    say(page, `${name} could not be drawn: ${why}`, "error");
   }
 }
 
@@ -87,6 +170,12 @@ export function wireModels(page) {
     overlay.hidden = true;
     if (!e.dataTransfer || !e.dataTransfer.files.length) return;
     e.preventDefault();
-    loadModel(page, [...e.dataTransfer.files]);
+    // A dropped folder is an entry to walk; the entries are only there during the event.
+    const items = [...e.dataTransfer.items].filter((i) => i.kind === "file");
+    const entries = items.map((i) => (i.webkitGetAsEntry ? i.webkitGetAsEntry() : null));
+    const sources = entries.some((x) => x && x.isDirectory)
+      ? entries.map((x, n) => (x && x.isDirectory ? x : items[n].getAsFile())).filter((x) => x)
+      : [...e.dataTransfer.files];
+    loadModel(page, sources);
   });
 }

@@ -42,6 +42,7 @@ export function createPage() {
     drawRequested: false,
     lastDraw: {kind: "", at: 0},
     builtKey: "",              // stage/shaders/scene of the renderer kit-web built last
+    lastAnswer: null,          // kit-web's answer to the last configure (a new scene's warnings)
     lost: false, lostAfterEdit: false, editWhileLost: false, waitingForEdit: false,
     // The editor's tabs and edits (tabs.js, edits.js).
     files: [],                 // the files the editor shows for the stage

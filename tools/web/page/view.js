@@ -78,7 +78,7 @@ export function canDraw(page) {
 // what changed since the last frame kit-web built.
 export function configure(page, label, rebuilt = false) {
   const key = buildKey(page);
-  const answer = kitCall(configureCommand(page));
+  const answer = page.lastAnswer = kitCall(configureCommand(page));
   const ok = drawn(page, answer, rebuilt || key !== page.builtKey ? "build" : "settings", label);
   if (ok) page.builtKey = key;
   return ok;
