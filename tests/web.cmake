@@ -1,7 +1,8 @@
 # The browser build in Debian's headless chromium (tests/web_test.py): the site's frames of
 # every stage against kit-render's, within the tolerance the script states, a witness, a
-# refused OBJ scene, and the page's check of every lab against kit-grade's; and the students'
-# page (tests/web_page_test.py). They build nothing: the site is kit-web's build folder, which
+# refused OBJ scene, and the page's check of every lab against kit-grade's; the students'
+# page (tests/web_page_test.py); a first visit's bytes (tests/web_first_visit_test.py). They
+# build nothing: the site is kit-web's build folder, which
 # ./kit test builds in the kit with instructor/ (its own suite; KIT_WEB_SITE to test another,
 # such as out/web). A student copy's ./kit test neither builds the site nor has these tests:
 # a student runs ./kit web when they want it.
@@ -22,4 +23,11 @@ if(TARGET kit-render AND KIT_HAS_INSTRUCTOR)
                    $<TARGET_FILE:kit-grade> ${CMAKE_BINARY_DIR}/test-tmp/web-page)
   set_tests_properties(web_page PROPERTIES LABELS web TIMEOUT 300
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes")
+  # A first visit over a 20 Mbit/s link (tests/web_first_visit_test.py): the bytes before the
+  # first frame, from the kit's server and a plain one, without the grader's references, which
+  # "Check my lab" fetches.
+  add_test(NAME web_first_visit
+           COMMAND ${KIT_WEB_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/web_first_visit_test.py ${KIT_WEB_SITE}
+                   ${CMAKE_BINARY_DIR}/test-tmp/web-first-visit)
+  set_tests_properties(web_first_visit PROPERTIES LABELS web TIMEOUT 300)
 endif()
