@@ -13,9 +13,9 @@ received (Network.dataReceived). The site is served twice, and each count says b
   * a plain static server (python's http.server): nothing compressed, the worst a host does.
 The test asserts at most 3 MB (3,000,000 bytes) from each, and that the grader's references
 (kit-web-references.zip) are not fetched before the first frame; then, on the kit's server,
-that choosing a scene fetches that scene's zip and draws it, and that "Check my lab" says it is
+that choosing a scene fetches that scene's zip and draws it, that "Check my lab" says it is
 loading the references, fetches them (the witness that the count sees them) and gives lab 2's
-checks. It reports the time to the first frame and asserts nothing of it: time is measured by
+checks, and that a scene the URL names is fetched before the first frame, which draws it. It reports the time to the first frame and asserts nothing of it: time is measured by
 the benchmark, --runs N (rounds of first visits in turn: from each server over the link, and
 from the kit's server unthrottled, the CPU's share; the medians of N rounds, with the load
 average), whose figures docs/performance.md gives.
@@ -33,7 +33,7 @@ import sys
 import threading
 import time
 
-from web_test import KIT_ROOT, Chromium, site_problem
+from web_test import KIT_ROOT, Chromium, load_page, site_problem
 
 sys.path.insert(0, str(KIT_ROOT / "tools/web"))
 import serve  # noqa: E402  (the kit's server, ./kit web --serve)
@@ -43,6 +43,7 @@ MAX_BYTES = 3_000_000
 LINK = {"offline": False, "latency": 20, "downloadThroughput": 20e6 / 8, "uploadThroughput": 20e6 / 8}
 REFERENCES = "kit-web-references.zip"
 SCENE = "crowd"  # a scene in a zip of its own, chosen after the first frame
+URL_SCENE = "sun"  # one named in the URL: fetched before the first frame
 
 
 class QuietKit(serve.SiteHandler):
@@ -111,8 +112,9 @@ def first_visit(work, origin, throttle=True):
     return chromium, report, found
 
 
-def after_first_frame(chromium, failures):
-    """On the kit's server: a chosen scene is fetched and drawn; Check my lab fetches the references."""
+def after_first_frame(chromium, origin, failures):
+    """On the kit's server: a chosen scene is fetched and drawn; Check my lab fetches the references;
+    a scene the URL names is fetched before the first frame."""
     def expect(ok, what, saw):
         print(f"{'ok' if ok else 'FAILED'}: {what}: {saw}")
         if not ok:
@@ -140,12 +142,22 @@ def after_first_frame(chromium, failures):
             loading = text
         time.sleep(0.05)
     check = chromium.evaluate("kitPage.lastCheck") or {}
-    references = named(requests(chromium.events), REFERENCES)
+    found = requests(chromium.events)
+    references = named(found, REFERENCES)
+    # The witness: counted the same way, the visit's bytes with the references are over the limit.
+    total = sum(e["bytes"] for entries in found.values() for e in entries)
     expect(bool(loading), "Check my lab says it is loading the references", loading or "(never shown)")
-    expect(references and references[0]["finished"] and check.get("status") == "graded",
+    expect(references and references[0]["finished"] and check.get("status") == "graded" and total > MAX_BYTES,
            "Check my lab fetches the references (the witness) and gives lab 2's checks",
-           f"{REFERENCES} {references[0]['bytes'] if references else 'NOT fetched'} bytes; check "
-           f"{check.get('status')}, {check.get('passed')} of {check.get('total')} pass")
+           f"{REFERENCES} {references[0]['bytes'] if references else 'NOT fetched'} bytes, {total:,} bytes in all "
+           f"(more than {MAX_BYTES:,}); check {check.get('status')}, {check.get('passed')} of {check.get('total')} pass")
+
+    report, _, _ = load_page(chromium, f"{origin}/index.html?stage=lighting&scene={URL_SCENE}&size=64x48")
+    fetched = named(requests(chromium.events), f"kit-web-scene-{URL_SCENE}.zip")
+    expect(report.get("scene") == URL_SCENE and fetched,
+           "a scene the URL names is fetched before the first frame, which draws it",
+           f"first frame of the scene {report.get('scene')}; kit-web-scene-{URL_SCENE}.zip "
+           f"{'fetched' if fetched else 'NOT fetched'}")
 
 
 def visit_and_count(work, origin, label, failures, throttle=True):
@@ -214,7 +226,7 @@ def main():
                 chromium, _, _ = visit_and_count(args.work, origin, label, failures)
                 try:
                     if index == 0:
-                        after_first_frame(chromium, failures)
+                        after_first_frame(chromium, origin, failures)
                 finally:
                     chromium.close()
     finally:
