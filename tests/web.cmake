@@ -2,7 +2,8 @@
 # every stage against kit-render's, within the tolerance the script states, a witness, the
 # kit's OBJ scene, and the page's check of every lab against kit-grade's; the students' page
 # (tests/web_page_test.py); the handout in it and its layout (tests/web_handout_test.py); a
-# student's OBJ scene dropped on it (tests/web_obj_test.py). They build nothing: the site is
+# student's OBJ scene dropped on it (tests/web_obj_test.py); a first visit's bytes
+# (tests/web_first_visit_test.py). They build nothing: the site is
 # kit-web's build folder, which ./kit test builds in the kit with instructor/ (its own suite;
 # KIT_WEB_SITE to test another, such as out/web). A student copy's ./kit test neither builds
 # the site nor has these tests: a student runs ./kit web when they want it.
@@ -50,4 +51,12 @@ if(TARGET kit-render AND KIT_HAS_INSTRUCTOR)
                    ${CMAKE_BINARY_DIR}/test-tmp/web-obj)
   set_tests_properties(web_obj PROPERTIES LABELS web TIMEOUT 300
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes")
+  # A first visit over a 20 Mbit/s link (tests/web_first_visit_test.py): the bytes before the
+  # first frame, from the kit's server and a plain one, without the grader's references, which
+  # "Check my lab" fetches. The bytes are what it asserts; the time it prints is measured
+  # again, alone and median of several, by its --runs (docs/performance.md).
+  add_test(NAME web_first_visit
+           COMMAND ${KIT_WEB_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/web_first_visit_test.py ${KIT_WEB_SITE}
+                   ${CMAKE_BINARY_DIR}/test-tmp/web-first-visit)
+  set_tests_properties(web_first_visit PROPERTIES LABELS web TIMEOUT 300)
 endif()

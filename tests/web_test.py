@@ -95,6 +95,7 @@ class Chromium:
         os.close(self.to_chrome_r)
         os.close(self.from_chrome_w)
         self.buffer, self.next_id, self.session = b"", 0, None
+        self.events = None  # a list: the DevTools events (those of the domains enabled) go in it
         targets = self.call("Target.getTargets")["targetInfos"]
         page = next(t for t in targets if t["type"] == "page")
         self.session = self.call("Target.attachToTarget", targetId=page["targetId"], flatten=True)["sessionId"]
@@ -116,7 +117,9 @@ class Chromium:
                 self.buffer += chunk
             raw, self.buffer = self.buffer.split(b"\0", 1)
             answer = json.loads(raw)
-            if answer.get("id") == self.next_id:
+            if "method" in answer and self.events is not None:
+                self.events.append(answer)
+            elif answer.get("id") == self.next_id:
                 if "error" in answer:
                     raise SystemExit(f"{method}: {answer['error']}")
                 return answer["result"]
@@ -192,6 +195,13 @@ def serve(directory):
     return server, f"http://127.0.0.1:{server.server_address[1]}"
 
 
+def load_check_files(chromium, lab):
+    """What the page fetches at the first check of lab `lab`: the grader's references and the
+    scenes its checks render, which kit-web.data leaves out (tools/web/site_files.py)."""
+    chromium.evaluate("(async () => { while (!(window.kitPage && kitPage.ready)) await new Promise(r => setTimeout(r, 50)); "
+                      f"return kitPage.loadCheckFiles({int(lab)}); }})()")
+
+
 def kit_call(chromium, command):
     """The page's kit_call(command) (tools/web/kit_web.cpp), its answer as a dict."""
     text = json.dumps(json.dumps(command))
@@ -207,6 +217,7 @@ def check_labs(chromium, kit_grade, work, failures):
     subprocess.run([kit_grade, str(KIT_ROOT / "labs"), "--out", str(graded)], stdout=subprocess.DEVNULL, check=False)
     expected = json.loads((graded / "summary.json").read_text())["labs"]
     for lab in LABS:
+        load_check_files(chromium, lab)
         start = time.monotonic()
         solution = kit_call(chromium, {"cmd": "check", "lab": lab, "solution": True})
         seconds = time.monotonic() - start
@@ -255,6 +266,7 @@ def student_site(chromium, server_root, port, work, failures):
     shutil.copytree(site, server_root / "site-lab3")
     base = f"http://127.0.0.1:{port}/site-lab3/index.html?"
     load_page(chromium, base + "stage=lighting&size=64x48")
+    load_check_files(chromium, 3)
     answer = kit_call(chromium, {"cmd": "check", "lab": 3, "solution": True})
     # The site has no solutions/03-attenuation: what renders is the starter (stage_library's
     # fallback), which passes none of lab 3's checks.
@@ -278,7 +290,8 @@ def main():
         raise SystemExit(__doc__)
     site, kit_render, kit_grade, work = (pathlib.Path(sys.argv[1]), sys.argv[2], sys.argv[3],
                                          pathlib.Path(sys.argv[4]))
-    problem = site_problem(site, ("index.html", "kit-web.js", "kit-web.wasm", "kit-web.data", "kit-web-data.js"))
+    problem = site_problem(site, ("index.html", "kit-web.js", "kit-web.wasm", "kit-web.data", "kit-web-data.js",
+                                  "kit-web-packages.json"))
     if problem:
         print(f"web_test: FAILED: {problem}")
         return 1

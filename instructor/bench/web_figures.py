@@ -29,7 +29,8 @@ SITE_FILES = ("index.html", "kit-web.js", "kit-web.wasm", "kit-web.data", "kit-w
 
 
 def site_size(site):
-    files = [p for p in site.iterdir() if p.is_file() and (p.name in SITE_FILES or p.suffix in (".js", ".css", ".html"))]
+    kinds = (".js", ".css", ".html", ".json", ".zip")  # the zips: the scenes and references fetched later
+    files = [p for p in site.iterdir() if p.is_file() and (p.name in SITE_FILES or p.suffix in kinds)]
     raw = sum(p.stat().st_size for p in files)
     packed = sum(len(gzip.compress(p.read_bytes(), compresslevel=9)) for p in files)
     return raw, packed

@@ -219,6 +219,7 @@ Json catalogue() {
                            "prefiltered", "brdf-lut"})
     out["views"].push_back(view);
   out["checks"] = kit::web::check_catalogue();
+  out["check_scenes"] = kit::web::check_scenes();
   return out;
 }
 

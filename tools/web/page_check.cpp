@@ -3,6 +3,7 @@
 #include <chrono>
 #include <fstream>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -59,6 +60,16 @@ Json check_catalogue() {
     for (const Check* check : lab_checks(stage.number))
       out[std::to_string(stage.number)].push_back(
           {{"key", check->key}, {"title", check->title}, {"points", config.max_score(*check) / 1000.0}});
+  return out;
+}
+
+Json check_scenes() {
+  Json out = Json::object();
+  for (const Stage& stage : stages()) {
+    std::set<std::string> scenes;
+    for (const RenderSpec* spec : lab_renders(stage.number)) scenes.insert(spec->scene);
+    out[std::to_string(stage.number)] = scenes;
+  }
   return out;
 }
 

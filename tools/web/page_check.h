@@ -20,6 +20,10 @@ std::vector<unsigned char> rgba8(const Image& image, bool bottom_up);
 // Per lab: its checks (key, title, points).
 nlohmann::json check_catalogue();
 
+// Per lab: the scenes its checks render, which the page fetches before a check where the
+// site keeps them apart from the first frame's files (tools/web/site_files.py).
+nlohmann::json check_scenes();
+
 // Checks lab `lab` of the lab files under `lab_root` (NN-name folders), writing each
 // check's images into `out` (a folder it empties first) as raw RGBA8 files the page draws
 // (<key>.image.rgba, .reference.rgba, .diff.rgba). The answer: the lab's status and

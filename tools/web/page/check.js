@@ -1,11 +1,12 @@
-// "Check my lab": the student's edits compiled, then kit-web's answer to {"cmd": "check",
-// "lab": N} (tools/web/page_check.cpp, the grader's own comparison) shown as a list of checks,
-// each with the student's render, the reference and the difference image, the score and the
-// likely mistakes.
+// "Check my lab": the grader's files fetched the first time, the student's edits compiled,
+// then kit-web's answer to {"cmd": "check", "lab": N} (tools/web/page_check.cpp, the grader's
+// own comparison) shown as a list of checks, each with the student's render, the reference
+// and the difference image, the score and the likely mistakes.
 import {parseDiagnostics} from "./diagnostics.js";
 import {docLink, docLinks} from "./doc_links.js";
 import {compileEdits} from "./edits.js";
 import {kitCall} from "./kit.js";
+import {checkFilesMessage, loadCheckFiles} from "./packages.js";
 import {$} from "./state.js";
 import {showCompileError} from "./tabs.js";
 import {canDraw, fitCanvas} from "./view.js";
@@ -107,24 +108,40 @@ function showCheck(page, container, lab, answer) {
   }
 }
 
-// The button: the student's edits compiled first, then the check, which takes kit-web a while.
-export function runCheck(page) {
-  compileEdits(page);
+function sayInCheck(text, className = "") {
+  $("check-body").replaceChildren(Object.assign(document.createElement("p"), {className, textContent: text}));
+}
+
+// The button: the grader's references and the lab's scenes fetched the first time (they are
+// not in kit-web.data: packages.js), the student's edits compiled, then the check, which
+// takes kit-web a while.
+export async function runCheck(page) {
   if (!canDraw(page)) return;
   const lab = page.ui.stage.number;
   const section = $("check-results");
   section.hidden = false;
-  $("check-body").replaceChildren(Object.assign(document.createElement("p"), {
-    textContent: `Checking lab ${lab}: rendering the grader's checks with your files\u2026`}));
   $("check").disabled = true;
+  try {
+    await loadCheckFiles(page, lab, (received, total) => sayInCheck(checkFilesMessage(received, total)));
+  } catch (e) {
+    $("check").disabled = false;
+    sayInCheck(`The check could not run: the grader's files could not be loaded: ${e.message || e}`, "error");
+    section.focus();
+    return;
+  }
+  compileEdits(page);
+  if (!canDraw(page)) {
+    $("check").disabled = false;
+    return;
+  }
+  sayInCheck(`Checking lab ${lab}: rendering the grader's checks with your files\u2026`);
   // Let the message show before kit-web takes the main thread.
   setTimeout(() => {
     const answer = kitCall({cmd: "check", lab});
     page.kitPage.lastCheck = answer;
     $("check").disabled = false;
     if (answer.error) {
-      $("check-body").replaceChildren(Object.assign(document.createElement("p"), {
-        className: "error", textContent: `The check could not run: ${answer.error}`}));
+      sayInCheck(`The check could not run: ${answer.error}`, "error");
       if (parseDiagnostics(answer.error).length) showCompileError(page, answer.error);
     } else {
       showCheck(page, $("check-body"), lab, answer);

@@ -2,6 +2,7 @@
 // mirror page.ui, offer only what the lab can draw, and each change goes into page.ui and
 // asks for a frame (view.js), which also puts it in the URL.
 import {findStage, hasLabs, missingEarlier} from "./kit.js";
+import {ensureScene} from "./packages.js";
 import {$, MAP_VIEWS, SIZES, VIEW_LABELS} from "./state.js";
 import {openStageFiles} from "./tabs.js";
 import {requestDraw} from "./view.js";
@@ -128,9 +129,16 @@ export function wireControls(page) {
       requestDraw(page);
     });
   }
-  $("scene").addEventListener("change", () => {
-    ui.scene = $("scene").value;
-    requestDraw(page);
+  // A scene the site keeps in a package of its own is fetched first; the frame keeps the
+  // scene it has until then, and keeps it if the fetch fails.
+  $("scene").addEventListener("change", async () => {
+    const scene = $("scene").value;
+    if (await ensureScene(page, scene)) {
+      ui.scene = scene;
+      requestDraw(page);
+    } else {
+      $("scene").value = ui.scene;
+    }
   });
   $("view").addEventListener("change", () => {
     ui.view = $("view").value;

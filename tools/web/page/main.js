@@ -26,6 +26,7 @@
 //   doc_links.js    a document named in a message, as a link to it
 //   notes.js        the student's progress notes, kept
 //   report.js       Progress report
+//   packages.js     the site's files past the first frame's: scenes, the grader's references
 import {wireCamera} from "./camera.js";
 import {runCheck} from "./check.js";
 import {syncControls, wireControls} from "./controls.js";
@@ -39,6 +40,7 @@ import {say} from "./messages.js";
 import {wireModels} from "./models.js";
 import {wireNotes} from "./notes.js";
 import {wireReport} from "./report.js";
+import {holdForFirstScene, loadCheckFiles, offeredScenes, startPackages} from "./packages.js";
 import {$, createPage} from "./state.js";
 import {openStageFiles, showCompileError} from "./tabs.js";
 import {firstFrameArguments, initialState, kitArguments, updateURL} from "./url.js";
@@ -46,6 +48,8 @@ import {firstFrame, fitCanvas, requestDraw, wireContextLoss} from "./view.js";
 
 const page = createPage();
 const statusLine = $("status");
+// The list of the packages fetched later, beside kit-web's own downloads.
+startPackages(page);
 
 // After kit-web's first frame (or its refusal): the controls, the editor and the buttons.
 function start(state, report) {
@@ -55,6 +59,7 @@ function start(state, report) {
     say(page, "kit-web could not list its stages: " + ui.catalogue.error, "error");
     return;
   }
+  ui.catalogue.scenes = offeredScenes(page, ui.catalogue.scenes);
   initialState(page, report);
   page.editor = new LabEditor($("editor"), (path, text) => onEdit(page, path, text));
   wireControls(page);
@@ -93,11 +98,13 @@ function start(state, report) {
     if (parseDiagnostics(report.error).length) showCompileError(page, report.error);
     else say(page, report.error, "error");
   }
+  if (page.packages.problem) say(page, `This site's files: ${page.packages.problem}.`, "error");
   const problem = page.labs.storageProblem;
   if (problem) say(page, `This browser keeps nothing for this page (${problem}): use Download ` +
                    "my labs to keep your work.", "error");
   Object.assign(page.kitPage, {ready: true, editor: page.editor, labs: page.labs, ui,
-                               compileNow: () => compileEdits(page)});
+                               compileNow: () => compileEdits(page),
+                               loadCheckFiles: (lab) => loadCheckFiles(page, lab).then(() => true)});
   document.body.dataset.kitPage = "ready";
 }
 
@@ -108,9 +115,12 @@ window.Module = {
   canvas: page.canvas,
   print: (text) => console.log(text),
   printErr: (text) => console.warn(text),
+  // Before main(): the URL's scene, where it is in a package of its own (packages.js).
+  preRun: [() => holdForFirstScene(page, window.Module, page.query.get("scene"))],
   // Before main(): the file system holds the site's files. The student's kept edits go into
   // it, so the first frame draws them, and the URL's shaders decide --solution.
   onRuntimeInitialized: () => {
+    page.runtimeReadyAt = performance.now() / 1000;
     page.FS = window.Module.FS;
     restoreEdits(page);
     page.ui.catalogue = kitCall({cmd: "catalogue"});
@@ -120,6 +130,10 @@ window.Module = {
     page.labs.firstFrameReached();
     const report = JSON.parse(json);
     report.page_seconds_to_frame = (performance.now() - page.startedAt) / 1000;
+    // From the navigation's start: what a first visit waits (tests/web_first_visit_test.py),
+    // and when the program was compiled and its first files were in.
+    report.seconds_since_navigation = performance.now() / 1000;
+    report.seconds_to_runtime = page.runtimeReadyAt;
     window.kitReport = report;
     $("report").textContent = JSON.stringify(report, null, 2);
     if (state === "ready") {

@@ -11,6 +11,7 @@ import TEMPLATE from "../../progress/report.mustache";
 import {compileEdits} from "./edits.js";
 import {hasLabs, kitCall, missingEarlier} from "./kit.js";
 import {notesText, studentName} from "./notes.js";
+import {checkFilesMessage, loadCheckFiles} from "./packages.js";
 import {$, DEFAULT_SETTINGS} from "./state.js";
 import {canDraw, configure} from "./view.js";
 
@@ -148,6 +149,10 @@ export async function makeReport(page) {
   const labs = [];
   try {
     for (const stage of stages) {
+      // The references and the lab's scenes, fetched once a visit, as Check my lab does.
+      await loadCheckFiles(page, stage.number, (received, total) => {
+        status.textContent = checkFilesMessage(received, total);
+      });
       status.textContent = `Lab ${stage.number} (${labs.length + 1} of ${stages.length}): checking your files\u2026`;
       await pause();  // the message shows before kit-web takes the main thread
       const answer = kitCall({cmd: "check", lab: stage.number});
