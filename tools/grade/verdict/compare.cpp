@@ -816,6 +816,22 @@ std::string describe_volume_evidence(const VolumeEvidence& e) {
   return out;
 }
 
+std::set<std::string> volume_evidence_parts(const VolumeEvidence& e) {
+  std::set<std::string> parts;
+  const uint64_t off = e.worst_missing + e.worst_extra;
+  // The thresholds of describe_volume_evidence: a sliver at the edge is rasterisation.
+  if (e.worst_volume_light >= 0 && off * 50 > std::max<uint64_t>(e.worst_footprint, 1))
+    parts.insert(e.worst_missing > 0 && e.worst_extra > 0 && std::min(e.worst_missing, e.worst_extra) * 4 > off
+                     ? "light_volume.vert, placement"
+                     : "light_volume.vert, radius");
+  const uint64_t state_off =
+      e.worst_shaded > e.worst_must_shade ? e.worst_shaded - e.worst_must_shade : e.worst_must_shade - e.worst_shaded;
+  if (e.worst_state_light >= 0 && state_off * 50 > std::max<uint64_t>(e.worst_must_shade, 1))
+    parts.insert("light_volume.vert, state");
+  if (e.lights > 0 && !e.adds) parts.insert("light_volume.vert, blend");
+  return parts;
+}
+
 Image display_image(Metric metric, const Image& image, const Image& reference) {
   Image out(image.width, image.height, 3);
   float lo[3] = {0, 0, 0}, span[3] = {1, 1, 1};
