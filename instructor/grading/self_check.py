@@ -525,7 +525,7 @@ def ranked(row, candidates):
     scored = [(similarity(row.features, c.features), c) for c in candidates if c.lab == row.lab and c is not row]
     weight = PASS_PROBE_WEIGHT if getattr(row, "passes", False) else PROBE_WEIGHT
     if row.lab == 7:  # diagnosis.h: lab 7 ranks by the parts first, the images only between equals
-        return sorted(scored, key=lambda t: -(2.0 * probe_agreement(row, t[1]) + t[0]))
+        return sorted(scored, key=lambda t: (-probe_agreement(row, t[1]), -t[0]))
     return sorted(scored, key=lambda t: -(t[0] + weight * probe_agreement(row, t[1])))
 
 

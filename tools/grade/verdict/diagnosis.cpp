@@ -126,11 +126,14 @@ std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, 
     // There the starter (every part wrong at once) is named only where every part agrees with it:
     // files that did any part right are not the starter.
     if (evidence_first && s.id.rfind("starter-", 0) == 0 && agreement < 1.0) continue;
-    // Lab 7 ranks by the parts first, the images only between equals.
-    const double rank = evidence_first ? 2.0 * agreement + similarity : similarity + weight * agreement;
+    // Lab 7 ranks by the parts first (their Jaccard index), the images only between equals.
+    const double rank = evidence_first ? agreement : similarity + weight * agreement;
     all.push_back({{s.id, s.description, similarity}, &s.family, rank, shares});
   }
-  std::stable_sort(all.begin(), all.end(), [](const Ranked& x, const Ranked& y) { return x.rank > y.rank; });
+  std::stable_sort(all.begin(), all.end(), [evidence_first](const Ranked& x, const Ranked& y) {
+    if (evidence_first && x.rank == y.rank) return x.mistake.similarity > y.mistake.similarity;
+    return x.rank > y.rank;
+  });
   std::set<std::string> families;
   for (const auto& [m, family, rank, shares] : all) {
     if (named.size() == kMostNamed) break;

@@ -103,8 +103,7 @@ constexpr double kPassProbeWeight = 1.0;
 // fail alike (light missing or wrong somewhere): there a mistake that shares a part with the
 // submission is named even below kMinNamedSimilarity (a radius that only lights without a
 // range show fails one check, unlike its relatives'), and mistakes are ranked by the parts
-// they share first (twice the Jaccard index: a similarity is at most 1), the images only
-// between equals.
+// they share first (the Jaccard index), the images only between equals.
 // The mistakes of `lab` that `submission` (check key -> check_features) most resembles,
 // closest first, one per family; empty when none reaches kMinNamedSimilarity. With
 // `differing` (the probed functions that differ, where every probe of the lab ran), each
