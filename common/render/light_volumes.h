@@ -88,8 +88,9 @@ struct LightVolumeWork {
   int volume_lights = 0;           // point and spot lights drawn as volumes
   uint64_t surface_pixels = 0;     // pixels with a surface: what the full-screen loop shades per light
   uint64_t shaded_fragments = 0;   // fragments the student's volumes reached the fragment shader with
-  uint64_t volume_coverage = 0;    // the framework's own spheres (radius as given, back faces, no depth
-                                   // test): every pixel each volume covers on screen, once
+  uint64_t volume_coverage = 0;    // the framework's own spheres (radius as given) under the state that
+                                   // shades least, cull(front) depth(greater_equal): each pixel a volume
+                                   // covers on screen where the surface lies in front of its far side, once
   // The loop's work over the volumes': surface_pixels * volume_lights / shaded_fragments.
   double speedup() const;
   VolumeEvidence evidence;  // light by light: where the volumes go wrong

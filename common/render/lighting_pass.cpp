@@ -105,12 +105,15 @@ void Renderer::light_volume_pass() {
   set_uniforms(p.volume_count);
   volume_work_.shaded_fragments =
       samples_passed([&] { draw_light_volumes(volume_sphere_, volumes, volume_state_, false); });
-  // The framework's own spheres, back faces only and no depth test: every pixel each
-  // volume covers on screen, once (also with the camera inside it).
+  // The framework's own spheres under the state that does least: back faces only (each
+  // pixel once, also with the camera inside), depth greater_equal (only where the surface
+  // lies in front of the sphere's far side). What a state shades beyond it is work outside
+  // the light's sphere in depth: surfaces behind it (no depth test), or a second fragment
+  // where the surface lies in front of it (both faces drawn).
   set_uniforms(p.volume_coverage);
   LightVolumeState coverage;
   coverage.cull = LightVolumeState::Cull::Front;
-  coverage.depth = LightVolumeState::Depth::Off;
+  coverage.depth = LightVolumeState::Depth::GreaterEqual;
   volume_work_.volume_coverage = samples_passed([&] { draw_light_volumes(volume_sphere_, volumes, coverage, false); });
   // The pixels the full-screen loop shades: those with a surface.
   set_frame_uniforms(p.surface_count);

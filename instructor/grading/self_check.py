@@ -156,6 +156,7 @@ class Row:
         self.failed_checks = set()  # the keys of the checks it failed
         self.named = []       # the ids kit-grade named for this lab, closest first
         self.functions = []   # summary.json's probed functions (tools/grade/frames/function_probes.h)
+        self.evidence = set()  # lab 7: the parts its counts name (summary.json "evidence")
         self.edited_functions = set()  # the functions of probed files its edits lie in
 
     @property
@@ -271,6 +272,7 @@ def judge(row, out, status, tail, args, submission):
     row.failed_checks = {key for key, c in lab.get("checks", {}).items() if not c.get("passed")}
     row.named = [m.get("id") for m in lab.get("likely_mistakes", [])]
     row.functions = lab.get("functions", [])
+    row.evidence = set(lab.get("evidence", []))
     tests = []
     try:
         tests = json.loads((out / "results.json").read_text()).get("tests", [])
@@ -538,8 +540,10 @@ def write_json(path, rows, started, naming):
 
 def differing_functions(row):
     """The probed parts (tools/grade/frames/function_probes.h, FunctionProbe::part: a function, a pass's file, or
-    "FILE, TERM" for a part of a pass) that differ for the row."""
-    return {f.get("part", f.get("function")) for f in row.functions if f.get("status") == "differs"}
+    "FILE, TERM" for a part of a pass) that differ for the row, and lab 7's parts from its counts (summary.json's
+    "evidence": tools/grade/verdict/compare.h, volume_evidence_parts)."""
+    return ({f.get("part", f.get("function")) for f in row.functions if f.get("status") == "differs"}
+            | getattr(row, "evidence", set()))
 
 
 def probed_lab(row):
@@ -565,6 +569,8 @@ def ranked(row, candidates):
     similarity plus the probes' share, closest first, as (similarity, row)."""
     scored = [(similarity(row.features, c.features), c) for c in candidates if c.lab == row.lab and c is not row]
     weight = PASS_PROBE_WEIGHT if getattr(row, "passes", False) else PROBE_WEIGHT
+    if row.lab == 7:  # diagnosis.h: lab 7 ranks by the parts first, the images only between equals
+        return sorted(scored, key=lambda t: (-probe_agreement(row, t[1]), -t[0]))
     return sorted(scored, key=lambda t: -(t[0] + weight * probe_agreement(row, t[1])))
 
 
@@ -584,7 +590,9 @@ def naming_counts(caught):
               "distinct": sum(1 for r in stored if all(s < 0.999 for s, _ in scores[r.id])),
               "by_lab": {}, "misses": []}
     for r in with_relatives:
-        fams = list(dict.fromkeys(o.family for s, o in scores[r.id] if s >= MIN_NAMED))[:3]  # one per family
+        # Lab 7 names a mistake that shares a part with the row's even below the floor (diagnosis.h).
+        fams = list(dict.fromkeys(o.family for s, o in scores[r.id]
+                                  if s >= MIN_NAMED or (r.lab == 7 and r.functions and probe_agreement(r, o) > 0)))[:3]
         first, within = bool(fams) and fams[0] == r.family, r.family in fams
         counts["first"] += first
         counts["within_three"] += within

@@ -296,6 +296,16 @@ dvec3 shade(const SurfaceSample& surface, const dvec3& camera_position, const st
   return shade(surface, camera_position, uploaded_lights(lights), settings);
 }
 
+dvec3 light_volume_term(const SurfaceSample& surface, const dvec3& camera_position, const ShadingLight& light,
+                        double volume_radius, const ShadingSettings& settings) {
+  if (!surface.covered) return dvec3(0.0);
+  const dvec3 to_light = light.position - surface.position;
+  if (glm::dot(to_light, to_light) > volume_radius * volume_radius) return dvec3(0.0);
+  SurfaceSample lit = surface;
+  lit.emission = dvec3(0.0);
+  return shade(lit, camera_position, std::vector<ShadingLight>{light}, settings);
+}
+
 // --- Display ------------------------------------------------------------------------------
 
 dvec3 tonemap(dvec3 hdr, double gamma) {

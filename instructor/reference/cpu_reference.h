@@ -19,7 +19,7 @@
 //          geometry_pass.cpp (u_normal_matrix)  normal_matrix
 //   Lab 5  solutions/05-postprocess/*.frag      bright_pass, blur_pass, bloom, composite
 //                                               (the custom effect is left out: identity when off)
-//   Lab 7  solutions/07-lightvolumes/*          shade() per light: a volume adds lab 2's term of its
+//   Lab 7  solutions/07-lightvolumes/*          light_volume_term; shade() per light: a volume adds lab 2's term of its
 //                                               light (test_light_volumes.cpp; ranged lights cut at
 //                                               their range lose nothing)
 //   frame_lights.cpp light_flux and light_texture  exact_light_flux, uploaded_light, exact_light
@@ -189,6 +189,15 @@ dvec3 shade(const SurfaceSample& surface, const dvec3& camera_position, const st
 // The same with lights as the renderer uploads them (uploaded_lights).
 dvec3 shade(const SurfaceSample& surface, const dvec3& camera_position, const std::vector<Light>& lights,
             const ShadingSettings& settings);
+
+// --- Lab 7 (solutions/07-lightvolumes/light_volume.frag) --------------------------------------
+// One light's term at a surface its volume covers: lab 2's term of that light alone, as shade()
+// adds it (no emission), 0 where no surface is or where the surface lies outside the light's
+// sphere of radius `volume_radius` (where the light adds less than its cut-off; the handout's
+// test is optional, so the grader's probe puts no surface outside a sphere that the light
+// still reaches).
+dvec3 light_volume_term(const SurfaceSample& surface, const dvec3& camera_position, const ShadingLight& light,
+                        double volume_radius, const ShadingSettings& settings);
 
 // --- The labs' contracts (tools/grade/lab_functions.json) ------------------------------
 // A probed function's arguments as the grader's probe shaders read them, in the order of its

@@ -179,10 +179,42 @@ std::vector<ref::dvec3> cpu_geometry_values(const FunctionProbe& probe) {
   return values;
 }
 
+// A lab 7 probe of light_volume.frag from the CPU reference (cpu_reference.h,
+// light_volume_term): the light the probe draws (u_probe_light) as the framework uploads it,
+// with its volume radius, the camera and model its uniforms say.
+std::vector<ref::dvec3> cpu_light_volume_values(const FunctionProbe& probe) {
+  ref::ShadingSettings settings;
+  settings.stage = 7;
+  ref::dvec3 camera(0.0);
+  size_t light = 0;
+  for (const grade::ProbeUniform& u : probe.uniforms) {
+    if (u.name == "u_camera_position") camera = ref::dvec3(u.vec3);
+    if (u.name == "u_attenuation_model") settings.attenuation_model = static_cast<int>(u.value);
+    if (u.name == "u_probe_light") light = static_cast<size_t>(u.value);
+  }
+  const grade::LightVolumeProbeSetup& setup = *probe.light_volume;
+  std::vector<ref::dvec3> values;
+  for (const grade::ProbeCase& c : probe.cases) {
+    Arguments a{c.inputs};
+    ref::SurfaceSample s;
+    s.position = a.vec3();
+    s.normal = a.vec3();
+    s.albedo = a.vec3();
+    const ref::dvec3 material = a.vec3();
+    s.metallic = material.x;
+    s.roughness = material.y;
+    s.covered = true;
+    values.push_back(ref::light_volume_term(s, camera, ref::uploaded_light(setup.lights.at(light)),
+                                            setup.volume_radii.at(light), settings));
+  }
+  return values;
+}
+
 // A lab 5 pass probe's values from the CPU reference (cpu_reference.h, lab 5), every case at
 // once: the blur's value at a texel depends on its neighbours'.
 std::vector<ref::dvec3> cpu_pass_values(const FunctionProbe& probe) {
   if (probe.file == "ibl.frag") return cpu_ibl_values(probe);
+  if (probe.light_volume) return cpu_light_volume_values(probe);
   if (probe.geometry) return cpu_geometry_values(probe);
   ref::ShadingSettings settings;
   settings.stage = 5;
@@ -467,6 +499,40 @@ TEST(FunctionProbes, GeometryProbesTellAttachmentsAndUvsApart) {
   auto at_base_uv = probe_lab(1, lab_with("mr_at_base_uv", "01-gbuffer", "gbuffer.frag", "kit_metallic_roughness_uv(v_texcoords)",
                                           "kit_base_color_uv(v_texcoords)"));
   EXPECT_EQ(differing(at_base_uv), std::vector<std::string>{"gbuffer/uv-material"});
+}
+
+}  // namespace
+}  // namespace kit::test
+
+namespace kit::test {
+namespace {
+
+// Lab 7's light_volume.frag, drawn alone as one light's volume over rows of G-buffer texels
+// (pass_probes.cpp, make_lab7), each probe set up so that one part of the term shows: the
+// solution agrees everywhere, and so do the catalogue's equivalents (no sphere test, texture()
+// at gl_FragCoord / u_resolution); the cosine dropped differs only in the cosine's probe, the
+// first light read for every volume only in the light's, and the view vector taken from the
+// origin only in the view vector's (witness: with the camera at the origin elsewhere, the
+// other probes cannot see it), each named at its texel as a pass is.
+TEST(FunctionProbes, LightVolumeProbesTellItsPartsApart) {
+  for (const auto& [id, outcome] : probe_lab(7, kit_root() / "solutions"))
+    EXPECT_EQ(outcome.status, grade::kProbeAgrees) << outcome.message;
+  const char* folder = "07-lightvolumes";
+  const char* file = "light_volume.frag";
+  const char* test = "    if (dot(to_light, to_light) > light.volume_radius * light.volume_radius) return;\n";
+  for (const auto& [id, outcome] : probe_lab(7, lab_with("no_sphere_test", folder, file, test, "")))
+    EXPECT_EQ(outcome.status, grade::kProbeAgrees) << outcome.message;
+  auto no_cosine = probe_lab(7, lab_with("no_cosine", folder, file, "light_radiance(light, p) * n_dot_l;", "light_radiance(light, p);"));
+  EXPECT_EQ(differing(no_cosine), std::vector<std::string>{"light_volume/cosine"});
+  EXPECT_EQ(no_cosine.at("light_volume/cosine").probe->part(), "light_volume.frag, cosine");
+  EXPECT_EQ(grade::probe_feedback({no_cosine.at("light_volume/cosine")}, true).at(0).rfind(
+                "Your pass light_volume.frag at texel 1 (u_gbuffer_position = (0.25, 0.5, -4)", 0),
+            0u)
+      << no_cosine.at("light_volume/cosine").message;
+  auto first_light = probe_lab(7, lab_with("first_light", folder, file, "kit_light(v_light)", "kit_light(0)"));
+  EXPECT_EQ(differing(first_light), std::vector<std::string>{"light_volume/light"});
+  auto from_origin = probe_lab(7, lab_with("view_from_origin", folder, file, "normalize(u_camera_position - p)", "normalize(-p)"));
+  EXPECT_EQ(differing(from_origin), std::vector<std::string>{"light_volume/view"});
 }
 
 }  // namespace

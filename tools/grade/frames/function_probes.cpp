@@ -247,7 +247,7 @@ std::string FunctionProbe::part() const { return !pass ? function : term.empty()
 const std::vector<FunctionProbe>& function_probes(int lab) {
   // Each lab's made on first use, so that grading one lab reads only what it needs: labs 2
   // and 3's functions come from their contract (tools/grade/lab_functions.json), whose
-  // error then costs those labs alone; the passes' set-ups (labs 1, 4, 5 and 6) are
+  // error then costs those labs alone; the passes' set-ups (labs 1, 4, 5, 6 and 7) are
   // pass_probes.h's.
   static const std::vector<FunctionProbe> none;
   switch (lab) {
@@ -257,6 +257,7 @@ const std::vector<FunctionProbe>& function_probes(int lab) {
     case 4: { static const std::vector<FunctionProbe> probes = pass_probes(4); return probes; }
     case 5: { static const std::vector<FunctionProbe> probes = pass_probes(5); return probes; }
     case 6: { static const std::vector<FunctionProbe> probes = pass_probes(6); return probes; }
+    case 7: { static const std::vector<FunctionProbe> probes = pass_probes(7); return probes; }
     default: return none;
   }
 }
@@ -518,7 +519,11 @@ std::vector<std::string> probe_feedback(const std::vector<ProbeOutcome>& probes,
     std::string files;
     for (const ProbeOutcome& p : probes)
       if (files.find(p.probe->file) == std::string::npos) files += (files.empty() ? "" : " and ") + p.probe->file;
-    if (probes.front().probe->pass)
+    if (probes.front().probe->file == "light_volume.frag")
+      out.push_back("light_volume.frag, drawn alone for one light, writes what the reference solution's does at every "
+                    "probed texel: look for the mistake in light_volume.vert (where the volume is placed, its radius, "
+                    "the pragma's state).");
+    else if (probes.front().probe->pass)
       out.push_back("Each of " + files + ", drawn alone, writes what the reference solution's does at every "
                     "probed texel: look for the mistake elsewhere (custom_effect.frag, or a setting the probes do not draw).");
     else

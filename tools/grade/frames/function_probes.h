@@ -20,7 +20,7 @@
 
 #include "images/image_io.h"     // ImageRgba8
 #include "render/renderer.h"     // FrameCamera
-#include "scene/scene.h"         // Material, Vertex
+#include "scene/scene.h"         // Light, Material, Vertex
 
 namespace kit::grade {
 
@@ -81,6 +81,16 @@ glm::vec3 geometry_probe_view_point(int index, int count);
 // a_texcoord0, a_texcoord1, a_color, as the case's inputs hold them.
 Vertex geometry_probe_vertex(const std::vector<float>& inputs);
 
+// Lab 7's pass probe (FunctionProbe::light_volume): light_volume.frag drawn as one light's
+// volume would draw it, over a row of G-buffer texels: the lights kit_light reads (the
+// framework's uniform block, each with its volume radius), and the vertex stage
+// probe_light_volume.vert, which covers the row and hands every fragment v_light =
+// u_probe_light (a ProbeUniform).
+struct LightVolumeProbeSetup {
+  std::vector<Light> lights;
+  std::vector<float> volume_radii;  // one per light
+};
+
 struct ProbeCase {
   std::vector<float> inputs;  // the arguments' floats in order (a Light as function_probe_inputs.glsl reads it)
   // Where the kit's own guard decides the value (a denominator at 0: a light at the point,
@@ -114,6 +124,8 @@ struct FunctionProbe {
   std::string term;
   // A geometry pass probe (labs 1 and 4): its arguments are vertex attributes.
   std::shared_ptr<const GeometryProbeSetup> geometry;
+  // Lab 7's light_volume.frag: the lights it reads and its vertex stage.
+  std::shared_ptr<const LightVolumeProbeSetup> light_volume;
   // Its values went through an 8-bit sRGB texel's decode, which GL lets an implementation
   // approximate (llvmpipe's is 0.17 % low at 200/255): compared within 1 %, or 2e-3 of the
   // largest expected value where that is more, instead of 0.2 %.

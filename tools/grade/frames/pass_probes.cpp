@@ -2,6 +2,8 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <memory>
 #include <string>
 #include <utility>
@@ -18,7 +20,7 @@ namespace {
 void push(std::vector<float>& to, float v) { to.push_back(v); }
 void push(std::vector<float>& to, glm::vec3 v) { to.insert(to.end(), {v.x, v.y, v.z}); }
 
-// A pass probe of lab `lab`'s `file` (labs 1, 4, 5 and 6), drawn alone: its function is
+// A pass probe of lab `lab`'s `file` (labs 1, 4, 5, 6 and 7), drawn alone: its function is
 // "main"; labs 2 and 3's function probes come from their contract (lab_functions.h).
 FunctionProbe pass_probe(int lab, const std::string& file, std::vector<ProbeArgument> arguments, ProbeType result) {
   FunctionProbe p;
@@ -175,6 +177,185 @@ std::vector<FunctionProbe> make_lab6() {
       push(c.inputs, glm::vec3(t.metallic, t.roughness, 0.0f));
       p.cases.push_back(c);
     }
+    probes.push_back(p);
+  }
+  return probes;
+}
+
+// --- Lab 7: light_volume.frag, one light over a row of G-buffer texels ----------------------
+
+// One G-buffer texel of a lab 7 probe: the surface `distance` from the light along
+// `direction` (from the light, unit), its normal `tilt` turned from facing the light
+// (cosine 1) towards `across` (unit, perpendicular to `direction`), and one of six materials.
+struct VolumeTexel {
+  glm::vec3 direction;
+  float distance;
+  float cosine = 1.0f;
+  glm::vec3 across{0.0f};
+  int material = 0;
+};
+
+ProbeCase volume_case(const glm::vec3& light, const VolumeTexel& t) {
+  struct Surface {
+    glm::vec3 albedo;
+    float metallic, roughness;
+  };
+  // Roughness 0.35 and more: no GGX peak of a near-mirror, where float rounding would show.
+  const Surface surfaces[] = {{{0.8f, 0.5f, 0.3f}, 0.0f, 0.5f}, {{0.3f, 0.6f, 0.9f}, 1.0f, 0.4f},
+                              {{0.9f, 0.9f, 0.9f}, 0.5f, 0.7f}, {{0.2f, 0.8f, 0.4f}, 0.0f, 0.9f},
+                              {{0.95f, 0.65f, 0.55f}, 1.0f, 0.6f}, {{0.5f, 0.3f, 0.7f}, 0.25f, 0.35f}};
+  const Surface& m = surfaces[t.material % 6];
+  const float sine = std::sqrt(std::max(0.0f, 1.0f - t.cosine * t.cosine));
+  ProbeCase c;
+  push(c.inputs, light + t.distance * t.direction);
+  push(c.inputs, glm::normalize(-t.cosine * t.direction + sine * t.across));
+  push(c.inputs, m.albedo);
+  push(c.inputs, glm::vec3(m.metallic, m.roughness, 0.0f));
+  return c;
+}
+
+// One probe of lab 7: the light drawn (always light 2 of three), the model, the camera, the texels.
+struct VolumePart {
+  const char* id;
+  const char* term;
+  const char* setting;
+  std::vector<Light> lights;
+  std::vector<float> radii;
+  int model;
+  glm::vec3 camera;
+  std::vector<VolumeTexel> texels;
+  bool column = false;
+};
+
+Light volume_light(int type, glm::vec3 position, glm::vec3 colour, float intensity, float range) {
+  Light l;
+  l.type = type;
+  l.position = position;
+  l.color = colour;
+  l.intensity = intensity;
+  l.range = range;
+  l.direction = glm::vec3(0.0f, 0.0f, -1.0f);
+  l.inner_cone = 0.3f;
+  l.outer_cone = 0.6f;
+  return l;
+}
+
+std::vector<VolumePart> volume_parts() {
+  const glm::vec3 at(0.25f, 0.5f, -3.0f), origin(0.0f);
+  const Light plain = volume_light(KIT_LIGHT_POINT, at, {1.0f, 0.8f, 0.6f}, 2.0f, 10.0f);
+  const std::vector<Light> alike = {plain, plain, plain};
+  const std::vector<float> radius4 = {4.0f, 4.0f, 4.0f};
+  // Away from the camera at the origin, so that every surface facing the light faces it too.
+  const glm::vec3 away[] = {{0.0f, 0.0f, -1.0f}, {0.6f, 0.0f, -0.8f}, {-0.6f, 0.0f, -0.8f},
+                            {0.0f, 0.6f, -0.8f}, {0.0f, -0.6f, -0.8f}, {0.48f, 0.6f, -0.64f}};
+  const auto facing = [&](std::vector<float> distances) {
+    std::vector<VolumeTexel> out;
+    for (size_t i = 0; i < distances.size(); ++i) out.push_back({away[i % 6], distances[i], 1.0f, {}, static_cast<int>(i)});
+    return out;
+  };
+  const std::vector<VolumeTexel> unit = facing({1, 1, 1, 1, 1, 1});
+  std::vector<VolumePart> parts;
+  // The camera inside the volume radius: a sphere test made at the camera shows in the sphere's parts alone.
+  parts.push_back({"light_volume/view", "view vector",
+                   "light 2 of three alike: a point light of 2 cd, range 10, volume radius 16; u_attenuation_model = 0; "
+                   "camera at (1.5, 2, 1); each surface 1 m from the light, facing it",
+                   alike, {16.0f, 16.0f, 16.0f}, 0, {1.5f, 2.0f, 1.0f}, unit});
+  // The cosine: one point 1 m from the light, its normal turned from the light.
+  std::vector<VolumeTexel> turned;
+  const glm::vec3 across[] = {{1, 0, 0}, {0, 1, 0}, {-1, 0, 0}, {0, -1, 0}, {0.6f, 0.8f, 0}, {-0.8f, 0.6f, 0}};
+  const float cosines[] = {1.0f, 0.8f, 0.5f, 0.2f, -0.3f, -0.7f};
+  for (int i = 0; i < 6; ++i) turned.push_back({away[0], 1.0f, cosines[i], across[i], i});
+  parts.push_back({"light_volume/cosine", "cosine",
+                   "light 2 of three alike: a point light of 2 cd, range 10, volume radius 4; u_attenuation_model = 0; "
+                   "camera at the origin; one point 1 m from the light, its normal at n.l = 1, 0.8, 0.5, 0.2, -0.3, -0.7",
+                   alike, radius4, 0, origin, turned});
+  // The falloff: distances across the range, under both models, and a spot's cone.
+  const std::vector<Light> ranged(3, volume_light(KIT_LIGHT_POINT, at, {1.0f, 0.8f, 0.6f}, 2.0f, 4.0f));
+  const std::vector<VolumeTexel> spread = facing({0.5f, 0.8f, 1.3f, 2.0f, 2.8f, 3.5f});
+  // A volume radius past the range (the light is 0 there): a sphere test of d^2 against r
+  // does not reach into the falloff's texels.
+  const std::vector<float> radius16 = {16.0f, 16.0f, 16.0f};
+  parts.push_back({"light_volume/falloff-physical", "falloff",
+                   "light 2 of three alike: a point light of 2 cd, range 4, volume radius 16; u_attenuation_model = 0; "
+                   "camera at the origin; surfaces 0.5 to 3.5 m from the light, facing it",
+                   ranged, radius16, 0, origin, spread});
+  parts.push_back({"light_volume/falloff-simple", "falloff",
+                   "light 2 of three alike: a point light of 2 cd, range 4, volume radius 16; u_attenuation_model = 1; "
+                   "camera at the origin; surfaces 0.5 to 3.5 m from the light, facing it",
+                   ranged, radius16, 1, origin, spread});
+  const std::vector<Light> spots(3, volume_light(KIT_LIGHT_SPOT, at, {1.0f, 0.8f, 0.6f}, 2.0f, 10.0f));
+  std::vector<VolumeTexel> cone;
+  const float angles[] = {0.0f, 0.2f, 0.35f, 0.45f, 0.55f, 0.8f};
+  for (int i = 0; i < 6; ++i) {
+    const float a = angles[i], turn = 1.1f * static_cast<float>(i);
+    cone.push_back({{std::sin(a) * std::cos(turn), std::sin(a) * std::sin(turn), -std::cos(a)}, 1.5f, 1.0f, {}, i});
+  }
+  parts.push_back({"light_volume/falloff-spot", "falloff",
+                   "light 2 of three alike: a spot light of 2 cd along -z, cones 0.3 and 0.6 rad, range 10, volume "
+                   "radius 4; u_attenuation_model = 0; camera at the origin; surfaces 1.5 m from the light at 0 to 0.8 rad "
+                   "off its axis, facing it",
+                   spots, radius4, 0, origin, cone});
+  // The light read: three different lights, the probe's the third.
+  const std::vector<Light> three = {volume_light(KIT_LIGHT_POINT, {-1.5f, 1.0f, -2.0f}, {0.2f, 0.4f, 1.0f}, 5.0f, 10.0f),
+                                    volume_light(KIT_LIGHT_SPOT, {1.0f, -0.5f, -2.5f}, {1.0f, 0.3f, 0.2f}, 3.0f, 10.0f), plain};
+  parts.push_back({"light_volume/light", "light read",
+                   "light 2 of three different lights (v_light = 2): a point light of 2 cd at (0.25, 0.5, -3), range 10, "
+                   "volume radius 4; u_attenuation_model = 0; camera at the origin; each surface 1 m from it, facing it",
+                   three, radius4, 0, origin, unit});
+  // The sphere test: a light whose range is its radius (nothing past it either way), and one
+  // without a range, whose volume radius alone says where it ends.
+  parts.push_back({"light_volume/sphere-ranged", "sphere test (a ranged light)",
+                   "light 2 of three alike: a point light of 2 cd, range 2, volume radius 2; u_attenuation_model = 0; "
+                   "camera at the origin; surfaces 0.5, 1.2, 1.5 and 1.9 m from the light (inside) and 2.1 and 2.5 m "
+                   "(outside), facing it",
+                   std::vector<Light>(3, volume_light(KIT_LIGHT_POINT, at, {1.0f, 0.8f, 0.6f}, 2.0f, 2.0f)),
+                   {2.0f, 2.0f, 2.0f}, 0, origin, facing({0.5f, 1.2f, 1.5f, 1.9f, 2.1f, 2.5f})});
+  parts.push_back({"light_volume/sphere-unranged", "sphere test",
+                   "light 2 of three alike: a point light of 2 cd without a range, volume radius 2.5; "
+                   "u_attenuation_model = 0; camera at the origin; surfaces 0.5 to 2.4 m from the light, facing it",
+                   std::vector<Light>(3, volume_light(KIT_LIGHT_POINT, at, {1.0f, 0.8f, 0.6f}, 2.0f, 0.0f)),
+                   {2.5f, 2.5f, 2.5f}, 0, origin, facing({0.5f, 1.0f, 1.5f, 1.8f, 2.1f, 2.4f})});
+  parts.push_back({"light_volume/lookup", "G-buffer lookup",
+                   "down a column; light 2 of three alike: a point light of 2 cd, range 10, volume radius 4; "
+                   "u_attenuation_model = 0; camera at the origin; each surface 1 m from the light, facing it",
+                   alike, radius4, 0, origin, unit, true});
+  return parts;
+}
+
+// Lab 7's light_volume.frag drawn alone, as light 2's volume would draw it, over six G-buffer
+// texels, once per part; each probe sets up the others' terms so that they cannot show:
+// every surface faces the light (n.l = 1) from 1 m (lab 3's falloff is the intensity there,
+// the range window within 1e-4 of 1), the camera at the origin (a view vector from the
+// origin is the right one) and the three lights alike (any index reads the same light):
+//   view vector      the camera elsewhere;
+//   cosine           the normal turned from the light, past 90 degrees for two texels;
+//   falloff          distances across the range under each model, and a spot's cone;
+//   light read       three different lights;
+//   sphere test      surfaces just inside and just outside a light whose range is its
+//                    radius (outside, the light is 0 with or without the optional test), and
+//                    inside the volume radius of a light without a range;
+//   G-buffer lookup  down a column (every probe's texels are distinct along its row).
+std::vector<FunctionProbe> make_lab7() {
+  using T = ProbeType;
+  std::vector<FunctionProbe> probes;
+  for (const VolumePart& part : volume_parts()) {
+    FunctionProbe p = pass_probe(7, "light_volume.frag",
+                                 {{"u_gbuffer_position", T::Vec3}, {"u_gbuffer_normal", T::Vec3},
+                                  {"u_gbuffer_albedo", T::Vec3}, {"u_gbuffer_material", T::Vec3}},
+                                 T::Vec3);
+    p.id = part.id;
+    p.term = part.term;
+    p.setting = part.setting;
+    p.column = part.column;
+    auto setup = std::make_shared<LightVolumeProbeSetup>();
+    setup->lights = part.lights;
+    setup->volume_radii = part.radii;
+    p.light_volume = setup;
+    ProbeUniform camera{"u_camera_position"};
+    camera.is_vec3 = true;
+    camera.vec3 = part.camera;
+    p.uniforms = {camera, {"u_attenuation_model", true, static_cast<float>(part.model)}, {"u_probe_light", true, 2.0f}};
+    for (const VolumeTexel& t : part.texels) p.cases.push_back(volume_case(part.lights[2].position, t));
     probes.push_back(p);
   }
   return probes;
@@ -374,6 +555,7 @@ std::vector<FunctionProbe> pass_probes(int lab) {
     case 4: return make_geometry(4);
     case 5: return make_lab5();
     case 6: return make_lab6();
+    case 7: return make_lab7();
     default: return {};
   }
 }

@@ -161,6 +161,13 @@ ProbeValues draw_pass_probe(const FunctionProbe& probe, const Program& program, 
     bind_at(probe.arguments[a].name, Texture2D(target.width(), target.height(), kProbeFormat, texels.data()));
   }
   for (const ProbeMap& map : probe.maps) bind_at(map.sampler, probe_map(map));
+  // Lab 7: the lights kit_light reads, as the framework uploads them.
+  const LightBuffers lights = probe.light_volume ? LightBuffers(probe.light_volume->lights, probe.light_volume->volume_radii)
+                                                 : LightBuffers();
+  if (probe.light_volume) {
+    if (lights.in_texture()) throw Error("pass probes: " + probe.id + " has more lights than the uniform block holds");
+    lights.bind();
+  }
   program.use();
   // Bound once all are made (each is made on the active unit).
   for (const auto& [unit, texture] : bound) texture.bind(unit);
@@ -230,11 +237,13 @@ std::map<std::string, ProbeValues> run_function_probes(const Stage& stage, const
   std::map<std::string, std::vector<const FunctionProbe*>> passes;  // by the lab's file
   for (const FunctionProbe& p : probes) (p.pass ? passes : by_shader)[p.shader].push_back(&p);
   for (const auto& [file, list] : passes) {
-    // A geometry probe draws the lab's vertex stage too (all of a file's probes are alike).
+    // A geometry probe draws the lab's vertex stage too, lab 7's light_volume.frag the stage
+    // that gives it its light (all of a file's probes are alike).
     const bool geometry = list.front()->geometry != nullptr;
+    const char* vertex = geometry ? "gbuffer.vert" : list.front()->light_volume ? "probe_light_volume.vert" : "fullscreen.vert";
     std::unique_ptr<Program> program;
     try {
-      program = std::make_unique<Program>(stage_library(stage, lab_root), geometry ? "gbuffer.vert" : "fullscreen.vert", file);
+      program = std::make_unique<Program>(stage_library(stage, lab_root), vertex, file);
       set_resource_bindings(*program);
     } catch (const Error& e) {
       for (const FunctionProbe* p : list) out[p->id].error = first_line(e.what());

@@ -303,6 +303,7 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
         {"likely_text", likely_text(lab)},  // the sentence the report shows, for the platforms' own results
         {"functions", functions_json(lab)},
         {"functions_text", functions_lines(lab)},
+        {"evidence", lab.evidence},
         {"render_ms", rounded(lab.render_ms)},
         {"seconds", {{"child_wall", rounded(lab.child_seconds)}, {"child_cpu", rounded(lab.child_cpu_seconds)},
                      {"compare", rounded(lab.compare_seconds)}}},

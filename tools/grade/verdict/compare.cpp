@@ -752,8 +752,9 @@ Comparison compare_work(const Tolerance& tol, const LightVolumeWork& work, bool 
   r.max_error = static_cast<double>(work.shaded_fragments);
   char text[640];
   std::snprintf(text, sizeof text,
-                "%.0f fragments shaded for %d light volumes; the volumes cover %.0f pixels on screen (at most %.0f "
-                "may be shaded, %.3g%% over); the full-screen loop shades %.0f (%.0f surface pixels x %d lights): "
+                "%.0f fragments shaded for %d light volumes; the framework's volumes under cull(front) "
+                "depth(greater_equal) shade %.0f (at most %.0f may be shaded, %.3g%% over); the full-screen loop "
+                "shades %.0f (%.0f surface pixels x %d lights): "
                 "%.1fx fewer (at least %.3gx)",
                 static_cast<double>(work.shaded_fragments), work.volume_lights, static_cast<double>(work.volume_coverage),
                 std::floor(allowed), 100.0 * tol.fail_threshold, loop, static_cast<double>(work.surface_pixels),
@@ -762,8 +763,9 @@ Comparison compare_work(const Tolerance& tol, const LightVolumeWork& work, bool 
   if (!image_passed)
     r.note = "the image of this frame (" + image_check + ") is not right yet, so its work is not credited";
   else if (!within_coverage)
-    r.note = "more fragments were shaded than the volumes cover: a pixel shaded twice by one light (both faces "
-             "drawn?), a volume larger than its radius, or a full-screen pass per light";
+    r.note = "more fragments were shaded than the framework's volumes shade: work outside a light's sphere in depth "
+             "(depth(off) shades the surfaces behind a volume and the background; cull(none) shades twice where the "
+             "surface lies in front of it), a volume larger than its radius, or a full-screen pass per light";
   else if (!fast_enough)
     r.note = "the volumes save less work than they should on this scene";
   if (!r.passed) r.summary = "Over the limit: " + r.summary;
@@ -814,6 +816,22 @@ std::string describe_volume_evidence(const VolumeEvidence& e) {
   }
   if (e.lights > 0 && !e.adds) add("blend(off): each light's term replaces what is already in the target instead of adding to it");
   return out;
+}
+
+std::set<std::string> volume_evidence_parts(const VolumeEvidence& e) {
+  std::set<std::string> parts;
+  const uint64_t off = e.worst_missing + e.worst_extra;
+  // The thresholds of describe_volume_evidence: a sliver at the edge is rasterisation.
+  if (e.worst_volume_light >= 0 && off * 50 > std::max<uint64_t>(e.worst_footprint, 1))
+    parts.insert(e.worst_missing > 0 && e.worst_extra > 0 && std::min(e.worst_missing, e.worst_extra) * 4 > off
+                     ? "light_volume.vert, placement"
+                     : "light_volume.vert, radius");
+  const uint64_t state_off =
+      e.worst_shaded > e.worst_must_shade ? e.worst_shaded - e.worst_must_shade : e.worst_must_shade - e.worst_shaded;
+  if (e.worst_state_light >= 0 && state_off * 50 > std::max<uint64_t>(e.worst_must_shade, 1))
+    parts.insert("light_volume.vert, state");
+  if (e.lights > 0 && !e.adds) parts.insert("light_volume.vert, blend");
+  return parts;
 }
 
 Image display_image(Metric metric, const Image& image, const Image& reference) {

@@ -3,6 +3,7 @@
 // of OpenImageIO's ImageBufAlgo::compare for the per-channel metrics, computed here in
 // one pass; the angle between normals for Metric::Normal), and the images the report shows.
 #include <array>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -107,6 +108,15 @@ std::vector<float> volume_evidence_signature(const VolumeEvidence& evidence);
 // numbered from 1 as the scene lists its lights (like the worst pixel's description), or ""
 // when the volumes and their state are right.
 std::string describe_volume_evidence(const VolumeEvidence& evidence);
+// The same evidence as parts of lab 7 that naming weighs as it weighs the probes'
+// (diagnosis.h, kPassProbeWeight): "light_volume.vert, radius" where a light's volume drawn
+// alone is too small or too large (over 2 % of its sphere's pixels), "light_volume.vert,
+// placement" where it lies elsewhere, "light_volume.vert, state" where the state gives the
+// surface pixels inside a sphere no fragment or two (over 2 % of them), "light_volume.vert,
+// blend" for blend(off).
+std::set<std::string> volume_evidence_parts(const VolumeEvidence& evidence);
+// The part a failed work check adds where its image passed: the work is over the limit.
+constexpr const char* kWorkPart = "light_volume.vert, work";
 
 // The image as the report shows it (RGB, [0,1]): G-buffer vectors as (v+1)/2,
 // positions over the reference's bounds, HDR through Reinhard and gamma 2.2,

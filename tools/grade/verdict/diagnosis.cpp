@@ -111,19 +111,33 @@ std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, 
     LikelyMistake mistake;
     const std::string* family;
     double rank;
+    bool shares;  // a part in common, where the lab names by evidence first
   };
   std::vector<Ranked> all;
   const std::vector<FunctionProbe>& probes = function_probes(lab);
   const double weight = !probes.empty() && probes.front().pass ? kPassProbeWeight : kProbeWeight;
+  // Lab 7, whose probe draws light_volume.frag (diagnosis.h), names a mistake that shares a part with
+  // the submission's even where the images are unlike it.
+  const bool evidence_first = !probes.empty() && probes.front().light_volume != nullptr;
   for (const MistakeSignature& s : it->second) {
     const double similarity = signature_similarity(s.checks, submission);
-    all.push_back({{s.id, s.description, similarity}, &s.family, similarity + weight * probe_agreement(s, differing)});
+    const double agreement = probe_agreement(s, differing);
+    const bool shares = evidence_first && agreement > 0.0 && differing && !differing->empty();
+    // There the starter (every part wrong at once) is named only where every part agrees with it:
+    // files that did any part right are not the starter.
+    if (evidence_first && s.id.rfind("starter-", 0) == 0 && agreement < 1.0) continue;
+    // Lab 7 ranks by the parts first (their Jaccard index), the images only between equals.
+    const double rank = evidence_first ? agreement : similarity + weight * agreement;
+    all.push_back({{s.id, s.description, similarity}, &s.family, rank, shares});
   }
-  std::stable_sort(all.begin(), all.end(), [](const Ranked& x, const Ranked& y) { return x.rank > y.rank; });
+  std::stable_sort(all.begin(), all.end(), [evidence_first](const Ranked& x, const Ranked& y) {
+    if (evidence_first && x.rank == y.rank) return x.mistake.similarity > y.mistake.similarity;
+    return x.rank > y.rank;
+  });
   std::set<std::string> families;
-  for (const auto& [m, family, rank] : all) {
+  for (const auto& [m, family, rank, shares] : all) {
     if (named.size() == kMostNamed) break;
-    if (m.similarity >= kMinNamedSimilarity && families.insert(*family).second) named.push_back(m);
+    if ((m.similarity >= kMinNamedSimilarity || shares) && families.insert(*family).second) named.push_back(m);
   }
   return named;
 }

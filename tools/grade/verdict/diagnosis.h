@@ -98,6 +98,12 @@ constexpr double kProbeWeight = 0.1;
 // Lab 5 alone, before the others had probes: 5 and 8 by the images alone, 11 and 11 at 0.5
 // and at 1.
 constexpr double kPassProbeWeight = 1.0;
+// Lab 7's probe (light_volume.frag drawn alone) and its per-light counts (compare.h,
+// volume_evidence_parts) name the part at fault more surely than its images, whose checks all
+// fail alike (light missing or wrong somewhere): there a mistake that shares a part with the
+// submission is named even below kMinNamedSimilarity (a radius that only lights without a
+// range show fails one check, unlike its relatives'), and mistakes are ranked by the parts
+// they share first (the Jaccard index), the images only between equals.
 // The mistakes of `lab` that `submission` (check key -> check_features) most resembles,
 // closest first, one per family; empty when none reaches kMinNamedSimilarity. With
 // `differing` (the probed functions that differ, where every probe of the lab ran), each

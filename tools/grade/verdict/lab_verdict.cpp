@@ -29,8 +29,9 @@ LabOutcome lab_outcome(const Config& config, int lab) {
 namespace {
 
 // Lab 7's work check: the frame's counted work against its limits, credited only where the
-// frame's image check (earlier in the list) passed.
-Comparison compare_work_check(const Config& config, const LabOutcome& lab, const CheckOutcome& c,
+// frame's image check (earlier in the list) passed. Work over the limit behind a right image
+// is evidence for naming (kWorkPart).
+Comparison compare_work_check(const Config& config, LabOutcome& lab, const CheckOutcome& c,
                               const nlohmann::json& child, const Image& image) {
   const CheckOutcome* shown = nullptr;
   for (const CheckOutcome& other : lab.checks)
@@ -40,6 +41,7 @@ Comparison compare_work_check(const Config& config, const LabOutcome& lab, const
   Comparison r = compare_work(config.tolerance(*c.check), work_from_json(counted), shown && shown->passed,
                               shown ? shown->check->key : c.check->image, image.width, image.height);
   if (counted.is_object()) r.summary += "; state " + counted.value("state", std::string("?"));
+  if (!r.passed && shown && shown->passed) lab.evidence.insert(kWorkPart);
   return r;
 }
 
@@ -66,6 +68,7 @@ void compare_check(const Config& config, LabOutcome& lab, CheckOutcome& c, const
       // After the tiles, at the same place for every submission (an image not compared has none).
       c.comparison.signature.resize(static_cast<size_t>(kSignatureColumns * kSignatureRows), 0.0f);
       c.comparison.signature.insert(c.comparison.signature.end(), signature.begin(), signature.end());
+      for (const std::string& part : volume_evidence_parts(evidence)) lab.evidence.insert(part);
       const std::string text = describe_volume_evidence(evidence);
       if (!c.comparison.passed && !text.empty())
         c.comparison.note += (c.comparison.note.empty() ? "" : "; ") + text;
@@ -248,6 +251,7 @@ void name_likely_mistakes(const MistakeSignatures& mistakes, LabOutcome& lab) {
     probed = probed && p.status != kProbeNotRun;
     if (p.status == kProbeDiffers) differing.insert(p.probe->part());
   }
+  differing.insert(lab.evidence.begin(), lab.evidence.end());
   lab.likely_mistakes = likely_mistakes(mistakes, lab.lab, signatures, probed ? &differing : nullptr);
   lab.diagnosed = true;
 }

@@ -4,6 +4,7 @@
 // browser's in-page check fills a lab's (lab_verdict.h); report.h writes them.
 #include <filesystem>
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -53,6 +54,9 @@ struct LabOutcome {
   // The lab's probed functions (function_probes.h), in the table's order: they inform, they
   // do not score. Empty for a lab without probes or one that was not rendered.
   std::vector<ProbeOutcome> probes;
+  // Lab 7: what its per-light counts (render/light_volumes.h VolumeEvidence) and work checks
+  // say is wrong, as parts that naming weighs beside the probes' (compare.h, evidence_parts).
+  std::set<std::string> evidence;
   int passed_checks() const;
   // The sums of the checks' integer thousandths: exact, and the very numbers printed.
   Thousandths score() const;
