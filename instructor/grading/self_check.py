@@ -504,6 +504,7 @@ def probed_lab(row):
 
 PROBE_WEIGHT = 0.1   # diagnosis.h kProbeWeight
 PASS_PROBE_WEIGHT = 1.0   # diagnosis.h kPassProbeWeight: where the lab's probes are passes (function "main")
+TERM_PROBE_WEIGHT = 1.0   # diagnosis.h kTermProbeWeight: where a term probe's decided term ("cook_torrance, fresnel") differs
 
 
 def probe_agreement(row, candidate):
@@ -515,12 +516,22 @@ def probe_agreement(row, candidate):
     return len(row.functions & candidate.functions) / len(union) if union else 1.0
 
 
+def term_names_family(row, candidate):
+    """diagnosis.cpp term_names_family: a term probe's decided term (a differing part "FUNCTION, TERM")
+    is the TERM of the candidate's family (LAB-PART.TERM)."""
+    term = candidate.family.rsplit(".", 1)[1] if "." in candidate.family else None
+    return term is not None and any(f.split(", ", 1)[1] == term for f in row.functions or () if ", " in f)
+
+
 def ranked(row, candidates):
     """candidates (same lab, not row) as kit-grade ranks them for row (diagnosis.cpp likely_mistakes):
     similarity plus the probes' share, closest first, as (similarity, row)."""
     scored = [(similarity(row.features, c.features), c) for c in candidates if c.lab == row.lab and c is not row]
-    weight = PASS_PROBE_WEIGHT if getattr(row, "passes", False) else PROBE_WEIGHT
-    return sorted(scored, key=lambda t: -(t[0] + weight * probe_agreement(row, t[1])))
+    passes = getattr(row, "passes", False)
+    terms = not passes and any(", " in f for f in row.functions or ())
+    weight = PASS_PROBE_WEIGHT if passes else TERM_PROBE_WEIGHT if terms else PROBE_WEIGHT
+    return sorted(scored, key=lambda t: -(t[0] + weight * ((1.0 if term_names_family(row, t[1]) else 0.0) if terms
+                                                            else probe_agreement(row, t[1]))))
 
 
 def naming_counts(caught):

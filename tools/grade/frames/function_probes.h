@@ -112,6 +112,11 @@ struct FunctionProbe {
   // What a pass probe isolates, where its file holds more than one term (lab 6: "diffuse",
   // "directions"): its part is then "FILE, TERM", and naming tells the terms apart.
   std::string term;
+  // A term probe (lab 2's cook_torrance, lab 3's light_radiance): the function at inputs that
+  // take its terms apart (a metal, a black dielectric, l = v), read where the functions it
+  // calls, `given`, agree and the function's own probe differs: the decision names the term
+  // that differs and how (term_probes.h). Where a given function differs, that explains it.
+  std::vector<std::string> given;
   // A geometry pass probe (labs 1 and 4): its arguments are vertex attributes.
   std::shared_ptr<const GeometryProbeSetup> geometry;
   // Its values went through an 8-bit sRGB texel's decode, which GL lets an implementation
@@ -121,6 +126,9 @@ struct FunctionProbe {
   std::string title() const;  // "distribution_ggx", "light_radiance (u_attenuation_model = 1)", "bright.frag (...)"
   std::string part() const;   // what holds a difference, for naming: the function, a pass's file, or "FILE, TERM"
 };
+
+// A value as the probes' messages write it: 4 significant digits.
+std::string probe_number(double v);
 
 // Floats one case of a probe holds at most: the probe shaders read KIT_PROBE_TEXELS texels.
 constexpr int kProbeTexels = 6;
@@ -165,10 +173,16 @@ struct ProbeOutcome {
   std::string first;    // "distribution_ggx(n_dot_h = 0.95, alpha = 0.09) = 0.318, expected 10.46"
   std::string shape;    // "each by a factor of 3.14 (pi)", or ""
   std::string message;  // the line a report prints
+  // What holds the difference, for naming: the probe's part (FunctionProbe::part), or a term
+  // probe's decided term ("cook_torrance, fresnel": term_probes.h).
+  std::string part;
 };
 constexpr const char* kProbeAgrees = "agrees";
 constexpr const char* kProbeDiffers = "differs";
 constexpr const char* kProbeNotRun = "not_run";  // not declared, or no expected values
+// A term probe that differs where a function it calls (FunctionProbe::given) differs too:
+// that function's own probe says where; the terms are not told apart.
+constexpr const char* kProbeExplained = "explained";
 
 // Compares a submission's values at `probe`'s inputs (probes_to_run) with the expected ones (relative 2e-3, where a value is
 // compared at all) and words the difference.

@@ -204,6 +204,25 @@ void add_block(FunctionProbe& probe, const json& block, const std::string& at, c
   }
 }
 
+// A function's term probe (function_probes.h, FunctionProbe::given): its own cases, the
+// function's call and uniforms (its first variant's).
+FunctionProbe term_probe(const FunctionProbe& function, const json& terms, const std::string& at, const Reader& r) {
+  if (!terms.is_object() || !terms.contains("id") || !terms["id"].is_string() || !terms.contains("given") ||
+      !terms["given"].is_array() || terms["given"].empty() || !terms.contains("cases") || !terms["cases"].is_array())
+    r.fail(at, "\"terms\" has \"id\", \"given\" (the functions it calls, by name) and \"cases\"");
+  for (const auto& [key, value] : terms.items())
+    if (key != "id" && key != "given" && key != "why" && key != "cases") r.fail(at + "." + key, "\"terms\" has \"id\", \"given\", \"why\" and \"cases\"");
+  FunctionProbe q = function;
+  q.id = terms["id"].get<std::string>();
+  q.cases.clear();
+  for (const json& g : terms["given"]) {
+    if (!g.is_string()) r.fail(at + ".given", "a function's name, got " + g.dump());
+    q.given.push_back(g.get<std::string>());
+  }
+  for (size_t b = 0; b < terms["cases"].size(); ++b) add_block(q, terms["cases"][b], at + ".cases[" + std::to_string(b) + "]", r);
+  return q;
+}
+
 }  // namespace
 
 std::filesystem::path default_lab_functions_path() { return kit_root() / "tools" / "grade" / "lab_functions.json"; }
@@ -263,6 +282,7 @@ std::vector<FunctionProbe> contract_function_probes(const json& contract, int la
       }
       probes.push_back(std::move(q));
     }
+    if (f.contains("terms")) probes.push_back(term_probe(probes.back(), f["terms"], at + ".terms", r));
   }
   return probes;
 }

@@ -99,6 +99,19 @@ double probe_agreement(const MistakeSignature& s, const std::set<std::string>* d
   return static_cast<double>(common) / static_cast<double>(s.functions.size() + differing->size() - common);
 }
 
+// Whether a term probe's decided term (a differing part "FUNCTION, TERM": term_probes.h) is
+// the TERM of the mistake's family (the catalogue's LAB-PART.TERM): the evidence then places
+// the mistake in that term, whether its own edit was in the function or in its caller.
+bool term_names_family(const MistakeSignature& s, const std::set<std::string>& differing) {
+  const size_t dot = s.family.rfind('.');
+  if (dot == std::string::npos) return false;
+  for (const std::string& part : differing) {
+    const size_t comma = part.find(", ");
+    if (comma != std::string::npos && part.compare(comma + 2, std::string::npos, s.family, dot + 1) == 0) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, int lab,
@@ -114,10 +127,16 @@ std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, 
   };
   std::vector<Ranked> all;
   const std::vector<FunctionProbe>& probes = function_probes(lab);
-  const double weight = !probes.empty() && probes.front().pass ? kPassProbeWeight : kProbeWeight;
+  const bool passes = !probes.empty() && probes.front().pass;
+  bool terms = false;  // a term probe's decided term among the differing parts
+  if (differing && !passes)
+    for (const std::string& part : *differing) terms = terms || part.find(", ") != std::string::npos;
+  const double weight = passes ? kPassProbeWeight : terms ? kTermProbeWeight : kProbeWeight;
   for (const MistakeSignature& s : it->second) {
     const double similarity = signature_similarity(s.checks, submission);
-    all.push_back({{s.id, s.description, similarity}, &s.family, similarity + weight * probe_agreement(s, differing)});
+    // Where a term is decided, it alone places the mistake: a family of another term gets nothing.
+    const double agreement = terms ? (term_names_family(s, *differing) ? 1.0 : 0.0) : probe_agreement(s, differing);
+    all.push_back({{s.id, s.description, similarity}, &s.family, similarity + weight * agreement});
   }
   std::stable_sort(all.begin(), all.end(), [](const Ranked& x, const Ranked& y) { return x.rank > y.rank; });
   std::set<std::string> families;

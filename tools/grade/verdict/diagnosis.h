@@ -98,6 +98,11 @@ constexpr double kProbeWeight = 0.1;
 // Lab 5 alone, before the others had probes: 5 and 8 by the images alone, 11 and 11 at 0.5
 // and at 1.
 constexpr double kPassProbeWeight = 1.0;
+// The same where the submission's differing parts hold a term probe's decided term (function
+// probes' "cook_torrance, fresnel": term_probes.h): the term names where the mistake lies as a
+// pass probe's part does, so it counts as much, and a mistake whose family's TERM (the
+// catalogue's LAB-PART.TERM) is that term agrees fully.
+constexpr double kTermProbeWeight = 1.0;
 // The mistakes of `lab` that `submission` (check key -> check_features) most resembles,
 // closest first, one per family; empty when none reaches kMinNamedSimilarity. With
 // `differing` (the probed functions that differ, where every probe of the lab ran), each
