@@ -512,6 +512,7 @@ void read_terms(ProbeOutcome& o, const std::vector<ProbeOutcome>& all, const std
         explained.find(g.probe->function) == std::string::npos)
       explained += (explained.empty() ? "" : ", ") + g.probe->function;
   if (!explained.empty()) {
+    if (!o.probe->terms_only) return;  // the function's own probe says where it differs
     o.status = kProbeExplained;
     o.message = o.probe->title() + ": its terms are not told apart where a function it calls differs (" + explained + ")";
     return;
@@ -519,7 +520,9 @@ void read_terms(ProbeOutcome& o, const std::vector<ProbeOutcome>& all, const std
   const TermDecision d = decide_terms(*o.probe, got, expected);
   if (d.term.empty()) return;
   o.part = o.probe->function + ", " + d.term;
-  o.message = o.probe->function + ", term by term: " + d.text + (o.probe->setting.empty() ? "" : " (" + o.probe->setting + ")");
+  const std::string setting = o.probe->setting.empty() ? "" : " (" + o.probe->setting + ")";
+  o.message = o.probe->terms_only ? o.probe->function + ", term by term: " + d.text + setting
+                                  : o.message + "; term by term: " + d.text;
 }
 
 }  // namespace

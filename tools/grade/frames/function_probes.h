@@ -117,6 +117,9 @@ struct FunctionProbe {
   // calls, `given`, agree and the function's own probe differs: the decision names the term
   // that differs and how (term_probes.h). Where a given function differs, that explains it.
   std::vector<std::string> given;
+  // A term probe of its own cases ("cook_torrance/terms"), reported only through its decision,
+  // else the function's own probe read term by term too (lab 3's light_radiance).
+  bool terms_only = false;
   // A geometry pass probe (labs 1 and 4): its arguments are vertex attributes.
   std::shared_ptr<const GeometryProbeSetup> geometry;
   // Its values went through an 8-bit sRGB texel's decode, which GL lets an implementation

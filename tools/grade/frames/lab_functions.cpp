@@ -204,6 +204,17 @@ void add_block(FunctionProbe& probe, const json& block, const std::string& at, c
   }
 }
 
+// "given": the functions a function calls, by name (function_probes.h, FunctionProbe::given).
+std::vector<std::string> given_functions(const json& list, const std::string& at, const Reader& r) {
+  std::vector<std::string> out;
+  if (!list.is_array() || list.empty()) r.fail(at, "a list of the functions it calls, by name");
+  for (const json& g : list) {
+    if (!g.is_string()) r.fail(at, "a function's name, got " + g.dump());
+    out.push_back(g.get<std::string>());
+  }
+  return out;
+}
+
 // A function's term probe (function_probes.h, FunctionProbe::given): its own cases, the
 // function's call and uniforms (its first variant's).
 FunctionProbe term_probe(const FunctionProbe& function, const json& terms, const std::string& at, const Reader& r) {
@@ -211,14 +222,13 @@ FunctionProbe term_probe(const FunctionProbe& function, const json& terms, const
       !terms["given"].is_array() || terms["given"].empty() || !terms.contains("cases") || !terms["cases"].is_array())
     r.fail(at, "\"terms\" has \"id\", \"given\" (the functions it calls, by name) and \"cases\"");
   for (const auto& [key, value] : terms.items())
-    if (key != "id" && key != "given" && key != "why" && key != "cases") r.fail(at + "." + key, "\"terms\" has \"id\", \"given\", \"why\" and \"cases\"");
+    if (key != "id" && key != "given" && key != "why" && key != "cases")
+      r.fail(at + "." + key, "\"terms\" has \"id\", \"given\", \"why\" and \"cases\"");
   FunctionProbe q = function;
   q.id = terms["id"].get<std::string>();
   q.cases.clear();
-  for (const json& g : terms["given"]) {
-    if (!g.is_string()) r.fail(at + ".given", "a function's name, got " + g.dump());
-    q.given.push_back(g.get<std::string>());
-  }
+  q.given = given_functions(terms["given"], at + ".given", r);
+  q.terms_only = true;
   for (size_t b = 0; b < terms["cases"].size(); ++b) add_block(q, terms["cases"][b], at + ".cases[" + std::to_string(b) + "]", r);
   return q;
 }
@@ -263,6 +273,8 @@ std::vector<FunctionProbe> contract_function_probes(const json& contract, int la
       p.arguments.push_back({a[0].get<std::string>(), probe_type(a[1], in, r)});
     }
     p.result = probe_type(f.value("result", json()), at + ".result", r);
+    // Its own probe read term by term where these agree (function_probes.h, FunctionProbe::given).
+    if (f.contains("given")) p.given = given_functions(f["given"], at + ".given", r);
     if (p.result == ProbeType::Light) r.fail(at + ".result", "a result is float or vec3");
     for (size_t b = 0; b < f["cases"].size(); ++b) add_block(p, f["cases"][b], at + ".cases[" + std::to_string(b) + "]", r);
     // One probe per variant: the same cases with other uniforms set (lab 3's falloff model, gamma).

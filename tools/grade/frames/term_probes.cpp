@@ -6,6 +6,8 @@
 #include <map>
 #include <tuple>
 
+#include "gbuffer_layout.h"  // KIT_LIGHT_*
+
 namespace kit::grade {
 
 namespace {
@@ -71,7 +73,8 @@ std::vector<CtGroup> cook_torrance_groups(const FunctionProbe& probe, const std:
     auto vec = [&](const char* name) { return glm::vec3(in[at.at(name)], in[at.at(name) + 1], in[at.at(name) + 2]); };
     const glm::vec3 n = vec("n"), v = vec("v"), l = vec("l"), albedo = vec("albedo");
     const float metallic = in[at.at("metallic")], roughness = in[at.at("perceptual_roughness")];
-    auto g = std::find_if(groups.begin(), groups.end(), [&](const CtGroup& x) { return x.v == v && x.l == l && x.roughness == roughness; });
+    auto g = std::find_if(groups.begin(), groups.end(),
+                          [&](const CtGroup& x) { return x.v == v && x.l == l && x.roughness == roughness; });
     if (g == groups.end()) {
       g = groups.insert(groups.end(), CtGroup{v, l, roughness, glm::dot(n, l), glm::dot(n, v)});
     }
@@ -241,7 +244,8 @@ TermDecision diffuse(const std::vector<CtGroup>& groups) {
   return {};
 }
 
-TermDecision cook_torrance_terms(const FunctionProbe& probe, const std::vector<glm::vec4>& got, const std::vector<glm::vec4>& expected) {
+TermDecision cook_torrance_terms(const FunctionProbe& probe, const std::vector<glm::vec4>& got,
+                                 const std::vector<glm::vec4>& expected) {
   const std::vector<CtGroup> groups = cook_torrance_groups(probe, got, expected);
   if (groups.empty()) return {};
   // The whole BRDF by one factor per geometry: both terms alike.
@@ -295,6 +299,130 @@ TermDecision cook_torrance_terms(const FunctionProbe& probe, const std::vector<g
   return {"specular", text};
 }
 
+// --- light_radiance -----------------------------------------------------------------------------
+
+// One case of light_radiance's probe: its light's kind, where the point lies from it, and the
+// submission's value over the expected.
+struct LightCase {
+  std::string kind;  // "point", "spot" or "directional"
+  bool ranged = false;
+  double distance = 0.0, degrees = 0.0;  // from the light, off its direction (a spot's axis)
+  double expected = 0.0, got = 0.0;
+  double ratio() const { return got / expected; }
+  std::string where() const {
+    return "at " + probe_number(distance) + " from the " + (ranged ? "ranged " : "") + kind + " light" +
+           (kind == "spot" ? ", " + probe_number(degrees) + " degrees off its axis" : "");
+  }
+};
+
+// The cases of `kind` (ranged or not: `ranged` -1 for either) whose expected value is not 0.
+std::vector<const LightCase*> lit(const std::vector<LightCase>& cases, const std::string& kind, int ranged = -1) {
+  std::vector<const LightCase*> out;
+  for (const LightCase& c : cases)
+    if (c.kind == kind && (ranged < 0 || c.ranged == (ranged == 1)) && c.expected > 0.0) out.push_back(&c);
+  return out;
+}
+
+bool all_right(const std::vector<LightCase>& cases, const std::string& kind, int ranged = -1) {
+  for (const LightCase& c : cases)
+    if (c.kind == kind && (ranged < 0 || c.ranged == (ranged == 1)) && !same(c.got, c.expected, kSame) &&
+        std::abs(c.got - c.expected) > 1e-6)
+      return false;
+  return true;
+}
+
+// How the ratio to the expected goes over `cases`: "constant", "distance" (the same at each
+// distance, whatever the angle), "linear" (proportional to the distance) or "".
+std::string ratio_follows(const std::vector<const LightCase*>& cases) {
+  if (cases.empty()) return "";
+  bool constant = true, by_distance = true, linear = true;
+  for (const LightCase* c : cases) {
+    constant = constant && same(c->ratio(), cases.front()->ratio());
+    linear = linear && same(c->ratio() / c->distance, cases.front()->ratio() / cases.front()->distance);
+    for (const LightCase* o : cases)
+      if (same(o->distance, c->distance, 1e-4)) by_distance = by_distance && same(o->ratio(), c->ratio());
+  }
+  return constant ? "constant" : linear ? "linear" : by_distance ? "distance" : "";
+}
+
+std::string ratios_text(const std::vector<const LightCase*>& cases) {
+  std::string text;
+  int shown = 0;
+  for (const LightCase* c : cases)
+    if (!same(c->ratio(), 1.0) && shown++ < 3)
+      text += (text.empty() ? "" : "; ") + probe_number(c->ratio()) + " times the expected " + c->where();
+  return text;
+}
+
+std::vector<LightCase> light_cases(const FunctionProbe& probe, const std::vector<glm::vec4>& got,
+                                   const std::vector<glm::vec4>& expected) {
+  const std::map<std::string, size_t> at = argument_offsets(probe);
+  std::vector<LightCase> out;
+  for (size_t i = 0; i < probe.cases.size(); ++i) {
+    if (probe.cases[i].finite_only) continue;
+    const float* in = probe.cases[i].inputs.data();
+    const float* light = in + at.at("light");  // function_probe_inputs.glsl: type, position, direction, range, ...
+    const glm::dvec3 position(light[1], light[2], light[3]), direction(light[4], light[5], light[6]);
+    const glm::dvec3 p(in[at.at("p")], in[at.at("p") + 1], in[at.at("p") + 2]);
+    const int type = static_cast<int>(light[0] + 0.5f);
+    LightCase c;
+    c.kind = type == KIT_LIGHT_SPOT ? "spot" : type == KIT_LIGHT_DIRECTIONAL ? "directional" : "point";
+    c.ranged = light[7] > 0.0f;
+    c.distance = glm::length(p - position);
+    const double cos_off = c.distance > 0.0 ? std::clamp(glm::dot((p - position) / c.distance, direction), -1.0, 1.0) : 1.0;
+    c.degrees = glm::degrees(std::acos(cos_off));
+    c.expected = expected[i].x;
+    c.got = got[i].x;
+    out.push_back(c);
+  }
+  return out;
+}
+
+TermDecision light_radiance_terms(const FunctionProbe& probe, const std::vector<glm::vec4>& got,
+                                  const std::vector<glm::vec4>& expected) {
+  const std::vector<LightCase> cases = light_cases(probe, got, expected);
+  bool simple = false;
+  for (const ProbeUniform& u : probe.uniforms) simple = simple || (u.name == "u_attenuation_model" && u.value == 1.0f);
+  const bool sun = all_right(cases, "directional"), point = all_right(cases, "point", 0), spot = all_right(cases, "spot", 0);
+  const bool ranged = all_right(cases, "point", 1) && all_right(cases, "spot", 1);
+  if (sun && point && spot && ranged) return {};  // within kSame everywhere: too small to tell apart
+  if (!sun && point && spot && ranged) {
+    const std::vector<const LightCase*> s = lit(cases, "directional");
+    const std::string follows = ratio_follows(s);
+    return {"directional", "a directional light's radiance is " + ratios_text(s) +
+                               (follows == "constant" ? ""
+                                                      : ": it changes with the distance from the light's node, which a "
+                                                        "directional light's (its intensity the illuminance already) must not")};
+  }
+  if (!sun) return {};
+  if (point && spot && !ranged)
+    return {"range", "only lights with a range differ: " + ratios_text(lit(cases, "point", 1)) +
+                         ": the glTF range window (kit_range_window)"};
+  // A spot light lit outside its outer cone, where spot_cone_factor (which agrees) gives 0.
+  for (const LightCase& c : cases)
+    if (c.kind == "spot" && c.expected <= 0.0 && c.got > 1e-6)
+      return {"spot-cone", "a spot light lights outside its outer cone: " + probe_number(c.got) + " " + c.where() +
+                               ", expected 0: spot_cone_factor, which agrees, not applied?"};
+  const std::vector<const LightCase*> spots = lit(cases, "spot", 0), points = lit(cases, "point", 0);
+  const std::vector<const LightCase*>& off = point ? spots : points;
+  const std::string follows = ratio_follows(off), kind = point ? "a spot light's" : "a point light's";
+  if (follows != "constant" && follows != "linear" && follows != "distance")
+    return {point ? "spot-cone" : "intensity",
+            kind + " ratio to the expected changes with the angle off its axis, not only with the distance: " +
+                                                   ratios_text(off)};
+  if (simple && follows != "constant")
+    return {"model-choice", "under the simple model (u_attenuation_model = 1), " + kind + " value is " + ratios_text(off) +
+                                ": 1/(1 + d^2) not used for it?"};
+  if (follows == "constant")
+    return {"intensity", kind + " intensity is " + probe_number(off.front()->ratio()) + " times the expected at every point" +
+                             (same(off.front()->ratio(), 4.0 * 3.14159265358979) ? " (4 pi)" : "") +
+                             (point ? ": its normalisation over the cone, flux / (2 pi r^2 (1 - cos avg))?" : "")};
+  return {"intensity", kind + " ratio to the expected " +
+                           (follows == "linear" ? std::string("grows as the distance: it falls off as 1/r, not 1/r^2: ")
+                                                : std::string("changes with the distance: ")) +
+                           ratios_text(off)};
+}
+
 }  // namespace
 
 TermDecision decide_terms(const FunctionProbe& probe, const std::vector<glm::vec4>& got, const std::vector<glm::vec4>& expected) {
@@ -302,6 +430,7 @@ TermDecision decide_terms(const FunctionProbe& probe, const std::vector<glm::vec
   for (const glm::vec4& v : got)
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return {};
   if (probe.function == "cook_torrance") return cook_torrance_terms(probe, got, expected);
+  if (probe.function == "light_radiance") return light_radiance_terms(probe, got, expected);
   return {};
 }
 
