@@ -421,6 +421,8 @@ TEST(FunctionProbes, TermProbesNameTheTermOfCookTorrance) {
        "cook_torrance, diffuse", "1/(1 - F0) = 1.042 times the expected"},
       {"ct_metal_diffuse", "vec3 diffuse = (1.0 - F) * (1.0 - metallic)", "vec3 diffuse = (1.0 - F)", "cook_torrance, diffuse",
        "a metal (metallic 1) gets a diffuse lobe"},
+      {"ct_clamped", "return diffuse + specular;", "return diffuse + min(specular, vec3(1.0));", "cook_torrance, specular-clamp",
+       "the specular term is capped at 1"},
   };
   for (const auto& m : mistakes) {
     const grade::ProbeOutcome terms = probe_terms(2, lab2_with(m.name, m.find, m.replace)).at("cook_torrance/terms");

@@ -47,6 +47,7 @@ struct CtGroup {
   double specular_black = 1.0;  // the black dielectric's value over the expected: its specular term's ratio
   glm::dvec3 specular_metal{1.0};  // the metal's value over the expected: its specular term's ratio
   glm::dvec3 metal_excess{0.0};    // the metal's value less the expected
+  glm::dvec3 metal_got{0.0};
   glm::dvec3 diffuse{1.0};  // the coloured dielectric's value less the black one's, over the expected such difference
   // Whether `diffuse` says anything: not where the specular term is so much larger than the
   // diffuse lobe that float rounding of their sum hides the lobe.
@@ -94,6 +95,7 @@ std::vector<CtGroup> cook_torrance_groups(const FunctionProbe& probe, const std:
     g.specular_black = sb.x / eb.x;
     g.specular_metal = sm / em;
     g.metal_excess = sm - em;
+    g.metal_got = sm;
     g.diffuse = (sc - sb) / (ec - eb);
     const double lobe = std::min(ec.x - eb.x, std::min(ec.y - eb.y, ec.z - eb.z));
     g.diffuse_known = std::max(std::abs(sb.x), eb.x) <= 100.0 * lobe;
@@ -195,6 +197,23 @@ TermDecision fresnel(const std::vector<CtGroup>& groups) {
   return {};
 }
 
+// A specular term capped at 1 (against fireflies): wherever it differs, a black dielectric's
+// and a metal's value is 1.
+TermDecision specular_capped(const std::vector<CtGroup>& groups) {
+  const CtGroup* first = nullptr;
+  for (const CtGroup& g : groups) {
+    if (!same(g.specular_black, 1.0)) {
+      if (!same(g.black_got, 1.0)) return {};
+      if (!first) first = &g;
+    }
+    for (int k = 0; k < 3; ++k)
+      if (!same(g.specular_metal[k], 1.0) && !same(g.metal_got[k], 1.0)) return {};
+  }
+  if (!first) return {};
+  return {"specular-clamp", "the specular term is capped at 1: a black dielectric (its specular term alone) gives 1 " +
+                                first->where() + ", where " + probe_number(first->black_expected) + " is expected"};
+}
+
 // The diffuse lobe: its (1 - F) and (1 - metallic) weights and its 1/pi.
 TermDecision diffuse(const std::vector<CtGroup>& groups) {
   bool none = true, metal_lobe = true, metal_right = true, constant = true, lv_f0 = true, lv_right = true, grazing_right = true;
@@ -273,6 +292,7 @@ TermDecision cook_torrance_terms(const FunctionProbe& probe, const std::vector<g
   }
   if (specular_only && diffuse_right) return specular_factor(groups);
   if (TermDecision d = fresnel(groups); !d.term.empty()) return d;
+  if (TermDecision d = specular_capped(groups); diffuse_right && !d.term.empty()) return d;
   if (TermDecision d = diffuse(groups); !d.term.empty()) return d;
   // No pattern fits: which terms differ, where each differs first.
   std::string text;
