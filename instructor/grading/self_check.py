@@ -494,7 +494,8 @@ def write_json(path, rows, started, naming):
 def differing_functions(row):
     """The probed parts (tools/grade/frames/function_probes.h, FunctionProbe::part: a function, a pass's file, or
     "FILE, TERM" for a part of a pass) that differ for the row."""
-    return {f.get("part", f.get("function")) for f in row.functions if f.get("status") == "differs"}
+    return {f.get("part", f.get("function")) for f in row.functions
+            if f.get("status") == "differs" or (f.get("status") == "explained" and ", " in f.get("part", ""))}
 
 
 def probed_lab(row):
@@ -521,6 +522,13 @@ def term_names_family(row, candidate):
     is the TERM of the candidate's family (LAB-PART.TERM)."""
     term = candidate.family.rsplit(".", 1)[1] if "." in candidate.family else None
     return term is not None and any(f.split(", ", 1)[1] == term for f in row.functions or () if ", " in f)
+
+
+def placed(row, candidate):
+    """diagnosis.cpp likely_mistakes: the candidate's family's term is the term a term probe decided for
+    row (named even below MIN_NAMED)."""
+    terms = not getattr(row, "passes", False) and any(", " in f for f in row.functions or ())
+    return terms and term_names_family(row, candidate)
 
 
 def ranked(row, candidates):
@@ -550,7 +558,7 @@ def naming_counts(caught):
               "distinct": sum(1 for r in stored if all(s < 0.999 for s, _ in scores[r.id])),
               "by_lab": {}, "misses": []}
     for r in with_relatives:
-        fams = list(dict.fromkeys(o.family for s, o in scores[r.id] if s >= MIN_NAMED))[:3]  # one per family
+        fams = list(dict.fromkeys(o.family for s, o in scores[r.id] if s >= MIN_NAMED or placed(r, o)))[:3]  # one per family
         first, within = bool(fams) and fams[0] == r.family, r.family in fams
         counts["first"] += first
         counts["within_three"] += within

@@ -374,8 +374,8 @@ TEST(FunctionProbes, ABadContractNamesTheElementAndWhy) {
   EXPECT_NE(set.find("'$nowhere' names no value of \"sets\""), std::string::npos) << set;
   const std::string given = error_of(R"({"labs": {"2": {"shader": "probe_brdf.frag", "functions": [
       {"function": "f", "file": "brdf.glsl", "arguments": [["x", "float"]], "result": "float",
-       "cases": [{"fixed": {"x": 1}}], "terms": {"id": "f/terms", "given": "g", "cases": []}}]}}})");
-  EXPECT_NE(given.find("labs.2.functions[0].terms: \"terms\" has \"id\", \"given\""), std::string::npos) << given;
+       "cases": [{"fixed": {"x": 1}}], "terms": {"id": "f/terms", "given": ["g"], "cases": []}}]}}})");
+  EXPECT_NE(given.find("labs.2.functions[0].terms.given: an object: each function it calls"), std::string::npos) << given;
   // The kit's own: lab 2's functions, each its place in the probe shader (a term probe its function's).
   const std::vector<FunctionProbe> lab2 = grade::contract_function_probes(2);
   ASSERT_FALSE(lab2.empty());
@@ -432,7 +432,7 @@ TEST(FunctionProbes, TermProbesNameTheTermOfCookTorrance) {
   }
   const grade::ProbeOutcome ggx = probe_terms(2, lab2_with("ct_ggx_no_pi", "KIT_PI * d * d", "d * d")).at("cook_torrance/terms");
   EXPECT_EQ(ggx.status, grade::kProbeExplained) << ggx.message;
-  EXPECT_EQ(ggx.part, "cook_torrance");
+  EXPECT_EQ(ggx.part, "cook_torrance, distribution");  // the term distribution_ggx is
 }
 
 // light_radiance read term by term where spot_cone_factor agrees: the falloff's power named;
@@ -450,7 +450,8 @@ TEST(FunctionProbes, LightRadianceIsReadTermByTerm) {
                                                "(cos_angle - light.cos_inner) / max(light.cos_outer - light.cos_inner,"));
   EXPECT_EQ(swapped.at("spot_cone_factor").status, grade::kProbeDiffers);
   EXPECT_EQ(swapped.at("light_radiance/physical").status, grade::kProbeDiffers);
-  EXPECT_EQ(swapped.at("light_radiance/physical").part, "light_radiance");
+  EXPECT_EQ(swapped.at("light_radiance/physical").part, "light_radiance, spot-cone");  // the term spot_cone_factor is
+  EXPECT_EQ(swapped.at("light_radiance/physical").message.find("term by term"), std::string::npos);
 }
 
 TEST(FunctionProbes, AMissingGuardIsReportedAsNotFinite) {

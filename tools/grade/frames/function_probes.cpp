@@ -9,6 +9,7 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <set>
 #include <utility>
 
 #include "base/error.h"
@@ -506,12 +507,16 @@ void read_terms(ProbeOutcome& o, const std::vector<ProbeOutcome>& all, const std
                 const std::vector<glm::vec4>& expected) {
   if (o.status != kProbeDiffers) return;
   std::string explained;
+  std::set<std::string> terms;  // of the given functions that differ
   for (const ProbeOutcome& g : all)
-    if (g.probe->given.empty() && g.status != kProbeAgrees &&
-        std::find(o.probe->given.begin(), o.probe->given.end(), g.probe->function) != o.probe->given.end() &&
-        explained.find(g.probe->function) == std::string::npos)
+    if (g.probe->given.empty() && g.status != kProbeAgrees && o.probe->given.count(g.probe->function) &&
+        explained.find(g.probe->function) == std::string::npos) {
       explained += (explained.empty() ? "" : ", ") + g.probe->function;
+      terms.insert(o.probe->given.at(g.probe->function));
+    }
   if (!explained.empty()) {
+    // One function that differs places the difference in its term, as a decision would.
+    if (terms.size() == 1) o.part = o.probe->function + ", " + *terms.begin();
     if (!o.probe->terms_only) return;  // the function's own probe says where it differs
     o.status = kProbeExplained;
     o.message = o.probe->title() + ": its terms are not told apart where a function it calls differs (" + explained + ")";

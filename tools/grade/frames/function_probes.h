@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -115,8 +116,9 @@ struct FunctionProbe {
   // A term probe (lab 2's cook_torrance, lab 3's light_radiance): the function at inputs that
   // take its terms apart (a metal, a black dielectric, l = v), read where the functions it
   // calls, `given`, agree and the function's own probe differs: the decision names the term
-  // that differs and how (term_probes.h). Where a given function differs, that explains it.
-  std::vector<std::string> given;
+  // that differs and how (term_probes.h). Where one given function differs, that explains it,
+  // and the term it is ("fresnel_schlick": "fresnel") is the term that differs.
+  std::map<std::string, std::string> given;
   // A term probe of its own cases ("cook_torrance/terms"), reported only through its decision,
   // else the function's own probe read term by term too (lab 3's light_radiance).
   bool terms_only = false;
@@ -184,7 +186,7 @@ constexpr const char* kProbeAgrees = "agrees";
 constexpr const char* kProbeDiffers = "differs";
 constexpr const char* kProbeNotRun = "not_run";  // not declared, or no expected values
 // A term probe that differs where a function it calls (FunctionProbe::given) differs too:
-// that function's own probe says where; the terms are not told apart.
+// that function's own probe says where; its part is that function's term where one differs.
 constexpr const char* kProbeExplained = "explained";
 
 // Compares a submission's values at `probe`'s inputs (probes_to_run) with the expected ones (relative 2e-3, where a value is

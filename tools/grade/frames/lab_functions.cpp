@@ -204,13 +204,14 @@ void add_block(FunctionProbe& probe, const json& block, const std::string& at, c
   }
 }
 
-// "given": the functions a function calls, by name (function_probes.h, FunctionProbe::given).
-std::vector<std::string> given_functions(const json& list, const std::string& at, const Reader& r) {
-  std::vector<std::string> out;
-  if (!list.is_array() || list.empty()) r.fail(at, "a list of the functions it calls, by name");
-  for (const json& g : list) {
-    if (!g.is_string()) r.fail(at, "a function's name, got " + g.dump());
-    out.push_back(g.get<std::string>());
+// "given": the functions a function calls, each with the term of the caller it is
+// (function_probes.h, FunctionProbe::given).
+std::map<std::string, std::string> given_functions(const json& given, const std::string& at, const Reader& r) {
+  std::map<std::string, std::string> out;
+  if (!given.is_object() || given.empty()) r.fail(at, "an object: each function it calls, by name, and the term it is");
+  for (const auto& [function, term] : given.items()) {
+    if (!term.is_string()) r.fail(at + "." + function, "the term it is (a string), got " + term.dump());
+    out[function] = term.get<std::string>();
   }
   return out;
 }
@@ -219,8 +220,8 @@ std::vector<std::string> given_functions(const json& list, const std::string& at
 // function's call and uniforms (its first variant's).
 FunctionProbe term_probe(const FunctionProbe& function, const json& terms, const std::string& at, const Reader& r) {
   if (!terms.is_object() || !terms.contains("id") || !terms["id"].is_string() || !terms.contains("given") ||
-      !terms["given"].is_array() || terms["given"].empty() || !terms.contains("cases") || !terms["cases"].is_array())
-    r.fail(at, "\"terms\" has \"id\", \"given\" (the functions it calls, by name) and \"cases\"");
+      !terms.contains("cases") || !terms["cases"].is_array())
+    r.fail(at, "\"terms\" has \"id\", \"given\" (the functions it calls) and \"cases\"");
   for (const auto& [key, value] : terms.items())
     if (key != "id" && key != "given" && key != "why" && key != "cases")
       r.fail(at + "." + key, "\"terms\" has \"id\", \"given\", \"why\" and \"cases\"");

@@ -124,6 +124,7 @@ std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, 
     LikelyMistake mistake;
     const std::string* family;
     double rank;
+    bool placed;  // its family's term is the term a term probe decided: named even below the floor
   };
   std::vector<Ranked> all;
   const std::vector<FunctionProbe>& probes = function_probes(lab);
@@ -135,14 +136,15 @@ std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, 
   for (const MistakeSignature& s : it->second) {
     const double similarity = signature_similarity(s.checks, submission);
     // Where a term is decided, it alone places the mistake: a family of another term gets nothing.
-    const double agreement = terms ? (term_names_family(s, *differing) ? 1.0 : 0.0) : probe_agreement(s, differing);
-    all.push_back({{s.id, s.description, similarity}, &s.family, similarity + weight * agreement});
+    const bool placed = terms && term_names_family(s, *differing);
+    const double agreement = terms ? (placed ? 1.0 : 0.0) : probe_agreement(s, differing);
+    all.push_back({{s.id, s.description, similarity}, &s.family, similarity + weight * agreement, placed});
   }
   std::stable_sort(all.begin(), all.end(), [](const Ranked& x, const Ranked& y) { return x.rank > y.rank; });
   std::set<std::string> families;
-  for (const auto& [m, family, rank] : all) {
+  for (const auto& [m, family, rank, placed] : all) {
     if (named.size() == kMostNamed) break;
-    if (m.similarity >= kMinNamedSimilarity && families.insert(*family).second) named.push_back(m);
+    if ((m.similarity >= kMinNamedSimilarity || placed) && families.insert(*family).second) named.push_back(m);
   }
   return named;
 }

@@ -246,7 +246,7 @@ void name_likely_mistakes(const MistakeSignatures& mistakes, LabOutcome& lab) {
   bool probed = !lab.probes.empty();
   for (const ProbeOutcome& p : lab.probes) {
     probed = probed && p.status != kProbeNotRun;
-    if (p.status == kProbeDiffers) differing.insert(p.part);
+    if (p.status == kProbeDiffers || (p.status == kProbeExplained && p.part != p.probe->function)) differing.insert(p.part);
   }
   lab.likely_mistakes = likely_mistakes(mistakes, lab.lab, signatures, probed ? &differing : nullptr);
   lab.diagnosed = true;
