@@ -540,9 +540,11 @@ def write_json(path, rows, started, naming):
 
 def differing_functions(row):
     """The probed parts (tools/grade/frames/function_probes.h, FunctionProbe::part: a function, a pass's file, or
-    "FILE, TERM" for a part of a pass) that differ for the row, and lab 7's parts from its counts (summary.json's
-    "evidence": tools/grade/verdict/compare.h, volume_evidence_parts)."""
-    return ({f.get("part", f.get("function")) for f in row.functions if f.get("status") == "differs"}
+    "FILE, TERM" for a part of a pass) that differ for the row, a term a term probe decided where a called
+    function explains it, and lab 7's parts from its counts (summary.json's "evidence":
+    tools/grade/verdict/compare.h, volume_evidence_parts)."""
+    return ({f.get("part", f.get("function")) for f in row.functions
+             if f.get("status") == "differs" or (f.get("status") == "explained" and ", " in f.get("part", ""))}
             | getattr(row, "evidence", set()))
 
 
@@ -553,6 +555,7 @@ def probed_lab(row):
 
 PROBE_WEIGHT = 0.1   # diagnosis.h kProbeWeight
 PASS_PROBE_WEIGHT = 1.0   # diagnosis.h kPassProbeWeight: where the lab's probes are passes (function "main")
+TERM_PROBE_WEIGHT = 1.0   # diagnosis.h kTermProbeWeight: where a term probe's decided term ("cook_torrance, fresnel") differs
 
 
 def probe_agreement(row, candidate):
@@ -564,14 +567,31 @@ def probe_agreement(row, candidate):
     return len(row.functions & candidate.functions) / len(union) if union else 1.0
 
 
+def term_names_family(row, candidate):
+    """diagnosis.cpp term_names_family: a term probe's decided term (a differing part "FUNCTION, TERM")
+    is the TERM of the candidate's family (LAB-PART.TERM)."""
+    term = candidate.family.rsplit(".", 1)[1] if "." in candidate.family else None
+    return term is not None and any(f.split(", ", 1)[1] == term for f in row.functions or () if ", " in f)
+
+
+def placed(row, candidate):
+    """diagnosis.cpp likely_mistakes: the candidate's family's term is the term a term probe decided for
+    row (named even below MIN_NAMED)."""
+    terms = not getattr(row, "passes", False) and any(", " in f for f in row.functions or ())
+    return terms and term_names_family(row, candidate)
+
+
 def ranked(row, candidates):
     """candidates (same lab, not row) as kit-grade ranks them for row (diagnosis.cpp likely_mistakes):
     similarity plus the probes' share, closest first, as (similarity, row)."""
     scored = [(similarity(row.features, c.features), c) for c in candidates if c.lab == row.lab and c is not row]
-    weight = PASS_PROBE_WEIGHT if getattr(row, "passes", False) else PROBE_WEIGHT
     if row.lab == 7:  # diagnosis.h: lab 7 ranks by the parts first, the images only between equals
         return sorted(scored, key=lambda t: (-probe_agreement(row, t[1]), -t[0]))
-    return sorted(scored, key=lambda t: -(t[0] + weight * probe_agreement(row, t[1])))
+    passes = getattr(row, "passes", False)
+    terms = not passes and any(", " in f for f in row.functions or ())
+    weight = PASS_PROBE_WEIGHT if passes else TERM_PROBE_WEIGHT if terms else PROBE_WEIGHT
+    return sorted(scored, key=lambda t: -(t[0] + weight * ((1.0 if term_names_family(row, t[1]) else 0.0) if terms
+                                                            else probe_agreement(row, t[1]))))
 
 
 def naming_counts(caught):
@@ -590,9 +610,11 @@ def naming_counts(caught):
               "distinct": sum(1 for r in stored if all(s < 0.999 for s, _ in scores[r.id])),
               "by_lab": {}, "misses": []}
     for r in with_relatives:
-        # Lab 7 names a mistake that shares a part with the row's even below the floor (diagnosis.h).
+        # Named even below the floor (diagnosis.h): a mistake a decided term places, and in lab 7 one that
+        # shares a part with the row's.
         fams = list(dict.fromkeys(o.family for s, o in scores[r.id]
-                                  if s >= MIN_NAMED or (r.lab == 7 and r.functions and probe_agreement(r, o) > 0)))[:3]
+                                  if s >= MIN_NAMED or placed(r, o)
+                                  or (r.lab == 7 and r.functions and probe_agreement(r, o) > 0)))[:3]  # one per family
         first, within = bool(fams) and fams[0] == r.family, r.family in fams
         counts["first"] += first
         counts["within_three"] += within

@@ -358,9 +358,9 @@ TEST(FunctionProbes, AGgxWithoutPiIsNamedWithItsFactor) {
   EXPECT_EQ(ggx.status, grade::kProbeDiffers);
   EXPECT_NE(ggx.message.find("distribution_ggx(n_dot_h = "), std::string::npos) << ggx.message;
   EXPECT_NE(ggx.shape.find("(pi)"), std::string::npos) << ggx.message;
-  // Every other function agrees, but cook_torrance, which calls it.
+  // Every other function agrees, but cook_torrance (and its term probe), which calls it.
   for (const auto& [id, outcome] : probes)
-    if (id != "distribution_ggx" && id != "cook_torrance") {
+    if (id != "distribution_ggx" && id != "cook_torrance" && id != "cook_torrance/terms") {
       EXPECT_EQ(outcome.status, grade::kProbeAgrees) << outcome.message;
     }
 }
@@ -404,10 +404,86 @@ TEST(FunctionProbes, ABadContractNamesTheElementAndWhy) {
       {"function": "f", "file": "brdf.glsl", "arguments": [["x", "float"]], "result": "float",
        "cases": [{"for": [["x", "$nowhere"]]}]}]}}})");
   EXPECT_NE(set.find("'$nowhere' names no value of \"sets\""), std::string::npos) << set;
-  // The kit's own: lab 2's functions, each its place in the probe shader.
+  const std::string given = error_of(R"({"labs": {"2": {"shader": "probe_brdf.frag", "functions": [
+      {"function": "f", "file": "brdf.glsl", "arguments": [["x", "float"]], "result": "float",
+       "cases": [{"fixed": {"x": 1}}], "terms": {"id": "f/terms", "given": ["g"], "cases": []}}]}}})");
+  EXPECT_NE(given.find("labs.2.functions[0].terms.given: an object: each function it calls"), std::string::npos) << given;
+  // The kit's own: lab 2's functions, each its place in the probe shader (a term probe its function's).
   const std::vector<FunctionProbe> lab2 = grade::contract_function_probes(2);
   ASSERT_FALSE(lab2.empty());
-  for (size_t i = 0; i < lab2.size(); ++i) EXPECT_EQ(lab2[i].index, static_cast<int>(i)) << lab2[i].function;
+  for (size_t i = 0, place = 0; i < lab2.size(); ++i)
+    EXPECT_EQ(lab2[i].index, static_cast<int>(lab2[i].terms_only ? place - 1 : place++)) << lab2[i].id;
+}
+
+// probe_lab's probes as a grading run reads them (probe_outcomes): the term probes decided.
+std::map<std::string, grade::ProbeOutcome> probe_terms(int lab, const std::filesystem::path& root) {
+  context();
+  const nlohmann::json reference = probes_reference();
+  nlohmann::json child = {{"probes", nlohmann::json::object()}};
+  for (const auto& [id, values] : grade::run_function_probes(find_stage(lab), root, reference))
+    child["probes"][id] = grade::probe_values_json(values);
+  std::map<std::string, grade::ProbeOutcome> out;
+  for (grade::ProbeOutcome& o : grade::probe_outcomes(lab, child, reference)) out[o.probe->id] = o;
+  return out;
+}
+
+// cook_torrance's term probe (term_probes.h): where fresnel_schlick, distribution_ggx and
+// geometry_cook_torrance agree, the term that differs is named with the values that show it;
+// the solution and a rewrite agree; a GGX without its pi (a called function that differs)
+// leaves the terms untold (witness: the term probe alone would blame the specular term).
+TEST(FunctionProbes, TermProbesNameTheTermOfCookTorrance) {
+  for (const auto& [id, outcome] : probe_terms(2, kit_root() / "solutions")) EXPECT_EQ(outcome.status, grade::kProbeAgrees) << id;
+  const auto rewritten = probe_terms(2, lab2_with("ct_regrouped", "vec3 specular = F * D * G / max(4.0 * n_dot_l * n_dot_v,",
+                                                  "vec3 specular = (D * G) * F / max(4.0 * n_dot_v * n_dot_l,"));
+  for (const auto& [id, outcome] : rewritten) EXPECT_EQ(outcome.status, grade::kProbeAgrees) << id << ": " << outcome.message;
+  const struct {
+    const char* name;
+    const char* find;
+    const char* replace;
+    const char* part;
+    const char* says;
+  } mistakes[] = {
+      {"ct_no_f", "vec3 specular = F * D * G / max(", "vec3 specular = vec3(D * G) / max(", "cook_torrance, fresnel",
+       "without F: at l = v, where v.h = 1 and F = F0, it is 1/F0 times the expected, 25 for a dielectric"},
+      {"ct_f0_albedo", "vec3 f0 = mix(vec3(0.04), albedo, metallic);", "vec3 f0 = albedo;", "cook_torrance, fresnel",
+       "a black dielectric (albedo 0, metallic 0) reflects nothing"},
+      {"ct_denominator_2", "max(4.0 * n_dot_l * n_dot_v,", "max(2.0 * n_dot_l * n_dot_v,", "cook_torrance, specular-denominator",
+       "the specular term is 2 times the expected at every input"},
+      {"ct_no_one_minus_f", "vec3 diffuse = (1.0 - F) * (1.0 - metallic)", "vec3 diffuse = (1.0 - metallic)",
+       "cook_torrance, diffuse", "1/(1 - F0) = 1.042 times the expected"},
+      {"ct_metal_diffuse", "vec3 diffuse = (1.0 - F) * (1.0 - metallic)", "vec3 diffuse = (1.0 - F)", "cook_torrance, diffuse",
+       "a metal (metallic 1) gets a diffuse lobe"},
+      {"ct_clamped", "return diffuse + specular;", "return diffuse + min(specular, vec3(1.0));", "cook_torrance, specular-clamp",
+       "the specular term is capped at 1"},
+  };
+  for (const auto& m : mistakes) {
+    const grade::ProbeOutcome terms = probe_terms(2, lab2_with(m.name, m.find, m.replace)).at("cook_torrance/terms");
+    EXPECT_EQ(terms.status, grade::kProbeDiffers) << m.name;
+    EXPECT_EQ(terms.part, m.part) << m.name << ": " << terms.message;
+    EXPECT_NE(terms.message.find(m.says), std::string::npos) << m.name << ": " << terms.message;
+  }
+  const grade::ProbeOutcome ggx = probe_terms(2, lab2_with("ct_ggx_no_pi", "KIT_PI * d * d", "d * d")).at("cook_torrance/terms");
+  EXPECT_EQ(ggx.status, grade::kProbeExplained) << ggx.message;
+  EXPECT_EQ(ggx.part, "cook_torrance, distribution");  // the term distribution_ggx is
+}
+
+// light_radiance read term by term where spot_cone_factor agrees: the falloff's power named;
+// cones swapped inside spot_cone_factor leave light_radiance's own message untold.
+TEST(FunctionProbes, LightRadianceIsReadTermByTerm) {
+  const auto linear = probe_terms(3, lab_with("radiance_linear", "03-attenuation", "attenuation.glsl",
+                                              "intensity = light.flux / (4.0 * KIT_PI * r2);",
+                                              "intensity = light.flux / (4.0 * KIT_PI * sqrt(r2));"));
+  const grade::ProbeOutcome& physical = linear.at("light_radiance/physical");
+  EXPECT_EQ(physical.part, "light_radiance, intensity") << physical.message;
+  EXPECT_NE(physical.message.find("it falls off as 1/r, not 1/r^2"), std::string::npos) << physical.message;
+  EXPECT_NE(physical.message.find("light_radiance(light = "), std::string::npos) << physical.message;  // its first input stays
+  const auto swapped = probe_terms(3, lab_with("cones_swapped", "03-attenuation", "attenuation.glsl",
+                                               "(cos_angle - light.cos_outer) / max(light.cos_inner - light.cos_outer,",
+                                               "(cos_angle - light.cos_inner) / max(light.cos_outer - light.cos_inner,"));
+  EXPECT_EQ(swapped.at("spot_cone_factor").status, grade::kProbeDiffers);
+  EXPECT_EQ(swapped.at("light_radiance/physical").status, grade::kProbeDiffers);
+  EXPECT_EQ(swapped.at("light_radiance/physical").part, "light_radiance, spot-cone");  // the term spot_cone_factor is
+  EXPECT_EQ(swapped.at("light_radiance/physical").message.find("term by term"), std::string::npos);
 }
 
 TEST(FunctionProbes, AMissingGuardIsReportedAsNotFinite) {

@@ -70,8 +70,11 @@ TEST(Grader, BatchWritesAGradebookAndResumes) {
   EXPECT_NE(summary.find("2,function,cook_torrance,brdf.glsl,3,5\n"), std::string::npos) << summary;
   EXPECT_NE(summary.find("2,function,distribution_ggx,brdf.glsl,1,5\n"), std::string::npos) << summary;
   const json functions = read_json(out / "dave" / "summary.json")["labs"]["2"]["functions_text"];
-  ASSERT_EQ(functions.size(), 1u) << functions;
+  // Then its term probe (term_probes.h): F, D and G agree, so the term that differs is named.
+  ASSERT_EQ(functions.size(), 2u) << functions;
   EXPECT_EQ(functions[0].get<std::string>().rfind("Your function cook_torrance(n = (0, 0, 1)", 0), 0u) << functions;
+  EXPECT_EQ(functions[1].get<std::string>().rfind("Your function cook_torrance, term by term: a metal's F0 is not its albedo", 0),
+            0u) << functions;
   EXPECT_NE(read_file(out / "dave" / "results.json").find("Your function cook"), std::string::npos);
   // A failed check names its worst pixel, with the G-buffer's inputs there where the scene's
   // references hold them (the default scene's); a passed one names none.

@@ -9,11 +9,13 @@
 #include <fstream>
 #include <iterator>
 #include <map>
+#include <set>
 #include <utility>
 
 #include "base/error.h"
 #include "frames/lab_functions.h"
 #include "frames/pass_probes.h"
+#include "frames/term_probes.h"
 #include "gbuffer_layout.h"
 #include "render/renderer.h"
 #include "render/stages.h"
@@ -237,6 +239,8 @@ std::string difference_shape(const Differences& d) {
 
 }  // namespace
 
+std::string probe_number(double v) { return number(v); }
+
 std::string FunctionProbe::title() const {
   const std::string& name = pass ? file : function;
   return setting.empty() ? name : name + " (" + setting + ")";
@@ -396,6 +400,7 @@ ProbeOutcome compare_probe(const FunctionProbe& probe, const ProbeValues& got, c
   o.probe = &probe;
   for (const FunctionProbe& p : function_probes(probe.lab))
     if (p.id == probe.id) o.probe = &p;
+  o.part = probe.part();
   o.total = static_cast<int>(probe.cases.size());
   if (!got.error.empty() || got.values.size() != probe.cases.size() || expected.size() != probe.cases.size()) {
     o.status = kProbeNotRun;
@@ -451,7 +456,7 @@ ProbeOutcome compare_probe(const FunctionProbe& probe, const ProbeValues& got, c
 
 nlohmann::json probe_outcome_json(const ProbeOutcome& o) {
   nlohmann::json out = {{"id", o.probe->id},     {"function", o.probe->function}, {"file", o.probe->file},
-                        {"part", o.probe->part()},
+                        {"part", o.part},
                         {"status", o.status},    {"differing", o.differing},      {"total", o.total},
                         {"message", o.message}};
   if (!o.probe->setting.empty()) out["setting"] = o.probe->setting;
@@ -495,16 +500,55 @@ std::vector<std::string> write_probes_reference(const std::filesystem::path& dir
   return {"probes.json"};
 }
 
+namespace {
+
+// A term probe that differs (FunctionProbe::given): explained by a function it calls that
+// differs, else its terms told apart where the decision fits (term_probes.h).
+void read_terms(ProbeOutcome& o, const std::vector<ProbeOutcome>& all, const std::vector<glm::vec4>& got,
+                const std::vector<glm::vec4>& expected) {
+  if (o.status != kProbeDiffers) return;
+  std::string explained;
+  std::set<std::string> terms;  // of the given functions that differ
+  for (const ProbeOutcome& g : all)
+    if (g.probe->given.empty() && g.status != kProbeAgrees && o.probe->given.count(g.probe->function) &&
+        explained.find(g.probe->function) == std::string::npos) {
+      explained += (explained.empty() ? "" : ", ") + g.probe->function;
+      terms.insert(o.probe->given.at(g.probe->function));
+    }
+  if (!explained.empty()) {
+    // One function that differs places the difference in its term, as a decision would.
+    if (terms.size() == 1) o.part = o.probe->function + ", " + *terms.begin();
+    if (!o.probe->terms_only) return;  // the function's own probe says where it differs
+    o.status = kProbeExplained;
+    o.message = o.probe->title() + ": its terms are not told apart where a function it calls differs (" + explained + ")";
+    return;
+  }
+  const TermDecision d = decide_terms(*o.probe, got, expected);
+  if (d.term.empty()) return;
+  o.part = o.probe->function + ", " + d.term;
+  const std::string setting = o.probe->setting.empty() ? "" : " (" + o.probe->setting + ")";
+  o.message = o.probe->terms_only ? o.probe->function + ", term by term: " + d.text + setting
+                                  : o.message + "; term by term: " + d.text;
+}
+
+}  // namespace
+
 std::vector<ProbeOutcome> probe_outcomes(int lab, const nlohmann::json& child, const nlohmann::json& reference) {
   std::vector<ProbeOutcome> out;
   const nlohmann::json got = child.is_object() ? child.value("probes", nlohmann::json::object()) : nlohmann::json::object();
   const std::string error = child.is_object() ? child.value("probes_error", std::string()) : std::string();
+  std::vector<ProbeValues> got_values;
+  std::vector<std::vector<glm::vec4>> expected_values;
   for (const FunctionProbe& probe : probes_to_run(lab, reference)) {
     ProbeValues values = probe_values_from_json(got.value(probe.id, nlohmann::json()));
     if (!error.empty()) values.error = error;
     else if (!got.contains(probe.id)) values.error = "the renderer did not probe it";
-    out.push_back(compare_probe(probe, values, expected_probe_values(reference, probe)));
+    expected_values.push_back(expected_probe_values(reference, probe));
+    out.push_back(compare_probe(probe, values, expected_values.back()));
+    got_values.push_back(std::move(values));
   }
+  for (size_t i = 0; i < out.size(); ++i)
+    if (!out[i].probe->given.empty()) read_terms(out[i], out, got_values[i].values, expected_values[i]);
   return out;
 }
 

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
@@ -122,6 +123,15 @@ struct FunctionProbe {
   // What a pass probe isolates, where its file holds more than one term (lab 6: "diffuse",
   // "directions"): its part is then "FILE, TERM", and naming tells the terms apart.
   std::string term;
+  // A term probe (lab 2's cook_torrance, lab 3's light_radiance): the function at inputs that
+  // take its terms apart (a metal, a black dielectric, l = v), read where the functions it
+  // calls, `given`, agree and the function's own probe differs: the decision names the term
+  // that differs and how (term_probes.h). Where one given function differs, that explains it,
+  // and the term it is ("fresnel_schlick": "fresnel") is the term that differs.
+  std::map<std::string, std::string> given;
+  // A term probe of its own cases ("cook_torrance/terms"), reported only through its decision,
+  // else the function's own probe read term by term too (lab 3's light_radiance).
+  bool terms_only = false;
   // A geometry pass probe (labs 1 and 4): its arguments are vertex attributes.
   std::shared_ptr<const GeometryProbeSetup> geometry;
   // Lab 7's light_volume.frag: the lights it reads and its vertex stage.
@@ -133,6 +143,9 @@ struct FunctionProbe {
   std::string title() const;  // "distribution_ggx", "light_radiance (u_attenuation_model = 1)", "bright.frag (...)"
   std::string part() const;   // what holds a difference, for naming: the function, a pass's file, or "FILE, TERM"
 };
+
+// A value as the probes' messages write it: 4 significant digits.
+std::string probe_number(double v);
 
 // Floats one case of a probe holds at most: the probe shaders read KIT_PROBE_TEXELS texels.
 constexpr int kProbeTexels = 6;
@@ -177,10 +190,16 @@ struct ProbeOutcome {
   std::string first;    // "distribution_ggx(n_dot_h = 0.95, alpha = 0.09) = 0.318, expected 10.46"
   std::string shape;    // "each by a factor of 3.14 (pi)", or ""
   std::string message;  // the line a report prints
+  // What holds the difference, for naming: the probe's part (FunctionProbe::part), or a term
+  // probe's decided term ("cook_torrance, fresnel": term_probes.h).
+  std::string part;
 };
 constexpr const char* kProbeAgrees = "agrees";
 constexpr const char* kProbeDiffers = "differs";
 constexpr const char* kProbeNotRun = "not_run";  // not declared, or no expected values
+// A term probe that differs where a function it calls (FunctionProbe::given) differs too:
+// that function's own probe says where; its part is that function's term where one differs.
+constexpr const char* kProbeExplained = "explained";
 
 // Compares a submission's values at `probe`'s inputs (probes_to_run) with the expected ones (relative 2e-3, where a value is
 // compared at all) and words the difference.

@@ -204,6 +204,36 @@ void add_block(FunctionProbe& probe, const json& block, const std::string& at, c
   }
 }
 
+// "given": the functions a function calls, each with the term of the caller it is
+// (function_probes.h, FunctionProbe::given).
+std::map<std::string, std::string> given_functions(const json& given, const std::string& at, const Reader& r) {
+  std::map<std::string, std::string> out;
+  if (!given.is_object() || given.empty()) r.fail(at, "an object: each function it calls, by name, and the term it is");
+  for (const auto& [function, term] : given.items()) {
+    if (!term.is_string()) r.fail(at + "." + function, "the term it is (a string), got " + term.dump());
+    out[function] = term.get<std::string>();
+  }
+  return out;
+}
+
+// A function's term probe (function_probes.h, FunctionProbe::given): its own cases, the
+// function's call and uniforms (its first variant's).
+FunctionProbe term_probe(const FunctionProbe& function, const json& terms, const std::string& at, const Reader& r) {
+  if (!terms.is_object() || !terms.contains("id") || !terms["id"].is_string() || !terms.contains("given") ||
+      !terms.contains("cases") || !terms["cases"].is_array())
+    r.fail(at, "\"terms\" has \"id\", \"given\" (the functions it calls) and \"cases\"");
+  for (const auto& [key, value] : terms.items())
+    if (key != "id" && key != "given" && key != "why" && key != "cases")
+      r.fail(at + "." + key, "\"terms\" has \"id\", \"given\", \"why\" and \"cases\"");
+  FunctionProbe q = function;
+  q.id = terms["id"].get<std::string>();
+  q.cases.clear();
+  q.given = given_functions(terms["given"], at + ".given", r);
+  q.terms_only = true;
+  for (size_t b = 0; b < terms["cases"].size(); ++b) add_block(q, terms["cases"][b], at + ".cases[" + std::to_string(b) + "]", r);
+  return q;
+}
+
 }  // namespace
 
 std::filesystem::path default_lab_functions_path() { return kit_root() / "tools" / "grade" / "lab_functions.json"; }
@@ -244,6 +274,8 @@ std::vector<FunctionProbe> contract_function_probes(const json& contract, int la
       p.arguments.push_back({a[0].get<std::string>(), probe_type(a[1], in, r)});
     }
     p.result = probe_type(f.value("result", json()), at + ".result", r);
+    // Its own probe read term by term where these agree (function_probes.h, FunctionProbe::given).
+    if (f.contains("given")) p.given = given_functions(f["given"], at + ".given", r);
     if (p.result == ProbeType::Light) r.fail(at + ".result", "a result is float or vec3");
     for (size_t b = 0; b < f["cases"].size(); ++b) add_block(p, f["cases"][b], at + ".cases[" + std::to_string(b) + "]", r);
     // One probe per variant: the same cases with other uniforms set (lab 3's falloff model, gamma).
@@ -263,6 +295,7 @@ std::vector<FunctionProbe> contract_function_probes(const json& contract, int la
       }
       probes.push_back(std::move(q));
     }
+    if (f.contains("terms")) probes.push_back(term_probe(probes.back(), f["terms"], at + ".terms", r));
   }
   return probes;
 }

@@ -99,6 +99,19 @@ double probe_agreement(const MistakeSignature& s, const std::set<std::string>* d
   return static_cast<double>(common) / static_cast<double>(s.functions.size() + differing->size() - common);
 }
 
+// Whether a term probe's decided term (a differing part "FUNCTION, TERM": term_probes.h) is
+// the TERM of the mistake's family (the catalogue's LAB-PART.TERM): the evidence then places
+// the mistake in that term, whether its own edit was in the function or in its caller.
+bool term_names_family(const MistakeSignature& s, const std::set<std::string>& differing) {
+  const size_t dot = s.family.rfind('.');
+  if (dot == std::string::npos) return false;
+  for (const std::string& part : differing) {
+    const size_t comma = part.find(", ");
+    if (comma != std::string::npos && part.compare(comma + 2, std::string::npos, s.family, dot + 1) == 0) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, int lab,
@@ -111,33 +124,43 @@ std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, 
     LikelyMistake mistake;
     const std::string* family;
     double rank;
-    bool shares;  // a part in common, where the lab names by evidence first
+    bool named_anyway;  // the evidence places it, named even below the floor: lab 7's shared part, a decided term
   };
   std::vector<Ranked> all;
   const std::vector<FunctionProbe>& probes = function_probes(lab);
-  const double weight = !probes.empty() && probes.front().pass ? kPassProbeWeight : kProbeWeight;
+  const bool passes = !probes.empty() && probes.front().pass;
   // Lab 7, whose probe draws light_volume.frag (diagnosis.h), names a mistake that shares a part with
   // the submission's even where the images are unlike it.
   const bool evidence_first = !probes.empty() && probes.front().light_volume != nullptr;
+  bool terms = false;  // a term probe's decided term among the differing parts
+  if (differing && !passes)
+    for (const std::string& part : *differing) terms = terms || part.find(", ") != std::string::npos;
+  const double weight = passes ? kPassProbeWeight : terms ? kTermProbeWeight : kProbeWeight;
   for (const MistakeSignature& s : it->second) {
     const double similarity = signature_similarity(s.checks, submission);
-    const double agreement = probe_agreement(s, differing);
-    const bool shares = evidence_first && agreement > 0.0 && differing && !differing->empty();
-    // There the starter (every part wrong at once) is named only where every part agrees with it:
-    // files that did any part right are not the starter.
-    if (evidence_first && s.id.rfind("starter-", 0) == 0 && agreement < 1.0) continue;
-    // Lab 7 ranks by the parts first (their Jaccard index), the images only between equals.
-    const double rank = evidence_first ? agreement : similarity + weight * agreement;
-    all.push_back({{s.id, s.description, similarity}, &s.family, rank, shares});
+    if (evidence_first) {
+      const double agreement = probe_agreement(s, differing);
+      const bool shares = agreement > 0.0 && differing && !differing->empty();
+      // There the starter (every part wrong at once) is named only where every part agrees with it:
+      // files that did any part right are not the starter.
+      if (s.id.rfind("starter-", 0) == 0 && agreement < 1.0) continue;
+      // Lab 7 ranks by the parts first (their Jaccard index), the images only between equals.
+      all.push_back({{s.id, s.description, similarity}, &s.family, agreement, shares});
+      continue;
+    }
+    // Where a term is decided, it alone places the mistake: a family of another term gets nothing.
+    const bool placed = terms && term_names_family(s, *differing);
+    const double agreement = terms ? (placed ? 1.0 : 0.0) : probe_agreement(s, differing);
+    all.push_back({{s.id, s.description, similarity}, &s.family, similarity + weight * agreement, placed});
   }
   std::stable_sort(all.begin(), all.end(), [evidence_first](const Ranked& x, const Ranked& y) {
     if (evidence_first && x.rank == y.rank) return x.mistake.similarity > y.mistake.similarity;
     return x.rank > y.rank;
   });
   std::set<std::string> families;
-  for (const auto& [m, family, rank, shares] : all) {
+  for (const auto& [m, family, rank, named_anyway] : all) {
     if (named.size() == kMostNamed) break;
-    if ((m.similarity >= kMinNamedSimilarity || shares) && families.insert(*family).second) named.push_back(m);
+    if ((m.similarity >= kMinNamedSimilarity || named_anyway) && families.insert(*family).second) named.push_back(m);
   }
   return named;
 }

@@ -104,6 +104,12 @@ constexpr double kPassProbeWeight = 1.0;
 // submission is named even below kMinNamedSimilarity (a radius that only lights without a
 // range show fails one check, unlike its relatives'), and mistakes are ranked by the parts
 // they share first (the Jaccard index), the images only between equals.
+// Where the submission's differing parts hold a term probe's decided term (function
+// probes' "cook_torrance, fresnel": term_probes.h): the term names where the mistake lies as a
+// pass probe's part does, so it counts as much, and a mistake whose family's TERM (the
+// catalogue's LAB-PART.TERM) is that term agrees fully, and is named even below
+// kMinNamedSimilarity: the evidence places it whatever the images' resemblance.
+constexpr double kTermProbeWeight = 1.0;
 // The mistakes of `lab` that `submission` (check key -> check_features) most resembles,
 // closest first, one per family; empty when none reaches kMinNamedSimilarity. With
 // `differing` (the probed functions that differ, where every probe of the lab ran), each

@@ -249,7 +249,7 @@ void name_likely_mistakes(const MistakeSignatures& mistakes, LabOutcome& lab) {
   bool probed = !lab.probes.empty();
   for (const ProbeOutcome& p : lab.probes) {
     probed = probed && p.status != kProbeNotRun;
-    if (p.status == kProbeDiffers) differing.insert(p.probe->part());
+    if (p.status == kProbeDiffers || (p.status == kProbeExplained && p.part != p.probe->function)) differing.insert(p.part);
   }
   differing.insert(lab.evidence.begin(), lab.evidence.end());
   lab.likely_mistakes = likely_mistakes(mistakes, lab.lab, signatures, probed ? &differing : nullptr);
