@@ -190,8 +190,8 @@ bool read_scene_file(std::vector<unsigned char>* out, std::string* err, const st
 
 // tinygltf 2.9's GetFileSizeInBytes: through read_scene_file's checks (a regular file
 // inside the scene's folder, at most kMaxSceneFileBytes), never tinygltf's own, which
-// opens any path it is given (a FIFO there waits forever).
-bool scene_file_size(size_t* size, std::string* err, const std::string& path, void* user) {
+// opens any path it is given (a FIFO there waits forever). Unused with tinygltf 2.7 (below).
+[[maybe_unused]] bool scene_file_size(size_t* size, std::string* err, const std::string& path, void* user) {
   std::vector<unsigned char> bytes;
   if (!read_scene_file(&bytes, err, path, user)) return false;
   *size = bytes.size();
