@@ -5,9 +5,6 @@
 // with the same fields and shown in a frame the browser prints to PDF. The notes' Markdown is
 // rendered by markdown-it as layout.py's markdown-it-py renders it (CommonMark and tables, raw
 // HTML off: the notes are text).
-import MarkdownIt from "markdown-it";
-import Mustache from "mustache";
-import TEMPLATE from "../../progress/report.mustache";
 import {compileEdits} from "./edits.js";
 import {hasLabs, kitCall, missingEarlier} from "./kit.js";
 import {notesText, studentName} from "./notes.js";
@@ -97,7 +94,22 @@ function rendererName(page) {
   return (window.kitReport && window.kitReport.gl && window.kitReport.gl.renderer) || "this browser's WebGL2";
 }
 
-function reportFields(page, labs, seconds) {
+// kit-report.js (report_libs.js), loaded once, at the first report.
+let libs = null;
+function reportLibs() {
+  libs = libs || new Promise((resolve, reject) => {
+    const script = Object.assign(document.createElement("script"), {src: "kit-report.js"});
+    script.onload = () => resolve(window.kitReportLibs);
+    script.onerror = () => {
+      libs = null;  // the next report tries again
+      reject(new Error("kit-report.js could not be loaded"));
+    };
+    document.head.append(script);
+  });
+  return libs;
+}
+
+function reportFields(page, labs, seconds, MarkdownIt) {
   const graded = labs.filter((l) => l.score_class !== "muted");
   const sum = (key) => graded.reduce((t, l) => t + l[key], 0);
   const gl = rendererName(page);
@@ -166,7 +178,8 @@ export async function makeReport(page) {
     $("make-report").disabled = false;
   }
   const seconds = (performance.now() - started) / 1000;
-  const fields = reportFields(page, labs, seconds);
+  const {MarkdownIt, Mustache, TEMPLATE} = await reportLibs();
+  const fields = reportFields(page, labs, seconds, MarkdownIt);
   const html = Mustache.render(TEMPLATE, fields);
   const url = show(page, html);
   page.kitPage.lastReport = {html, url, seconds, fields,
