@@ -7,6 +7,7 @@
 #include "base/error.h"
 #include "frames/light_shares.h"
 #include "gl/gl.h"
+#include "gl/gl_flavour.h"
 
 namespace fs = std::filesystem;
 
@@ -124,7 +125,9 @@ nlohmann::json work_json(const LightVolumeWork& work, const LightVolumeState& st
           {"shaded_fragments", work.shaded_fragments},
           {"volume_coverage", work.volume_coverage},
           {"state", describe(state)},
-          {"evidence", evidence_json(work.evidence)}};
+          {"evidence", evidence_json(work.evidence)},
+          // Whether the per-light counts were taken: not where a query only says 0 or 1 (WebGL2).
+          {"counted", samples_passed_counts()}};
 }
 
 LightVolumeWork work_from_json(const nlohmann::json& json) {

@@ -117,6 +117,9 @@ std::string describe_volume_evidence(const VolumeEvidence& evidence);
 std::set<std::string> volume_evidence_parts(const VolumeEvidence& evidence);
 // The part a failed work check adds where its image passed: the work is over the limit.
 constexpr const char* kWorkPart = "light_volume.vert, work";
+// What every part above starts with: parts a run without the counts cannot know (WebGL2 counts
+// no samples: the browser's check), which naming then leaves out of the comparison.
+constexpr const char* kVolumeEvidencePrefix = "light_volume.vert, ";
 
 // The image as the report shows it (RGB, [0,1]): G-buffer vectors as (v+1)/2,
 // positions over the reference's bounds, HDR through Reinhard and gamma 2.2,

@@ -90,13 +90,20 @@ double signature_similarity(const std::map<std::string, std::vector<float>>& a,
 namespace {
 
 // How alike a mistake's differing functions and the submission's are: the Jaccard index of
-// the two sets (1 when both are empty: every function agrees for both), 0 without probes.
-double probe_agreement(const MistakeSignature& s, const std::set<std::string>* differing) {
+// the two sets (1 when both are empty: every function agrees for both), 0 without probes. The
+// mistake's parts that start with `unmeasured` (when not empty) are left out: the submission's
+// run could not have found them.
+double probe_agreement(const MistakeSignature& s, const std::set<std::string>* differing,
+                       const std::string& unmeasured = "") {
   if (!differing || !s.probed) return 0.0;
-  if (s.functions.empty() && differing->empty()) return 1.0;
-  size_t common = 0;
-  for (const std::string& f : s.functions) common += differing->count(f);
-  return static_cast<double>(common) / static_cast<double>(s.functions.size() + differing->size() - common);
+  size_t common = 0, own = 0;
+  for (const std::string& f : s.functions) {
+    if (!unmeasured.empty() && f.rfind(unmeasured, 0) == 0) continue;
+    ++own;
+    common += differing->count(f);
+  }
+  if (own == 0 && differing->empty()) return 1.0;
+  return static_cast<double>(common) / static_cast<double>(own + differing->size() - common);
 }
 
 // Whether a term probe's decided term (a differing part "FUNCTION, TERM": term_probes.h) is
@@ -116,7 +123,7 @@ bool term_names_family(const MistakeSignature& s, const std::set<std::string>& d
 
 std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, int lab,
                                            const std::map<std::string, std::vector<float>>& submission,
-                                           const std::set<std::string>* differing) {
+                                           const std::set<std::string>* differing, bool volume_counted) {
   std::vector<LikelyMistake> named;
   auto it = signatures.labs.find(lab);
   if (it == signatures.labs.end()) return named;
@@ -139,7 +146,7 @@ std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, 
   for (const MistakeSignature& s : it->second) {
     const double similarity = signature_similarity(s.checks, submission);
     if (evidence_first) {
-      const double agreement = probe_agreement(s, differing);
+      const double agreement = probe_agreement(s, differing, volume_counted ? "" : kVolumeEvidencePrefix);
       const bool shares = agreement > 0.0 && differing && !differing->empty();
       // There the starter (every part wrong at once) is named only where every part agrees with it:
       // files that did any part right are not the starter.

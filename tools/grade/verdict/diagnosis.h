@@ -114,9 +114,12 @@ constexpr double kTermProbeWeight = 1.0;
 // closest first, one per family; empty when none reaches kMinNamedSimilarity. With
 // `differing` (the probed functions that differ, where every probe of the lab ran), each
 // mistake's similarity gets kProbeWeight's share for its functions (kPassProbeWeight's where the
-// lab's probes are passes) before they are ranked.
+// lab's probes are passes) before they are ranked. `volume_counted` false: lab 7's per-light
+// counts were not taken (the browser's check: WebGL2 counts no samples), so the parts of its
+// mistakes that come from them (compare.h, kVolumeEvidencePrefix) are left out.
 std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, int lab,
                                            const std::map<std::string, std::vector<float>>& submission,
-                                           const std::set<std::string>* differing = nullptr);
+                                           const std::set<std::string>* differing = nullptr,
+                                           bool volume_counted = true);
 
 }  // namespace kit::grade

@@ -63,6 +63,7 @@ void compare_check(const Config& config, LabOutcome& lab, CheckOutcome& c, const
     const nlohmann::json counted =
         check.metric == Metric::Hdr && child.contains("work") ? child["work"].value(check.image, nlohmann::json()) : nlohmann::json();
     if (counted.is_object()) {
+      lab.volume_counted = lab.volume_counted || counted.value("counted", true);
       const VolumeEvidence evidence = work_from_json(counted).evidence;
       const std::vector<float> signature = volume_evidence_signature(evidence);
       // After the tiles, at the same place for every submission (an image not compared has none).
@@ -252,7 +253,7 @@ void name_likely_mistakes(const MistakeSignatures& mistakes, LabOutcome& lab) {
     if (p.status == kProbeDiffers || (p.status == kProbeExplained && p.part != p.probe->function)) differing.insert(p.part);
   }
   differing.insert(lab.evidence.begin(), lab.evidence.end());
-  lab.likely_mistakes = likely_mistakes(mistakes, lab.lab, signatures, probed ? &differing : nullptr);
+  lab.likely_mistakes = likely_mistakes(mistakes, lab.lab, signatures, probed ? &differing : nullptr, lab.volume_counted);
   lab.diagnosed = true;
 }
 

@@ -57,6 +57,7 @@ struct LabOutcome {
   // Lab 7: what its per-light counts (render/light_volumes.h VolumeEvidence) and work checks
   // say is wrong, as parts that naming weighs beside the probes' (compare.h, evidence_parts).
   std::set<std::string> evidence;
+  bool volume_counted = false;  // those counts were taken (not in the browser: WebGL2 counts no samples)
   int passed_checks() const;
   // The sums of the checks' integer thousandths: exact, and the very numbers printed.
   Thousandths score() const;
