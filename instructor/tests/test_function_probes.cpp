@@ -49,6 +49,20 @@ nlohmann::json probes_reference() { return grade::read_probes_reference(grade::d
 // Reads a probe case's arguments in order (cpu_reference.h).
 using Arguments = ref::ProbeArguments;
 
+// A pass probe's texel as the G-buffer holds it: position, normal, albedo, (metallic, roughness).
+ref::SurfaceSample texel_sample(const std::vector<float>& inputs) {
+  Arguments a{inputs};
+  ref::SurfaceSample s;
+  s.position = a.vec3();
+  s.normal = a.vec3();
+  s.albedo = a.vec3();
+  const ref::dvec3 material = a.vec3();
+  s.metallic = material.x;
+  s.roughness = material.y;
+  s.covered = true;
+  return s;
+}
+
 // A function probe's value from the CPU reference: the function of that name in the contract's
 // table (cpu_reference.h, probe_functions), under the probe's uniforms.
 ref::dvec3 cpu_value(const FunctionProbe& probe, const std::vector<float>& in, bool ggx_without_pi = false) {
@@ -103,15 +117,7 @@ std::vector<ref::dvec3> cpu_ibl_values(const FunctionProbe& probe) {
     (m.sampler == "u_irradiance" ? irradiance : m.sampler == "u_prefiltered" ? prefiltered : table) = &m;
   std::vector<ref::dvec3> values;
   for (const grade::ProbeCase& c : probe.cases) {
-    Arguments a{c.inputs};
-    ref::SurfaceSample s;
-    s.position = a.vec3();
-    s.normal = a.vec3();
-    s.albedo = a.vec3();
-    const ref::dvec3 material = a.vec3();
-    s.metallic = material.x;
-    s.roughness = material.y;
-    s.covered = true;
+    const ref::SurfaceSample s = texel_sample(c.inputs);
     const ref::SplitSumLookups at = ref::split_sum_lookups(s, camera);
     const auto table_coordinate = [](double grid) { return (grid * (KIT_BRDF_LUT_SIZE - 1) + 0.5) / KIT_BRDF_LUT_SIZE; };
     const ref::dvec3 abc = probe_map_value(*table, {table_coordinate(at.n_dot_v), table_coordinate(s.roughness)}, 0.0);
@@ -195,15 +201,7 @@ std::vector<ref::dvec3> cpu_light_volume_values(const FunctionProbe& probe) {
   const grade::LightVolumeProbeSetup& setup = *probe.light_volume;
   std::vector<ref::dvec3> values;
   for (const grade::ProbeCase& c : probe.cases) {
-    Arguments a{c.inputs};
-    ref::SurfaceSample s;
-    s.position = a.vec3();
-    s.normal = a.vec3();
-    s.albedo = a.vec3();
-    const ref::dvec3 material = a.vec3();
-    s.metallic = material.x;
-    s.roughness = material.y;
-    s.covered = true;
+    const ref::SurfaceSample s = texel_sample(c.inputs);
     values.push_back(ref::light_volume_term(s, camera, ref::uploaded_light(setup.lights.at(light)),
                                             setup.volume_radii.at(light), settings));
   }
