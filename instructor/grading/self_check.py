@@ -574,11 +574,15 @@ def term_names_family(row, candidate):
     return term is not None and any(f.split(", ", 1)[1] == term for f in row.functions or () if ", " in f)
 
 
+def decided_term(row):
+    """diagnosis.cpp likely_mistakes: a term probe's decided term ("FUNCTION, TERM") is among the row's
+    differing parts, in a lab whose probes are functions, not passes."""
+    return not getattr(row, "passes", False) and any(", " in f for f in row.functions or ())
+
+
 def placed(row, candidate):
-    """diagnosis.cpp likely_mistakes: the candidate's family's term is the term a term probe decided for
-    row (named even below MIN_NAMED)."""
-    terms = not getattr(row, "passes", False) and any(", " in f for f in row.functions or ())
-    return terms and term_names_family(row, candidate)
+    """The candidate's family's term is the term a term probe decided for row (named even below MIN_NAMED)."""
+    return decided_term(row) and term_names_family(row, candidate)
 
 
 def ranked(row, candidates):
@@ -588,7 +592,7 @@ def ranked(row, candidates):
     if row.lab == 7:  # diagnosis.h: lab 7 ranks by the parts first, the images only between equals
         return sorted(scored, key=lambda t: (-probe_agreement(row, t[1]), -t[0]))
     passes = getattr(row, "passes", False)
-    terms = not passes and any(", " in f for f in row.functions or ())
+    terms = decided_term(row)
     weight = PASS_PROBE_WEIGHT if passes else TERM_PROBE_WEIGHT if terms else PROBE_WEIGHT
     return sorted(scored, key=lambda t: -(t[0] + weight * ((1.0 if term_names_family(row, t[1]) else 0.0) if terms
                                                             else probe_agreement(row, t[1]))))
