@@ -72,23 +72,25 @@ bool classify_worker_end(const Outcome& o, const fs::path& dir, LabOutcome& lab)
     case Outcome::Kind::Running:
     case Outcome::Kind::Exited: break;
   }
+  // What the worker wrote of its failure, where it says it failed (read only then).
+  const auto error_text = [&dir] { return trimmed(read_text(dir / "error.txt")); };
   switch (o.code) {
     case kWorkerOk: return true;
     case kWorkerShaderError:
       lab.status = kCompileError;
-      lab.message = trimmed(read_text(dir / "error.txt"));
+      lab.message = error_text();
       return false;
     case kWorkerEnvironmentError:
       lab.status = kGraderError;
-      lab.message = "the grader could not render: " + trimmed(read_text(dir / "error.txt"));
+      lab.message = "the grader could not render: " + error_text();
       return false;
     case kWorkerMapError:
       lab.status = kNonFiniteMap;
-      lab.message = trimmed(read_text(dir / "error.txt"));
+      lab.message = error_text();
       return false;
     case kWorkerRenderError:
       lab.status = kCrash;
-      lab.message = "the frame could not be rendered: " + trimmed(read_text(dir / "error.txt"));
+      lab.message = "the frame could not be rendered: " + error_text();
       return false;
     default: break;
   }
