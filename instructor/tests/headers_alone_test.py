@@ -25,8 +25,10 @@ import shlex
 import subprocess
 import sys
 
-# The unity-built targets and the source folders whose files they compile.
-UNITY_TARGETS = {"kitcore": ["common"], "kit_grade_core": ["tools/grade"]}
+# A unity-built target's files are the quoted includes of its unity file (CMake writes one,
+# Unity/unity_N_cxx.cxx, per target built with UNITY_BUILD: kitcore, the grader's library,
+# the test libraries and the test programs of several files).
+UNITY_INCLUDE = re.compile(r'^#include "(.+)"$', re.M)
 
 
 def compile_commands(build):
@@ -117,29 +119,21 @@ def main():
     flags, directory = first_party_flags(commands, source)
     headers = [h for folder in ("common", "tools") for h in sorted((source / folder).rglob("*.h"))]
     jobs = []  # (name, flags, directory, text)
-    # Each source file of a unity-built library, with that library's own flags.
-    per_target = {}
+    # Each source file of a unity-built target, with that target's own flags.
+    unity_targets = []
     for entry in commands:
-        target = target_of(entry)
-        if target in UNITY_TARGETS and target not in per_target:
-            per_target[target] = flags_of(entry)
-    # A file the build compiles on its own (a definition of its own takes it out of the unity
-    # file: common/CMakeLists.txt) is already compiled alone there.
-    own_commands = {entry["file"] for entry in commands}
-    for target, folders in UNITY_TARGETS.items():
-        if target not in per_target:
-            failures.append(f"{target}: no compile command in {build}/compile_commands.json")
+        unity_file = pathlib.Path(entry["directory"], entry["file"])
+        if "/Unity/unity_" not in entry["file"] or not unity_file.is_file():
             continue
-        target_flags, target_dir = per_target[target]
-        for folder in folders:
-            for cpp in sorted((source / folder).rglob("*.cpp")):
-                if "openimageio/" in str(cpp.relative_to(source)) or cpp.name == "window.cpp":
-                    continue  # built as their own targets (kit_openimageio, kitwindow), never in the unity file
-                if cpp.name.endswith("_web.cpp"):
-                    continue  # the browser build's alone (cmake/web.cmake), which ./kit test builds with emscripten
-                if str(cpp) in own_commands:
-                    continue
-                jobs.append((str(cpp.relative_to(source)), target_flags, target_dir, f'#include "{cpp}"\n'))
+        target_flags, target_dir = flags_of(entry)
+        unity_targets.append(target_of(entry))
+        for cpp in UNITY_INCLUDE.findall(unity_file.read_text(encoding="utf-8")):
+            cpp = pathlib.Path(cpp)
+            name = str(cpp.relative_to(source)) if cpp.is_relative_to(source) else str(cpp)
+            jobs.append((name, target_flags, target_dir, f'#include "{cpp}"\n'))
+    for needed in ("kitcore", "kit_grade_core"):
+        if needed not in unity_targets:
+            failures.append(f"{needed}: no unity file in {build}/compile_commands.json (is KIT_UNITY_BUILD on?)")
     first_in_own = {h for h in headers if first_included(h.with_suffix(".cpp")) == h.name and
                     any(j[0] == str(h.with_suffix(".cpp").relative_to(source)) for j in jobs)}
     for header in headers:
@@ -176,7 +170,7 @@ def main():
 
     alone = sum(1 for j in jobs if j[0].endswith(".h"))
     print(f"compiled alone: {alone} headers of common/ and tools/ on their own and {len(first_in_own)} first in "
-          f"their own source file, {len(jobs) - alone} source files of {', '.join(UNITY_TARGETS)}")
+          f"their own source file, {len(jobs) - alone} source files of {', '.join(sorted(set(unity_targets)))}")
     for failure in failures:
         print("FAIL:", failure)
     print(f"{passed} passed, {len(failures)} failed")
