@@ -1,5 +1,5 @@
-# Every header of common/ and tools/, and every source file of the unity-built libraries,
-# compiles on its own (headers_alone_test.py): what the file-by-file build needs,
+# Every header of common/ and tools/, and every source file of a unity-built target (the
+# libraries, the test programs of several files) compiles on its own (headers_alone_test.py): what the file-by-file build needs,
 # which ./kit picks under 1.4 GB of memory (Gradescope's default image has 768 MB) and
 # which the unity build this suite is built with cannot show. It stands for a second,
 # file-by-file build of the grading targets (kit_programs with KIT_GRADING_ONLY and
