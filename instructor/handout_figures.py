@@ -14,8 +14,9 @@ and this script knows where each key's value comes from:
   mistake.ID.cost    the points catalogue entry ID loses: max - score in a self-check's --json
                      file (./kit rebaseline runs one); unchecked without one, and counted as such
   naming.KEY         the self-check's naming measure (self_check.py naming_counts): caught,
-                     named_right, with_relatives, first, within_three; unchecked without a
-                     self-check of every lab
+                     named_right, distinct, with_relatives, first, within_three; unchecked
+                     without a self-check of every lab
+  naming.labN.KEY    the same by lab: with_relatives, first, within_three
   references.KEY     tools/grade/references/ as its manifest lists it: compared (the checks'
                      references), allowances, gbuffer (G-buffer attachments kept to describe a
                      worst pixel), light_shares, files (in the folder), megabytes (the folder's
@@ -87,9 +88,18 @@ class Sources:
                 raise KeyError(f"{key}: no row '{parts[1]}' in the self-check's results")
             return number(self.costs[parts[1]])
         if parts[0] == "naming" and len(parts) == 2:
-            if parts[1] not in ("caught", "named_right", "with_relatives", "first", "within_three"):
+            if parts[1] not in ("caught", "named_right", "distinct", "with_relatives", "first", "within_three"):
                 raise KeyError(f"{key}: no such naming measure")
             return None if self.naming is None else str(self.naming[parts[1]])
+        if parts[0] == "naming" and len(parts) == 3 and re.fullmatch(r"lab[1-9][0-9]*", parts[1]):
+            if parts[2] not in ("with_relatives", "first", "within_three"):
+                raise KeyError(f"{key}: no such naming measure of a lab")
+            if self.naming is None:
+                return None
+            lab = self.naming["by_lab"].get(parts[1][3:])
+            if lab is None:
+                raise KeyError(f"{key}: no mistake of that lab has a relative")
+            return str(lab[parts[2]])
         if parts[0] == "references" and len(parts) == 2:
             images = self.manifest["images"]
             folder = ROOT / "tools/grade/references"

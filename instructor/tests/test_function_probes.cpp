@@ -13,6 +13,7 @@
 #include <iterator>
 #include <map>
 #include <sstream>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -607,6 +608,41 @@ TEST(FunctionProbes, LightVolumeProbesTellItsPartsApart) {
   EXPECT_EQ(differing(first_light), std::vector<std::string>{"light_volume/light"});
   auto from_origin = probe_lab(7, lab_with("view_from_origin", folder, file, "normalize(u_camera_position - p)", "normalize(-p)"));
   EXPECT_EQ(differing(from_origin), std::vector<std::string>{"light_volume/view"});
+}
+
+// A lab 7 probe's difference placed by its shape (term_probes.h, light_volume_terms): n.l
+// taken with the unnormalised vector to the light makes each lit texel d times the expected
+// (d its distance from the light), which only the probes with surfaces off 1 m show, the
+// falloff's and the sphere test's: all are placed in the cosine, with the cosine dropped
+// (the same family). The falloff taken at the camera makes every texel of a probe whose
+// surfaces are all 1 m from the light one factor off: placed in the falloff, with no falloff
+// at all. Witness: the falloff dropped is not placed in the cosine (its ratio grows as d^2,
+// cut by the range window), so its probes keep their own parts.
+TEST(FunctionProbes, LightVolumeDifferencesArePlacedByTheirShape) {
+  const char* folder = "07-lightvolumes";
+  const char* file = "light_volume.frag";
+  const auto parts = [](const std::map<std::string, grade::ProbeOutcome>& outcomes) {
+    std::set<std::string> out;
+    for (const auto& [id, o] : outcomes)
+      if (o.status == grade::kProbeDiffers) out.insert(o.part);
+    return out;
+  };
+  auto unnormalised = probe_terms(7, lab_with("cosine_unnormalised", folder, file, "float n_dot_l = dot(n, l);",
+                                            "float n_dot_l = dot(n, to_light);"));
+  EXPECT_EQ(differing(unnormalised), (std::vector<std::string>{"light_volume/falloff-physical", "light_volume/falloff-simple",
+                                                               "light_volume/falloff-spot", "light_volume/sphere-ranged",
+                                                               "light_volume/sphere-unranged"}));
+  EXPECT_EQ(parts(unnormalised), std::set<std::string>{"light_volume.frag, cosine"});
+  EXPECT_NE(unnormalised.at("light_volume/falloff-physical").message.find("d times the expected"), std::string::npos)
+      << unnormalised.at("light_volume/falloff-physical").message;
+  auto at_camera = probe_terms(7, lab_with("falloff_at_camera", folder, file, "* light_radiance(light, p) *",
+                                         "* light_radiance(light, u_camera_position) *"));
+  for (const char* id : {"light_volume/view", "light_volume/cosine", "light_volume/light", "light_volume/lookup"})
+    EXPECT_EQ(at_camera.at(id).part, "light_volume.frag, falloff") << id << ": " << at_camera.at(id).message;
+  auto no_falloff = probe_terms(7, lab_with("no_falloff", folder, file, "* light_radiance(light, p) *",
+                                          "* light.color * light.intensity *"));
+  EXPECT_EQ(parts(no_falloff), (std::set<std::string>{"light_volume.frag, falloff", "light_volume.frag, sphere test",
+                                                       "light_volume.frag, sphere test (a ranged light)"}));
 }
 
 }  // namespace

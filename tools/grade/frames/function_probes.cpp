@@ -503,10 +503,18 @@ std::vector<std::string> write_probes_reference(const std::filesystem::path& dir
 namespace {
 
 // A term probe that differs (FunctionProbe::given): explained by a function it calls that
-// differs, else its terms told apart where the decision fits (term_probes.h).
+// differs, else its terms told apart where the decision fits (term_probes.h). A lab 7 probe
+// that differs: its part where the difference's shape places it (term_probes.h).
 void read_terms(ProbeOutcome& o, const std::vector<ProbeOutcome>& all, const std::vector<glm::vec4>& got,
                 const std::vector<glm::vec4>& expected) {
   if (o.status != kProbeDiffers) return;
+  if (o.probe->light_volume) {  // lab 7's pass: the difference's shape may place it in another part
+    const TermDecision d = decide_terms(*o.probe, got, expected);
+    if (d.term.empty()) return;
+    o.part = o.probe->file + ", " + d.term;
+    o.message += "; by its shape: " + d.text;
+    return;
+  }
   std::string explained;
   std::set<std::string> terms;  // of the given functions that differ
   for (const ProbeOutcome& g : all)
@@ -548,7 +556,8 @@ std::vector<ProbeOutcome> probe_outcomes(int lab, const nlohmann::json& child, c
     got_values.push_back(std::move(values));
   }
   for (size_t i = 0; i < out.size(); ++i)
-    if (!out[i].probe->given.empty()) read_terms(out[i], out, got_values[i].values, expected_values[i]);
+    if (!out[i].probe->given.empty() || out[i].probe->light_volume)
+      read_terms(out[i], out, got_values[i].values, expected_values[i]);
   return out;
 }
 

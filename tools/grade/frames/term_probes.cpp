@@ -443,6 +443,68 @@ TermDecision light_radiance_terms(const FunctionProbe& probe, const std::vector<
                            ratios_text(off)};
 }
 
+// --- lab 7's light_volume.frag ---------------------------------------------------------------
+
+// One texel of a lab 7 probe: what the pass wrote, what it should, and the surface's
+// distance from the light drawn.
+struct VolumeValue {
+  glm::dvec3 got, expected;
+  double distance = 0.0;
+  double sum(const glm::dvec3& c) const { return c.x + c.y + c.z; }
+  bool lit() const { return sum(expected) > 1e-6; }
+  double ratio() const { return sum(got) / sum(expected); }
+};
+
+std::vector<VolumeValue> volume_values(const FunctionProbe& probe, const std::vector<glm::vec4>& got,
+                                       const std::vector<glm::vec4>& expected) {
+  int drawn = 0;
+  for (const ProbeUniform& u : probe.uniforms)
+    if (u.name == "u_probe_light") drawn = static_cast<int>(u.value + 0.5f);
+  const glm::dvec3 light(probe.light_volume->lights.at(static_cast<size_t>(drawn)).position);
+  const size_t at = argument_offsets(probe).at("u_gbuffer_position");
+  std::vector<VolumeValue> out;
+  for (size_t i = 0; i < probe.cases.size(); ++i) {
+    const float* p = probe.cases[i].inputs.data() + at;
+    out.push_back({glm::dvec3(got[i]), glm::dvec3(expected[i]), glm::length(glm::dvec3(p[0], p[1], p[2]) - light)});
+  }
+  return out;
+}
+
+// Lab 7's pass differs in one of its probes (pass_probes.cpp, make_lab7): the shape of the
+// difference across the probe's texels can belong to another part than the one the probe
+// was set up for, since each probe holds the other parts still only where they are right.
+//   each lit texel is d times the expected, d its distance from the light (not all 1 m):
+//     the cosine taken with the vector to the light before it is normalised;
+//   every lit texel is the same factor (not 0) off, the dark ones dark: the light's
+//     strength, its falloff taken at another distance or its intensity.
+TermDecision light_volume_terms(const FunctionProbe& probe, const std::vector<glm::vec4>& got,
+                                const std::vector<glm::vec4>& expected) {
+  const std::vector<VolumeValue> texels = volume_values(probe, got, expected);
+  std::vector<const VolumeValue*> lit;
+  for (const VolumeValue& t : texels) {
+    if (t.lit()) lit.push_back(&t);
+    else if (t.sum(t.got) > 1e-6) return {};  // light where there should be none: the parts' own names hold
+  }
+  if (lit.empty()) return {};
+  bool by_distance = false, constant = lit.front()->ratio() > 1e-3 && !same(lit.front()->ratio(), 1.0);
+  for (const VolumeValue* t : lit) by_distance = by_distance || !same(t->distance, 1.0);
+  std::string ratios;
+  for (const VolumeValue* t : lit) {
+    by_distance = by_distance && same(t->ratio(), t->distance);
+    constant = constant && same(t->ratio(), lit.front()->ratio());
+    if (ratios.size() < 80)
+      ratios += (ratios.empty() ? "" : "; ") + probe_number(t->ratio()) + " times the expected at " + probe_number(t->distance) + " m";
+  }
+  if (by_distance)
+    return {"cosine", "each lit texel is d times the expected, d its distance from the light (" + ratios +
+                          "): n.l taken with the vector to the light before it is normalised?"};
+  if (constant)
+    return {"falloff", "every lit texel is " + probe_number(lit.front()->ratio()) +
+                           " times the expected, whatever its material and distance: the light's strength is off by one "
+                           "factor here (lab 3's falloff taken at another point, or the intensity)"};
+  return {};
+}
+
 }  // namespace
 
 TermDecision decide_terms(const FunctionProbe& probe, const std::vector<glm::vec4>& got, const std::vector<glm::vec4>& expected) {
@@ -451,6 +513,7 @@ TermDecision decide_terms(const FunctionProbe& probe, const std::vector<glm::vec
     if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) return {};
   if (probe.function == "cook_torrance") return cook_torrance_terms(probe, got, expected);
   if (probe.function == "light_radiance") return light_radiance_terms(probe, got, expected);
+  if (probe.light_volume) return light_volume_terms(probe, got, expected);
   return {};
 }
 

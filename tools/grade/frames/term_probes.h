@@ -5,7 +5,8 @@
 // at a metal (no diffuse lobe), a black dielectric (the specular term alone, F0 = 0.04) and a
 // coloured one (less the black one: the diffuse lobe alone), each at l = v (v.h = 1, so
 // F = F0) and with h = n at a grazing v.h; lab 3's light_radiance by light type, distance and
-// angle. The decision compares the submission's values with the expected ones (probes.json,
+// angle; lab 7's light_volume.frag by the shape of a difference across a probe's texels (one
+// texel's value at another, a factor of the distance or one factor everywhere). The decision compares the submission's values with the expected ones (probes.json,
 // numbers): ratios and differences between cases, never a formula of the lab. It informs and
 // never scores.
 #include <glm/glm.hpp>
