@@ -1,5 +1,5 @@
-# Every header of common/ and tools/, and every source file of a unity-built target (the
-# libraries, the test programs of several files) compiles on its own (headers_alone_test.py): what the file-by-file build needs,
+# Every header of common/ and tools/, and every source file of a unity-built target (kitcore,
+# the grader's library) compiles on its own (headers_alone_test.py): what the file-by-file build needs,
 # which ./kit picks under 1.4 GB of memory (Gradescope's default image has 768 MB) and
 # which the unity build this suite is built with cannot show. It stands for a second,
 # file-by-file build of the grading targets (kit_programs with KIT_GRADING_ONLY and
@@ -13,6 +13,6 @@ find_program(KIT_HEADERS_PYTHON NAMES python3 REQUIRED)
 add_test(NAME headers_alone
          COMMAND ${KIT_HEADERS_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/headers_alone_test.py
                  ${PROJECT_SOURCE_DIR} ${CMAKE_BINARY_DIR} ${CMAKE_BINARY_DIR}/test-tmp/headers_alone)
-# About 210 s of CPU, two compilers at a time: started among the first, as the other long
+# About 190 s of CPU, two compilers at a time: started among the first, as the other long
 # tests are (cmake/gtest_suites.cmake's COST).
 set_tests_properties(headers_alone PROPERTIES LABELS slow TIMEOUT 600 COST 100)

@@ -26,8 +26,7 @@ import subprocess
 import sys
 
 # A unity-built target's files are the quoted includes of its unity file (CMake writes one,
-# Unity/unity_N_cxx.cxx, per target built with UNITY_BUILD: kitcore, the grader's library,
-# the test libraries and the test programs of several files).
+# Unity/unity_N_cxx.cxx, per target built with UNITY_BUILD: kitcore and the grader's library).
 UNITY_INCLUDE = re.compile(r'^#include "(.+)"$', re.M)
 
 
