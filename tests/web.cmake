@@ -45,7 +45,8 @@ if(TARGET kit-render AND KIT_HAS_INSTRUCTOR)
   # A student's OBJ scene (tests/web_obj_test.py): an .obj, its .mtl and a hand-made texture
   # dropped on the page (as files, a .zip and a folder) draw kit-render's frame of it, with the
   # texture's quarters where its layout puts them; without the texture or the .mtl they do not;
-  # a malformed .obj and a Draco-compressed glTF are refused by name.
+  # a malformed .obj is refused by name; a Draco-compressed glTF (tests/draco_gltf.mjs) draws
+  # kit-render's frame of it.
   add_test(NAME web_obj
            COMMAND ${KIT_WEB_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/web_obj_test.py ${KIT_WEB_SITE} $<TARGET_FILE:kit-render>
                    ${CMAKE_BINARY_DIR}/test-tmp/web-obj)

@@ -14,12 +14,14 @@ and proves:
   4. witnesses: without tiles.png, and without quad.mtl, the frame differs from kit-render's
      beyond the tolerance, and the page names what its loader left out;
   5. a malformed .obj gets the loader's named error, the scene stays, and the page draws again;
-  6. a Draco-compressed glTF is refused by name, saying what to do instead.
+  6. Draco-compressed glTF (tests/draco_gltf.mjs: a textured sphere encoded by npm's draco3d),
+     positions quantized to 10 bits or not, draws kit-render's frame of the same files (libdraco
+     decodes them there, draco3d's WebAssembly in the page); bytes that are no Draco mesh get the
+     decoder's named error.
 
 usage: web_obj_test.py SITE_DIR KIT_RENDER WORK_DIR
 Builds nothing: without a site or chromium it fails, saying what to install or build.
 """
-import base64
 import json
 import pathlib
 import shutil
@@ -30,7 +32,7 @@ import zipfile
 
 from png_rgb import read_png, write_png
 from web_page_test import DIFFERENT, SAME, Expectations, Page, mean_difference, serve
-from web_test import FAR_LEVELS, MAX_FAR_PIXELS, MAX_MEAN_DIFFERENCE, Chromium, compare, site_problem
+from web_test import FAR_LEVELS, KIT_ROOT, MAX_FAR_PIXELS, MAX_MEAN_DIFFERENCE, Chromium, compare, site_problem
 
 SIZE = (320, 240)
 URL_QUERY = f"stage=lighting&size={SIZE[0]}x{SIZE[1]}"
@@ -99,19 +101,17 @@ def quarters_in_place(centres, pixels):
     return rx < gx and bx < yx and ry < by and gy < yy
 
 
-def draco_gltf():
-    """A glTF whose one primitive requires KHR_draco_mesh_compression (its bytes are no Draco mesh:
-    the browser build refuses it before decoding)."""
-    data = "data:application/octet-stream;base64," + base64.b64encode(b"\0" * 16).decode()
-    return json.dumps({
-        "asset": {"version": "2.0"}, "extensionsUsed": ["KHR_draco_mesh_compression"],
-        "extensionsRequired": ["KHR_draco_mesh_compression"],
-        "buffers": [{"byteLength": 16, "uri": data}], "bufferViews": [{"buffer": 0, "byteLength": 16}],
-        "accessors": [{"componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
-                      {"componentType": 5125, "count": 3, "type": "SCALAR"}],
-        "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1, "extensions": {
-            "KHR_draco_mesh_compression": {"bufferView": 0, "attributes": {"POSITION": 0}}}}]}],
-        "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}], "scene": 0})
+def draco_models(site, folder, texture):
+    """tests/draco_gltf.mjs's Draco-compressed spheres in `folder`, encoded by the page's own npm
+    package (draco3d, in the site's build folder), and a copy of the lossless one whose Draco bytes
+    start with another name than DRACO: no Draco mesh."""
+    modules = site / "page-npm" / "node_modules"
+    subprocess.run(["node", str(KIT_ROOT / "tests" / "draco_gltf.mjs"), str(modules), str(folder), str(texture)],
+                   check=True)
+    gltf = json.loads((folder / "sphere.gltf").read_text())
+    gltf["buffers"][0]["uri"] = "broken.bin"
+    (folder / "broken.gltf").write_text(json.dumps(gltf))
+    (folder / "broken.bin").write_bytes(b"NOTDRACO" + (folder / "sphere.bin").read_bytes()[8:])
 
 
 def drop_files(page, urls_and_names):
@@ -153,18 +153,22 @@ def main():
         for name in ("quad.obj", "quad.mtl", "tiles.png"):
             z.write(model / name, f"quad/{name}")
     (files / "bad.obj").write_text(BAD_OBJ)
-    (files / "draco.gltf").write_text(draco_gltf())
-    reference = work / "kit-render-quad.png"
-    subprocess.run([kit_render, "--stage", "lighting", "--solution", "--scene", str(model / "quad.obj"),
-                    "--size", f"{SIZE[0]}x{SIZE[1]}", "--out", str(reference)], check=True, stdout=subprocess.DEVNULL)
-    width, height, reference_rgb = read_png(reference)
+    draco = files / "draco"
+    draco_models(site, draco, model / "tiles.png")
+    def kit_render_frame(scene, name):
+        out = work / f"kit-render-{name}.png"
+        subprocess.run([kit_render, "--stage", "lighting", "--solution", "--scene", str(scene),
+                        "--size", f"{SIZE[0]}x{SIZE[1]}", "--out", str(out)], check=True, stdout=subprocess.DEVNULL,
+                       stderr=subprocess.DEVNULL)
+        return read_png(out)
+    width, height, reference_rgb = kit_render_frame(model / "quad.obj", "quad")
 
     server, origin = serve(site, files)
     start = time.monotonic()
     expect = Expectations()
 
-    def against_reference(frame):
-        mean, far = compare(frame, width, height, reference_rgb)
+    def against_reference(frame, rgb=reference_rgb):
+        mean, far = compare(frame, width, height, rgb)
         return mean, far, mean <= MAX_MEAN_DIFFERENCE and far <= MAX_FAR_PIXELS
 
     chromium = Chromium(str(work))
@@ -237,10 +241,27 @@ def main():
                "a malformed .obj gets the loader's named error, and the page keeps drawing",
                f"{message!r}; scene {'kept' if kept else 'CHANGED'}; {'drew' if drew else 'did NOT draw'} the next view")
 
-        # 6. Draco-compressed glTF: refused by name, saying what to do.
-        _, message = dropped(lambda: drop_files(page, [("/test-files/draco.gltf", "draco.gltf")]), "Draco refusal")
-        expect("Draco-compressed glTF is refused in the browser build" in message and "without mesh compression" in message
-               and "./kit render" in message, "a Draco-compressed glTF is refused by name", message)
+        # 6. Draco-compressed glTF, encoded by draco3d: the page loads its decoder (draco3d's
+        # WebAssembly) and draws what kit-render (libdraco) draws of the same files, positions
+        # quantized or not; bytes that are no Draco mesh get the decoder's named error. The
+        # final view again (step 5 left the albedo view on).
+        before = page.counters()
+        page.js("document.getElementById('view').value = 'final'; "
+                "document.getElementById('view').dispatchEvent(new Event('change'))")
+        page.wait(f"kitPage.frames > {before['frames']} || kitPage.errors > {before['errors']}", "final view again")
+        for name in ("sphere", "sphere-q10"):
+            names = (f"{name}.gltf", f"{name}.bin", "texture.png")
+            frame, message = dropped(lambda: drop_files(page, [(f"/test-files/draco/{n}", n) for n in names]),
+                                     f"frame of {name}.gltf")
+            _, _, rgb = kit_render_frame(draco / f"{name}.gltf", name)
+            mean, far, ok = against_reference(frame, rgb)
+            expect(ok and message == f"Drawing your model {name}.gltf." and mean_difference(frame, frame_default) > DIFFERENT,
+                   f"Draco-compressed {name}.gltf draws kit-render's frame of it",
+                   f"mean difference {mean:.3f} levels (at most {MAX_MEAN_DIFFERENCE}), {100 * far:.2f}% far; {message!r}")
+        _, message = dropped(lambda: drop_files(page, [(f"/test-files/draco/{n}", n) for n in ("broken.gltf", "broken.bin", "texture.png")]),
+                             "error of broken.gltf")
+        expect(message.startswith("broken.gltf could not be drawn: ") and "Draco cannot decode its mesh" in message,
+               "bytes that are no Draco mesh get the decoder's named error", message)
     finally:
         chromium.close()
         server.shutdown()

@@ -13,14 +13,8 @@
 namespace kit {
 
 std::string draco_missing_hint() {
-#if KIT_WEB
-  return "Draco-compressed glTF is refused in the browser build (Debian has no WebAssembly build of libdraco): "
-         "export the model again without mesh compression (Blender's glTF export: Compression off), or render it "
-         "with ./kit render or ./kit view";
-#else
   return "this build has no Draco decoder: install libdraco-dev and rebuild, or save the model uncompressed, e.g. "
          "with a glTF tool's --no-compression option";
-#endif
 }
 
 #if !KIT_HAS_DRACO

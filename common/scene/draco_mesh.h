@@ -1,6 +1,7 @@
 #pragma once
-// glTF's KHR_draco_mesh_compression: a primitive's mesh compressed by Draco, decoded
-// by libdraco (libdraco-dev). The glTF loader (gltf_builder.cpp) reads the decoded
+// glTF's KHR_draco_mesh_compression: a primitive's mesh compressed by Draco, decoded by
+// libdraco (libdraco-dev; in the browser, Google's decoder from npm: draco_mesh_web.cpp).
+// The glTF loader (gltf_builder.cpp) reads the decoded
 // attributes through its accessor code, so every check and conversion it makes for
 // a bufferView applies to them too; this module only calls the library.
 #include <cstddef>
@@ -11,11 +12,12 @@
 
 namespace kit {
 
-// Whether this build decodes Draco (libdraco-dev was found when it was configured).
+// Whether this build decodes Draco: libdraco-dev was found when it was configured; in the
+// browser, the page has loaded its decoder (it does before it hands kit-web a model that needs it).
 bool draco_supported();
 
-// What a build without Draco (the browser's, or one without libdraco-dev) says of a file that
-// needs it: why it cannot decode it, and what to do instead.
+// What a build without Draco (one without libdraco-dev, or the page without its decoder) says
+// of a file that needs it: why it cannot decode it, and what to do instead.
 std::string draco_missing_hint();
 
 // One decoded attribute: a value per point of the mesh, each `components` values of

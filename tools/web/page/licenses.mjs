@@ -13,7 +13,8 @@ for (const metaFile of metaFiles) {
     if (m) packages.set(m[2], resolve(dirname(metaFile), m[1] + m[2]));
   }
 }
-let text = "kit-page.js and kit-report.js, the kit's page scripts, bundle these npm packages; their licences follow.\n";
+let text = "kit-page.js, kit-report.js and kit-draco.js (with kit-draco-decoder.wasm, draco3d's own build), the kit's page " +
+           "scripts, bundle these npm packages; their licences follow.\n";
 for (const [name, folder] of [...packages].sort()) {
   const info = JSON.parse(readFileSync(join(folder, "package.json"), "utf8"));
   const file = existsSync(folder) ? readdirSync(folder).find((f) => /^(licen[cs]e|copying)/i.test(f)) : undefined;

@@ -1,13 +1,15 @@
 // The student's own model, dropped on the page or picked with "Your model": its files go into
 // kit-web's file system and it becomes a scene of the Scene list. kit-web reads what the
 // desktop's loader reads, with the same code: glTF (.gltf with its .bin and images, or .glb)
-// and Wavefront OBJ with its MTL and textures (common/scene/obj_scene.h). The files may come
+// and Wavefront OBJ with its MTL and textures (common/scene/obj_scene.h), Draco-compressed glTF
+// through Google's decoder, loaded when such a model comes (draco_libs.js). The files may come
 // one by one, as a dropped folder, or in a .zip; a model it cannot draw leaves the scene as
 // it was.
 import {unzipSync} from "fflate";
 
 import {fillScenes} from "./controls.js";
 import {configureCommand, fsExists, kitCall} from "./kit.js";
+import {lazyScript} from "./lazy_script.js";
 import {say} from "./messages.js";
 import {$} from "./state.js";
 import {canDraw, configure, fitCanvas} from "./view.js";
@@ -75,9 +77,33 @@ function mainModel(paths) {
   })[0];
 }
 
+// A glTF's JSON: a .gltf's text, or a .glb's first chunk (glTF 2.0, GLB: a 12-byte header,
+// then the JSON chunk's length and type).
+function gltfJson(path, bytes) {
+  if (/\.gltf$/i.test(path)) return JSON.parse(new TextDecoder().decode(bytes));
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  if (bytes.byteLength < 20 || view.getUint32(0, true) !== 0x46546c67 || view.getUint32(16, true) !== 0x4e4f534a)
+    return null;  // the loader says what is wrong with it
+  return JSON.parse(new TextDecoder().decode(bytes.subarray(20, 20 + view.getUint32(12, true))));
+}
+
+// The page's Draco decoder (draco_libs.js), loaded once, at the first model that needs it.
+let draco = null;
+function loadDraco() {
+  draco = draco || lazyScript("kit-draco.js", "kitCreateDraco").then((create) => create("kit-draco-decoder.wasm"))
+    .then((decoder) => {
+      window.Module.kitDraco = decoder;
+      return decoder;
+    }, (e) => {
+      draco = null;  // the next model tries again
+      throw e;
+    });
+  return draco;
+}
+
 // A .gltf's buffers and images that the drop does not hold.
 function missingGltfFiles(page, dir, path, bytes) {
-  const gltf = JSON.parse(new TextDecoder().decode(bytes));
+  const gltf = gltfJson(path, bytes);
   const folder = path.includes("/") ? path.slice(0, path.lastIndexOf("/") + 1) : "";
   return [...(gltf.buffers || []), ...(gltf.images || [])].map((x) => x.uri)
     .filter((u) => u && !u.startsWith("data:")).map((u) => decodeURIComponent(u))
@@ -116,6 +142,23 @@ async function loadModel(page, sources) {
       }
     } catch (e) {
       say(page, `${name} is not glTF's JSON: ${e.message || e}`, "error");
+      return;
+    }
+  }
+  // A Draco-compressed model: the decoder first (kit-web's loader calls it: draco_mesh_web.cpp).
+  let json = null;
+  try {
+    json = /\.(gltf|glb)$/i.test(main) ? gltfJson(main, files.find(([p]) => p === main)[1]) : null;
+  } catch (e) {
+    json = null;  // the loader says what is wrong with it
+  }
+  if (json && (json.extensionsUsed || []).includes("KHR_draco_mesh_compression")) {
+    try {
+      say(page, `${name} is Draco-compressed: loading the page's Draco decoder\u2026`);
+      await loadDraco();
+    } catch (e) {
+      say(page, `${name} is Draco-compressed, and the page could not load its Draco decoder: ${e.message || e}. ` +
+          "Reload the page, or export the model without mesh compression.", "error");
       return;
     }
   }

@@ -7,6 +7,7 @@
 // HTML off: the notes are text).
 import {compileEdits} from "./edits.js";
 import {hasLabs, kitCall, missingEarlier} from "./kit.js";
+import {lazyScript} from "./lazy_script.js";
 import {notesText, studentName} from "./notes.js";
 import {checkFilesMessage, loadCheckFiles} from "./packages.js";
 import {$, DEFAULT_SETTINGS} from "./state.js";
@@ -95,19 +96,7 @@ function rendererName(page) {
 }
 
 // kit-report.js (report_libs.js), loaded once, at the first report.
-let libs = null;
-function reportLibs() {
-  libs = libs || new Promise((resolve, reject) => {
-    const script = Object.assign(document.createElement("script"), {src: "kit-report.js"});
-    script.onload = () => resolve(window.kitReportLibs);
-    script.onerror = () => {
-      libs = null;  // the next report tries again
-      reject(new Error("kit-report.js could not be loaded"));
-    };
-    document.head.append(script);
-  });
-  return libs;
-}
+const reportLibs = () => lazyScript("kit-report.js", "kitReportLibs");
 
 function reportFields(page, labs, seconds, MarkdownIt) {
   const graded = labs.filter((l) => l.score_class !== "muted");
