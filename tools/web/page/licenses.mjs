@@ -19,6 +19,14 @@ for (const [name, folder] of [...packages].sort()) {
   const info = JSON.parse(readFileSync(join(folder, "package.json"), "utf8"));
   const file = existsSync(folder) ? readdirSync(folder).find((f) => /^(licen[cs]e|copying)/i.test(f)) : undefined;
   text += `\n==== ${name} ${info.version} (${info.license || "licence not stated"}) ====\n\n`;
-  text += file ? readFileSync(join(folder, file), "utf8").trim() + "\n" : "(no licence file in the package)\n";
+  // A package without a licence file of its own (draco3d): the text of the licence it states,
+  // from the system's common licences (Debian's and Ubuntu's base-files), where they hold it.
+  const spdx = /^[A-Za-z0-9.+-]+$/.test(info.license || "");
+  const common = spdx ? join("/usr/share/common-licenses", info.license) : "";
+  if (file) text += readFileSync(join(folder, file), "utf8").trim() + "\n";
+  else if (common && existsSync(common))
+    text += `(the package has no licence file: the text of ${info.license}, from ${common})\n\n` +
+            readFileSync(common, "utf8").trim() + "\n";
+  else text += "(no licence file in the package)\n";
 }
 writeFileSync(outFile, text);
