@@ -445,13 +445,21 @@ TermDecision light_radiance_terms(const FunctionProbe& probe, const std::vector<
 
 // --- lab 7's light_volume.frag ---------------------------------------------------------------
 
+// A texel whose colour sums to no more than this is dark: the probes' lit texels sum to 0.03
+// and more (references/probes.json), and a dark one is 0 exactly (the sphere test, a surface
+// facing away).
+constexpr double kDark = 1e-6;
+// One factor off everywhere, but not light missing (a sphere test shading nothing is 0 times
+// the expected): the catalogue's falloff at the camera is 0.0485 times it and more.
+constexpr double kLeastFactor = 1e-3;
+
 // One texel of a lab 7 probe: what the pass wrote, what it should, and the surface's
 // distance from the light drawn.
 struct VolumeValue {
   glm::dvec3 got, expected;
   double distance = 0.0;
   double sum(const glm::dvec3& c) const { return c.x + c.y + c.z; }
-  bool lit() const { return sum(expected) > 1e-6; }
+  bool lit() const { return sum(expected) > kDark; }
   double ratio() const { return sum(got) / sum(expected); }
 };
 
@@ -483,10 +491,10 @@ TermDecision light_volume_terms(const FunctionProbe& probe, const std::vector<gl
   std::vector<const VolumeValue*> lit;
   for (const VolumeValue& t : texels) {
     if (t.lit()) lit.push_back(&t);
-    else if (t.sum(t.got) > 1e-6) return {};  // light where there should be none: the parts' own names hold
+    else if (t.sum(t.got) > kDark) return {};  // light where there should be none: the parts' own names hold
   }
   if (lit.empty()) return {};
-  bool by_distance = false, constant = lit.front()->ratio() > 1e-3 && !same(lit.front()->ratio(), 1.0);
+  bool by_distance = false, constant = lit.front()->ratio() > kLeastFactor && !same(lit.front()->ratio(), 1.0);
   for (const VolumeValue* t : lit) by_distance = by_distance || !same(t->distance, 1.0);
   std::string ratios;
   for (const VolumeValue* t : lit) {
