@@ -101,9 +101,8 @@ function loadDraco() {
   return draco;
 }
 
-// A .gltf's buffers and images that the drop does not hold.
-function missingGltfFiles(page, dir, path, bytes) {
-  const gltf = gltfJson(path, bytes);
+// A .gltf's buffers and images (its JSON: gltfJson) that the drop does not hold.
+function missingGltfFiles(page, dir, path, gltf) {
   const folder = path.includes("/") ? path.slice(0, path.lastIndexOf("/") + 1) : "";
   return [...(gltf.buffers || []), ...(gltf.images || [])].map((x) => x.uri)
     .filter((u) => u && !u.startsWith("data:")).map((u) => decodeURIComponent(u))
@@ -133,25 +132,26 @@ async function loadModel(page, sources) {
     page.FS.mkdirTree(`${dir}/${path}`.replace(/\/[^/]*$/, ""));
     page.FS.writeFile(`${dir}/${path}`, bytes);
   }
-  if (/\.gltf$/i.test(main)) {
+  // The glTF's JSON, read once: the files a .gltf needs, and whether the Draco decoder is.
+  let json = null;
+  if (/\.(gltf|glb)$/i.test(main)) {
+    const gltf = /\.gltf$/i.test(main);
     try {
-      const missing = missingGltfFiles(page, dir, main, files.find(([p]) => p === main)[1]);
+      json = gltfJson(main, files.find(([p]) => p === main)[1]);
+      const missing = gltf ? missingGltfFiles(page, dir, main, json) : [];
       if (missing.length) {
         say(page, `${name} needs ${missing.join(", ")}: drop or pick them together with it.`, "error");
         return;
       }
     } catch (e) {
-      say(page, `${name} is not glTF's JSON: ${e.message || e}`, "error");
-      return;
+      if (gltf) {
+        say(page, `${name} is not glTF's JSON: ${e.message || e}`, "error");
+        return;
+      }
+      json = null;  // a .glb's chunk that does not parse: the loader says what is wrong with it
     }
   }
   // A Draco-compressed model: the decoder first (kit-web's loader calls it: draco_mesh_web.cpp).
-  let json = null;
-  try {
-    json = /\.(gltf|glb)$/i.test(main) ? gltfJson(main, files.find(([p]) => p === main)[1]) : null;
-  } catch (e) {
-    json = null;  // the loader says what is wrong with it
-  }
   if (json && (json.extensionsUsed || []).includes("KHR_draco_mesh_compression")) {
     try {
       say(page, `${name} is Draco-compressed: loading the page's Draco decoder\u2026`);
