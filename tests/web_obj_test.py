@@ -258,8 +258,8 @@ def main():
             expect(ok and message == f"Drawing your model {name}.gltf." and mean_difference(frame, frame_default) > DIFFERENT,
                    f"Draco-compressed {name}.gltf draws kit-render's frame of it",
                    f"mean difference {mean:.3f} levels (at most {MAX_MEAN_DIFFERENCE}), {100 * far:.2f}% far; {message!r}")
-        _, message = dropped(lambda: drop_files(page, [(f"/test-files/draco/{n}", n) for n in ("broken.gltf", "broken.bin", "texture.png")]),
-                             "error of broken.gltf")
+        broken = [(f"/test-files/draco/{n}", n) for n in ("broken.gltf", "broken.bin", "texture.png")]
+        _, message = dropped(lambda: drop_files(page, broken), "error of broken.gltf")
         expect(message.startswith("broken.gltf could not be drawn: ") and "Draco cannot decode its mesh" in message,
                "bytes that are no Draco mesh get the decoder's named error", message)
     finally:

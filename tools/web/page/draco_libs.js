@@ -20,6 +20,19 @@ function gltfType(draco, type) {
 function decoderCalls(draco) {
   const meshes = new Map();
   let next = 1;
+  // A decoded mesh's attribute by unique id with what kit-web asks of it, or null (lastError).
+  function attributeOf(handle, id) {
+    const {decoder, mesh} = meshes.get(handle);
+    const attribute = decoder.GetAttributeByUniqueId(mesh, id);
+    if (!attribute || attribute.ptr === 0) {
+      calls.lastError = `the Draco mesh has no attribute with unique id ${id}`;
+      return null;
+    }
+    const type = gltfType(draco, attribute.data_type());
+    const info = {...type, components: attribute.num_components(),
+                  byteLength: mesh.num_points() * attribute.num_components() * type.size};
+    return {decoder, mesh, attribute, info};
+  }
   const calls = {
     lastError: "",
     decode(bytes) {
@@ -31,6 +44,7 @@ function decoderCalls(draco) {
         if (!status.ok() || mesh.ptr === 0) {
           calls.lastError = status.error_msg() || "it decoded to nothing";
           draco.destroy(mesh);
+          draco.destroy(decoder);
           return 0;
         }
         meshes.set(next, {decoder, mesh});
@@ -46,23 +60,15 @@ function decoderCalls(draco) {
     // {componentType, components, byteLength} of the attribute with that unique id, or null
     // (lastError says why: kit-web's message names the attribute).
     attributeInfo(handle, id) {
-      const {decoder, mesh} = meshes.get(handle);
-      const attribute = decoder.GetAttributeByUniqueId(mesh, id);
-      if (!attribute || attribute.ptr === 0) {
-        calls.lastError = `the Draco mesh has no attribute with unique id ${id}`;
-        return null;
-      }
-      const type = gltfType(draco, attribute.data_type());
-      return {...type, components: attribute.num_components(),
-              byteLength: mesh.num_points() * attribute.num_components() * type.size};
+      const found = attributeOf(handle, id);
+      return found && found.info;
     },
     // The attribute's values for every point, in its own type (dequantized, as libdraco's
     // decoder gives them by default), tightly packed.
     attributeBytes(handle, id) {
-      const {decoder, mesh} = meshes.get(handle);
-      const info = calls.attributeInfo(handle, id);
-      if (!info || !info.componentType) return null;
-      const attribute = decoder.GetAttributeByUniqueId(mesh, id);
+      const found = attributeOf(handle, id);
+      if (!found || !found.info.componentType) return null;
+      const {decoder, mesh, attribute, info} = found;
       const at = draco._malloc(info.byteLength);
       try {
         if (!decoder.GetAttributeDataArrayForAllPoints(mesh, attribute, info.dracoType, info.byteLength, at)) return null;
