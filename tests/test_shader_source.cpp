@@ -3,13 +3,16 @@
 // compile/link errors mapped back to the file and line that caused them.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <iterator>
 #include <filesystem>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "base/error.h"
 #include "gl/gl_objects.h"
+#include "gl/loop_guard.h"
 #include "render/interface_check.h"
 #include "kit_test.h"
 #include "kit_test_files.h"
@@ -545,6 +548,45 @@ TEST_F(ShaderSourceGl, LinkErrorIsReported) {
   EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
 }
 
+// The guarded loops on a GL that compiles GLSL ES 3.00 (Mesa's, as a browser's would): a
+// loop that never ends stops after the pass's budget, exactly; a loop under it runs as
+// written. Witness: the same loop for the desktop, unguarded, runs past the budget. (The
+// budget here stays under llvmpipe's own cap, 65,535 iterations a loop, which ends an
+// endless loop on the desktop, slowly: kit-grade's CPU limit is what stops it there.)
+TEST_F(ShaderSourceGl, GuardedLoopsStopAtTheBudget) {
+  constexpr int kSize = 128;  // a 128x128 pass: 2^28 / 16384 = 16,384 iterations a pixel
+  const int budget = kit::loop_budget(kSize, kSize);
+  ASSERT_EQ(budget, 16384);
+  auto count = [&](const std::string& body, kit::ShaderTarget target) {
+    write("lab", "count.frag", kVersion + "out vec4 c;\nvoid main() {\n  float n = 0.0;\n" + body + "\n  c = vec4(n);\n}\n");
+    ShaderLibrary lib = lab_then_kit();
+    lib.set_target(target);
+    const kit::Program program(lib, "fullscreen.vert", "count.frag");
+    const kit::Texture2D target_texture(kSize, kSize, kit::TextureFormat{GL_RGBA32F, GL_RGBA, GL_FLOAT});
+    kit::Framebuffer fbo;
+    fbo.attach_color(0, target_texture);
+    fbo.set_draw_buffers(1);
+    kit::FullscreenTriangle().pass(program, fbo, kSize, kSize);
+    std::vector<float> pixels(4u * kSize * kSize);
+    glReadPixels(0, 0, kSize, kSize, GL_RGBA, GL_FLOAT, pixels.data());
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    EXPECT_EQ(glGetError(), static_cast<GLenum>(GL_NO_ERROR));
+    const auto [lo, hi] = std::minmax_element(pixels.begin(), pixels.end());
+    EXPECT_EQ(*lo, *hi) << body;
+    return static_cast<double>(*hi);
+  };
+  const kit::ShaderTarget es = kit::ShaderTarget::GlslEs300;
+  EXPECT_EQ(count("  while (n >= 0.0) n += 1.0;", es), budget);
+  EXPECT_EQ(count("  for (;;) n += 1.0;", es), budget);
+  EXPECT_EQ(count("  do { n += 1.0; } while (true);", es), budget + 1);  // a do loop's first asks nothing
+  // Nested: the budget counts every loop of the invocation together.
+  EXPECT_EQ(count("  for (int i = 0; i < 1000; ++i) for (int j = 0; j < 1000; ++j) n += 1.0;", es),
+            budget - 17);  // 17 outer iterations began (each counted), the 17th's inner loop cut
+  EXPECT_EQ(count("  for (int i = 0; i < 100; ++i) n += 1.0;", es), 100.0);
+  EXPECT_EQ(count("  for (int i = 0; i < 20000; ++i) n += 1.0;", es), budget);
+  EXPECT_EQ(count("  for (int i = 0; i < 20000; ++i) n += 1.0;", kit::ShaderTarget::Glsl330Core), 20000.0);
+}
+
 // GLSL ES 3.00 for the browser build (translate_to_glsl_es): plain text, so tested here
 // on the desktop through a library whose target is set to it.
 using ShaderSourceEs = ShaderSourceTest;
@@ -620,6 +662,78 @@ TEST_F(ShaderSourceEs, EveryKitShaderTranslates) {
       EXPECT_NO_THROW(lib.assemble(name)) << stage.folder << "/" << name;
     }
   }
+}
+
+// The loop guard (gl/loop_guard.h): every loop of a shader for WebGL2 asks the counter in
+// its condition, on the lines it was written on.
+TEST_F(ShaderSourceEs, LoopsAskTheCounterWithoutMovingALine) {
+  write("lab", "loops.frag", kVersion +
+                                 "out vec4 c;\n"
+                                 "// while (forever) in a comment is left alone\n"
+                                 "#define REPEAT(n) for (int r = 0; r < (n); ++r)\n"
+                                 "void main() {\n"
+                                 "  float x = 0.0;\n"
+                                 "  for (int i = 0; i < int(max(1.0, 2.0)); i++) x += 1.0;\n"
+                                 "  for (;;) { if (x > 3.0) break; x += 1.0; }\n"
+                                 "  while (x < 10.0 || x > 20.0) x += 1.0;\n"
+                                 "  do { x -= 1.0; } while (x > 5.0);\n"
+                                 "  REPEAT(3) x += 1.0;\n"
+                                 "  c = vec4(x);\n"
+                                 "}\n");
+  ShaderLibrary lib = library({"lab"});
+  lib.set_target(kit::ShaderTarget::GlslEs300);
+  const kit::AssembledShader s = lib.assemble("loops.frag");
+  EXPECT_EQ(count_of(s.text, "\n"), 14u) << s.text;
+  EXPECT_EQ(s.lines.size(), 14u);
+  for (const std::string line :
+       {"// while (forever) in a comment is left alone\n",
+        "#define REPEAT(n) for (int r = 0; ( r < (n)) && kit_loop_go_(); ++r)\n",
+        "  for (int i = 0; ( i < int(max(1.0, 2.0))) && kit_loop_go_(); i++) x += 1.0;\n",
+        "  for (; kit_loop_go_();) { if (x > 3.0) break; x += 1.0; }\n",
+        "  while ((x < 10.0 || x > 20.0) && kit_loop_go_()) x += 1.0;\n",
+        "  do { x -= 1.0; } while ((x > 5.0) && kit_loop_go_());\n",
+        "  REPEAT(3) x += 1.0;\n"})
+    EXPECT_NE(s.text.find(line), std::string::npos) << line << "\nin\n" << s.text;
+  // The counter, on the precision line, which counts as the version line.
+  const size_t second_line = s.text.find('\n') + 1;
+  EXPECT_NE(s.text.substr(second_line, s.text.find('\n', second_line) - second_line).find("bool kit_loop_go_()"),
+            std::string::npos) << s.text;
+  EXPECT_EQ(s.map_log("ERROR: 0:11: 'y' : undeclared identifier"), "lab/loops.frag:10: error: 'y' : undeclared identifier\n");
+
+  // No loop, nothing added; the desktop's text is as written.
+  write("lab", "plain.frag", kVersion + "out vec4 c;\nvoid main() { c = vec4(1.0); }\n");
+  EXPECT_EQ(lib.assemble("plain.frag").text.find("kit_loop"), std::string::npos);
+  lib.set_target(kit::ShaderTarget::Glsl330Core);
+  EXPECT_EQ(lib.assemble("loops.frag").text.find("kit_loop"), std::string::npos);
+}
+
+TEST_F(ShaderSourceEs, LoopsTheGuardCannotSeeAreRefusedByLine) {
+  ShaderLibrary lib = library({"lab"});
+  lib.set_target(kit::ShaderTarget::GlslEs300);
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"#define KW while\nvoid main() { KW (true) {} }\n", "lab/main.frag:2: `while' without its condition"},
+      {"#define CAT(a, b) a ## b\nvoid main() {}\n", "lab/main.frag:2: token pasting (##)"},
+      {"#define LOOP(c) while (c\nvoid main() { LOOP(true)) {} }\n", "lab/main.frag:2: `while' whose parentheses"},
+      {"void main() {\n  int kit_loop_count_ = 0;\n}\n", "lab/main.frag:3: the names starting with kit_loop_"},
+      {"void main() {\n  for (int i = 0; i < 3) {}\n}\n", "lab/main.frag:3: `for' without two semicolons"},
+  };
+  for (const auto& [text, expected] : cases) {
+    write("lab", "main.frag", kVersion + text);
+    const std::string m = error_of([&] { lib.assemble("main.frag"); });
+    EXPECT_NE(m.find(expected), std::string::npos) << text << "\n" << m;
+    EXPECT_NE(m.find("a loop that never ends cannot lock the page"), std::string::npos) << m;
+  }
+}
+
+TEST(ShaderSourceLoopBudget, FrameSizedPassesAndLabSixsMaps) {
+  EXPECT_EQ(kit::loop_budget(640, 480), kit::kLoopIterationsPerInvocation);
+  EXPECT_EQ(kit::loop_budget(1920, 1080), kit::kLoopIterationsPerInvocation);
+  // The irradiance map (32x16) sums 128x64 texels and 64 rows: 8,256 iterations a texel.
+  EXPECT_GE(kit::loop_budget(32, 16), 128 * 64 + 64);
+  // The prefiltered map's first level (256x128), 256 samples a texel; the BRDF table (64x64), 512.
+  EXPECT_GE(kit::loop_budget(256, 128), 256);
+  EXPECT_GE(kit::loop_budget(64, 64), 512);
+  EXPECT_EQ(kit::loop_budget(0, 0), static_cast<int>(kit::kLoopIterationsPerPass));
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "base/error.h"
 #include "gbuffer_layout.h"
 #include "gl/gl_flavour.h"
+#include "gl/loop_guard.h"
 
 namespace kit {
 
@@ -244,7 +245,7 @@ Program::UniformProblems Program::uniform_problems() const {
     glGetActiveUniformsiv(id(), 1, &i, GL_UNIFORM_BLOCK_INDEX, &block);
     if (block != -1) continue;  // a uniform block's member: set through its buffer, not by name
     std::string name(buffer.data(), static_cast<size_t>(length));
-    if (name.rfind("gl_", 0) == 0) continue;
+    if (name.rfind("gl_", 0) == 0 || name.rfind(kLoopGuardPrefix, 0) == 0) continue;  // GL's, or the loop guard's
     const size_t bracket = name.find('[');
     const std::string base = name.substr(0, bracket);
     auto it = slots_.find(base);
@@ -431,6 +432,12 @@ void begin_fullscreen_pass(const Framebuffer& target, int width, int height) {
   glViewport(0, 0, width, height);
   glDisable(GL_CULL_FACE);
 }
+
+// A browser's program (loop_guard.h) learns how many iterations its loops may run in this
+// pass; the desktop's have no such uniform.
+void set_loop_budget(const Program& program, int width, int height) {
+  if (program.has(kLoopBudgetUniform)) program.set(kLoopBudgetUniform, loop_budget(width, height));
+}
 }  // namespace
 
 void FullscreenTriangle::pass(const Program& program, const Framebuffer& target, int width, int height,
@@ -444,6 +451,7 @@ void FullscreenTriangle::pass(const Program& program, const Framebuffer& target,
     glDisable(GL_BLEND);
   }
   program.use();
+  set_loop_budget(program, width, height);
   draw();
   if (additive) glDisable(GL_BLEND);
 }
@@ -457,6 +465,7 @@ void FullscreenTriangle::pass_over_surfaces(const Program& program, const Frameb
   glDepthMask(GL_FALSE);
   set_depth_range(1.0, 1.0);
   program.use();
+  set_loop_budget(program, width, height);
   draw();
   set_depth_range(0.0, 1.0);
   glDepthMask(GL_TRUE);

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "base/error.h"
+#include "gl/loop_guard.h"
 
 namespace fs = std::filesystem;
 
@@ -279,7 +280,10 @@ AssembledShader ShaderLibrary::assemble(const std::string& name) const {
     out.lines.insert(out.lines.begin() + 1, out.lines.front());
   }
   check_macro_expansion(out);
-  if (target_ == ShaderTarget::GlslEs300) translate_to_glsl_es(out);
+  if (target_ == ShaderTarget::GlslEs300) {
+    translate_to_glsl_es(out);
+    guard_loops(out);
+  }
   if (assembled_cache_) assembled_cache_->store(key, out);
   return out;
 }
@@ -526,11 +530,8 @@ const MissingConstruct* missing_in_es(const std::string& line, bool* in_comment)
 void translate_to_glsl_es(AssembledShader& shader) {
   const size_t first_end = shader.text.find('\n');
   const std::string first = shader.text.substr(0, first_end);
-  const std::string where = shader.lines.empty() || shader.files.empty()
-                                ? std::string("shader")
-                                : shader.files[shader.lines.front().file] + ":" + std::to_string(shader.lines.front().line);
   if (trim(first) != kRequiredVersionLine)
-    throw Error(where + ": the first line must be \"" + std::string(kRequiredVersionLine) + "\" (found \"" +
+    throw Error(shader.where(0) + ": the first line must be \"" + std::string(kRequiredVersionLine) + "\" (found \"" +
                 trim(first) + "\")");
   bool in_comment = false;
   size_t number = 0;
@@ -538,10 +539,7 @@ void translate_to_glsl_es(AssembledShader& shader) {
     const size_t end = std::min(shader.text.find('\n', start), shader.text.size());
     if (number > 0) {
       if (const MissingConstruct* m = missing_in_es(shader.text.substr(start, end - start), &in_comment)) {
-        std::string at = "shader:" + std::to_string(number + 1);
-        if (number < shader.lines.size() && shader.lines[number].file < static_cast<int>(shader.files.size()))
-          at = shader.files[shader.lines[number].file] + ":" + std::to_string(shader.lines[number].line);
-        throw Error(at + ": " + m->word + " is not in GLSL ES 3.00, which WebGL2 compiles (" + m->instead + ")");
+        throw Error(shader.where(number) + ": " + m->word + " is not in GLSL ES 3.00, which WebGL2 compiles (" + m->instead + ")");
       }
     }
     start = end + 1;
@@ -549,6 +547,12 @@ void translate_to_glsl_es(AssembledShader& shader) {
   shader.text.replace(0, first_end == std::string::npos ? shader.text.size() : first_end,
                       std::string(kGlslEsVersionLine) + "\n" + kGlslEsPrecisions);
   if (!shader.lines.empty()) shader.lines.insert(shader.lines.begin() + 1, shader.lines.front());
+}
+
+std::string AssembledShader::where(size_t index) const {
+  if (index < lines.size() && lines[index].file >= 0 && lines[index].file < static_cast<int>(files.size()))
+    return files[lines[index].file] + ":" + std::to_string(lines[index].line);
+  return "shader:" + std::to_string(index + 1);
 }
 
 std::string AssembledShader::map_log(const std::string& log) const {

@@ -39,6 +39,8 @@ struct AssembledShader {
   // Rewrites "0:12(3): error" (Mesa), "0(12) : error" (NVIDIA) and "ERROR: 0:12: ..." (ANGLE,
   // WebGL's compiler) into "file:line[:col]: error ...".
   std::string map_log(const std::string& log) const;
+  // "FILE:LINE" of the 0-based line `index` of `text`, as messages name it.
+  std::string where(size_t index) const;
 };
 
 // Files larger than this are refused before they are read (a shader is text).

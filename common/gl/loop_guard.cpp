@@ -1,0 +1,160 @@
+#include "gl/loop_guard.h"
+
+#include <algorithm>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "base/error.h"
+
+namespace kit {
+
+namespace {
+
+bool word_char(char c) {
+  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
+}
+
+// A word or one other character of the text, outside comments. `region` tells code (0)
+// from each #directive's logical line (1, 2, ...): a loop's parentheses must close in the
+// region its word is in.
+struct Token {
+  size_t begin = 0, end = 0;
+  size_t line = 0;  // 0-based line of the assembled text
+  int region = 0;
+};
+
+std::vector<Token> tokens_of(const std::string& text) {
+  std::vector<Token> tokens;
+  size_t line = 0;
+  int region = 0, directives = 0;
+  bool line_start = true;  // nothing but spaces yet on this logical line
+  for (size_t i = 0; i < text.size();) {
+    const char c = text[i];
+    if (c == '\n') {
+      // A backslash before the break continues a directive on the next line.
+      const bool continued = i > 0 && text[i - 1] == '\\';
+      ++line;
+      ++i;
+      if (!continued) {
+        region = 0;
+        line_start = true;
+      }
+      continue;
+    }
+    if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v' || c == '\\') {
+      ++i;
+      continue;
+    }
+    if (text.compare(i, 2, "//") == 0) {
+      while (i < text.size() && text[i] != '\n') ++i;
+      continue;
+    }
+    if (text.compare(i, 2, "/*") == 0) {
+      const size_t end = text.find("*/", i + 2);
+      const size_t stop = end == std::string::npos ? text.size() : end + 2;
+      line += static_cast<size_t>(std::count(text.begin() + static_cast<std::ptrdiff_t>(i),
+                                             text.begin() + static_cast<std::ptrdiff_t>(stop), '\n'));
+      i = stop;
+      continue;
+    }
+    if (c == '#' && line_start) region = ++directives;
+    line_start = false;
+    Token t;
+    t.begin = i;
+    t.line = line;
+    t.region = region;
+    if (word_char(c)) {
+      while (i < text.size() && word_char(text[i])) ++i;
+    } else {
+      ++i;
+    }
+    t.end = i;
+    tokens.push_back(t);
+  }
+  return tokens;
+}
+
+}  // namespace
+
+int loop_budget(int width, int height) {
+  const std::int64_t pixels = std::max<std::int64_t>(std::int64_t{width} * height, 1);
+  return static_cast<int>(std::max<std::int64_t>(kLoopIterationsPerInvocation, kLoopIterationsPerPass / pixels));
+}
+
+void guard_loops(AssembledShader& shader) {
+  const std::string& text = shader.text;
+  const std::vector<Token> tokens = tokens_of(text);
+  auto word = [&](const Token& t) { return text.substr(t.begin, t.end - t.begin); };
+  auto refuse = [&](const Token& t, const std::string& why) {
+    throw Error(shader.where(t.line) + ": " + why +
+                " (in the browser every loop is limited so that a loop that never ends cannot lock the page)");
+  };
+  // Next token of `region` after index k (tokens of other regions skipped: a directive
+  // inside a loop's condition does not count); tokens.size() if none.
+  auto next_in = [&](size_t k, int region) {
+    for (++k; k < tokens.size(); ++k)
+      if (tokens[k].region == region) return k;
+    return tokens.size();
+  };
+  auto is = [&](size_t k, char c) {
+    return k < tokens.size() && tokens[k].end == tokens[k].begin + 1 && text[tokens[k].begin] == c;
+  };
+
+  std::vector<std::pair<size_t, std::string>> inserts;  // (offset, text)
+  for (size_t k = 0; k < tokens.size(); ++k) {
+    const Token& t = tokens[k];
+    const std::string w = word(t);
+    if (w == "#" && t.end < text.size() && text[t.end] == '#')
+      refuse(t, "token pasting (##) is not accepted in the browser, since it could spell a loop");
+    if (w.rfind(kLoopGuardPrefix, 0) == 0)
+      refuse(t, "the names starting with " + std::string(kLoopGuardPrefix) + " are the page's own");
+    if (w != "while" && w != "for") continue;
+    const size_t open = next_in(k, t.region);
+    if (!is(open, '('))
+      refuse(t, "`" + w + "' without its condition in parentheses right after it (a macro supplying them?)");
+    size_t close = open, first_semicolon = 0, second_semicolon = 0;
+    int depth = 0;
+    for (size_t m = open; m < tokens.size(); m = next_in(m, t.region)) {
+      if (is(m, '(')) ++depth;
+      if (is(m, ')') && --depth == 0) {
+        close = m;
+        break;
+      }
+      if (depth == 1 && is(m, ';')) (first_semicolon ? second_semicolon : first_semicolon) = m;
+    }
+    if (close == open)
+      refuse(t, "`" + w + "' whose parentheses do not close" +
+                    (t.region ? std::string(" on its #define line") : std::string()));
+    if (w == "while") {
+      inserts.emplace_back(tokens[open].end, "(");
+      inserts.emplace_back(tokens[close].begin, ") && kit_loop_go_()");
+      continue;
+    }
+    if (!first_semicolon || !second_semicolon) refuse(t, "`for' without two semicolons in its parentheses");
+    if (next_in(first_semicolon, t.region) == second_semicolon) {
+      inserts.emplace_back(tokens[first_semicolon].end, " kit_loop_go_()");
+    } else {
+      inserts.emplace_back(tokens[first_semicolon].end, " (");
+      inserts.emplace_back(tokens[second_semicolon].begin, ") && kit_loop_go_()");
+    }
+  }
+  if (inserts.empty()) return;
+
+  // The counter, on the precision line translate_to_glsl_es wrote (line 2).
+  const size_t first_break = text.find('\n');
+  const size_t second_break = first_break == std::string::npos ? std::string::npos : text.find('\n', first_break + 1);
+  inserts.emplace_back(second_break == std::string::npos ? text.size() : second_break,
+                       std::string(" uniform highp int ") + kLoopBudgetUniform +
+                           "; highp int kit_loop_count_ = 0; bool kit_loop_go_() { kit_loop_count_ += 1; "
+                           "return kit_loop_count_ <= max(" + kLoopBudgetUniform + ", " +
+                           std::to_string(kLoopIterationsPerInvocation) + "); }");
+  // Last offset first, and at one offset the later insert first, so each lands where it was meant.
+  std::reverse(inserts.begin(), inserts.end());
+  std::stable_sort(inserts.begin(), inserts.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::string out = text;
+  for (const auto& [offset, insert] : inserts) out.insert(offset, insert);
+  shader.text = std::move(out);
+}
+
+}  // namespace kit
