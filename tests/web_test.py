@@ -22,7 +22,9 @@ import http.server
 import json
 import os
 import pathlib
+import select
 import shutil
+import signal
 import subprocess
 import sys
 import tempfile
@@ -97,19 +99,26 @@ class Chromium:
         self.buffer, self.next_id, self.session = b"", 0, None
         self.events = None  # a list: the DevTools events (those of the domains enabled) go in it
         targets = self.call("Target.getTargets")["targetInfos"]
-        page = next(t for t in targets if t["type"] == "page")
-        self.session = self.call("Target.attachToTarget", targetId=page["targetId"], flatten=True)["sessionId"]
+        self.target = next(t for t in targets if t["type"] == "page")["targetId"]
+        self.session = self.call("Target.attachToTarget", targetId=self.target, flatten=True)["sessionId"]
+
+    def new_tab(self):
+        """A new tab in place of this one (crashed, say), spoken to from now on; the old one closed."""
+        old = self.target
+        self.target = self.call("Target.createTarget", url="about:blank")["targetId"]
+        self.session = self.call("Target.attachToTarget", targetId=self.target, flatten=True)["sessionId"]
+        try:
+            self.call("Target.closeTarget", timeout=10, targetId=old)
+        except SystemExit:
+            pass
 
     def call(self, method, timeout=60, **params):
-        self.next_id += 1
-        message = {"id": self.next_id, "method": method, "params": params}
-        if self.session and not method.startswith("Target."):
-            message["sessionId"] = self.session
-        os.write(self.to_chrome_w, json.dumps(message).encode() + b"\0")
+        self.send(method, **params)
         deadline = time.monotonic() + timeout
         while True:
             while b"\0" not in self.buffer:
-                if time.monotonic() > deadline:
+                left = deadline - time.monotonic()
+                if left <= 0 or not select.select([self.from_chrome_r], [], [], left)[0]:
                     raise SystemExit(f"chromium did not answer {method} in {timeout} s")
                 chunk = os.read(self.from_chrome_r, 1 << 20)
                 if not chunk:
@@ -123,6 +132,48 @@ class Chromium:
                 if "error" in answer:
                     raise SystemExit(f"{method}: {answer['error']}")
                 return answer["result"]
+
+    def send(self, method, **params):
+        """A command whose answer is not waited for (call() skips it when it comes)."""
+        self.next_id += 1
+        message = {"id": self.next_id, "method": method, "params": params}
+        if self.session and not method.startswith("Target."):
+            message["sessionId"] = self.session
+        os.write(self.to_chrome_w, json.dumps(message).encode() + b"\0")
+
+    def kill_renderers(self):
+        """Ends this browser's renderer processes (its tabs crash), as "Exit page" ends a tab that
+        stopped answering. Other browsers' are left alone: only processes descended from this one."""
+        parents, commands = {}, {}
+        for entry in os.listdir("/proc"):
+            if not entry.isdigit():
+                continue
+            try:
+                with open(f"/proc/{entry}/stat", "rb") as f:
+                    parents[int(entry)] = int(f.read().rsplit(b")", 1)[1].split()[1])
+                with open(f"/proc/{entry}/cmdline", "rb") as f:
+                    commands[int(entry)] = f.read()
+            except (OSError, IndexError, ValueError):
+                continue
+        def descends(pid):
+            while pid in parents and pid > 1:
+                if pid == self.process.pid:
+                    return True
+                pid = parents[pid]
+            return False
+        killed = [pid for pid, command in commands.items() if b"--type=renderer" in command and descends(pid)]
+        for pid in killed:
+            try:
+                os.kill(pid, signal.SIGKILL)
+            except OSError:
+                pass
+        # Gone, and a moment for the browser to see it: a tab opened at once can be given the
+        # spare renderer it has not yet found dead, and never answers.
+        deadline = time.monotonic() + 10
+        while any(os.path.exists(f"/proc/{pid}") for pid in killed) and time.monotonic() < deadline:
+            time.sleep(0.05)
+        time.sleep(1)
+        return killed
 
     def evaluate(self, expression):
         result = self.call("Runtime.evaluate", expression=expression, returnByValue=True, awaitPromise=True)

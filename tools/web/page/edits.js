@@ -8,6 +8,10 @@ import {markTabs} from "./tabs.js";
 import {drawn} from "./view.js";
 
 const COMPILE_DELAY_MS = 300;
+// An edit whose frame takes longer than this is not drawn again by itself (a camera move, a
+// setting): with a loop that never ends each frame takes the guard's whole budget
+// (common/gl/loop_guard.h), seconds of a software GPU, and the page answers nothing meanwhile.
+export const SLOW_EDIT_FRAME_S = 1;
 
 // Before kit-web's main(): the lab files, with the edits this browser kept put into the file
 // system, so the first frame draws them.
@@ -16,13 +20,13 @@ export function restoreEdits(page) {
   page.restoredPaths = page.labs.restore();
 }
 
-// The edits restore() held back, since the last load that restored them never drew its
-// first frame: which files, and their text to look at (never compiled again by itself).
+// The edits restore() held back, since the last load stopped while drawing them (its first
+// frame, or an edit's): which files, and their text to look at (never compiled again by itself).
 export function sayHeldBack(page) {
   const held = page.labs.heldBack;
   const names = held.map((p) => p.replace(/^\/kit\//, "")).join(", ");
-  const text = `The last visit restored your edits of ${names} and never drew its first frame (a shader that ` +
-               "took the page down?): this visit starts without them, from the starters. Their text is kept.";
+  const text = `The last visit stopped while drawing your edits of ${names} (a shader that took the page ` +
+               "down?): this visit starts without them, from the starters. Their text is kept.";
   say(page, text, "error", "", [{
     label: "Show the held-back text",
     run: () => say(page, text, "error", held.map((p) => `// ${p.replace(/^\/kit\//, "")}\n${page.labs.heldText(p)}`)
@@ -66,8 +70,16 @@ export function compileEdits(page) {
     return;
   }
   page.waitingForEdit = false;
+  page.labs.drawing(ui.stage.folder);
   const answer = kitCall({cmd: "reload"});
-  drawn(page, answer, "edit", "your edit");
+  page.labs.drawingDone();
+  if (drawn(page, answer, "edit", "your edit") && answer.seconds > SLOW_EDIT_FRAME_S) {
+    page.waitingForEdit = true;
+    say(page, `Your edit's frame took ${answer.seconds.toFixed(1)} s, past the page's limit of ${SLOW_EDIT_FRAME_S} s ` +
+        "(kit-grade stops such shaders at its CPU time limit): a loop that never ends? In the browser loops stop after a " +
+        "fixed count of iterations a pixel (docs/web.md), so the frame ends, and shows where they were cut. The " +
+        "page does not draw it again by itself: edit a file, or press Redraw.", "error");
+  }
 }
 
 // The text now into the student's folder (folder.js), after the writes before it.

@@ -8,9 +8,12 @@ import {strToU8, zipSync} from "fflate";
 const LABS = "/kit/labs";
 // One site's edits apart from another's on the same host (a course page with two sites).
 export const KEY = "kit-web:" + window.location.pathname.replace(/[^/]*$/, "") + ":";
-// The paths a load restored, kept until it draws its first frame: a load that never got there
-// (a shader that locked the tab) leaves them, and the next load starts without those edits.
+// The paths a load restored, kept until it draws its first frame, and the edited paths of a
+// stage while kit-web draws an edit of it: a load that never got past that (a shader that
+// locked the tab, or the tab closed by its student) leaves them, and the next load starts
+// without those edits.
 const RESTORING = KEY + "restoring";
+const DRAWING = KEY + "drawing";
 // An edit held back so: its text, kept to look at and fix, no longer restored.
 const HELD = KEY + "held:";
 
@@ -51,7 +54,8 @@ export class LabFiles {
   restore() {
     const restored = [];
     this.heldBack = [];
-    const unfinished = this.storage((s) => JSON.parse(s.getItem(RESTORING) || "[]")) || [];
+    const unfinished = this.storage((s) => [...JSON.parse(s.getItem(RESTORING) || "[]"),
+                                            ...JSON.parse(s.getItem(DRAWING) || "[]")]) || [];
     for (const path of this.paths()) {
       const stored = this.storage((s) => s.getItem(KEY + path));
       if (stored === null || stored === this.starters.get(path)) continue;
@@ -67,9 +71,20 @@ export class LabFiles {
       this.writeFS(path);
       restored.push(path);
     }
-    this.storage((s) => restored.length ? s.setItem(RESTORING, JSON.stringify(restored)) : s.removeItem(RESTORING));
+    this.storage((s) => {
+      if (restored.length) s.setItem(RESTORING, JSON.stringify(restored));
+      else s.removeItem(RESTORING);
+      s.removeItem(DRAWING);
+    });
     return restored;
   }
+
+  // Around kit-web's draw of an edit: the edited files of that folder are marked while it draws.
+  drawing(folder) {
+    const edited = this.paths().filter((p) => p.split("/")[3] === folder && this.edited(p));
+    this.storage((s) => s.setItem(DRAWING, JSON.stringify(edited)));
+  }
+  drawingDone() { this.storage((s) => s.removeItem(DRAWING)); }
 
   // The first frame was drawn (or refused with a message): the restored edits did not lock the tab.
   firstFrameReached() { this.storage((s) => s.removeItem(RESTORING)); }

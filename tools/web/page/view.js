@@ -67,8 +67,8 @@ export function canDraw(page) {
     return false;
   }
   if (page.waitingForEdit) {
-    say(page, "Not drawing: the GPU reset right after your last edit. Edit a file to try again, or press Redraw.",
-        "error");
+    say(page, "Not drawing: your last edit's frame reset the GPU or ran past the page's time limit. Edit a file to " +
+        "try again, or press Redraw.", "error");
     return false;
   }
   return true;
