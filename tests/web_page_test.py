@@ -501,7 +501,7 @@ def main():
         # loop cut at its budget (common/gl/loop_guard.h) the frame is drawn and the page answers.
         # A frame past the page's time limit is not drawn again by itself.
         lighting_file = "/kit/labs/02-lighting/lighting.frag"
-        big = URL_QUERY.replace("size=320x240", "size=1920x1080")
+        big = URL_QUERY.replace("size=320x240", "size=1280x960")
         page.load(f"{origin}/index.html?{big}")
         page.open_tab(lighting_file)
         lighting_starter = page.js(f"kitPage.labs.starter({json.dumps(lighting_file)})")
@@ -516,7 +516,7 @@ def main():
         seconds = float(drawn_message.split("(")[1].split(" ms")[0]) / 1000 if drawn_message else -1
         slow = page.js("kitPage.messages.some(m => m.includes(\"past the page's limit\"))")
         expect(page.counters()["frames"] == before["frames"] + 1 and seconds >= 0 and slow == (seconds > 1.0),
-               "a loop that never ends draws a frame at 1920x1080 and the page answers; a slow frame is held",
+               "a loop that never ends draws a frame at 1280x960 and the page answers; a slow frame is held",
                f"answered after {answered:.1f} s, frame {seconds:.1f} s, held {'yes' if slow else 'no'}")
         # 10d. The tab ended while kit-web draws such an edit (its student's "Exit page" on a tab
         # that stopped answering): the next load starts without that edit, names its file and

@@ -137,7 +137,9 @@ export async function runCheck(page) {
   sayInCheck(`Checking lab ${lab}: rendering the grader's checks with your files\u2026`);
   // Let the message show before kit-web takes the main thread.
   setTimeout(() => {
+    page.labs.drawing(page.ui.stage.folder);  // as an edit's frame: a tab that stops here holds them back
     const answer = kitCall({cmd: "check", lab});
+    page.labs.drawingDone();
     page.kitPage.lastCheck = answer;
     $("check").disabled = false;
     if (answer.error) {
