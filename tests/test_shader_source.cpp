@@ -716,6 +716,8 @@ TEST_F(ShaderSourceEs, LoopsTheGuardCannotSeeAreRefusedByLine) {
       {"#define LOOP(c) while (c\nvoid main() { LOOP(true)) {} }\n", "lab/main.frag:2: `while' whose parentheses"},
       {"void main() {\n  int kit_loop_count_ = 0;\n}\n", "lab/main.frag:3: the names starting with kit_loop_"},
       {"void main() {\n  for (int i = 0; i < 3) {}\n}\n", "lab/main.frag:3: `for' without two semicolons"},
+      {"bool f();\nvoid main() {\n  while (bool go = f()) {}\n}\n", "lab/main.frag:4: `while' whose condition declares"},
+      {"void main() {\n  for (;highp int k = 1;) {}\n}\n", "lab/main.frag:3: `for' whose condition declares"},
   };
   for (const auto& [text, expected] : cases) {
     write("lab", "main.frag", kVersion + text);

@@ -126,12 +126,20 @@ void guard_loops(AssembledShader& shader) {
     if (close == open)
       refuse(t, "`" + w + "' whose parentheses do not close" +
                     (t.region ? std::string(" on its #define line") : std::string()));
+    if (w == "for" && (!first_semicolon || !second_semicolon))
+      refuse(t, "`for' without two semicolons in its parentheses");
+    // A condition that declares a variable (`while (bool go = f())`: GLSL allows it) cannot
+    // take the counter beside it; two words in a row begin only a declaration.
+    const size_t condition = w == "while" ? next_in(open, t.region) : next_in(first_semicolon, t.region);
+    const size_t after = next_in(condition, t.region);
+    if (condition < close && after < close && word_char(text[tokens[condition].begin]) &&
+        word_char(text[tokens[after].begin]))
+      refuse(t, "`" + w + "' whose condition declares a variable (declare it before the loop)");
     if (w == "while") {
       inserts.emplace_back(tokens[open].end, "(");
       inserts.emplace_back(tokens[close].begin, ") && kit_loop_go_()");
       continue;
     }
-    if (!first_semicolon || !second_semicolon) refuse(t, "`for' without two semicolons in its parentheses");
     if (next_in(first_semicolon, t.region) == second_semicolon) {
       inserts.emplace_back(tokens[first_semicolon].end, " kit_loop_go_()");
     } else {

@@ -37,8 +37,9 @@ constexpr const char* kLoopGuardPrefix = "kit_loop_";
 // counter on the precision line (so no line moves: errors still name the student's files
 // and lines). A shader without a loop is left as it is. Loops inside #define lines are
 // guarded where they are written. Throws kit::Error "FILE:LINE: ..." where a loop cannot
-// be guarded: a loop word whose condition a macro supplies from elsewhere, token pasting
-// (##, which could spell one), or a name starting with kLoopGuardPrefix.
+// be guarded: a loop word whose condition a macro supplies from elsewhere, a condition that
+// declares a variable, token pasting (##, which could spell a loop word), or a name
+// starting with kLoopGuardPrefix.
 void guard_loops(AssembledShader& shader);
 
 }  // namespace kit
