@@ -24,6 +24,13 @@ if(TARGET kit-render AND KIT_HAS_INSTRUCTOR)
                    $<TARGET_FILE:kit-grade> ${CMAKE_BINARY_DIR}/test-tmp/web-page)
   set_tests_properties(web_page PROPERTIES LABELS web TIMEOUT 300
     ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes")
+  # A shader that loops forever in the page (tests/web_runaway_test.py): drawn, every loop cut at
+  # its budget, and a tab ended while it draws followed by a load without that edit. Slow
+  # (seconds of SwiftShader a step): ./kit test runs it, --quick leaves it out.
+  add_test(NAME web_runaway
+           COMMAND ${KIT_WEB_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/web_runaway_test.py ${KIT_WEB_SITE}
+                   ${CMAKE_BINARY_DIR}/test-tmp/web-runaway)
+  set_tests_properties(web_runaway PROPERTIES LABELS "web;slow" TIMEOUT 300)
   # The handout in the page (tests/web_handout_test.py): formulas typeset, a likely mistake's
   # link opening its section, views from a handout's links, the layout at 1280x720, 1920x1080
   # and a tablet's width, and a class's site (./kit web --student-copy 2) without an
