@@ -11,66 +11,37 @@ namespace kit {
 
 namespace {
 
-bool word_char(char c) {
-  return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_';
-}
-
-// A word or one other character of the text, outside comments. `region` tells code (0)
-// from each #directive's logical line (1, 2, ...): a loop's parentheses must close in the
-// region its word is in.
+// A token of the assembled text (shader_line_tokens's, placed in the whole text). `region`
+// tells code (0) from each #directive's logical line (1, 2, ...): a loop's parentheses must
+// close in the region its word is in.
 struct Token {
   size_t begin = 0, end = 0;
   size_t line = 0;  // 0-based line of the assembled text
   int region = 0;
+  bool word = false;
 };
 
 std::vector<Token> tokens_of(const std::string& text) {
   std::vector<Token> tokens;
-  size_t line = 0;
+  bool in_comment = false, continued = false, first = true;  // first: nothing yet on this logical line
   int region = 0, directives = 0;
-  bool line_start = true;  // nothing but spaces yet on this logical line
-  for (size_t i = 0; i < text.size();) {
-    const char c = text[i];
-    if (c == '\n') {
-      // A backslash before the break continues a directive on the next line.
-      const bool continued = i > 0 && text[i - 1] == '\\';
-      ++line;
-      ++i;
-      if (!continued) {
-        region = 0;
-        line_start = true;
-      }
-      continue;
+  for (size_t start = 0, line = 0;; ++line) {
+    const size_t end = std::min(text.find('\n', start), text.size());
+    const std::string row = text.substr(start, end - start);
+    if (!continued) {
+      region = 0;
+      first = true;
     }
-    if (c == ' ' || c == '\t' || c == '\r' || c == '\f' || c == '\v' || c == '\\') {
-      ++i;
-      continue;
+    for (const ShaderToken& t : shader_line_tokens(row, in_comment)) {
+      if (row[t.begin] == '\\') continue;  // a line continued
+      if (first && row[t.begin] == '#') region = ++directives;
+      first = false;
+      tokens.push_back({start + t.begin, start + t.end, line, region, t.word});
     }
-    if (text.compare(i, 2, "//") == 0) {
-      while (i < text.size() && text[i] != '\n') ++i;
-      continue;
-    }
-    if (text.compare(i, 2, "/*") == 0) {
-      const size_t end = text.find("*/", i + 2);
-      const size_t stop = end == std::string::npos ? text.size() : end + 2;
-      line += static_cast<size_t>(std::count(text.begin() + static_cast<std::ptrdiff_t>(i),
-                                             text.begin() + static_cast<std::ptrdiff_t>(stop), '\n'));
-      i = stop;
-      continue;
-    }
-    if (c == '#' && line_start) region = ++directives;
-    line_start = false;
-    Token t;
-    t.begin = i;
-    t.line = line;
-    t.region = region;
-    if (word_char(c)) {
-      while (i < text.size() && word_char(text[i])) ++i;
-    } else {
-      ++i;
-    }
-    t.end = i;
-    tokens.push_back(t);
+    // A backslash before the break continues a directive on the next line.
+    continued = !row.empty() && row.back() == '\\';
+    if (end == text.size()) break;
+    start = end + 1;
   }
   return tokens;
 }
@@ -132,8 +103,7 @@ void guard_loops(AssembledShader& shader) {
     // take the counter beside it; two words in a row begin only a declaration.
     const size_t condition = w == "while" ? next_in(open, t.region) : next_in(first_semicolon, t.region);
     const size_t after = next_in(condition, t.region);
-    if (condition < close && after < close && word_char(text[tokens[condition].begin]) &&
-        word_char(text[tokens[after].begin]))
+    if (condition < close && after < close && tokens[condition].word && tokens[after].word)
       refuse(t, "`" + w + "' whose condition declares a variable (declare it before the loop)");
     if (w == "while") {
       inserts.emplace_back(tokens[open].end, "(");

@@ -352,12 +352,8 @@ void ShaderLibrary::append(const std::string& name, AssembledShader& out,
   }
 }
 
-namespace {
-
-// The tokens of one line, comments left out (`in_comment`: inside a /* */ that an earlier
-// line opened): identifiers whole, numbers whole, anything else a character each.
-std::vector<std::string> line_tokens(const std::string& line, bool& in_comment) {
-  std::vector<std::string> out;
+std::vector<ShaderToken> shader_line_tokens(const std::string& line, bool& in_comment) {
+  std::vector<ShaderToken> out;
   size_t i = 0;
   while (i < line.size()) {
     if (in_comment) {
@@ -375,16 +371,15 @@ std::vector<std::string> line_tokens(const std::string& line, bool& in_comment) 
     } else if (is_word(line[i])) {
       size_t j = i;
       while (j < line.size() && is_word(line[j])) ++j;
-      out.push_back(line.substr(i, j - i));
+      out.push_back({i, j, true});
       i = j;
     } else {
-      out.push_back(line.substr(i++, 1));
+      out.push_back({i, i + 1, false});
+      ++i;
     }
   }
   return out;
 }
-
-}  // namespace
 
 void check_macro_expansion(const AssembledShader& shader, std::uint64_t line_limit, std::uint64_t shader_limit) {
   const std::uint64_t limit = line_limit;
@@ -408,7 +403,8 @@ void check_macro_expansion(const AssembledShader& shader, std::uint64_t line_lim
   bool in_comment = false;
   std::uint64_t whole = 0;
   for (size_t index = 0; std::getline(text, line); ++index) {
-    std::vector<std::string> tokens = line_tokens(line, in_comment);
+    std::vector<std::string> tokens;
+    for (const ShaderToken& t : shader_line_tokens(line, in_comment)) tokens.push_back(line.substr(t.begin, t.end - t.begin));
     const bool directive = !tokens.empty() && tokens[0] == "#";
     if (directive && tokens.size() >= 3 && tokens[1] == "define") {
       // The body after the name and, for a function-like macro, its parameter list.
@@ -428,12 +424,11 @@ void check_macro_expansion(const AssembledShader& shader, std::uint64_t line_lim
     const std::uint64_t n = expanded(tokens, directive ? 2 : 0, "", &macro);
     whole += n;
     if (n > limit || whole > shader_limit) {
-      const SourceLine& at = shader.lines.at(std::min(index, shader.lines.size() - 1));
       const std::string what =
           n > limit ? macro + " expands to more than " + std::to_string(limit) + " tokens on this line"
                     : "the shader's macros expand to more than " + std::to_string(shader_limit) +
                           " tokens by this line (" + macro + " the largest here)";
-      throw Error(shader.files.at(static_cast<size_t>(at.file)) + ":" + std::to_string(at.line) + ": " + what +
+      throw Error(shader.where(std::min(index, shader.lines.size() - 1)) + ": " + what +
                   " (a macro that names another twice doubles it): the kit refuses it before compiling, as a GLSL "
                   "compiler would run out of memory or time on it");
     }

@@ -152,6 +152,16 @@ class ShaderLibrary {
   ShaderTarget target_ = kBuildShaderTarget;
 };
 
+// One token of a line of shader text, [begin, end) in the line: identifiers and numbers
+// whole, any other character one token, comments left out.
+struct ShaderToken {
+  size_t begin = 0, end = 0;
+  bool word = false;  // an identifier or number
+};
+// The tokens of `line`; `in_comment` (inside a /* */ an earlier line opened) is carried on.
+// Scanned by hand, never with std::regex (its matcher recurses once per character).
+std::vector<ShaderToken> shader_line_tokens(const std::string& line, bool& in_comment);
+
 // Throws kit::Error "FILE:LINE: ..." at the first line of `shader` whose macros expand to more
 // than kMaxExpandedLineTokens tokens, naming the macro, or where the shader's expanded tokens
 // pass kMaxExpandedShaderTokens. An upper bound: a macro's size is
