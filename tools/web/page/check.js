@@ -137,9 +137,8 @@ export async function runCheck(page) {
   sayInCheck(`Checking lab ${lab}: rendering the grader's checks with your files\u2026`);
   // Let the message show before kit-web takes the main thread.
   setTimeout(() => {
-    page.labs.drawing(page.ui.stage.folder);  // as an edit's frame: a tab that stops here holds them back
-    const answer = kitCall({cmd: "check", lab});
-    page.labs.drawingDone();
+    // As an edit's frame: a tab that stops in the check holds the edits back.
+    const answer = page.labs.whileDrawing(page.ui.stage.folder, () => kitCall({cmd: "check", lab}));
     page.kitPage.lastCheck = answer;
     $("check").disabled = false;
     if (answer.error) {

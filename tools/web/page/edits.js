@@ -11,7 +11,7 @@ const COMPILE_DELAY_MS = 300;
 // An edit whose frame takes longer than this is not drawn again by itself (a camera move, a
 // setting): with a loop that never ends each frame takes the guard's whole budget
 // (common/gl/loop_guard.h), seconds of a software GPU, and the page answers nothing meanwhile.
-export const SLOW_EDIT_FRAME_S = 1;
+const SLOW_EDIT_FRAME_S = 1;
 
 // Before kit-web's main(): the lab files, with the edits this browser kept put into the file
 // system, so the first frame draws them.
@@ -70,9 +70,7 @@ export function compileEdits(page) {
     return;
   }
   page.waitingForEdit = false;
-  page.labs.drawing(ui.stage.folder);
-  const answer = kitCall({cmd: "reload"});
-  page.labs.drawingDone();
+  const answer = page.labs.whileDrawing(ui.stage.folder, () => kitCall({cmd: "reload"}));
   if (drawn(page, answer, "edit", "your edit") && answer.seconds > SLOW_EDIT_FRAME_S) {
     page.waitingForEdit = true;
     say(page, `Your edit's frame took ${answer.seconds.toFixed(1)} s, past the page's limit of ${SLOW_EDIT_FRAME_S} s ` +

@@ -8,12 +8,11 @@ import {strToU8, zipSync} from "fflate";
 const LABS = "/kit/labs";
 // One site's edits apart from another's on the same host (a course page with two sites).
 export const KEY = "kit-web:" + window.location.pathname.replace(/[^/]*$/, "") + ":";
-// The paths a load restored, kept until it draws its first frame, and the edited paths of a
-// stage while kit-web draws an edit of it: a load that never got past that (a shader that
-// locked the tab, or the tab closed by its student) leaves them, and the next load starts
-// without those edits.
-const RESTORING = KEY + "restoring";
-const DRAWING = KEY + "drawing";
+// The edited paths kit-web is drawing: those a load restored, until it draws its first frame,
+// then a stage's while kit-web draws an edit of it or checks it. A load that never got past
+// that (a shader that locked the tab, or the tab closed by its student) leaves them, and the
+// next load starts without those edits.
+const DRAWING = KEY + "restoring";
 // An edit held back so: its text, kept to look at and fix, no longer restored.
 const HELD = KEY + "held:";
 
@@ -54,8 +53,7 @@ export class LabFiles {
   restore() {
     const restored = [];
     this.heldBack = [];
-    const unfinished = this.storage((s) => [...JSON.parse(s.getItem(RESTORING) || "[]"),
-                                            ...JSON.parse(s.getItem(DRAWING) || "[]")]) || [];
+    const unfinished = this.storage((s) => JSON.parse(s.getItem(DRAWING) || "[]")) || [];
     for (const path of this.paths()) {
       const stored = this.storage((s) => s.getItem(KEY + path));
       if (stored === null || stored === this.starters.get(path)) continue;
@@ -71,23 +69,25 @@ export class LabFiles {
       this.writeFS(path);
       restored.push(path);
     }
-    this.storage((s) => {
-      if (restored.length) s.setItem(RESTORING, JSON.stringify(restored));
-      else s.removeItem(RESTORING);
-      s.removeItem(DRAWING);
-    });
+    this.storage((s) => restored.length ? s.setItem(DRAWING, JSON.stringify(restored)) : s.removeItem(DRAWING));
     return restored;
   }
 
-  // Around kit-web's draw of an edit: the edited files of that folder are marked while it draws.
-  drawing(folder) {
+  // draw() with the edited files of lab `folder` marked while it runs (kit-web drawing an edit
+  // or checking the lab): its answer.
+  whileDrawing(folder, draw) {
     const edited = this.paths().filter((p) => p.split("/")[3] === folder && this.edited(p));
     this.storage((s) => s.setItem(DRAWING, JSON.stringify(edited)));
+    try {
+      return draw();
+    } finally {
+      this.drawingDone();
+    }
   }
-  drawingDone() { this.storage((s) => s.removeItem(DRAWING)); }
 
-  // The first frame was drawn (or refused with a message): the restored edits did not lock the tab.
-  firstFrameReached() { this.storage((s) => s.removeItem(RESTORING)); }
+  // The first frame, or the marked draw, is over (drawn or refused with a message): those edits
+  // did not lock the tab.
+  drawingDone() { this.storage((s) => s.removeItem(DRAWING)); }
 
   // The text of an edit held back (restore), as it was kept.
   heldText(path) { return this.storage((s) => s.getItem(HELD + path)); }

@@ -127,7 +127,7 @@ window.Module = {
     firstFrameArguments(page, args);
   },
   kitDone: (state, json) => {
-    page.labs.firstFrameReached();
+    page.labs.drawingDone();
     const report = JSON.parse(json);
     report.page_seconds_to_frame = (performance.now() - page.startedAt) / 1000;
     // From the navigation's start: what a first visit waits (tests/web_first_visit_test.py),
