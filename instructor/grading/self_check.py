@@ -158,6 +158,7 @@ class Row:
         self.functions = []   # summary.json's probed functions (tools/grade/frames/function_probes.h)
         self.evidence = set()  # lab 7: the parts its counts name (summary.json "evidence")
         self.edited_functions = set()  # the functions of probed files its edits lie in
+        self.result = None    # kit-grade's result folder for it, kept until the run ends (name_again reads it)
 
     @property
     def passed(self):
@@ -191,7 +192,7 @@ def run_kit_grade(cmd, timeout):
     return proc.returncode, [f"kit-grade exited {proc.returncode}: {' '.join(cmd)}"] + tail
 
 
-def grade_lab_batch(lab, jobs, args, work, judge_row):
+def grade_lab_batch(lab, jobs, args, work):
     """All of one lab's rows in one `kit-grade --batch` run (saves a process start per row)."""
     batch, out = work / f"lab{lab}" / "submissions", work / f"lab{lab}" / "results"
     for row, files, lab_name in jobs:
@@ -201,10 +202,10 @@ def grade_lab_batch(lab, jobs, args, work, judge_row):
            "--jobs", str(args.jobs)] + cpu_limit_args(args)
     status, tail = run_kit_grade(cmd, args.timeout + 10 * len(jobs))
     for row, _, _ in jobs:
-        judge_row(row, out / row.id, status, tail, args, batch / row.id)
+        judge(row, out / row.id, status, tail, args, batch / row.id)
 
 
-def grade_one(row, files, lab_name, args, work, judge_row):
+def grade_one(row, files, lab_name, args, work):
     """One row, one `kit-grade SUBMISSION` run (--no-batch)."""
     folder = work / f"lab{row.lab}-{row.id}"
     write_submission(folder / "submission", lab_name, files)
@@ -213,14 +214,12 @@ def grade_one(row, files, lab_name, args, work, judge_row):
     cmd = [str(args.kit_grade), str(folder / "submission"), "--labs", str(row.lab), "--out", str(out), "--jobs", "1"]
     cmd += cpu_limit_args(args)
     status, tail = run_kit_grade(cmd, args.timeout)
-    judge_row(row, out, status, tail, args, folder / "submission")
+    judge(row, out, status, tail, args, folder / "submission")
 
 
-def grade_jobs(jobs, args, judge_row=None):
-    """Grades every job, one kit-grade --batch run per lab (or one run per row with --no-batch), in a
-    temporary folder of their own; judge_row (default judge) reads each row's result."""
-    judge_row = judge_row or judge
-    work = Path(tempfile.mkdtemp(prefix="kit-self-check-"))
+def grade_jobs(jobs, args, work):
+    """Grades every job, one kit-grade --batch run per lab (or one run per row with --no-batch), in
+    `work`; judge reads each row's result."""
     try:
         by_lab = {}
         for job in jobs:
@@ -230,32 +229,38 @@ def grade_jobs(jobs, args, judge_row=None):
                 print(f"self-check: lab {lab}: grading {len(lab_jobs)} submissions", file=sys.stderr, flush=True)
             if args.no_batch:
                 with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
-                    list(pool.map(lambda j: grade_one(*j, args, work, judge_row), lab_jobs))
+                    list(pool.map(lambda j: grade_one(*j, args, work), lab_jobs))
             else:
-                grade_lab_batch(lab, lab_jobs, args, work, judge_row)
+                grade_lab_batch(lab, lab_jobs, args, work)
     except Exception as e:  # a bug or a full disk must still end in a table that says so
         for row, _, _ in jobs:
             if not row.verdict:
                 row.verdict = "ERROR"
                 row.details = [f"self-check stopped: {type(e).__name__}: {e}"]
-    finally:
-        if args.keep:
-            print(f"self-check: submissions and results kept in {work}")
-        else:
-            shutil.rmtree(work, ignore_errors=True)
 
 
-def judge_names(row, out, status, tail, args, submission):
-    """Takes only the mistakes kit-grade named from a row graded again (the rest is as judged before)."""
+def name_again(rows, args):
+    """Each row's names as kit-grade gives them with the mistakes.json written since the rows were
+    graded: `kit-grade --name-again` reads what their grading named them from (naming.json in each
+    result folder, tools/grade/verdict/diagnosis.h) and renders nothing."""
+    cmd = [str(args.kit_grade), "--name-again"] + [str(r.result) for r in rows]
+    status, tail = None, []
     try:
-        lab = json.loads((out / "summary.json").read_text())["labs"][str(row.lab)] if status == 0 else None
-        row.named = [m.get("id") for m in lab.get("likely_mistakes", [])]
-    except (OSError, ValueError, KeyError, TypeError, AttributeError) as e:
-        row.details.append(f"graded again for its names, kit-grade gave none ({type(e).__name__}: {e}): {out}")
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=args.timeout)
+        status, tail = proc.returncode, proc.stderr.strip().splitlines()[-4:]
+        names = json.loads(proc.stdout) if status == 0 else None
+    except (OSError, subprocess.TimeoutExpired, ValueError) as e:
+        names, tail = None, [f"{type(e).__name__}: {e}"]
+    for r in rows:
+        if names is None:
+            r.details.append(f"named again, kit-grade gave none (exit {status}): {' '.join(tail)}")
+        else:
+            r.named = [m.get("id") for m in names.get(str(r.result), {}).get(str(r.lab), [])]
 
 
 def judge(row, out, status, tail, args, submission):
     """Fills row's score and verdict from kit-grade's files in `out`."""
+    row.result = out
     summary_path = out / "summary.json"
     if status != 0 or not summary_path.exists():
         row.verdict = "ERROR"
@@ -748,31 +753,39 @@ def main(argv=None):
         else:
             jobs.append((row, files, lab_dirs[e["lab"]].name))
 
-    if jobs:
-        if not args.kit_grade.is_file() or not os.access(args.kit_grade, os.X_OK):
-            print(f"self-check: kit-grade not found at {args.kit_grade} (build it with ./kit setup, "
-                  "or pass --kit-grade PATH)", file=sys.stderr)
-            return 2
-        grade_jobs(jobs, args)
+    # The results stay until the signatures are written: name_again reads them.
+    work = Path(tempfile.mkdtemp(prefix="kit-self-check-"))
+    try:
+        if jobs:
+            if not args.kit_grade.is_file() or not os.access(args.kit_grade, os.X_OK):
+                print(f"self-check: kit-grade not found at {args.kit_grade} (build it with ./kit setup, "
+                      "or pass --kit-grade PATH)", file=sys.stderr)
+                return 2
+            grade_jobs(jobs, args, work)
 
-    print_table(rows, args.wide)
-    if retired:
-        print(f"\nretired, not graded ({len(retired)}): " + ", ".join(e["id"] for e in retired)
-              + " (rewrite each against the new solution and remove its \"retired\", or delete it)")
-    caught = [r for r in rows if r.kind == "mistake" and r.passed and r.status == "graded"]
-    if args.write_signatures:
-        changed = write_signatures(args.write_signatures,
-                                   [r for r in rows if r.kind in ("mistake", "starter") and r.passed
-                                    and r.status == "graded"], args.lab)
-        # kit-grade named each mistake from the signatures as they were: the naming figures
-        # (named_right) want the names it gives with the new ones. A lab's names come from its
-        # own entries only (diagnosis.cpp), so only its caught mistakes are graded again.
-        again = [job for job in jobs if job[0] in caught and job[0].lab in changed]
-        if again:
-            print(f"self-check: the signatures of lab{'s' if len(changed) > 1 else ''} "
-                  f"{', '.join(map(str, sorted(changed)))} changed: their {len(again)} caught mistakes graded "
-                  "again for the names kit-grade gives now")
-            grade_jobs(again, args, judge_names)
+        print_table(rows, args.wide)
+        if retired:
+            print(f"\nretired, not graded ({len(retired)}): " + ", ".join(e["id"] for e in retired)
+                  + " (rewrite each against the new solution and remove its \"retired\", or delete it)")
+        caught = [r for r in rows if r.kind == "mistake" and r.passed and r.status == "graded"]
+        if args.write_signatures:
+            changed = write_signatures(args.write_signatures,
+                                       [r for r in rows if r.kind in ("mistake", "starter") and r.passed
+                                        and r.status == "graded"], args.lab)
+            # kit-grade named each mistake from the signatures as they were: the naming figures
+            # (named_right) want the names it gives with the new ones. A lab's names come from its
+            # own entries only (diagnosis.cpp), so only its caught mistakes are named again.
+            again = [r for r in caught if r.lab in changed and r.result]
+            if again:
+                print(f"self-check: the signatures of lab{'s' if len(changed) > 1 else ''} "
+                      f"{', '.join(map(str, sorted(changed)))} changed: their {len(again)} caught mistakes named "
+                      "again as kit-grade names them now (kit-grade --name-again)")
+                name_again(again, args)
+    finally:
+        if args.keep:
+            print(f"self-check: submissions and results kept in {work}")
+        else:
+            shutil.rmtree(work, ignore_errors=True)
     naming = naming_counts(caught) if caught else None
     if naming:
         print()

@@ -37,6 +37,7 @@ void usage() {
       "       kit-grade --batch FOLDER --out DIR [--force] [options]\n"
       "       kit-grade --update-references | --check-references | --prepare-references DIR [--references DIR]\n"
       "       kit-grade --self-check [self_check.py options]\n"
+      "       kit-grade --name-again RESULT... [--references DIR]\n"
       "Grades a student's lab files against the reference solutions. SUBMISSION is a folder or a .zip holding\n"
       "the lab folders (NN-name/file, any case) at most %zu folders deep: 02-lighting/, labs/02-lighting/,\n"
       "alice/labs/02-lighting/ or alice/alice/labs/02-lighting/. With one lab graded (--labs 2) its files may\n"
@@ -72,6 +73,9 @@ void usage() {
       "  --prepare-references DIR  decode the references into DIR with their backgrounds and report images\n"
       "                        (the build does, beside kit-grade; runs read them there)\n"
       "  --self-check          run instructor/grading/self_check.py (the mistake catalogue) with this grader\n"
+      "  --name-again RESULT...  name the likely mistakes of the result folders' failed labs again from their\n"
+      "                        naming.json and the references' mistakes.json as it is now, without rendering;\n"
+      "                        prints {RESULT: {LAB: [mistakes as summary.json lists them]}} as JSON\n"
       "Labs render in worker processes, --jobs at once, each taking a submission's labs one after another under each\n"
       "lab's own limits, in the run's temporary folder ($TMPDIR/kit-grade-<pid>-XXXXXX, removed\n"
       "at the end; a later run removes those of runs that were killed) with a Mesa shader cache of its submission's\n"
@@ -161,8 +165,9 @@ int main(int argc, char** argv) {
   kit::keep_freed_memory_for_reuse();
   kit::grade::Options options;
   options.jobs = std::max(1, std::min(kMaxDefaultJobs, static_cast<int>(std::thread::hardware_concurrency())));
-  std::string submission, batch;
-  enum class Mode { Grade, Batch, Update, Check, Prepare } mode = Mode::Grade;
+  std::string batch;
+  std::vector<std::string> positional;  // the SUBMISSION, or --name-again's RESULT folders
+  enum class Mode { Grade, Batch, Update, Check, Prepare, NameAgain } mode = Mode::Grade;
   fs::path prepared;
   const int status = kit::run_tool("kit-grade", 2, [&]() -> int {
     for (int i = 1; i < argc; ++i) {
@@ -211,14 +216,22 @@ int main(int argc, char** argv) {
       } else if (flag == "--prepare-references") {
         prepared = value();
         mode = Mode::Prepare;
+      } else if (flag == "--name-again") {
+        mode = Mode::NameAgain;
       } else if (!flag.empty() && flag[0] == '-') {
         throw kit::Error("unknown option '" + flag + "' (see --help)");
-      } else if (submission.empty()) {
-        submission = flag;
       } else {
-        throw kit::Error("one SUBMISSION at a time ('" + submission + "' and '" + flag + "'); use --batch FOLDER for more");
+        positional.push_back(flag);
       }
     }
+    if (mode == Mode::NameAgain) {
+      if (positional.empty()) throw kit::Error("--name-again needs one or more result folders");
+      return kit::grade::name_again({positional.begin(), positional.end()}, options);
+    }
+    if (positional.size() > 1)
+      throw kit::Error("one SUBMISSION at a time ('" + positional[0] + "' and '" + positional[1] +
+                       "'); use --batch FOLDER for more");
+    const std::string submission = positional.empty() ? "" : positional[0];
     // The renderer's library opens beside the run's setup (scenes, submission), before the
     // first render worker is forked.
     if (mode != Mode::Prepare) kit::preload_headless_library(options.backend);
@@ -232,6 +245,7 @@ int main(int argc, char** argv) {
       case Mode::Update: return kit::grade::update_references(options);
       case Mode::Check: return kit::grade::check_references(options);
       case Mode::Prepare: return kit::grade::prepare_references(options, prepared);
+      case Mode::NameAgain: break;  // answered above, before the renderer's library opens
       case Mode::Batch:
         if (!submission.empty()) throw kit::Error("--batch grades a folder of submissions: no SUBMISSION as well");
         if (options.out.empty()) throw kit::Error("--batch needs --out DIR");

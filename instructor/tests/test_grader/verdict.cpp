@@ -88,6 +88,26 @@ TEST(Grader, FailedLabNamesTheLikelyMistake) {
   expect_full_marks(correct, 7);
   EXPECT_TRUE(lab(correct, 7)["likely_mistakes"].empty());
   EXPECT_EQ(read_file(correct.out / "report.html").find("catalogued mistake"), std::string::npos);
+
+  // kit-grade --name-again names them from each result's naming.json and the mistakes.json it
+  // is given now, rendering nothing: the run graded without signatures gets the names the
+  // graded run gave, to the similarity; that run's names go with the file; a lab that
+  // passed has nothing to name.
+  auto name_again = [](const std::vector<fs::path>& results, const std::string& extra) {
+    std::string command = tool("kit-grade") + " --name-again";
+    for (const fs::path& r : results) command += " " + quoted(r);
+    std::string output;
+    EXPECT_EQ(run(command + " " + extra, &output), 0) << output;
+    return json::parse(output, nullptr, false);
+  };
+  const json again = name_again({without.out, r.out, correct.out}, "");
+  EXPECT_EQ(again[without.out.string()]["7"], likely) << again.dump();
+  EXPECT_EQ(again[r.out.string()]["7"], likely) << again.dump();
+  EXPECT_EQ(again[correct.out.string()], json::object()) << again.dump();
+  const json none = name_again({r.out}, "--references " + quoted(references));
+  EXPECT_EQ(none[r.out.string()]["7"], json::array()) << none.dump();
+  std::string output;
+  EXPECT_NE(run(tool("kit-grade") + " --name-again " + quoted(sub), &output), 0) << "not a result folder: " << output;
 }
 
 namespace {

@@ -10,6 +10,8 @@
 #include "base/error.h"
 #include "files/files.h"
 #include "render/stages.h"
+#include "verdict/diagnosis.h"
+#include "verdict/lab_verdict.h"
 
 namespace fs = std::filesystem;
 
@@ -128,12 +130,6 @@ nlohmann::json functions_json(const LabOutcome& lab) {
   return out;
 }
 
-nlohmann::json likely_json(const LabOutcome& lab) {
-  nlohmann::json out = nlohmann::json::array();
-  for (const LikelyMistake& m : lab.likely_mistakes)
-    out.push_back({{"id", m.id}, {"description", m.description}, {"similarity", std::round(m.similarity * 1000.0) / 1000.0}});
-  return out;
-}
 
 // The lab's probe feedback (function_probes.h) where a check failed.
 std::vector<std::string> functions_lines(const LabOutcome& lab) {
@@ -299,7 +295,7 @@ nlohmann::json summary_json(const SubmissionOutcome& s) {
         {"folder", lab.folder},
         {"checks_passed", lab.passed_checks()},
         {"checks", checks},
-        {"likely_mistakes", likely_json(lab)},
+        {"likely_mistakes", likely_mistakes_json(lab.likely_mistakes)},
         {"likely_text", likely_text(lab)},  // the sentence the report shows, for the platforms' own results
         {"functions", functions_json(lab)},
         {"functions_text", functions_lines(lab)},
@@ -426,9 +422,21 @@ std::string report_html(const SubmissionOutcome& s) {
   return h;
 }
 
+nlohmann::json likely_mistakes_json(const std::vector<LikelyMistake>& mistakes) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const LikelyMistake& m : mistakes)
+    out.push_back({{"id", m.id}, {"description", m.description}, {"similarity", std::round(m.similarity * 1000.0) / 1000.0}});
+  return out;
+}
+
 void write_results(const fs::path& dir, const SubmissionOutcome& outcome) {
   write_file_atomic(dir / "report.html", report_html(outcome));
   write_file_atomic(dir / "summary.json", json_text(summary_json(outcome)));
+  // What each failed lab's likely mistakes were named from, for --name-again (diagnosis.h).
+  nlohmann::json naming = nlohmann::json::object();
+  for (const auto& [number, lab] : outcome.labs)
+    if (needs_naming(lab)) naming[std::to_string(number)] = naming_inputs_json(naming_inputs(lab));
+  if (!naming.empty()) write_file_atomic(dir / kNamingInputsFile, json_text(naming));
   // Last: its presence marks a complete result (batch resumes on it).
   write_file_atomic(dir / "results.json", json_text(results_json(outcome)));
 }

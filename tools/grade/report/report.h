@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "verdict/outcome.h"
 
@@ -19,6 +20,8 @@ std::string report_html(const SubmissionOutcome& outcome);
 // results.json, summary.json and report.html into `dir`, each written to a
 // temporary file first and renamed, so a reader never sees half a file.
 void write_results(const std::filesystem::path& dir, const SubmissionOutcome& outcome);
+// summary.json's "likely_mistakes" of a lab: id, description and similarity (to thousandths).
+nlohmann::json likely_mistakes_json(const std::vector<LikelyMistake>& mistakes);
 
 // "lab 3 attenuation: 6.667/10  (4 of 6 checks passed)" or "... 0/10  (compile error: first line)".
 std::string lab_line(const LabOutcome& lab);

@@ -1,6 +1,7 @@
 #include "run/grader.h"
 
 #include <cstdio>
+#include <fstream>
 #include <map>
 #include <string>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "run/lab_results.h"
 #include "run/scheduler.h"
 #include "verdict/compare.h"
+#include "verdict/diagnosis.h"
 #include "verdict/lab_verdict.h"
 
 namespace fs = std::filesystem;
@@ -79,6 +81,31 @@ int prepare_references(const Options& options, const fs::path& out) {
   } catch (const std::exception& e) {  // grading makes them in its cache instead
     std::fprintf(stderr, "kit-grade: the references were not prepared in %s: %s\n", out.c_str(), e.what());
   }
+  return 0;
+}
+
+int name_again(const std::vector<fs::path>& results, const Options& options) {
+  const fs::path dir = options.references.empty() ? default_references_dir() : options.references;
+  const MistakeSignatures mistakes = load_mistake_signatures(dir / kMistakeSignaturesFile);
+  nlohmann::json out = nlohmann::json::object();
+  for (const fs::path& result : results) {
+    if (!fs::is_regular_file(result / "summary.json"))
+      throw Error(result.string() + ": not a result folder of kit-grade's (no summary.json)");
+    const fs::path file = result / kNamingInputsFile;
+    nlohmann::json labs = nlohmann::json::object();
+    std::ifstream in(file);
+    if (in) {  // else every graded lab passed: nothing to name
+      try {
+        const nlohmann::json doc = nlohmann::json::parse(in);
+        for (const auto& [lab, inputs] : doc.items())
+          labs[lab] = likely_mistakes_json(likely_mistakes(mistakes, std::stoi(lab), naming_inputs_from_json(inputs)));
+      } catch (const std::exception& e) {  // JSON's, stoi's and naming_inputs_from_json's
+        throw Error(file.string() + ": " + e.what());
+      }
+    }
+    out[result.string()] = labs;
+  }
+  std::printf("%s\n", out.dump(1).c_str());
   return 0;
 }
 

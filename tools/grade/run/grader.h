@@ -4,6 +4,7 @@
 // `kit-grade --batch FOLDER` is batch.h's; `--update-references` and `--check-references`
 // are reference_maintenance.h's.
 #include <filesystem>
+#include <vector>
 
 #include "run/options.h"
 
@@ -16,5 +17,11 @@ int grade_submission(const std::filesystem::path& submission, const Options& opt
 // (prepared_references_dir(); the build runs it, tools/grade.cmake). References that are
 // stale or missing are left out with a message: grading makes them in its cache. Returns 0.
 int prepare_references(const Options& options, const std::filesystem::path& out);
+// `kit-grade --name-again RESULT...`: each result folder's failed labs named again from the
+// naming inputs it holds (diagnosis.h, kNamingInputsFile) and the references' mistakes.json as
+// it is now, without rendering. Prints {RESULT: {LAB: likely mistakes as summary.json lists
+// them}} as JSON (a folder whose labs all passed: {}). Throws kit::Error naming a folder without
+// summary.json or a file it cannot read.
+int name_again(const std::vector<std::filesystem::path>& results, const Options& options);
 
 }  // namespace kit::grade

@@ -172,4 +172,33 @@ std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, 
   return named;
 }
 
+std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, int lab, const NamingInputs& inputs) {
+  return likely_mistakes(signatures, lab, inputs.features, inputs.probed ? &inputs.differing : nullptr,
+                         inputs.volume_counted);
+}
+
+nlohmann::json naming_inputs_json(const NamingInputs& inputs) {
+  nlohmann::json features = nlohmann::json::object();
+  for (const auto& [key, values] : inputs.features) features[key] = values;
+  nlohmann::json out = {{"features", features}, {"volume_counted", inputs.volume_counted}};
+  out["differing"] = inputs.probed ? nlohmann::json(inputs.differing) : nlohmann::json(nullptr);
+  return out;
+}
+
+NamingInputs naming_inputs_from_json(const nlohmann::json& json) {
+  NamingInputs inputs;
+  try {
+    for (const auto& [key, values] : json.at("features").items())
+      for (const auto& v : values) inputs.features[key].push_back(static_cast<float>(v.get<double>()));
+    inputs.volume_counted = json.at("volume_counted").get<bool>();
+    const nlohmann::json& differing = json.at("differing");
+    inputs.probed = !differing.is_null();
+    if (inputs.probed)
+      for (const auto& part : differing) inputs.differing.insert(part.get<std::string>());
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(std::string("not naming inputs (") + e.what() + ")");
+  }
+  return inputs;
+}
+
 }  // namespace kit::grade

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json_fwd.hpp>
+
 namespace kit::grade {
 
 // One mistake: per check key, its features (check_features: the check's signature, encoded,
@@ -121,5 +123,23 @@ std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, 
                                            const std::map<std::string, std::vector<float>>& submission,
                                            const std::set<std::string>* differing = nullptr,
                                            bool volume_counted = true);
+
+// What a failed lab's likely mistakes are named from (lab_verdict.h, naming_inputs): the
+// arguments of likely_mistakes above. kit-grade writes them beside summary.json
+// (kNamingInputsFile), the features as the floats they are (a float goes to JSON's double and
+// back exactly, where summary.json's signatures are rounded), so that `kit-grade --name-again`
+// names the same mistakes from another mistakes.json without rendering anything: the
+// self-check does so once it has written the file anew (instructor/grading/self_check.py).
+struct NamingInputs {
+  std::map<std::string, std::vector<float>> features;  // check key -> check_features
+  bool probed = false;                                 // every probe of the lab ran
+  std::set<std::string> differing;                     // then: the parts that differ
+  bool volume_counted = true;
+};
+constexpr const char* kNamingInputsFile = "naming.json";
+std::vector<LikelyMistake> likely_mistakes(const MistakeSignatures& signatures, int lab, const NamingInputs& inputs);
+nlohmann::json naming_inputs_json(const NamingInputs& inputs);
+// Throws kit::Error naming what is missing where `json` is not naming_inputs_json's.
+NamingInputs naming_inputs_from_json(const nlohmann::json& json);
 
 }  // namespace kit::grade

@@ -241,19 +241,28 @@ Metric shown_metric(const Check& check) {
   return check.metric == Metric::Work ? Metric::Hdr : compares_own_renders(check.metric) ? Metric::Ldr : check.metric;
 }
 
+NamingInputs naming_inputs(const LabOutcome& lab) {
+  NamingInputs inputs;
+  for (const CheckOutcome& c : lab.checks) inputs.features[c.check->key] = check_features(c.comparison.signature, !c.passed);
+  // The probed functions that differ, where every probe of the lab ran (function_probes.h).
+  inputs.probed = !lab.probes.empty();
+  for (const ProbeOutcome& p : lab.probes) {
+    inputs.probed = inputs.probed && p.status != kProbeNotRun;
+    if (p.status == kProbeDiffers || (p.status == kProbeExplained && p.part != p.probe->function))
+      inputs.differing.insert(p.part);
+  }
+  inputs.differing.insert(lab.evidence.begin(), lab.evidence.end());
+  inputs.volume_counted = lab.volume_counted;
+  return inputs;
+}
+
+bool needs_naming(const LabOutcome& lab) {
+  return lab.status == kGraded && lab.passed_checks() < static_cast<int>(lab.checks.size());
+}
+
 void name_likely_mistakes(const MistakeSignatures& mistakes, LabOutcome& lab) {
   if (mistakes.empty() || lab.passed_checks() >= static_cast<int>(lab.checks.size())) return;
-  std::map<std::string, std::vector<float>> signatures;
-  for (const CheckOutcome& c : lab.checks) signatures[c.check->key] = check_features(c.comparison.signature, !c.passed);
-  // The probed functions that differ, where every probe of the lab ran (function_probes.h).
-  std::set<std::string> differing;
-  bool probed = !lab.probes.empty();
-  for (const ProbeOutcome& p : lab.probes) {
-    probed = probed && p.status != kProbeNotRun;
-    if (p.status == kProbeDiffers || (p.status == kProbeExplained && p.part != p.probe->function)) differing.insert(p.part);
-  }
-  differing.insert(lab.evidence.begin(), lab.evidence.end());
-  lab.likely_mistakes = likely_mistakes(mistakes, lab.lab, signatures, probed ? &differing : nullptr, lab.volume_counted);
+  lab.likely_mistakes = likely_mistakes(mistakes, lab.lab, naming_inputs(lab));
   lab.diagnosed = true;
 }
 

@@ -78,5 +78,9 @@ void add_reference_pixel_inputs(CheckOutcome& c, const Scene& scene, std::map<st
 
 // Where a check of `lab` failed: the catalogued mistakes its signatures resemble (diagnosis.h).
 void name_likely_mistakes(const MistakeSignatures& mistakes, LabOutcome& lab);
+// What name_likely_mistakes names them from, and whether a lab has any to name (graded, a
+// check failed): kit-grade writes these (diagnosis.h, kNamingInputsFile) for --name-again.
+NamingInputs naming_inputs(const LabOutcome& lab);
+bool needs_naming(const LabOutcome& lab);
 
 }  // namespace kit::grade
