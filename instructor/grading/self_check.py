@@ -540,6 +540,7 @@ def write_json(path, rows, started, naming):
            "rows": [{"id": r.id, "lab": r.lab, "kind": r.kind, "verdict": r.verdict, "score": r.score,
                      "max_score": r.max_score, "known_gap": r.known_gap, "named": r.named,
                      "details": r.details, "next_step": next_step(r)} for r in rows]}
+    path.parent.mkdir(parents=True, exist_ok=True)  # a fresh build's test-tmp/, say
     path.write_text(json.dumps(doc, indent=1) + "\n")
 
 
