@@ -3,8 +3,9 @@
 # term replaced by Smith's with Schlick-GGX (smith_schlick_ggx.patch: the solution, the
 # starter, the handout's formula, the CPU reference and lab 6's call: five files by hand),
 # then the one command, ./kit rebaseline, on a copy of this kit with this build's programs.
-#   1. the patch applies to the kit as it is (a change to lab 2 or 6 that breaks it fails here:
-#      make the patch again against the new files);
+#   1. the patch applies to the kit as it is, and was made against its files as they are (its
+#      index lines: a course's changed file is taken back to them); a change to lab 2 or 6 that
+#      breaks either fails here: make the patch again against the new files;
 #   2. witness: before the rebaseline, the new solution loses points against the old references;
 #   3. rebaseline --labs 2 --no-tests exits 0: references and signatures made again, the
 #      self-check of labs 2-7 passes, nothing needs a decision; the mistake the new term hides
@@ -88,6 +89,16 @@ fi
 # The kit's lab 2 as shipped, the min(1, ...) term, kept to grade after the rebaseline.
 mkdir -p "$WORK/old" && cp -r "$COPY/solutions/02-lighting" "$WORK/old/"
 old_lab2="$WORK/old"
+# The patch's base (its index lines) must be the kit's files as they are, not an older version
+# it still applies to: a course's changed file is taken back to that base (as_shipped above).
+if [ -z "$restored" ]; then
+  stale="$(awk '/^diff --git/ { file = substr($4, 3) } /^index / { split($2, h, "\\.\\."); print file, h[1] }' "$PATCH" |
+    while read -r file base; do
+      [ "$(git hash-object "$COPY/$file" | cut -c1-${#base})" = "$base" ] || echo "$file"
+    done)"
+  [ -z "$stale" ] && ok "the patch was made against the kit's files as they are" ||
+    fail "the patch's base is an older version of $(echo $stale): make it again (apply it, then git diff)"
+fi
 if git -C "$COPY" apply "$PATCH" && grep -q "float geometry_smith" "$COPY/solutions/02-lighting/brdf.glsl"; then
   ok "the patch applies"
 else
@@ -129,8 +140,8 @@ gap="$(python3 -c 'import json, sys
 entries = json.load(open(sys.argv[1]))["entries"]
 print(next((e.get("known_gap", "") for e in entries if e["id"] == "lighting-position-from-depth"), ""))' \
   "$COPY/instructor/grading/catalogue.json")"
-# A course that adopted the change has its own gap there already: the rebaseline keeps it.
-[ -n "$gap" ] && { grep -q "lighting-position-from-depth (lab 2)" "$WORK/rebaseline.log" || [ "${gap#./kit rebaseline}" = "$gap" ]; } &&
+# A course that adopted the change has its own gap there already (its rebaseline gave it): kept.
+[ -n "$gap" ] && { grep -q "lighting-position-from-depth (lab 2)" "$WORK/rebaseline.log" || [ -n "$restored" ]; } &&
   ok "the mistake Smith's G hides is given a known gap and listed to review: ${gap:0:60}..." ||
   fail "lighting-position-from-depth has no known gap, or the report does not list it"
 if [ -n "$restored" ]; then
