@@ -108,6 +108,12 @@ TEST(Grader, FailedLabNamesTheLikelyMistake) {
   EXPECT_EQ(none[r.out.string()]["7"], json::array()) << none.dump();
   std::string output;
   EXPECT_NE(run(tool("kit-grade") + " --name-again " + quoted(sub), &output), 0) << "not a result folder: " << output;
+  // Graded again into the same folder, now passing: the earlier grading's naming.json goes.
+  ASSERT_TRUE(fs::exists(r.out / "naming.json"));
+  EXPECT_EQ(run(tool("kit-grade") + " " + quoted(kit::kit_root() / "solutions") + " --labs 7 --jobs 2 --out " +
+                    quoted(r.out), &output), 0) << output;
+  EXPECT_FALSE(fs::exists(r.out / "naming.json"));
+  EXPECT_EQ(name_again({r.out}, "")[r.out.string()], json::object());
 }
 
 namespace {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <system_error>
 #include <utility>
 #include <vector>
 
@@ -129,7 +130,6 @@ nlohmann::json functions_json(const LabOutcome& lab) {
   for (const ProbeOutcome& p : lab.probes) out.push_back(probe_outcome_json(p));
   return out;
 }
-
 
 // The lab's probe feedback (function_probes.h) where a check failed.
 std::vector<std::string> functions_lines(const LabOutcome& lab) {
@@ -436,7 +436,10 @@ void write_results(const fs::path& dir, const SubmissionOutcome& outcome) {
   nlohmann::json naming = nlohmann::json::object();
   for (const auto& [number, lab] : outcome.labs)
     if (needs_naming(lab)) naming[std::to_string(number)] = naming_inputs_json(naming_inputs(lab));
-  if (!naming.empty()) write_file_atomic(dir / kNamingInputsFile, json_text(naming));
+  // None: no earlier grading's file may stay in a folder graded again (--out reused, a batch's --force).
+  std::error_code ec;
+  if (naming.empty()) fs::remove(dir / kNamingInputsFile, ec);
+  else write_file_atomic(dir / kNamingInputsFile, json_text(naming));
   // Last: its presence marks a complete result (batch resumes on it).
   write_file_atomic(dir / "results.json", json_text(results_json(outcome)));
 }
