@@ -5,8 +5,8 @@
 # student's OBJ scene dropped on it (tests/web_obj_test.py); a first visit's bytes
 # (tests/web_first_visit_test.py). The site is kit-web's build folder (KIT_WEB_SITE to test
 # another, such as out/web), which ./kit test configures in the kit with instructor/ (its own
-# suite) and the test web_site builds, beside the suite's first tests: the browser build's
-# single-threaded steps (its link, the page's npm packages) leave a core to them. A student
+# suite) and the test web_site builds, which every browser test waits for: one of them run
+# alone (ctest -R web_page) tests the site as the sources are. A student
 # copy's ./kit test neither builds the site nor has these tests: a student runs ./kit web
 # when they want it. Label `web`. Included from tests/CMakeLists.txt.
 set(KIT_WEB_BUILD ${PROJECT_SOURCE_DIR}/build/web)
