@@ -26,13 +26,14 @@ void main() {
         o_value.r = distribution_ggx(n_dot_h, alpha);
     }
 #endif
-#if defined(KIT_PROBE_GEOMETRY_COOK_TORRANCE)
+#if defined(KIT_PROBE_MICROFACET_GEOMETRY)
     if (u_probe_function == 2) {
         float n_dot_h = kit_probe_float(at);
         float n_dot_v = kit_probe_float(at);
         float n_dot_l = kit_probe_float(at);
         float v_dot_h = kit_probe_float(at);
-        o_value.r = geometry_cook_torrance(n_dot_h, n_dot_v, n_dot_l, v_dot_h);
+        float roughness = kit_probe_float(at);
+        o_value.r = microfacet_geometry(n_dot_h, n_dot_v, n_dot_l, v_dot_h, roughness);
     }
 #endif
 #if defined(KIT_PROBE_COOK_TORRANCE)

@@ -187,8 +187,10 @@ double distribution_ggx(double n_dot_h, double alpha, const Guards& guards) {
 
 namespace {
 
-// Cook-Torrance's geometric term, G = min(1, 2(n.h)(n.v)/(v.h), 2(n.h)(n.l)/(v.h)).
-double geometry_cook_torrance(double n_dot_h, double n_dot_v, double n_dot_l, double v_dot_h) {
+// The microfacet geometric function, Cook-Torrance's: G = min(1, 2(n.h)(n.v)/(v.h), 2(n.h)(n.l)/(v.h)).
+// The roughness is in the signature for other G's (brdf.glsl's microfacet_geometry).
+double microfacet_geometry(double n_dot_h, double n_dot_v, double n_dot_l, double v_dot_h,
+                           [[maybe_unused]] double roughness) {
   return std::min(1.0, std::min(2.0 * n_dot_h * n_dot_v / v_dot_h, 2.0 * n_dot_h * n_dot_l / v_dot_h));
 }
 
@@ -208,7 +210,7 @@ dvec3 cook_torrance(dvec3 n, dvec3 v, dvec3 l, dvec3 albedo, double metallic, do
   const dvec3 f0 = glm::mix(dvec3(0.04), albedo, metallic);
   const dvec3 F = fresnel_schlick(v_dot_h, f0);
   const double D = distribution_ggx(n_dot_h, alpha, guards);
-  const double G = geometry_cook_torrance(n_dot_h, n_dot_v, n_dot_l, v_dot_h);
+  const double G = microfacet_geometry(n_dot_h, n_dot_v, n_dot_l, v_dot_h, roughness);
 
   const dvec3 diffuse = (1.0 - F) * (1.0 - metallic) * albedo / KIT_PI;
   const dvec3 specular = F * D * G / std::max(4.0 * n_dot_l * n_dot_v, guards.min_denominator);
@@ -533,10 +535,10 @@ const std::map<std::string, ProbeFunction>& probe_functions() {
       // Lab 2 (solutions/02-lighting/brdf.glsl).
       {"fresnel_schlick", [](A a, S) { const double v_dot_h = a.scalar(); return fresnel_schlick(v_dot_h, a.vec3()); }},
       {"distribution_ggx", [](A a, S) { const double n_dot_h = a.scalar(); return dvec3(distribution_ggx(n_dot_h, a.scalar())); }},
-      {"geometry_cook_torrance",
+      {"microfacet_geometry",
        [](A a, S) {
-         const double n_dot_h = a.scalar(), n_dot_v = a.scalar(), n_dot_l = a.scalar();
-         return dvec3(geometry_cook_torrance(n_dot_h, n_dot_v, n_dot_l, a.scalar()));
+         const double n_dot_h = a.scalar(), n_dot_v = a.scalar(), n_dot_l = a.scalar(), v_dot_h = a.scalar();
+         return dvec3(microfacet_geometry(n_dot_h, n_dot_v, n_dot_l, v_dot_h, a.scalar()));
        }},
       {"cook_torrance",
        [](A a, S) {

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The worked example of instructor/changing_a_lab/README.md, end to end: lab 2's geometric
 # term replaced by Smith's with Schlick-GGX (smith_schlick_ggx.patch: the solution, the
-# starter, the handout's formula, the CPU reference and lab 6's call: five files by hand),
-# then the one command, ./kit rebaseline, on a copy of this kit with this build's programs.
+# starter, the handout's formula and the CPU reference: four files by hand; lab 6's table
+# calls lab 2's microfacet_geometry, whose signature stays), then the one command,
+# ./kit rebaseline, on a copy of this kit with this build's programs.
 #   1. the patch applies to the kit as it is, and was made against its files as they are (its
 #      index lines: a course's changed file is taken back to them); a change to lab 2 or 6 that
 #      breaks either fails here: make the patch again against the new files;
@@ -65,7 +66,7 @@ awk '/^diff --git/ { file = substr($4, 3) } /^index / { split($2, h, "\\.\\."); 
     mkdir -p "$WORK/course/$(dirname "$file")"
     git -C "$ROOT" cat-file blob "$base" >"$WORK/course/$file" 2>/dev/null || cp "$COPY/$file" "$WORK/course/$file"
   done
-sed -i 's/geometry_cook_torrance(n_dot_h, n_dot_v, n_dot_l, v_dot_h);/geometry_cook_torrance(n_dot_h, n_dot_v, n_dot_l, max(v_dot_h, 0.1));/' \
+sed -i 's/return min(1.0, min(2.0 \* n_dot_h/return min(0.999, min(2.0 * n_dot_h/' \
   "$WORK/course/solutions/02-lighting/brdf.glsl"
 if ! git -C "$WORK/course" apply --check "$PATCH" 2>/dev/null &&
    [ "$(as_shipped "$WORK/course")" = "solutions/02-lighting/brdf.glsl" ] && git -C "$WORK/course" apply --check "$PATCH"; then
@@ -99,7 +100,11 @@ if [ -z "$restored" ]; then
   [ -z "$stale" ] && ok "the patch was made against the kit's files as they are" ||
     fail "the patch's base is an older version of $(echo $stale): make it again (apply it, then git diff)"
 fi
-if git -C "$COPY" apply "$PATCH" && grep -q "float geometry_smith" "$COPY/solutions/02-lighting/brdf.glsl"; then
+# The four files the README names, and no other: lab 6 follows lab 2's function unedited.
+edited="$(sed -n 's|^diff --git a/\([^ ]*\) .*|\1|p' "$PATCH" | sort | tr '\n' ' ')"
+[ "$edited" = "handouts/02-lighting.md instructor/reference/cpu_reference.cpp labs/02-lighting/brdf.glsl solutions/02-lighting/brdf.glsl " ] &&
+  ok "the patch edits the four files by hand: $edited" || fail "the patch edits $edited, not the four files the README names"
+if git -C "$COPY" apply "$PATCH" && grep -q "(roughness + 1.0) \* (roughness + 1.0) / 8.0" "$COPY/solutions/02-lighting/brdf.glsl"; then
   ok "the patch applies"
 else
   echo "FAIL: instructor/changing_a_lab/smith_schlick_ggx.patch no longer applies: make it again against the kit's files"
@@ -154,7 +159,7 @@ fi
 after="$(score "$new_lab2" 2)"
 [ "$after" = "10/10" ] && ok "after it the new lab 2 solution scores 10/10" || fail "the new lab 2 solution scores $after"
 lab6="$(score "$COPY/solutions" 6)"
-[ "$lab6" = "10/10" ] && ok "and the new lab 6 solution (its BRDF table calls geometry_smith) 10/10" ||
+[ "$lab6" = "10/10" ] && ok "and lab 6's solution, unedited (its BRDF table calls lab 2's microfacet_geometry), 10/10" ||
   fail "the new lab 6 solution scores $lab6"
 old="$(score "$old_lab2" 2)"
 [ "$old" != "10/10" ] && [ "${old#no-summary}" = "$old" ] && ok "the kit's own lab 2, min(1, ...), scores $old" ||

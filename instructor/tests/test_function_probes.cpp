@@ -427,7 +427,7 @@ std::map<std::string, grade::ProbeOutcome> probe_terms(int lab, const std::files
 }
 
 // cook_torrance's term probe (term_probes.h): where fresnel_schlick, distribution_ggx and
-// geometry_cook_torrance agree, the term that differs is named with the values that show it;
+// microfacet_geometry agree, the term that differs is named with the values that show it;
 // the solution and a rewrite agree; a GGX without its pi (a called function that differs)
 // leaves the terms untold (witness: the term probe alone would blame the specular term).
 TEST(FunctionProbes, TermProbesNameTheTermOfCookTorrance) {

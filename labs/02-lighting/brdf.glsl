@@ -13,8 +13,9 @@ float distribution_ggx(float n_dot_h, float alpha) {
     return 0.0;
 }
 
-// TODO(lab 2): G = min(1, 2(n.h)(n.v)/(v.h), 2(n.h)(n.l)/(v.h)).
-float geometry_cook_torrance(float n_dot_h, float n_dot_v, float n_dot_l, float v_dot_h) {
+// TODO(lab 2): G = min(1, 2(n.h)(n.v)/(v.h), 2(n.h)(n.l)/(v.h)). Cook-Torrance's G does not
+// use the roughness; the signature has it for other G's (lab 6 calls this function too).
+float microfacet_geometry(float n_dot_h, float n_dot_v, float n_dot_l, float v_dot_h, float roughness) {
     return 1.0;
 }
 

@@ -18,7 +18,8 @@ void main() {
     // TODO(lab 6): with n = +Z and v = (sqrt(1 - (n.v)^2), 0, n.v), estimate over
     //              u_sample_count Hammersley points (kit_hammersley):
     //              A = integral of (1 - Fc) f_spec (n.l), B = integral of Fc f_spec (n.l),
-    //              with f_spec = D G / (4 (n.l)(n.v)) of lab 2 and Fc = (1 - v.h)^5,
+    //              with f_spec = D G / (4 (n.l)(n.v)) of lab 2 (distribution_ggx,
+    //              microfacet_geometry) and Fc = (1 - v.h)^5,
     //              by GGX importance sampling (kit_sample_ggx_half_vector, l = reflect(-v, h));
     //              C = 1/pi integral of (1 - Fc)(n.l), by cosine sampling (kit_sample_cosine).
     //              Mind n.v = 0 and roughness 0 (guards.glsl).

@@ -19,8 +19,11 @@ float distribution_ggx(float n_dot_h, float alpha) {
     return alpha2 / max(KIT_PI * d * d, KIT_MIN_GGX_DENOMINATOR);
 }
 
-// Cook-Torrance geometric term: G = min(1, 2(n.h)(n.v)/(v.h), 2(n.h)(n.l)/(v.h)).
-float geometry_cook_torrance(float n_dot_h, float n_dot_v, float n_dot_l, float v_dot_h) {
+// The microfacet geometric function, Cook-Torrance's (the lecture's):
+// G = min(1, 2(n.h)(n.v)/(v.h), 2(n.h)(n.l)/(v.h)). Its arguments are every one a G may need
+// (Smith's uses the roughness), so that a course changing G changes this body only: lab 6's
+// BRDF table calls this function too.
+float microfacet_geometry(float n_dot_h, float n_dot_v, float n_dot_l, float v_dot_h, float roughness) {
     return min(1.0, min(2.0 * n_dot_h * n_dot_v / v_dot_h, 2.0 * n_dot_h * n_dot_l / v_dot_h));
 }
 
@@ -38,7 +41,7 @@ vec3 cook_torrance(vec3 n, vec3 v, vec3 l, vec3 albedo, float metallic, float pe
     vec3 f0 = mix(vec3(0.04), albedo, metallic);  // (1 - metallic) 0.04 + metallic albedo
     vec3 F = fresnel_schlick(v_dot_h, f0);
     float D = distribution_ggx(n_dot_h, alpha);
-    float G = geometry_cook_torrance(n_dot_h, n_dot_v, n_dot_l, v_dot_h);
+    float G = microfacet_geometry(n_dot_h, n_dot_v, n_dot_l, v_dot_h, roughness);
 
     vec3 diffuse = (1.0 - F) * (1.0 - metallic) * albedo / KIT_PI;
     vec3 specular = F * D * G / max(4.0 * n_dot_l * n_dot_v, KIT_MIN_DENOMINATOR);

@@ -34,7 +34,7 @@ void main() {
         if (n_dot_l > 0.0) {
             float n_dot_h = h.z;
             float v_dot_h = max(dot(v, h), KIT_MIN_V_DOT_H);
-            float g = geometry_cook_torrance(n_dot_h, n_dot_v, n_dot_l, v_dot_h);
+            float g = microfacet_geometry(n_dot_h, n_dot_v, n_dot_l, v_dot_h, roughness);
             float weight = g * v_dot_h / max(n_dot_h * n_dot_v, KIT_MIN_DENOMINATOR);
             float fc = pow(1.0 - v_dot_h, 5.0);
             a += (1.0 - fc) * weight;
