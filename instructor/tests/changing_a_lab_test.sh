@@ -5,8 +5,8 @@
 # calls lab 2's microfacet_geometry, whose signature stays), then the one command,
 # ./kit rebaseline, on a copy of this kit with this build's programs.
 #   1. the patch applies to the kit as it is, and was made against its files as they are (its
-#      index lines: a course's changed file is taken back to them); a change to lab 2 or 6 that
-#      breaks either fails here: make the patch again against the new files;
+#      index lines: a course's changed file is taken back to them); a change to the files it
+#      edits that breaks either fails here: make the patch again against the new files;
 #   2. witness: before the rebaseline, the new solution loses points against the old references;
 #   3. rebaseline --labs 2 --no-tests exits 0: references and signatures made again, the
 #      self-check of labs 2-7 passes, nothing needs a decision; the mistake the new term hides
@@ -31,6 +31,11 @@ rm -rf "$WORK/kit/build"
 COPY="$WORK/kit"
 
 PATCH="$ROOT/instructor/changing_a_lab/smith_schlick_ggx.patch"
+# patch_bases: "FILE BASE" for each file the patch edits, BASE the blob its index line names
+# (the file's text the patch was made against).
+patch_bases() {
+  awk '/^diff --git/ { file = substr($4, 3) } /^index / { split($2, h, "\\.\\."); print file, h[1] }' "$PATCH"
+}
 # as_shipped DIR: where the patch does not apply to a file of DIR, that file as the kit shipped
 # it, the text the patch was made against (its "index BASE..NEW" line names the blob, which
 # the kit's git history holds), so that the example runs on the kit's lab, whatever a course
@@ -40,7 +45,7 @@ as_shipped() {
   local file base missing=0
   git -C "$1" apply --check "$PATCH" 2>"$WORK/apply.log" && return 0
   for file in $(sed -n 's/^error: patch failed: \(.*\):[0-9]*$/\1/p' "$WORK/apply.log" | sort -u); do
-    base="$(awk -v f="$file" '/^diff --git/ { at = substr($4, 3) == f } at && /^index / { split($2, h, "\\.\\."); print h[1]; exit }' "$PATCH")"
+    base="$(patch_bases | awk -v f="$file" '$1 == f { print $2; exit }')"
     if [ -n "$base" ] && git -C "$ROOT" cat-file blob "$base" >"$1/$file.shipped" 2>/dev/null; then
       mv "$1/$file.shipped" "$1/$file"
       echo "$file"
@@ -61,11 +66,10 @@ git init -q "$COPY"
 # Witness of as_shipped: the files as shipped (from the history), then a lab 2 solution a
 # course has changed where the patch edits it.
 mkdir -p "$WORK/course" && git init -q "$WORK/course"
-awk '/^diff --git/ { file = substr($4, 3) } /^index / { split($2, h, "\\.\\."); print file, h[1] }' "$PATCH" |
-  while read -r file base; do
-    mkdir -p "$WORK/course/$(dirname "$file")"
-    git -C "$ROOT" cat-file blob "$base" >"$WORK/course/$file" 2>/dev/null || cp "$COPY/$file" "$WORK/course/$file"
-  done
+patch_bases | while read -r file base; do
+  mkdir -p "$WORK/course/$(dirname "$file")"
+  git -C "$ROOT" cat-file blob "$base" >"$WORK/course/$file" 2>/dev/null || cp "$COPY/$file" "$WORK/course/$file"
+done
 sed -i 's/return min(1.0, min(2.0 \* n_dot_h/return min(0.999, min(2.0 * n_dot_h/' \
   "$WORK/course/solutions/02-lighting/brdf.glsl"
 if ! git -C "$WORK/course" apply --check "$PATCH" 2>/dev/null &&
@@ -93,15 +97,14 @@ old_lab2="$WORK/old"
 # The patch's base (its index lines) must be the kit's files as they are, not an older version
 # it still applies to: a course's changed file is taken back to that base (as_shipped above).
 if [ -z "$restored" ]; then
-  stale="$(awk '/^diff --git/ { file = substr($4, 3) } /^index / { split($2, h, "\\.\\."); print file, h[1] }' "$PATCH" |
-    while read -r file base; do
-      [ "$(git hash-object "$COPY/$file" | cut -c1-${#base})" = "$base" ] || echo "$file"
-    done)"
+  stale="$(patch_bases | while read -r file base; do
+    [ "$(git hash-object "$COPY/$file" | cut -c1-${#base})" = "$base" ] || echo "$file"
+  done)"
   [ -z "$stale" ] && ok "the patch was made against the kit's files as they are" ||
     fail "the patch's base is an older version of $(echo $stale): make it again (apply it, then git diff)"
 fi
 # The four files the README names, and no other: lab 6 follows lab 2's function unedited.
-edited="$(sed -n 's|^diff --git a/\([^ ]*\) .*|\1|p' "$PATCH" | sort | tr '\n' ' ')"
+edited="$(patch_bases | cut -d' ' -f1 | sort | tr '\n' ' ')"
 [ "$edited" = "handouts/02-lighting.md instructor/reference/cpu_reference.cpp labs/02-lighting/brdf.glsl solutions/02-lighting/brdf.glsl " ] &&
   ok "the patch edits the four files by hand: $edited" || fail "the patch edits $edited, not the four files the README names"
 if git -C "$COPY" apply "$PATCH" && grep -q "(roughness + 1.0) \* (roughness + 1.0) / 8.0" "$COPY/solutions/02-lighting/brdf.glsl"; then
