@@ -135,11 +135,12 @@ def main():
     for needed in ("kitcore", "kit_grade_core"):
         if needed not in unity_targets:
             failures.append(f"{needed}: no unity file in {build}/compile_commands.json (is KIT_UNITY_BUILD on?)")
-    # .cpp files the build compiles on their own: their first include was compiled alone there.
-    built_alone = {pathlib.Path(e["directory"], e["file"]).resolve() for e in commands if "/Unity/unity_" not in e["file"]}
-    first_in_own = {h for h in headers if first_included(h.with_suffix(".cpp")) == h.name and
-                    (h.with_suffix(".cpp").resolve() in built_alone or
-                     any(j[0] == str(h.with_suffix(".cpp").relative_to(source)) for j in jobs))}
+    # .cpp files compiled on their own, by the build (not in a unity file) or by step 2: the
+    # first include of each is compiled alone there.
+    cpp_alone = {pathlib.Path(e["directory"], e["file"]).resolve() for e in commands if "/Unity/unity_" not in e["file"]}
+    cpp_alone |= {(source / name).resolve() for name, *_ in jobs}
+    first_in_own = {h for h in headers
+                    if h.with_suffix(".cpp").resolve() in cpp_alone and first_included(h.with_suffix(".cpp")) == h.name}
     for header in headers:
         if header not in first_in_own:
             jobs.append((str(header.relative_to(source)), flags, directory, f'#include "{header}"\n'))
