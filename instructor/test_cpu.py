@@ -28,7 +28,7 @@ PERIOD = 0.5  # seconds between two readings of /proc
 
 
 def processes():
-    """{pid: (parent pid, user + system + waited-for children's, in seconds, argv)} now."""
+    """{pid: (parent pid, (user, system) seconds with waited-for children's, argv)} now."""
     out = {}
     for entry in os.listdir("/proc"):
         if not entry.isdigit():
@@ -41,7 +41,8 @@ def processes():
         except OSError:  # it ended meanwhile
             continue
         fields = stat[stat.rindex(")") + 2:].split()  # after the command name, which may hold spaces
-        out[int(entry)] = (int(fields[1]), sum(int(x) for x in fields[11:15]) / TICK, argv)
+        ticks = [int(x) for x in fields[11:15]]  # utime, stime, cutime, cstime
+        out[int(entry)] = (int(fields[1]), ((ticks[0] + ticks[2]) / TICK, (ticks[1] + ticks[3]) / TICK), argv)
     return out
 
 
@@ -51,7 +52,8 @@ def is_build(argv):
 
 
 def sample(seen, root):
-    """Adds this reading to seen: {pid: (largest CPU seconds of it and its descendants, its argvs)},
+    """Adds this reading to seen: {pid: (largest (user, system) seconds of it and its descendants,
+    its argvs)},
     for the processes that descend from root (COMMAND's)."""
     now = processes()
     children = {}
@@ -59,7 +61,11 @@ def sample(seen, root):
         children.setdefault(parent, []).append(pid)
 
     def tree(pid):
-        return now[pid][1] + sum(tree(c) for c in children.get(pid, []))
+        user, system = now[pid][1]
+        for child in children.get(pid, []):
+            child_user, child_system = tree(child)
+            user, system = user + child_user, system + child_system
+        return user, system
 
     def counted(pid):
         """A test (started by ctest, not a ctest itself) or a build."""
@@ -83,8 +89,8 @@ def sample(seen, root):
     for pid, (_, _, argv) in now.items():
         if counted(pid) and ours_and_outermost(pid):
             # By process: its command line changes where it execs another program (a shim).
-            cpu, argvs = seen.get(pid, (0.0, []))
-            seen[pid] = (max(cpu, tree(pid)), argvs if tuple(argv) in argvs else argvs + [tuple(argv)])
+            cpu, argvs = seen.get(pid, ((0.0, 0.0), []))
+            seen[pid] = (max(cpu, tree(pid), key=sum), argvs if tuple(argv) in argvs else argvs + [tuple(argv)])
 
 
 def test_names(build):
@@ -125,11 +131,11 @@ def main(argv=None):
             what = "build: `" + " ".join(os.path.basename(a) if i == 0 else a for i, a in enumerate(key)) + "`"
         else:
             what = "`" + " ".join(key)[:100] + "`"
-        rows.append((seconds, what))
+        rows.append((sum(seconds), seconds[1], what))
     rows.sort(reverse=True)
-    print("| CPU seconds | test or build |\n|---:|---|")
-    for seconds, what in rows[: args.top]:
-        print(f"| {seconds:.0f} | {what} |")
+    print("| CPU seconds | of them system | test or build |\n|---:|---:|---|")
+    for seconds, system, what in rows[: args.top]:
+        print(f"| {seconds:.0f} | {system:.0f} | {what} |")
     cpu = usage.children_user + usage.children_system
     print(f"\n{' '.join(command)}: exit {child.returncode}, {wall:.0f} s wall, {cpu:.0f} s of CPU in all "
           f"({usage.children_system:.0f} of them system), on {os.cpu_count()} cores")
