@@ -53,7 +53,7 @@ def target_of(entry):
 def flags_of(entry):
     """The compiler and its flags for that entry, less the input, output and dependency files."""
     words = shlex.split(entry["command"])
-    # The compiler, past a launcher (CMakeLists.txt's ccache, through cmake -E env): the
+    # The compiler, past a launcher (CMakeLists.txt's ccache, through env): the
     # first word that names a C or C++ compiler.
     at = next((i for i, w in enumerate(words) if re.search(r"(^|/)(c\+\+|g\+\+|gcc|cc|clang\+\+|clang)(-[0-9.]+)?$", w)), 0)
     words = words[at:]
