@@ -21,19 +21,11 @@ if(TARGET kit-render AND KIT_HAS_INSTRUCTOR)
     set(KIT_WEB_FIXTURE FIXTURES_REQUIRED kit_web_site)
   endif()
   find_program(KIT_WEB_PYTHON NAMES python3 REQUIRED)
-  # Its two halves side by side (web_test.py's frames and labs): the stages' frames against
-  # kit-render's, and every lab's check in the page against kit-grade's with the student site.
-  foreach(part frames labs)
-    set(name web_browser)
-    if(part STREQUAL "labs")
-      set(name web_browser_labs)
-    endif()
-    add_test(NAME ${name}
-             COMMAND ${KIT_WEB_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/web_test.py ${KIT_WEB_SITE} $<TARGET_FILE:kit-render>
-                     $<TARGET_FILE:kit-grade> ${CMAKE_BINARY_DIR}/test-tmp/web-${part} ${part})
-    set_tests_properties(${name} PROPERTIES ${KIT_WEB_FIXTURE} LABELS web TIMEOUT 300
-      ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes")
-  endforeach()
+  add_test(NAME web_browser
+           COMMAND ${KIT_WEB_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/web_test.py ${KIT_WEB_SITE} $<TARGET_FILE:kit-render>
+                   $<TARGET_FILE:kit-grade> ${CMAKE_BINARY_DIR}/test-tmp/web)
+  set_tests_properties(web_browser PROPERTIES ${KIT_WEB_FIXTURE} LABELS web TIMEOUT 300
+    ENVIRONMENT "KIT_SCENE_DIR=${CMAKE_BINARY_DIR}/scenes")
   # The students' page (tests/web_page_test.py): its editor, compile errors at the student's
   # line, edits kept across a reload, a lost context, a dropped .glb (written from the desktop
   # build's scenes), Download my labs and Check my lab, in the same browser and site.

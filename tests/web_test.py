@@ -11,11 +11,7 @@ the starters get the verdict, check by check, and the likely mistake that kit-gr
 them. Builds nothing: ctest runs it after ./kit test has built the site; without a site or
 chromium it fails, saying what to install or build.
 
-usage: web_test.py SITE_DIR KIT_RENDER KIT_GRADE WORK_DIR [frames|labs]
-frames: the stages' frames and the witness alone; labs: the labs' checks and the student
-site alone (ctest runs the two halves as web_browser and web_browser_labs, side by side:
-./kit test --quick waits for the longest of its tests, and this one whole was it). Both
-when neither is named.
+usage: web_test.py SITE_DIR KIT_RENDER KIT_GRADE WORK_DIR
 Chromium is driven over the DevTools protocol on a pipe (--remote-debugging-pipe: fds
 3 and 4, NUL-separated JSON), with python's standard library alone; PNGs are read by
 png_rgb.py.
@@ -341,11 +337,10 @@ def student_site(chromium, server_root, port, work, failures):
 
 
 def main():
-    if len(sys.argv) not in (5, 6) or sys.argv[5:] not in ([], ["frames"], ["labs"]):
+    if len(sys.argv) != 5:
         raise SystemExit(__doc__)
     site, kit_render, kit_grade, work = (pathlib.Path(sys.argv[1]), sys.argv[2], sys.argv[3],
                                          pathlib.Path(sys.argv[4]))
-    parts = sys.argv[5:] or ["frames", "labs"]
     problem = site_problem(site, ("index.html", "kit-web.js", "kit-web.wasm", "kit-web.data", "kit-web-data.js",
                                   "kit-web-packages.json"))
     if problem:
@@ -367,7 +362,7 @@ def main():
     base = f"http://127.0.0.1:{server.server_address[1]}/index.html?"
 
     references = {}
-    for query, args in CASES if "frames" in parts else []:
+    for query, args in CASES:
         out = work / (query.replace("&", "_").replace("=", "-").replace("/", "-") + ".png")
         size = f"{SIZE[0]}x{SIZE[1]}"
         subprocess.run([kit_render, *args, "--solution", "--size", size, "--out", str(out)], check=True,
@@ -378,7 +373,7 @@ def main():
     failures = []
     try:
         frames = {}
-        for query in references:
+        for query, _ in CASES:
             report, canvas, seconds = load_page(chromium, base + query)
             rgba = base64.b64decode(canvas["rgba"])
             width, height, rgb = references[query]
@@ -395,16 +390,15 @@ def main():
                 failures.append(f"{query}: the browser's frame differs from kit-render's")
         # Witness: each case's browser frame against the other case's reference fails the tolerance.
         (qa, _), (qb, _) = CASES[:2]
-        if qa in frames and qb in references:
+        if qa in frames:
             width, height, rgb = references[qb]
             mean, far = compare(frames[qa], width, height, rgb)
             print(f"witness: {qa} against {qb}'s reference: mean {mean:.3f}, {100 * far:.2f}% far (must fail)")
             if mean <= MAX_MEAN_DIFFERENCE and far <= MAX_FAR_PIXELS:
                 failures.append("witness: two different stages' images pass the tolerance: the comparison sees nothing")
-        if "labs" in parts:
-            load_page(chromium, base + "stage=gbuffer&size=64x48")
-            check_labs(chromium, kit_grade, work, failures)
-            student_site(chromium, served, server.server_address[1], work, failures)
+        load_page(chromium, base + "stage=gbuffer&size=64x48")
+        check_labs(chromium, kit_grade, work, failures)
+        student_site(chromium, served, server.server_address[1], work, failures)
     finally:
         chromium.close()
         server.shutdown()
