@@ -51,7 +51,8 @@ def target_of(entry):
 
 
 def flags_of(entry):
-    """The compiler and its flags for that entry, less the input, output and dependency files."""
+    """The compiler that checks that entry (syntax_compiler: clang++ for GCC where installed) and
+    the entry's flags, less the input, output and dependency files."""
     words = shlex.split(entry["command"])
     # The compiler, past a launcher (CMakeLists.txt's ccache, through env): the
     # first word that names a C or C++ compiler.
