@@ -6,6 +6,8 @@
 //   * the probe pass on lab files with a planted mistake names the function, its first
 //     differing inputs and the shape of the difference (a factor of pi, swapped arguments),
 //     and a lab that renamed a function loses only that function's probe.
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>

@@ -8,6 +8,8 @@
 //
 // Exit status: 0 when grading ran (whatever the score), 1 when --check-references
 // finds stale references, 2 when the grader itself could not run.
+#include <nlohmann/json.hpp>
+
 #include <unistd.h>
 
 #include <cstdio>

@@ -1,5 +1,7 @@
 #include "page_check.h"
 
+#include <nlohmann/json.hpp>
+
 #include <chrono>
 #include <fstream>
 #include <map>

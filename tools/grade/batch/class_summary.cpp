@@ -1,5 +1,7 @@
 #include "batch/class_summary.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <fstream>
 #include <map>

@@ -1,5 +1,7 @@
 #include "files/files.h"
 
+#include <nlohmann/json.hpp>
+
 #include <unistd.h>
 
 #include <cstdint>

@@ -1,5 +1,7 @@
 #include "frames/function_probes.h"
 
+#include <nlohmann/json.hpp>
+
 #include <glm/gtc/constants.hpp>
 
 #include <algorithm>

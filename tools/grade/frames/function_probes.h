@@ -11,7 +11,7 @@
 // where one fits (a constant factor, an offset, a sign, a square, swapped arguments,
 // only where an argument is 0 or 1).
 #include <glm/glm.hpp>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <filesystem>
 #include <map>

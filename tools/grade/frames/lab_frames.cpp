@@ -1,5 +1,7 @@
 #include "frames/lab_frames.h"
 
+#include <nlohmann/json.hpp>
+
 #include <chrono>
 #include <utility>
 #include <vector>

@@ -12,7 +12,7 @@
 #include <utility>
 
 #include "frames/checks.h"
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "gl/gl_objects.h"
 #include "gl/shader_source.h"

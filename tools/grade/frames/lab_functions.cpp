@@ -1,5 +1,7 @@
 #include "frames/lab_functions.h"
 
+#include <nlohmann/json.hpp>
+
 #include <glm/glm.hpp>
 
 #include <cctype>

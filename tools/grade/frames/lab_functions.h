@@ -4,7 +4,7 @@
 // grader probes them at. Renaming, adding or removing a lab function is an edit of that file
 // and the lab's files; the probe shaders are written from it (tools/grade/lab_contract.py).
 // The file's "about" says how its cases are written.
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <filesystem>
 #include <string>

@@ -1,5 +1,7 @@
 #include "frames/probe_pass.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <memory>
 #include <map>

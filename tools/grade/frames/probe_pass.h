@@ -8,7 +8,7 @@
 #include <map>
 #include <string>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "frames/function_probes.h"
 #include "render/stages.h"

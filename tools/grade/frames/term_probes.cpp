@@ -1,5 +1,7 @@
 #include "frames/term_probes.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <functional>

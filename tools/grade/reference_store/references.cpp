@@ -1,5 +1,7 @@
 #include "reference_store/references.h"
 
+#include <nlohmann/json.hpp>
+
 #include <unistd.h>
 
 #include <algorithm>

@@ -5,7 +5,7 @@
 // settings each was rendered with. `kit-grade --update-references` writes them;
 // `--check-references` (and a ctest) re-renders the solutions and fails when
 // the code's check list or the solutions no longer match them.
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <filesystem>
 #include <map>

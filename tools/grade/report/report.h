@@ -3,7 +3,7 @@
 // autograder format), summary.json (per-lab scores and statuses for scripts),
 // report.html (one row per check, images beside it); a batch's own files are
 // class_summary.h's. Everything that came from the student is escaped.
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include <filesystem>
 #include <string>

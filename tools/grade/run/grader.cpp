@@ -1,5 +1,7 @@
 #include "run/grader.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cstdio>
 #include <fstream>
 #include <map>

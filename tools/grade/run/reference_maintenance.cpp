@@ -1,5 +1,7 @@
 #include "run/reference_maintenance.h"
 
+#include <nlohmann/json.hpp>
+
 #include <cstdio>
 #include <map>
 #include <string>

@@ -1,5 +1,7 @@
 #include "verdict/lab_verdict.h"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <cstdio>
 #include <map>

@@ -12,7 +12,7 @@
 #include <map>
 #include <string>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 
 #include "gl/context.h"
 #include "intake/sandbox.h"
