@@ -38,7 +38,8 @@ set(kit_node_path /usr/share/nodejs)
 if(NOT "$ENV{NODE_PATH}" STREQUAL "")
   string(APPEND kit_node_path ":$ENV{NODE_PATH}")
 endif()
-set(CMAKE_CXX_LINKER_LAUNCHER env "NODE_PATH=${kit_node_path}")
+# The compilers' huge-page malloc (CMakeLists.txt) for the link's wasm-ld and optimisers too.
+set(CMAKE_CXX_LINKER_LAUNCHER env "NODE_PATH=${kit_node_path}" ${kit_compiler_malloc})
 
 # The kit reports every problem as a thrown kit::Error; emscripten's default catches no
 # exception at all (an abort), so every file compiles and links with its exceptions.

@@ -13,6 +13,6 @@ find_program(KIT_HEADERS_PYTHON NAMES python3 REQUIRED)
 add_test(NAME headers_alone
          COMMAND ${KIT_HEADERS_PYTHON} ${CMAKE_CURRENT_LIST_DIR}/headers_alone_test.py
                  ${PROJECT_SOURCE_DIR} ${CMAKE_BINARY_DIR} ${CMAKE_BINARY_DIR}/test-tmp/headers_alone)
-# About 120 s of CPU, two compilers at a time: started among the first, as the other long
+# About 95 s of CPU, two compilers at a time: started among the first, as the other long
 # tests are (cmake/gtest_suites.cmake's COST).
 set_tests_properties(headers_alone PROPERTIES LABELS slow TIMEOUT 600 COST 100)
